@@ -1,0 +1,265 @@
+// SPDX-License-Identifier: MIT
+//
+// The Talus contact-model plugin ABI. This is the only header a contact-model plugin needs.
+//
+// Design note
+// -----------
+// The names mirror the PFC2D 3.x user-defined model (UDM) interface on purpose, so that a PFC UDM
+// ports with small edits: FdBlock, PropBlock, ModelSaveObject and class ContactModel with Name,
+// PropNames, Clone, ReturnProp, AcceptProp, KnEstimate, KsEstimate, Version, PreCycle, FDlaw and
+// SaveRestore. What we added, and why:
+//
+//  * One extern "C" entry point per library (talus_plugin_info) returning a plain struct with the
+//    ABI version, the sizes of the ABI structs, the dimension and a build key. The host refuses a
+//    library whose numbers differ from its own, with a message naming the file and both values.
+//  * Only PODs, `const char*` and the ContactModel / ModelSaveObject vtables cross the boundary.
+//    Nothing is ever `dynamic_cast` across it; the plugin destroys what it creates.
+//  * Per-contact objects are constructed by Clone *into storage the host provides* (pooled,
+//    ObjectSize() bytes), and destroyed in place by Destroy().
+//  * FdBlock carries increments, the effective mass (for dashpots), a rotational stiffness
+//    estimate and energy outputs, so that later features need no ABI break.
+//  * Sign conventions are chosen so that no quantity changes sign between input and state:
+//    u_n is the overlap (+) and u_dot_n its rate (+ while approaching). See docs/plugin-abi.md.
+//
+// Exceptions: a model should not throw. It reports a failure by setting FdBlock::status and
+// FdBlock::error. The host nevertheless catches anything that escapes and turns it into an error
+// naming the model and the contact.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#define TALUS_ABI_MAJOR 1
+#define TALUS_ABI_MINOR 0
+#define TALUS_DIM 2
+
+#if defined(__GNUC__) || defined(__clang__)
+#define TALUS_PLUGIN_EXPORT extern "C" __attribute__((visibility("default")))
+#else
+#define TALUS_PLUGIN_EXPORT extern "C"
+#endif
+
+// The build key names the things that must agree for C++ vtables and layouts to be compatible:
+// compiler family, the libstdc++ string/list ABI, pointer size and byte order.
+#define TALUS_STR_(x) #x
+#define TALUS_STR(x) TALUS_STR_(x)
+#if defined(__clang__)
+#define TALUS_COMPILER_FAMILY "itanium-clang"
+#elif defined(__GNUC__)
+#define TALUS_COMPILER_FAMILY "itanium-gcc"
+#else
+#define TALUS_COMPILER_FAMILY "unknown"
+#endif
+#if defined(_GLIBCXX_USE_CXX11_ABI)
+#define TALUS_CXXABI "cxx11abi=" TALUS_STR(_GLIBCXX_USE_CXX11_ABI)
+#else
+#define TALUS_CXXABI "cxx11abi=na"
+#endif
+#define TALUS_BUILD_KEY                                                                         \
+    TALUS_COMPILER_FAMILY "|" TALUS_CXXABI "|ptr" TALUS_STR(__SIZEOF_POINTER__) "|" TALUS_STR( \
+        __BYTE_ORDER__) "|abi" TALUS_STR(TALUS_ABI_MAJOR)
+
+namespace talus {
+
+/// Energy partitions a model may report (PFC names: energy-strain, -slip, -dashpot, -pbstrain;
+/// plastic work is Talus's own partition for elastic-plastic laws such as `power`).
+/// Stored partitions are state (the model writes the current value); accumulated partitions are
+/// increments over this step (the model writes the increment; the host accumulates).
+enum EnergyPartition : int32_t {
+    kEnergyStrain = 0,      ///< stored: recoverable elastic energy of the contact [J]
+    kEnergySlip = 1,        ///< accumulated: frictional work, >= 0 [J]
+    kEnergyDashpot = 2,     ///< accumulated: viscous work, >= 0 [J]
+    kEnergyPlastic = 3,     ///< accumulated: plastic work, >= 0 [J]
+    kEnergyBondStrain = 4,  ///< stored: elastic energy in a bond [J]
+    kEnergyCount = 5
+};
+
+/// Type of a contact's second end. A wall is always end 2.
+enum EndType : int32_t { kEndBall = 0, kEndWall = 1 };
+
+/// FdBlock::flags bits.
+enum FdFlags : uint32_t {
+    kFdFirstCall = 1u << 0,    ///< in: first FDlaw of this contact (it just became active)
+    kFdEnergyOn = 1u << 1,     ///< in: energy tracing is on; write FdBlock::energy
+    kFdSliding = 1u << 8,      ///< out: the contact slid this step (PFC bSliding)
+    kFdBonded = 1u << 9,       ///< out: a bond is present
+    kFdBroken = 1u << 10,      ///< out: a bond broke this step (raises a bond_break event)
+    kFdKeep = 1u << 11,        ///< out: do not delete this contact even when separated
+    kFdSkipEngine = 1u << 12,  ///< out: PFC bflag; the host applies the forces but skips its
+                               ///<      own checks for this contact this step
+};
+
+/// Bond-break modes written to FdBlock::break_mode together with kFdBroken.
+enum BreakMode : int32_t { kBreakNone = 0, kBreakTension = 1, kBreakShear = 2 };
+
+/// Per-contact exchange block, filled by the host before every FDlaw call.
+/// Frame: n is the unit normal from end 1 to end 2; t = (-n_y, n_x). Forces are those acting on
+/// end 2 (end 1 receives the opposite): F = n_force * n + s_force * t. Moments act on end 2.
+struct FdBlock {
+    uint32_t size;     ///< sizeof(FdBlock) as the host sees it
+    uint32_t version;  ///< TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR
+    uint32_t flags;    ///< FdFlags
+    int32_t status;    ///< out: 0 = ok; non-zero stops the run with `error`
+
+    // --- in: kinematics at this step (positions at t, velocities at t - dt/2)
+    double u_n;        ///< overlap (+) or gap (-) [m]
+    double u_dot_n;    ///< rate of overlap, + while approaching [m/s]
+    double u_dot_s;    ///< relative shear velocity of end 2 w.r.t. end 1 along t [m/s]
+    double t_dot_rel;  ///< relative angular velocity, end 2 minus end 1 [rad/s]
+    double tdel;       ///< time step [s]
+    double du_n;       ///< overlap increment this step, u_dot_n * tdel [m]
+    double du_s;       ///< shear displacement increment, u_dot_s * tdel [m]
+    double dtheta;     ///< relative rotation increment, t_dot_rel * tdel [rad]
+    double mass_eff;   ///< effective inertial mass m1 m2 / (m1 + m2), or m1 for a wall [kg]
+    double time;       ///< simulated time at this step [s]
+
+    // --- in/out: contact forces (previous values on entry)
+    double n_force;  ///< normal force, compression positive [N]
+    double s_force;  ///< shear force along t [N]
+    double moment;   ///< moment on end 2 (bonds, rolling resistance) [N m]
+
+    // --- out: stiffness estimates for the time step (current tangent values, raised for
+    // dashpots), refreshed at every FDlaw
+    double knest;  ///< normal [N/m]
+    double ksest;  ///< shear [N/m]
+    double krest;  ///< rotational [N m/rad]
+
+    // --- out: energies (only when kFdEnergyOn is set); see EnergyPartition
+    double energy[kEnergyCount];
+
+    // --- out: events and errors
+    int32_t break_mode;  ///< BreakMode, with kFdBroken
+    int32_t reserved0;
+    const char* error;  ///< out: message when status != 0 (model-owned storage)
+    double reserved[4];
+};
+
+/// Properties of the two ends, handed to Clone and PreCycle. A property an end does not define
+/// is NaN ("not set"); models inherit as PFC does (springs in series, friction minimum).
+struct PropBlock {
+    uint32_t size;     ///< sizeof(PropBlock) as the host sees it
+    uint32_t version;  ///< TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR
+    int32_t end2_type;  ///< EndType
+    int32_t reserved0;
+    double kn[2];      ///< normal stiffness defined on end 1 / end 2 [N/m], NaN if not set
+    double ks[2];      ///< shear stiffness [N/m], NaN if not set
+    double fric[2];    ///< friction coefficient [-], NaN if not set
+    double radius[2];  ///< radius of end 1 / end 2 [m]; 0 for a wall
+    double mass[2];    ///< mass of end 1 / end 2 [kg]; 0 for a wall (infinite)
+    double mass_eff;   ///< effective inertial mass [kg]
+    double reserved[6];
+};
+
+/// Property flags for PropInfo::flags.
+enum PropFlags : uint32_t {
+    kPropReadOnly = 1u << 0,     ///< computed or state; AcceptProp refuses it
+    kPropState = 1u << 1,        ///< per-contact state (changes while cycling)
+    kPropInheritable = 1u << 2,  ///< may come from the ends (kn, ks, fric)
+    kPropInteger = 1u << 3,      ///< integer-valued (modes); see enum_names
+};
+
+/// Describes one property. Strings are owned by the plugin and live as long as the library.
+struct PropInfo {
+    const char* name;         ///< PFC name where PFC has one (kn, ks, fric, dp_nratio, ...)
+    const char* units;        ///< SI units, "-" if dimensionless
+    uint32_t flags;           ///< PropFlags
+    double default_value;     ///< value of a freshly constructed prototype
+    const char* description;  ///< one line
+    const char* const* enum_names;  ///< for integer modes: names of 0, 1, ..., nullptr-ended
+};
+
+/// Symmetric save/restore stream (PFC ModelSaveObject). The same SaveRestore function saves when
+/// IsSaving() and restores otherwise; each call reads or writes one typed value in place.
+class ModelSaveObject {
+public:
+    virtual bool IsSaving() const = 0;
+    /// Version() of the model that wrote the data (on restore), or of this model (on save).
+    virtual int32_t DataVersion() const = 0;
+    virtual void Double(double& value) = 0;
+    virtual void Int(int32_t& value) = 0;
+    virtual void Bool(bool& value) = 0;
+
+protected:
+    ~ModelSaveObject() = default;
+};
+
+/// The contact model. A library exposes prototypes; the host clones one object per contact.
+class ContactModel {
+public:
+    // --- identity and properties (PFC names)
+    virtual const char* Name() const = 0;
+    /// Comma-separated property names in index order (PFC style).
+    virtual const char* PropNames() const = 0;
+    virtual int32_t PropCount() const = 0;
+    virtual const PropInfo* PropInfoAt(int32_t index) const = 0;
+    virtual double ReturnProp(int32_t index) const = 0;
+    /// Sets a property. Returns 0, or non-zero with LastError() telling why (range, read-only).
+    virtual int32_t AcceptProp(int32_t index, double value) = 0;
+    /// Version of this model's data layout (SaveRestore); raise it when state changes.
+    virtual int32_t Version() const = 0;
+    /// Text of the last failure of AcceptProp, Clone or PreCycle.
+    virtual const char* LastError() const = 0;
+
+    // --- lifecycle: per-contact objects are built in host-provided storage
+    virtual std::size_t ObjectSize() const = 0;
+    /// Constructs a per-contact copy of this prototype in `storage` (ObjectSize() bytes, aligned
+    /// to alignof(std::max_align_t)), inheriting properties from the ends in `pb`. Returns
+    /// nullptr on failure (LastError() of the prototype says why).
+    virtual ContactModel* Clone(const PropBlock& pb, void* storage) const = 0;
+    /// Destroys an object made by Clone, in place (the host frees the storage).
+    virtual void Destroy() = 0;
+
+    // --- cycling
+    /// Validates the properties before cycling. Returns nullptr if fine, else an error text.
+    virtual const char* PreCycle(const PropBlock& pb) = 0;
+    /// The force-displacement law.
+    virtual void FDlaw(FdBlock& fd) = 0;
+    /// Stiffness this contact would have now (at first touch for a prototype) [N/m].
+    virtual double KnEstimate() const = 0;
+    virtual double KsEstimate() const = 0;
+    /// Expected duration of an impact at the given approach speed [s]. Used by the time step's
+    /// resolution rule before a contact exists. Linear laws: pi sqrt(m*/kn), speed-independent.
+    virtual double ContactDuration(double mass_eff, double approach_speed) const = 0;
+    /// Gap within which a contact becomes active [m] (0: on touch).
+    virtual double ActivityDistance() const = 0;
+    /// False while the contact must persist although separated (for example while bonded).
+    virtual bool OKToDelete() const = 0;
+    virtual void SaveRestore(ModelSaveObject& so) = 0;
+    /// Bit 0: FDlaw may run concurrently on different contacts (no shared mutable state).
+    virtual uint32_t Traits() const = 0;
+
+protected:
+    ~ContactModel() = default;
+};
+
+/// What talus_plugin_info() returns. All pointers point to storage owned by the library.
+struct PluginInfo {
+    uint32_t abi_major;          ///< TALUS_ABI_MAJOR the plugin was built with
+    uint32_t abi_minor;          ///< TALUS_ABI_MINOR the plugin was built with
+    uint32_t dim;                ///< TALUS_DIM
+    uint32_t sizeof_fdblock;     ///< sizeof(FdBlock)
+    uint32_t sizeof_propblock;   ///< sizeof(PropBlock)
+    uint32_t sizeof_plugininfo;  ///< sizeof(PluginInfo)
+    const char* build_key;       ///< TALUS_BUILD_KEY
+    const char* plugin_version;  ///< free text, e.g. "1.0.0"
+    int32_t model_count;
+    /// Creates the prototype of model `index` (0 <= index < model_count) with `new`.
+    ContactModel* (*create_prototype)(int32_t index);
+    /// Destroys a prototype made by create_prototype (the library's own `delete`).
+    void (*destroy_prototype)(ContactModel* prototype);
+};
+
+}  // namespace talus
+
+/// Name of the single entry point every plugin library exports.
+#define TALUS_PLUGIN_ENTRY "talus_plugin_info"
+/// Signature: TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info();
+using TalusPluginInfoFn = const talus::PluginInfo* (*)();
+
+/// Fills the fixed fields of a PluginInfo the way the host expects them.
+#define TALUS_PLUGIN_INFO_INIT(version_text, count, create_fn, destroy_fn)                   \
+    talus::PluginInfo {                                                                       \
+        TALUS_ABI_MAJOR, TALUS_ABI_MINOR, TALUS_DIM, sizeof(talus::FdBlock),                  \
+            sizeof(talus::PropBlock), sizeof(talus::PluginInfo), TALUS_BUILD_KEY, version_text, \
+            count, create_fn, destroy_fn                                                        \
+    }

@@ -1,0 +1,408 @@
+// SPDX-License-Identifier: MIT
+//
+// The engine: a 2D DEM model of balls, walls and contacts, cycled in the PFC order
+// (docs/architecture.md walks one cycle through the code):
+//   timestep -> law of motion -> contact detection -> force-displacement -> bookkeeping.
+// Each phase lives in its own source file: timestep.cpp, law_of_motion.cpp,
+// contact_detection.cpp, force_displacement.cpp, bookkeeping.cpp.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "talus/contact_model.hpp"
+#include "talus/energy.hpp"
+#include "talus/ids.hpp"
+#include "talus/plugin_registry.hpp"
+#include "talus/profile.hpp"
+#include "talus/vec.hpp"
+
+namespace talus {
+
+class Broadphase;
+
+constexpr double kNotSet = std::numeric_limits<double>::quiet_NaN();
+
+/// How a ball's mass and inertia follow from its radius.
+enum class MassMode {
+    Disk,    ///< unit-thickness disk: m = rho pi R^2 (1 m), I = m R^2 / 2 (PFC2D)
+    Sphere,  ///< sphere: m = 4/3 rho pi R^3, I = 2/5 m R^2 (to compare with 3D data)
+};
+
+struct ModelDef {
+    Vec2 gravity{0.0, 0.0};  ///< [m/s^2]
+    MassMode mass_mode = MassMode::Disk;
+};
+
+/// Fixity bits (PFC "fix"): the velocity component is not integrated.
+enum Fixity : uint8_t { kFixX = 1, kFixY = 2, kFixSpin = 4 };
+
+struct BallDef {
+    Vec2 pos{0.0, 0.0};   ///< [m]
+    double radius = 0.0;  ///< [m], > 0
+    double density = 0.0; ///< [kg/m^3], > 0 (or set mass directly)
+    double mass = kNotSet;     ///< [kg]; overrides density when set
+    double inertia = kNotSet;  ///< [kg m^2]; default from the mass mode
+    Vec2 vel{0.0, 0.0};   ///< [m/s]
+    double spin = 0.0;    ///< [rad/s]
+    double angle = 0.0;   ///< [rad]
+    uint8_t fixity = 0;
+    std::vector<std::string> groups;
+    /// Inheritable contact properties (PFC2D 3.x ball properties); NaN = not set.
+    double kn = kNotSet, ks = kNotSet, fric = kNotSet;
+};
+
+struct WallDef {
+    std::vector<Vec2> points;  ///< vertices of the chain, >= 2, consecutive points distinct
+    bool closed = false;       ///< join the last point to the first
+    Vec2 vel{0.0, 0.0};        ///< translational velocity [m/s]
+    double spin = 0.0;         ///< angular velocity about `center` [rad/s]
+    Vec2 center{kNotSet, kNotSet};  ///< centre of rotation; default: centroid of the points
+    std::vector<std::string> groups;
+    double kn = kNotSet, ks = kNotSet, fric = kNotSet;
+};
+
+/// A named property value for a contact model.
+struct PropValue {
+    std::string name;
+    double value = 0.0;
+};
+
+/// Time-step control (docs/physics/timestep.md). Automatic by default: the step is the smallest
+/// of the stability rule, the resolution rule, the free-flight (kinematic) rule and `max`.
+struct TimestepSettings {
+    bool automatic = true;
+    double fixed = 0.0;      ///< [s], used when !automatic
+    double safety = 0.8;     ///< stability rule: safety * min sqrt(m/k), PFC's customary factor
+    double resolution = 30;  ///< resolution rule: steps per contact duration; 0 = off
+    double max = std::numeric_limits<double>::infinity();  ///< [s]
+    double growth = 2.0;     ///< largest ratio between consecutive automatic steps
+};
+
+/// Which rule set the last automatic step.
+enum class StepRule { Fixed, Stability, Resolution, Approach, Kinematic, Max, Growth };
+const char* stepRuleName(StepRule r);
+
+/// What the stability guard does with a finding.
+enum class GuardAction { Off, Warn, Error };
+
+struct GuardSettings {
+    /// A contact that returned more energy than it took over its life (docs/physics/guard.md).
+    GuardAction energy = GuardAction::Warn;
+    double energy_tolerance = 0.01;  ///< allowed gain as a fraction of the peak energy taken
+    /// An impact resolved in fewer than `min_steps` steps (thesis A: 10-20 per impact).
+    GuardAction resolution = GuardAction::Warn;
+    int min_steps = 10;
+};
+
+/// Law-of-motion damping options.
+struct DampingSettings {
+    double local = 0.0;  ///< PFC local damping coefficient alpha (accuracy-reference 3.4)
+    /// Mass-proportional viscous damping [1/s]: F = -viscous m v, integrated implicitly at the
+    /// time level of the contact forces (thesis B eq. 2.41, seed digest section 5).
+    double viscous = 0.0;
+};
+
+/// Kinds of events queued during a cycle and delivered after it.
+enum class EventKind { BondBreak, ContactCreated };
+
+struct Event {
+    EventKind kind;
+    double time = 0.0;
+    Vec2 pos{0.0, 0.0};
+    ContactKey contact;
+    int32_t mode = 0;  ///< BreakMode for bond breaks
+    std::string model;
+};
+
+/// A read-only view of one contact, for queries.
+struct ContactInfo {
+    ContactKey key;
+    BallId ball1;
+    BallId ball2;      ///< invalid for a ball-wall contact
+    WallId wall;       ///< valid for a ball-wall contact
+    int32_t segment = -1;  ///< segment index within the wall
+    bool active = false;   ///< has a model object (touching or within activity distance)
+    Vec2 normal{0.0, 0.0};
+    Vec2 point{0.0, 0.0};
+    double overlap = 0.0;
+    double normal_force = 0.0;
+    double shear_force = 0.0;
+    double moment = 0.0;
+    bool sliding = false;
+    std::string model;
+};
+
+class Model {
+public:
+    explicit Model(const ModelDef& def = ModelDef{},
+                   PluginRegistry& registry = PluginRegistry::global());
+    ~Model();
+    Model(const Model&) = delete;
+    Model& operator=(const Model&) = delete;
+
+    // ------------------------------------------------------------------ bodies
+    BallId createBall(const BallDef& def);
+    void deleteBall(BallId id);
+    bool isAlive(BallId id) const;
+    std::size_t ballCount() const;
+    /// Ids of the live balls, in creation order of their slots.
+    std::vector<BallId> ballIds() const;
+
+    WallId createWall(const WallDef& def);
+    std::size_t wallCount() const;
+    std::vector<WallId> wallIds() const;
+
+    // Ball state (throws InputError for a stale id). Velocities are at the half step.
+    Vec2 ballPos(BallId id) const;
+    void setBallPos(BallId id, const Vec2& p);
+    Vec2 ballVel(BallId id) const;
+    void setBallVel(BallId id, const Vec2& v);
+    double ballSpin(BallId id) const;
+    void setBallSpin(BallId id, double w);
+    double ballAngle(BallId id) const;
+    double ballRadius(BallId id) const;
+    void setBallRadius(BallId id, double r);
+    double ballMass(BallId id) const;
+    double ballInertia(BallId id) const;
+    double ballDensity(BallId id) const;
+    void setBallDensity(BallId id, double rho);
+    Vec2 ballForce(BallId id) const;   ///< contact force of the last step [N]
+    double ballMoment(BallId id) const;
+    Vec2 ballAppliedForce(BallId id) const;
+    void setBallAppliedForce(BallId id, const Vec2& f);
+    double ballAppliedMoment(BallId id) const;
+    void setBallAppliedMoment(BallId id, double m);
+    uint8_t ballFixity(BallId id) const;
+    void setBallFixity(BallId id, uint8_t fixity);
+    /// Inheritable contact property of a ball: "kn", "ks" or "fric" (NaN = not set).
+    double ballContactProp(BallId id, const std::string& name) const;
+    void setBallContactProp(BallId id, const std::string& name, double v);
+    std::vector<std::string> ballGroups(BallId id) const;
+    void addBallGroup(BallId id, const std::string& group);
+
+    // Wall state
+    std::vector<Vec2> wallPoints(WallId id) const;
+    Vec2 wallVel(WallId id) const;
+    void setWallVel(WallId id, const Vec2& v);
+    double wallSpin(WallId id) const;
+    void setWallSpin(WallId id, double w);
+    Vec2 wallCenter(WallId id) const;
+    void setWallCenter(WallId id, const Vec2& c);
+    Vec2 wallForce(WallId id) const;  ///< total force the balls exert on the wall [N]
+    double wallContactProp(WallId id, const std::string& name) const;
+    void setWallContactProp(WallId id, const std::string& name, double v);
+
+    // ------------------------------------------------------------------ contact models
+    /// Sets the model new contacts get by default, with properties by name.
+    void setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props);
+    /// Adds a rule for contacts between group_a and group_b (either order; "" = any, a wall's
+    /// groups count). The most specific rule wins; among equals the latest.
+    void addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
+                             const std::string& group_a, const std::string& group_b);
+    /// Property names and metadata of a model (loads it if needed).
+    const ModelFactory& contactModelFactory(const std::string& name);
+
+    // ------------------------------------------------------------------ contacts
+    std::size_t contactCount(bool active_only = true) const;
+    std::vector<ContactInfo> contacts(bool active_only = true) const;
+    bool findContact(ContactKey key, ContactInfo& out) const;
+    /// Property of an active contact's model by name; throws InputError if unknown.
+    double contactProp(ContactKey key, const std::string& name) const;
+    void setContactProp(ContactKey key, const std::string& name, double value);
+    /// Sets the stored normal/shear force of an active contact (PFC "contact force" write).
+    void setContactForce(ContactKey key, double normal_force, double shear_force);
+
+    // ------------------------------------------------------------------ running
+    /// Advances `steps` cycles. Throws NumericalError / PluginError on a fault; the model stays
+    /// at the step that failed (nothing earlier is lost).
+    void cycle(int64_t steps);
+    /// Cycles until the simulated time has advanced by `duration` (the last step is shortened
+    /// to land on it exactly).
+    void solveTime(double duration);
+
+    double time() const { return m_time; }
+    int64_t step() const { return m_step; }
+    double lastTimestep() const { return m_dt; }
+    StepRule lastStepRule() const { return m_dt_rule; }
+    /// What governed the last automatic step, in words (rule and where).
+    std::string lastStepReason() const;
+
+    TimestepSettings& timestep() { return m_timestep; }
+    GuardSettings& guard() { return m_guard; }
+    DampingSettings& damping() { return m_damping; }
+    Vec2& gravity() { return m_gravity; }
+    MassMode massMode() const { return m_mass_mode; }
+
+    /// Broadphase margin [m] (half the extra room of each fat box). 0 = automatic: 5% of the
+    /// mean ball radius, fixed at the first cycle.
+    void setBroadphaseMargin(double margin);
+    double broadphaseMargin() const { return m_margin; }
+
+    // ------------------------------------------------------------------ energy
+    void setEnergyTracing(bool on);
+    bool energyTracing() const { return m_energy_on; }
+    /// Whole-model energies (docs/physics/energy.md); kinetic and strain are current values.
+    EnergyTotals energies() const;
+
+    // ------------------------------------------------------------------ callbacks and output
+    /// Called in the bookkeeping phase every `every` steps, after events are delivered.
+    int addCycleHook(int64_t every, std::function<void(Model&)> fn);
+    void removeCycleHook(int handle);
+    void setEventHandler(std::function<void(const Event&)> fn) { m_event_handler = std::move(fn); }
+    /// Warnings (guard findings) go here; the default prints to stderr.
+    void setWarningHandler(std::function<void(const std::string&)> fn) {
+        m_warning_handler = std::move(fn);
+    }
+    void warn(const std::string& text);
+
+    Profile& profile() { return m_profile; }
+    const Profile& profile() const { return m_profile; }
+    /// Re-orders the balls in memory along a space-filling curve every `every` steps (0 = never)
+    /// so that neighbours are close in memory.
+    void setSortInterval(int64_t every) { m_sort_every = every; }
+
+    // Group names share one table (bit index); up to 64 groups per model.
+    int groupIndex(const std::string& name, bool create);
+    const std::vector<std::string>& groupNames() const { return m_group_names; }
+
+    // Internal types (core/src/model_internal.hpp).
+    struct BallArrays;
+    struct Pair;
+    struct Segment;
+    struct WallData;
+    struct Rule;
+
+    /// Direct read access for scene builders and diagnostics.
+    const BallArrays& balls() const { return *m_balls; }
+
+private:
+    void prepareRun();
+    void runSteps(int64_t steps);
+
+    // phases (one source file each)
+    void computeTimestep();    // timestep.cpp
+    void lawOfMotion();        // law_of_motion.cpp
+    void moveWalls();          // law_of_motion.cpp
+    void detectContacts();     // contact_detection.cpp
+    void forceDisplacement();  // force_displacement.cpp
+    void bookkeeping();        // bookkeeping.cpp
+
+    template <bool kAuto, bool kEnergy, bool kGuard>
+    void forceLoop();          // force_displacement.cpp
+
+    // helpers
+    uint32_t slotOf(BallId id) const;  // throws InputError for a stale id
+    const WallData& wallOf(WallId id) const;
+    WallData& wallOf(WallId id);
+    void updateMass(uint32_t slot);
+    void initBroadphase();
+    void insertBall(uint32_t slot);
+    void insertSegment(uint32_t seg);
+    Box ballBox(uint32_t slot) const;
+    Box segmentBox(uint32_t seg) const;
+    void addPairsFor(int32_t proxy_id);
+    bool makePair(uint32_t ball_slot, uint32_t other, bool other_is_segment);
+    void removePair(std::size_t index);
+    void refreshRule(Pair& p);
+    void resetPair(Pair& p);
+    void endContact(Pair& p, bool check_guard);
+    const Rule& ruleFor(uint64_t groups1, uint64_t groups2) const;
+    PropBlock propBlockFor(const Pair& p) const;
+    ContactKey keyOf(const Pair& p) const;
+    ContactInfo infoOf(const Pair& p) const;
+    Pair* pairByKey(ContactKey key);
+    const Pair* pairByKey(ContactKey key) const;
+    void sortBalls();
+    void compactDeleted();
+    void flushWarnings();
+    [[noreturn]] void throwNonFinite(const std::string& what) const;
+    std::string describePair(const Pair& p) const;
+    std::string describeBall(uint32_t slot) const;
+
+    // --- bodies
+    std::unique_ptr<BallArrays> m_balls_ptr;
+    BallArrays* m_balls;  // = m_balls_ptr.get()
+    std::vector<uint32_t> m_slot_of;     // handle index - 1 -> slot (or kDead)
+    std::vector<uint32_t> m_generation;  // handle index - 1 -> generation
+    std::vector<uint32_t> m_free_handles;
+    std::vector<WallData> m_walls;
+    std::vector<Segment> m_segments;
+    std::vector<Vec2> m_vertices;
+
+    // --- contacts (pairs = broadphase candidates; active pairs carry a model object)
+    std::vector<Pair> m_pairs;
+    std::unordered_map<uint64_t, uint32_t> m_pair_index;
+    std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
+    uint32_t m_rules_version = 1;
+    double m_max_activity = 0.0;  // largest activity distance of any rule [m]
+    std::unique_ptr<Broadphase> m_broadphase;
+    double m_margin = 0.0;
+    bool m_broadphase_ready = false;
+    std::vector<int32_t> m_query, m_moved;  // scratch for the broadphase
+    std::vector<uint32_t> m_to_remove;     // scratch for the force loop
+
+    // --- settings and state
+    PluginRegistry& m_registry;
+    Vec2 m_gravity;
+    MassMode m_mass_mode;
+    TimestepSettings m_timestep;
+    GuardSettings m_guard;
+    DampingSettings m_damping;
+    double m_time = 0.0;
+    int64_t m_step = 0;
+    double m_dt = 0.0;       // step taken by the last cycle
+    double m_dt_prev = 0.0;  // step before it (for the velocity update window)
+    StepRule m_dt_rule = StepRule::Fixed;
+    struct StepWhere {  // what set the last step; turned into words only when asked
+        enum Kind { None, Ball, Pair, Wall } kind = None;
+        uint32_t index = 0;
+        uint64_t key = 0;
+    } m_dt_where;
+    bool m_first_cycle = true;
+    bool m_warned_no_model = false;
+    double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
+    int64_t m_sort_every = 0;
+
+    // Limits gathered by the force loop for the next automatic step (timestep.cpp).
+    struct StepLimits {
+        double resolution = std::numeric_limits<double>::infinity();
+        double approach = std::numeric_limits<double>::infinity();
+        uint64_t resolution_key = 0, approach_key = 0;
+    } m_limits;
+
+    // --- energy: running sums, and the snapshot at the last whole step (energy.md)
+    bool m_energy_on = false;
+    EnergyTotals m_energy_acc;
+    EnergyTotals m_energy;
+
+    // --- guard counters (aggregated warnings)
+    int64_t m_underresolved = 0;
+    std::string m_underresolved_first;
+    int64_t m_energy_gain = 0;
+    std::string m_energy_gain_first;
+
+    // --- hooks and events
+    struct Hook {
+        int handle;
+        int64_t every;
+        std::function<void(Model&)> fn;
+    };
+    std::vector<Hook> m_hooks;
+    int m_next_hook = 1;
+    std::vector<Event> m_events;
+    std::function<void(const Event&)> m_event_handler;
+    std::function<void(const std::string&)> m_warning_handler;
+    std::vector<std::string> m_group_names;
+
+    Profile m_profile;
+    FdBlock m_fd_template{};
+};
+
+}  // namespace talus

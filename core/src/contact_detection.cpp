@@ -1,0 +1,319 @@
+// SPDX-License-Identifier: MIT
+//
+// Phase 3: contact detection, broadphase part (docs/architecture.md).
+//
+// One b2DynamicTree proxy per ball and per wall segment (broadphase.hpp). A body is re-inserted
+// only when it has less than one margin of room left in its fat box, and only re-inserted
+// bodies are queried for new pairs, so a settled packing does almost no broadphase work.
+// A pair lives while the fat boxes of its ends overlap; the narrowphase (is it touching?) runs
+// in the force loop (force_displacement.cpp), which is where the pair's data is hot anyway.
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+
+#include "broadphase.hpp"
+#include "model_internal.hpp"
+#include "talus/errors.hpp"
+
+namespace talus {
+
+namespace {
+
+Box grow(const Box& b, double d) {
+    Box g = b;
+    g.lo.array() -= d;
+    g.hi.array() += d;
+    return g;
+}
+
+}  // namespace
+
+Box Model::ballBox(uint32_t s) const {
+    const double r = m_balls->radius[s] + 0.5 * m_max_activity;
+    const Vec2& p = m_balls->pos[s];
+    return Box{Vec2(p.x() - r, p.y() - r), Vec2(p.x() + r, p.y() + r)};
+}
+
+Box Model::segmentBox(uint32_t seg) const {
+    const Vec2& a = m_vertices[m_segments[seg].a];
+    const Vec2& b = m_vertices[m_segments[seg].b];
+    const double h = 0.5 * m_max_activity;
+    return Box{Vec2(std::min(a.x(), b.x()) - h, std::min(a.y(), b.y()) - h),
+               Vec2(std::max(a.x(), b.x()) + h, std::max(a.y(), b.y()) + h)};
+}
+
+void Model::setBroadphaseMargin(double margin) {
+    if (!(margin >= 0.0) || !std::isfinite(margin))
+        throw InputError("broadphase: margin must be >= 0 (got " + std::to_string(margin) + ")");
+    m_margin = margin;
+    if (m_broadphase_ready) {
+        // Rebuild with the new margin; pairs are re-found from scratch but contacts keep their
+        // state (pairs whose fat boxes still overlap are kept by makePair's lookup).
+        m_broadphase_ready = false;
+        initBroadphase();
+    }
+}
+
+void Model::initBroadphase() {
+    auto& b = *m_balls;
+    if (!(m_margin > 0.0)) {
+        double mean = 0.0;
+        for (double r : b.radius) mean += r;
+        mean = b.size() ? mean / static_cast<double>(b.size()) : 0.0;
+        if (mean <= 0.0) {
+            // Only walls: take 1% of the walls' extent.
+            Box all{Vec2(1e300, 1e300), Vec2(-1e300, -1e300)};
+            for (const Vec2& v : m_vertices) all.lo = all.lo.cwiseMin(v), all.hi = all.hi.cwiseMax(v);
+            mean = m_vertices.empty() ? 1.0 : std::max(0.01 * (all.hi - all.lo).norm(), 1e-6);
+        }
+        m_margin = 0.05 * mean;
+    }
+    m_broadphase->reset(m_margin);
+    for (std::size_t s = 0; s < b.size(); ++s) b.proxy[s] = -1;
+    for (auto& sg : m_segments) sg.proxy = -1;
+    m_broadphase_ready = true;
+    std::vector<int32_t> proxies;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const auto slot = static_cast<uint32_t>(s);
+        b.proxy[s] = m_broadphase->create(grow(ballBox(slot), m_margin), proxyUserBall(b.handle[s]));
+        b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
+        proxies.push_back(b.proxy[s]);
+    }
+    for (std::size_t i = 0; i < m_segments.size(); ++i) {
+        if (!m_walls[m_segments[i].wall].alive) continue;
+        const auto seg = static_cast<uint32_t>(i);
+        m_segments[i].proxy =
+            m_broadphase->create(grow(segmentBox(seg), m_margin), proxyUserSegment(seg));
+        m_segments[i].fat = m_broadphase->fatBox(m_segments[i].proxy);
+    }
+    for (int32_t p : proxies) addPairsFor(p);
+}
+
+void Model::insertBall(uint32_t s) {
+    auto& b = *m_balls;
+    b.proxy[s] = m_broadphase->create(grow(ballBox(s), m_margin), proxyUserBall(b.handle[s]));
+    b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
+    addPairsFor(b.proxy[s]);
+}
+
+void Model::insertSegment(uint32_t seg) {
+    Segment& sg = m_segments[seg];
+    sg.proxy = m_broadphase->create(grow(segmentBox(seg), m_margin), proxyUserSegment(seg));
+    sg.fat = m_broadphase->fatBox(sg.proxy);
+    addPairsFor(sg.proxy);
+}
+
+void Model::addPairsFor(int32_t proxy) {
+    const uint32_t user = m_broadphase->user(proxy);
+    const bool is_segment = (user & kWallBit) != 0;
+    const Box fat = is_segment ? m_segments[user & ~kWallBit].fat : m_balls->fat[m_slot_of[user - 1]];
+    m_query.clear();
+    m_broadphase->query(fat, m_query);
+    for (int32_t other : m_query) {
+        if (other == proxy) continue;
+        const uint32_t ou = m_broadphase->user(other);
+        const bool other_segment = (ou & kWallBit) != 0;
+        if (is_segment && other_segment) continue;
+        if (is_segment)
+            makePair(m_slot_of[ou - 1], user & ~kWallBit, true);
+        else if (other_segment)
+            makePair(m_slot_of[user - 1], ou & ~kWallBit, true);
+        else
+            makePair(m_slot_of[user - 1], m_slot_of[ou - 1], false);
+    }
+}
+
+void Model::detectContacts() {
+    auto& b = *m_balls;
+    if (m_sort_every > 0 && m_step % m_sort_every == 0) sortBalls();
+    m_moved.clear();
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const Box want = grow(ballBox(static_cast<uint32_t>(s)), m_margin);
+        if (b.fat[s].contains(want)) continue;
+        if (m_broadphase->move(b.proxy[s], want)) {
+            b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
+            m_moved.push_back(b.proxy[s]);
+        }
+    }
+    for (std::size_t w = 0; w < m_walls.size(); ++w) {
+        const WallData& wd = m_walls[w];
+        if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0)) continue;
+        for (uint32_t k = 0; k < wd.segment_count; ++k) {
+            Segment& sg = m_segments[wd.first_segment + k];
+            const Box want = grow(segmentBox(wd.first_segment + k), m_margin);
+            if (sg.fat.contains(want)) continue;
+            if (m_broadphase->move(sg.proxy, want)) {
+                sg.fat = m_broadphase->fatBox(sg.proxy);
+                m_moved.push_back(sg.proxy);
+            }
+        }
+    }
+    m_profile.proxy_moves += static_cast<int64_t>(m_moved.size());
+    for (int32_t p : m_moved) addPairsFor(p);
+}
+
+// ------------------------------------------------------------------------ pairs
+
+PropBlock Model::propBlockFor(const Pair& p) const {
+    const auto& b = *m_balls;
+    PropBlock pb{};
+    pb.size = sizeof(PropBlock);
+    pb.version = m_fd_template.version;
+    pb.kn[0] = b.kn[p.end1], pb.ks[0] = b.ks[p.end1], pb.fric[0] = b.fric[p.end1];
+    pb.radius[0] = b.radius[p.end1];
+    pb.mass[0] = b.mass[p.end1];
+    if (p.wall) {
+        const WallData& w = m_walls[m_segments[p.end2].wall];
+        pb.end2_type = kEndWall;
+        pb.kn[1] = w.kn, pb.ks[1] = w.ks, pb.fric[1] = w.fric;
+        pb.radius[1] = 0.0;
+        pb.mass[1] = 0.0;
+    } else {
+        pb.end2_type = kEndBall;
+        pb.kn[1] = b.kn[p.end2], pb.ks[1] = b.ks[p.end2], pb.fric[1] = b.fric[p.end2];
+        pb.radius[1] = b.radius[p.end2];
+        pb.mass[1] = b.mass[p.end2];
+    }
+    pb.mass_eff = p.mass_eff;
+    return pb;
+}
+
+/// Clones the rule's prototype for the pair; throws PluginError naming the contact on failure.
+static ContactModel* cloneFor(Model::Rule& rule, const PropBlock& pb, const std::string& where) {
+    void* mem = rule.pool->allocate();
+    ContactModel* m = rule.prototype->Clone(pb, mem);
+    if (!m) {
+        rule.pool->release(mem);
+        throw PluginError("contact model '" + rule.model_name + "': cannot create the model for " +
+                          where + ": " + rule.prototype->LastError());
+    }
+    return m;
+}
+
+bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
+    auto& b = *m_balls;
+    Pair p;
+    if (other_is_segment) {
+        p.end1 = s1;
+        p.end2 = other;
+        p.wall = true;
+        p.key = (uint64_t(b.handle[s1]) << 32) | (kWallBit | other);
+    } else {
+        if (s1 == other) return false;
+        uint32_t a = s1, c = other;
+        if (b.handle[a] > b.handle[c]) std::swap(a, c);
+        p.end1 = a;
+        p.end2 = c;
+        p.key = (uint64_t(b.handle[a]) << 32) | b.handle[c];
+    }
+    if (m_pair_index.count(p.key)) return false;
+    const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
+    const Rule& rule = ruleFor(b.groups[p.end1], g2);
+    if (!rule.prototype) return false;  // no contact model: bodies pass through
+    p.rule = const_cast<Rule*>(&rule);
+    p.rules_version = m_rules_version;
+    p.activity = rule.activity;
+    const double m1 = b.mass[p.end1];
+    p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
+    p.model = cloneFor(*p.rule, propBlockFor(p), describePair(p));
+    p.knest = p.model->KnEstimate();
+    p.ksest = p.model->KsEstimate();
+    m_pair_index.emplace(p.key, static_cast<uint32_t>(m_pairs.size()));
+    m_pairs.push_back(p);
+    ++m_profile.pairs_created;
+    return true;
+}
+
+void Model::removePair(std::size_t i) {
+    Pair& p = m_pairs[i];
+    if (p.model) {
+        p.model->Destroy();
+        p.rule->pool->release(p.model);
+        p.model = nullptr;
+    }
+    m_pair_index.erase(p.key);
+    const std::size_t last = m_pairs.size() - 1;
+    if (i != last) {
+        m_pairs[i] = m_pairs[last];
+        m_pair_index[m_pairs[i].key] = static_cast<uint32_t>(i);
+    }
+    m_pairs.pop_back();
+}
+
+void Model::refreshRule(Pair& p) {
+    p.rules_version = m_rules_version;
+    const auto& b = *m_balls;
+    const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
+    Rule* rule = const_cast<Rule*>(&ruleFor(b.groups[p.end1], g2));
+    if (rule == p.rule || !rule->prototype) return;
+    p.model->Destroy();
+    p.rule->pool->release(p.model);
+    p.rule = rule;
+    p.activity = rule->activity;
+    p.model = cloneFor(*rule, propBlockFor(p), describePair(p));
+}
+
+void Model::resetPair(Pair& p) {
+    // A fresh clone: the next touch starts from a clean state.
+    p.model->Destroy();
+    p.rule->pool->release(p.model);
+    p.model = nullptr;
+    p.model = cloneFor(*p.rule, propBlockFor(p), describePair(p));
+    p.active = p.sliding = p.touched = false;
+    p.steps = 0;
+    p.n_force = p.s_force = p.moment = 0.0;
+    p.work = p.work_peak = p.strain = p.bond = 0.0;
+    p.knest = p.model->KnEstimate();
+    p.ksest = p.model->KsEstimate();
+    p.krest = 0.0;
+}
+
+// ------------------------------------------------------------------------ memory order
+
+void Model::sortBalls() {
+    auto& b = *m_balls;
+    const std::size_t n = b.size();
+    if (n < 2) return;
+    Box all{b.pos[0], b.pos[0]};
+    double rsum = 0.0;
+    for (std::size_t s = 0; s < n; ++s) {
+        all.lo = all.lo.cwiseMin(b.pos[s]);
+        all.hi = all.hi.cwiseMax(b.pos[s]);
+        rsum += b.radius[s];
+    }
+    const double cell = std::max(2.0 * rsum / static_cast<double>(n), 1e-300);
+    auto spread = [](uint32_t v) {  // interleave bits for a Morton code
+        uint64_t x = v;
+        x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+        x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+        x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
+        x = (x | (x << 2)) & 0x3333333333333333ull;
+        x = (x | (x << 1)) & 0x5555555555555555ull;
+        return x;
+    };
+    std::vector<uint64_t> code(n);
+    for (std::size_t s = 0; s < n; ++s) {
+        const Vec2 q = (b.pos[s] - all.lo) / cell;
+        const auto ix = static_cast<uint32_t>(std::min(q.x(), 4.0e9));
+        const auto iy = static_cast<uint32_t>(std::min(q.y(), 4.0e9));
+        code[s] = spread(ix) | (spread(iy) << 1);
+    }
+    std::vector<uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return code[x] < code[y]; });
+    b.permute(order);
+    std::vector<uint32_t> new_of(n);
+    for (std::size_t i = 0; i < n; ++i) new_of[order[i]] = static_cast<uint32_t>(i);
+    for (std::size_t s = 0; s < n; ++s) m_slot_of[b.handle[s] - 1] = static_cast<uint32_t>(s);
+    for (auto& p : m_pairs) {
+        p.end1 = new_of[p.end1];
+        if (!p.wall) p.end2 = new_of[p.end2];
+    }
+    // Pairs in the order of their first end, so the force loop walks memory forward.
+    std::stable_sort(m_pairs.begin(), m_pairs.end(), [](const Pair& x, const Pair& y) {
+        return x.end1 != y.end1 ? x.end1 < y.end1 : x.key < y.key;
+    });
+    for (std::size_t i = 0; i < m_pairs.size(); ++i) m_pair_index[m_pairs[i].key] = static_cast<uint32_t>(i);
+}
+
+}  // namespace talus

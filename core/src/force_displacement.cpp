@@ -1,0 +1,328 @@
+// SPDX-License-Identifier: MIT
+//
+// Phase 4: the force-displacement law. One pass over the pairs does, for each:
+//   narrowphase geometry -> (touching?) -> FdBlock -> the contact's model FDlaw -> forces and
+//   moments onto both ends; and, only when the scene asks for them, the stiffness sums and pair
+//   limits for the next automatic step, energy partitions, and the stability guard's work count.
+// Those three extras are template switches, so a fixed-step run without tracing pays nothing
+// for them (docs/architecture.md, "Pay only for what a scene uses").
+//
+// Frame: n from end 1 to end 2, t = perp(n); the model's forces act on end 2, end 1 gets the
+// opposite; torques are (contact point - centre) x force, plus the model's moment.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "model_internal.hpp"
+#include "narrowphase.hpp"
+#include "talus/errors.hpp"
+#include "talus/sdk/dashpot.hpp"
+
+namespace talus {
+
+namespace {
+
+/// Duration the resolution rule assumes: the model's estimate for this approach speed (skipped
+/// when approach < 0), and never more than the half period pi sqrt(m*/knest) of the current
+/// tangent stiffness, which includes the dashpot allowance the model reports.
+inline double contactDuration(const Model::Pair& p, double mass_eff, double approach) {
+    double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
+                               : std::numeric_limits<double>::infinity();
+    if (p.knest > 0.0) d = std::min(d, M_PI * std::sqrt(mass_eff / p.knest));
+    return d;
+}
+
+std::string num(double v) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+}  // namespace
+
+void Model::forceDisplacement() {
+    const bool automatic = m_timestep.automatic;
+    const bool guard = m_guard.energy != GuardAction::Off || m_guard.resolution != GuardAction::Off;
+    // Dispatch once per step to the loop compiled for exactly what this scene needs.
+    if (automatic) {
+        if (m_energy_on) guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
+        else guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
+    } else {
+        if (m_energy_on) guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
+        else guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
+    }
+}
+
+template <bool kAuto, bool kEnergy, bool kGuard>
+void Model::forceLoop() {
+    auto& b = *m_balls;
+    const std::size_t nb = b.size();
+    std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
+    std::fill(b.moment.begin(), b.moment.end(), 0.0);
+    for (auto& w : m_walls) w.force.setZero(), w.moment = 0.0;
+    if constexpr (kAuto) {
+        std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
+        std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
+        m_limits = StepLimits{};
+    }
+    (void)nb;
+    const double dt = m_dt;
+    const double resolution = m_timestep.resolution;
+    const double safety = m_timestep.safety;
+    FdBlock fd = m_fd_template;
+    fd.tdel = dt;
+    fd.time = m_time;
+    double strain_now = 0.0, bond_now = 0.0;
+    m_to_remove.clear();
+
+    for (std::size_t i = 0; i < m_pairs.size(); ++i) {
+        Pair& p = m_pairs[i];
+        const uint32_t s1 = p.end1;
+        const Vec2 x1 = b.pos[s1];
+        const double r1 = b.radius[s1];
+        ContactGeometry g;
+        Vec2 v2c, x2;
+        double spin2;
+        double m2 = 0.0;  // 0 = wall
+        const WallData* wall = nullptr;
+
+        if (!p.wall) {
+            const uint32_t s2 = p.end2;
+            x2 = b.pos[s2];
+            const Vec2 d = x2 - x1;
+            const double rsum = r1 + b.radius[s2];
+            const double dist2 = d.squaredNorm();
+            const double reach = rsum + p.activity;
+            if (!p.active && dist2 >= reach * reach) {
+                if constexpr (kAuto) {
+                    // Approach limit of a pair not yet touching (timestep.cpp).
+                    const double gap = std::sqrt(dist2) - rsum;
+                    const Vec2 vrel = b.vel[s2] - b.vel[s1];
+                    const Vec2 arel = (b.force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
+                                      (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1];
+                    const double closing = vrel.norm() + arel.norm() * dt;
+                    const double t_free = closing > 0.0 ? 0.5 * gap / closing
+                                                        : std::numeric_limits<double>::infinity();
+                    if (t_free < m_limits.approach) {
+                        const double dist = std::sqrt(dist2);
+                        const double approach = dist > 0.0 ? std::max(0.0, -vrel.dot(d) / dist) : 0.0;
+                        const double m_eff = b.mass[s1] * b.mass[s2] / (b.mass[s1] + b.mass[s2]);
+                        double lim = safety * std::sqrt(std::min(b.mass[s1], b.mass[s2]) /
+                                                        std::max(p.knest + p.ksest, 1e-300));
+                        if (resolution > 0.0)
+                            lim = std::min(lim, contactDuration(p, m_eff, approach) / resolution);
+                        const double d_pair = std::max(t_free, lim);
+                        if (d_pair < m_limits.approach) m_limits.approach = d_pair, m_limits.approach_key = p.key;
+                    }
+                }
+                if (!b.fat[s1].overlaps(b.fat[s2])) m_to_remove.push_back(static_cast<uint32_t>(i));
+                continue;
+            }
+            const double dist = std::sqrt(dist2);
+            g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+            g.overlap = rsum - dist;
+            g.point = x1 + (r1 - 0.5 * g.overlap) * g.normal;
+            v2c = b.vel[s2] + spinCross(b.spin[s2], g.point - x2);
+            spin2 = b.spin[s2];
+            m2 = b.mass[s2];
+        } else {
+            const Segment& sg = m_segments[p.end2];
+            wall = &m_walls[sg.wall];
+            const bool has_next = sg.next >= 0;
+            const Vec2& after = has_next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
+            if (!ballSegmentGeometry(x1, r1, m_vertices[sg.a], m_vertices[sg.b], sg.prev >= 0,
+                                     has_next, after, g)) {
+                // The ball is in a neighbouring segment's region: that segment holds the contact.
+                if (p.active) endContact(p, false);
+                if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
+                continue;
+            }
+            x2 = wall->center;
+            v2c = wall->vel + spinCross(wall->spin, g.point - x2);
+            spin2 = wall->spin;
+            if (!p.active && g.overlap <= -p.activity) {
+                if constexpr (kAuto) {
+                    const double gap = -g.overlap;
+                    const Vec2 vrel = v2c - b.vel[s1];
+                    const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
+                    const double closing = vrel.norm() + a1.norm() * dt;
+                    const double t_free = closing > 0.0 ? 0.5 * gap / closing
+                                                        : std::numeric_limits<double>::infinity();
+                    if (t_free < m_limits.approach) {
+                        const double approach = std::max(0.0, -vrel.dot(g.normal));
+                        double lim = safety * std::sqrt(b.mass[s1] / std::max(p.knest + p.ksest, 1e-300));
+                        if (resolution > 0.0)
+                            lim = std::min(lim, contactDuration(p, b.mass[s1], approach) / resolution);
+                        const double d_pair = std::max(t_free, lim);
+                        if (d_pair < m_limits.approach) m_limits.approach = d_pair, m_limits.approach_key = p.key;
+                    }
+                }
+                if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
+                continue;
+            }
+        }
+
+        // ---- the pair is a contact this step
+        const double m1 = b.mass[s1];
+        const double mass_eff = m2 > 0.0 ? m1 * m2 / (m1 + m2) : m1;
+        const Vec2 r1c = g.point - x1;
+        const Vec2 v1c = b.vel[s1] + spinCross(b.spin[s1], r1c);
+        const Vec2 vrel = v2c - v1c;
+        const Vec2 t = perp(g.normal);
+        bool first = false;
+        if (!p.active) {
+            if (p.rules_version != m_rules_version) refreshRule(p);
+            p.active = true;
+            first = true;
+            ++m_profile.contacts_created;
+            p.duration = p.model->ContactDuration(mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+        }
+        fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
+        fd.status = 0;
+        fd.error = nullptr;
+        fd.u_n = g.overlap;
+        fd.u_dot_n = -vrel.dot(g.normal);
+        fd.u_dot_s = vrel.dot(t);
+        fd.t_dot_rel = spin2 - b.spin[s1];
+        fd.du_n = fd.u_dot_n * dt;
+        fd.du_s = fd.u_dot_s * dt;
+        fd.dtheta = fd.t_dot_rel * dt;
+        fd.mass_eff = mass_eff;
+        const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
+        fd.n_force = fn_old;
+        fd.s_force = fs_old;
+        fd.moment = m_old;
+        fd.knest = fd.ksest = fd.krest = 0.0;
+        fd.break_mode = kBreakNone;
+        if constexpr (kEnergy)
+            for (double& e : fd.energy) e = 0.0;
+
+        p.model->FDlaw(fd);
+
+        if (fd.status != 0)
+            throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
+                              std::to_string(m_step) + " on " + describePair(p) + ": " +
+                              (fd.error ? fd.error : "(no message)"));
+        if (!std::isfinite(fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest))
+            throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(fd.n_force) +
+                           ", shear force " + num(fd.s_force) + ", moment " + num(fd.moment) +
+                           " at overlap " + num(g.overlap));
+
+        // ---- forces onto the ends
+        const Vec2 f = fd.n_force * g.normal + fd.s_force * t;
+        b.force[s1] -= f;
+        b.moment[s1] -= cross(r1c, f) + fd.moment;
+        if (!p.wall) {
+            b.force[p.end2] += f;
+            b.moment[p.end2] += cross(g.point - x2, f) + fd.moment;
+        } else {
+            WallData& w = m_walls[m_segments[p.end2].wall];
+            w.force += f;
+            w.moment += cross(g.point - w.center, f) + fd.moment;
+        }
+
+        // ---- extras
+        if constexpr (kAuto) {
+            const double kn = fd.knest, ks = fd.ksest;
+            b.k_tran[s1] += kn + ks;
+            b.k_rot[s1] += ks * r1c.squaredNorm() + fd.krest;
+            if (!p.wall) {
+                b.k_tran[p.end2] += kn + ks;
+                b.k_rot[p.end2] += ks * (g.point - x2).squaredNorm() + fd.krest;
+            }
+            if (resolution > 0.0) {
+                double dur = p.duration;
+                if (kn > 0.0) dur = std::min(dur, M_PI * std::sqrt(mass_eff / kn));
+                const double d = dur / resolution;
+                if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = p.key;
+            }
+        }
+        if constexpr (kEnergy) {
+            m_energy_acc.slip += fd.energy[kEnergySlip];
+            m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
+            m_energy_acc.plastic += fd.energy[kEnergyPlastic];
+            p.strain = fd.energy[kEnergyStrain];
+            p.bond = fd.energy[kEnergyBondStrain];
+            strain_now += p.strain;
+            bond_now += p.bond;
+        }
+        if constexpr (kGuard) {
+            // Energy the contact took this step: trapezoidal work of its forces over the
+            // relative displacement since touch (docs/physics/guard.md).
+            double dun, dus = fd.du_s, dth = fd.dtheta;
+            if (first) {
+                const double frac = sdk::onsetFraction(g.overlap, fd.du_n);
+                dun = g.overlap - std::max(g.overlap - fd.du_n, -p.activity);
+                dus *= frac;
+                dth *= frac;
+            } else {
+                dun = std::max(g.overlap, -p.activity) - p.overlap;
+            }
+            p.work += 0.5 * ((fn_old + fd.n_force) * dun - (fs_old + fd.s_force) * dus -
+                             (m_old + fd.moment) * dth);
+            p.work_peak = std::max(p.work_peak, p.work);
+        }
+
+        p.n_force = fd.n_force;
+        p.s_force = fd.s_force;
+        p.moment = fd.moment;
+        p.normal = g.normal;
+        p.point = g.point;
+        p.overlap = g.overlap;
+        p.knest = fd.knest;
+        p.ksest = fd.ksest;
+        p.krest = fd.krest;
+        p.sliding = (fd.flags & kFdSliding) != 0;
+        if (g.overlap > 0.0) {
+            ++p.steps;
+            p.touched = true;
+        }
+        if (fd.flags & kFdBroken) {
+            Event ev;
+            ev.kind = EventKind::BondBreak;
+            ev.time = m_time;
+            ev.pos = g.point;
+            ev.contact = ContactKey{p.key};
+            ev.mode = fd.break_mode;
+            ev.model = p.rule->model_name;
+            m_events.push_back(std::move(ev));
+        }
+        if (g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete())
+            endContact(p, kGuard);
+    }
+
+    for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
+    if constexpr (kEnergy) {
+        m_energy_acc.strain = strain_now;
+        m_energy_acc.bond = bond_now;
+    }
+}
+
+void Model::endContact(Pair& p, bool check_guard) {
+    if (m_energy_on) m_energy_acc.released += p.strain + p.bond;
+    if (check_guard && p.touched) {
+        if (m_guard.energy != GuardAction::Off && p.work_peak > 0.0 &&
+            p.work < -m_guard.energy_tolerance * p.work_peak) {
+            const std::string what =
+                describePair(p) + " returned " + num(-p.work) + " J more than it took (peak " +
+                num(p.work_peak) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
+                "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
+                " s; the step (" + num(m_dt) + " s) is too large for the model's stiffness, or the "
+                "model reports too low a stiffness (knest " + num(p.knest) + " N/m)";
+            if (m_guard.energy == GuardAction::Error) throw NumericalError("energy created: " + what);
+            if (m_energy_gain++ == 0) m_energy_gain_first = what;
+        }
+        if (m_guard.resolution != GuardAction::Off && p.steps < static_cast<uint32_t>(m_guard.min_steps)) {
+            const std::string what = describePair(p) + " lasted " + std::to_string(p.steps) +
+                                     " steps (t = " + num(m_time) + " s, dt = " + num(m_dt) + " s)";
+            if (m_guard.resolution == GuardAction::Error)
+                throw NumericalError("impact under-resolved: " + what + "; at least " +
+                                     std::to_string(m_guard.min_steps) + " steps are needed");
+            if (m_underresolved++ == 0) m_underresolved_first = what;
+        }
+    }
+    resetPair(p);
+}
+
+}  // namespace talus

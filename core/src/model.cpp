@@ -1,0 +1,776 @@
+// SPDX-License-Identifier: MIT
+//
+// Model: bodies, contact-model rules, queries, and the cycle driver. The phases themselves are in
+// timestep.cpp, law_of_motion.cpp, contact_detection.cpp, force_displacement.cpp and
+// bookkeeping.cpp.
+#include "talus/model.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "broadphase.hpp"
+#include "model_internal.hpp"
+#include "talus/errors.hpp"
+
+namespace talus {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+std::string fmt(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+std::string vecText(const Vec2& v) { return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ")"; }
+
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
+
+const char* stepRuleName(StepRule r) {
+    switch (r) {
+        case StepRule::Fixed: return "fixed";
+        case StepRule::Stability: return "stability";
+        case StepRule::Resolution: return "resolution";
+        case StepRule::Approach: return "approach";
+        case StepRule::Kinematic: return "kinematic";
+        case StepRule::Max: return "max";
+        case StepRule::Growth: return "growth";
+    }
+    return "?";
+}
+
+// ------------------------------------------------------------------------ small containers
+
+ObjectPool::ObjectPool(std::size_t block_size) {
+    const std::size_t a = alignof(std::max_align_t);
+    m_block = (block_size + a - 1) / a * a;
+}
+
+void* ObjectPool::allocate() {
+    if (m_free.empty()) {
+        constexpr std::size_t kPerChunk = 256;
+        m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
+        unsigned char* base = m_chunks.back().get();
+        for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);
+    }
+    void* p = m_free.back();
+    m_free.pop_back();
+    return p;
+}
+
+void ObjectPool::release(void* p) { m_free.push_back(p); }
+
+void Model::BallArrays::resize(std::size_t n) {
+    pos.resize(n), vel.resize(n), force.resize(n), fapp.resize(n);
+    angle.resize(n), spin.resize(n), moment.resize(n), mapp.resize(n);
+    radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n),
+        inv_inertia.resize(n), density.resize(n);
+    fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
+    kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
+}
+
+void Model::BallArrays::move(std::size_t to, std::size_t from) {
+    pos[to] = pos[from], vel[to] = vel[from], force[to] = force[from], fapp[to] = fapp[from];
+    angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from], mapp[to] = mapp[from];
+    radius[to] = radius[from], mass[to] = mass[from], inv_mass[to] = inv_mass[from];
+    inertia[to] = inertia[from], inv_inertia[to] = inv_inertia[from], density[to] = density[from];
+    fixity[to] = fixity[from], handle[to] = handle[from], proxy[to] = proxy[from];
+    fat[to] = fat[from], groups[to] = groups[from];
+    kn[to] = kn[from], ks[to] = ks[from], fric[to] = fric[from];
+    k_tran[to] = k_tran[from], k_rot[to] = k_rot[from];
+}
+
+void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
+    auto apply = [&](auto& v) {
+        auto old = v;
+        for (std::size_t i = 0; i < new_to_old.size(); ++i) v[i] = old[new_to_old[i]];
+    };
+    apply(pos), apply(vel), apply(force), apply(fapp), apply(angle), apply(spin), apply(moment);
+    apply(mapp), apply(radius), apply(mass), apply(inv_mass), apply(inertia), apply(inv_inertia);
+    apply(density), apply(fixity), apply(handle), apply(proxy), apply(fat), apply(groups);
+    apply(kn), apply(ks), apply(fric), apply(k_tran), apply(k_rot);
+}
+
+// ------------------------------------------------------------------------ construction
+
+Model::Model(const ModelDef& def, PluginRegistry& registry)
+    : m_balls_ptr(std::make_unique<BallArrays>()),
+      m_balls(m_balls_ptr.get()),
+      m_broadphase(std::make_unique<Broadphase>()),
+      m_registry(registry),
+      m_gravity(def.gravity),
+      m_mass_mode(def.mass_mode) {
+    if (!std::isfinite(def.gravity.x()) || !std::isfinite(def.gravity.y()))
+        throw InputError("model: gravity must be finite");
+    // Rule 0 is the default; until set it is "none" (no contacts are created).
+    auto none = std::make_unique<Rule>();
+    none->model_name = "";
+    m_rules.push_back(std::move(none));
+    m_fd_template.size = sizeof(FdBlock);
+    m_fd_template.version = TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR;
+    m_warning_handler = [](const std::string& w) { std::cerr << "warning: " << w << "\n"; };
+}
+
+Model::~Model() {
+    for (auto& p : m_pairs) {
+        if (p.model) {
+            p.model->Destroy();
+            p.rule->pool->release(p.model);
+        }
+    }
+}
+
+int Model::groupIndex(const std::string& name, bool create) {
+    for (std::size_t i = 0; i < m_group_names.size(); ++i)
+        if (m_group_names[i] == name) return static_cast<int>(i);
+    if (!create) return -1;
+    if (m_group_names.size() >= 64)
+        throw InputError("group '" + name + "': a model holds at most 64 group names");
+    m_group_names.push_back(name);
+    return static_cast<int>(m_group_names.size() - 1);
+}
+
+// ------------------------------------------------------------------------ balls
+
+std::size_t Model::ballCount() const { return m_balls->size(); }
+
+uint32_t Model::slotOf(BallId id) const {
+    if (id.index == 0 || id.index > m_slot_of.size())
+        throw InputError("ball id " + std::to_string(id.index) + " does not exist");
+    const uint32_t slot = m_slot_of[id.index - 1];
+    if (slot == kDeadSlot || m_generation[id.index - 1] != id.generation)
+        throw InputError("ball " + std::to_string(id.index) + " was deleted (stale id)");
+    return slot;
+}
+
+bool Model::isAlive(BallId id) const {
+    return id.index != 0 && id.index <= m_slot_of.size() && m_slot_of[id.index - 1] != kDeadSlot &&
+           m_generation[id.index - 1] == id.generation;
+}
+
+std::string Model::describeBall(uint32_t slot) const {
+    return "ball " + std::to_string(m_balls->handle[slot]) + " at " + vecText(m_balls->pos[slot]);
+}
+
+void Model::updateMass(uint32_t s) {
+    auto& b = *m_balls;
+    const double r = b.radius[s];
+    if (m_mass_mode == MassMode::Disk) {
+        b.mass[s] = b.density[s] * M_PI * r * r;  // unit thickness
+        b.inertia[s] = 0.5 * b.mass[s] * r * r;
+    } else {
+        b.mass[s] = b.density[s] * 4.0 / 3.0 * M_PI * r * r * r;
+        b.inertia[s] = 0.4 * b.mass[s] * r * r;
+    }
+    b.inv_mass[s] = 1.0 / b.mass[s];
+    b.inv_inertia[s] = 1.0 / b.inertia[s];
+}
+
+BallId Model::createBall(const BallDef& d) {
+    auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
+    if (!(d.radius > 0.0) || !std::isfinite(d.radius))
+        throw InputError("ball: radius must be > 0 (got " + fmt(d.radius) + ")");
+    const bool has_mass = !std::isnan(d.mass);
+    if (has_mass && !(d.mass > 0.0 && std::isfinite(d.mass)))
+        throw InputError("ball: mass must be > 0 (got " + fmt(d.mass) + ")");
+    if (!has_mass && !(d.density > 0.0 && std::isfinite(d.density)))
+        throw InputError("ball: density must be > 0 (got " + fmt(d.density) + ")");
+    if (!std::isnan(d.inertia) && !(d.inertia > 0.0 && std::isfinite(d.inertia)))
+        throw InputError("ball: inertia must be > 0 (got " + fmt(d.inertia) + ")");
+    if (!finite2(d.pos)) throw InputError("ball: pos must be finite");
+    if (!finite2(d.vel)) throw InputError("ball: vel must be finite");
+    if (!std::isfinite(d.spin) || !std::isfinite(d.angle))
+        throw InputError("ball: spin and angle must be finite");
+    for (double v : {d.kn, d.ks, d.fric})
+        if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
+            throw InputError("ball: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
+
+    auto& b = *m_balls;
+    const uint32_t s = static_cast<uint32_t>(b.size());
+    b.resize(s + 1);
+    b.pos[s] = d.pos;
+    b.vel[s] = d.vel;
+    b.force[s] = b.fapp[s] = Vec2::Zero();
+    b.angle[s] = d.angle;
+    b.spin[s] = d.spin;
+    b.moment[s] = b.mapp[s] = 0.0;
+    b.radius[s] = d.radius;
+    b.density[s] = has_mass ? 0.0 : d.density;
+    if (has_mass) {
+        b.mass[s] = d.mass;
+        b.inertia[s] = (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * d.mass * d.radius * d.radius;
+        b.inv_mass[s] = 1.0 / d.mass;
+        b.inv_inertia[s] = 1.0 / b.inertia[s];
+        b.density[s] = d.mass / (m_mass_mode == MassMode::Disk
+                                     ? M_PI * d.radius * d.radius
+                                     : 4.0 / 3.0 * M_PI * d.radius * d.radius * d.radius);
+    } else {
+        updateMass(s);
+    }
+    if (!std::isnan(d.inertia)) {
+        b.inertia[s] = d.inertia;
+        b.inv_inertia[s] = 1.0 / d.inertia;
+    }
+    b.fixity[s] = d.fixity;
+    b.proxy[s] = -1;
+    b.groups[s] = 0;
+    for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << groupIndex(g, true);
+    b.kn[s] = d.kn, b.ks[s] = d.ks, b.fric[s] = d.fric;
+    b.k_tran[s] = b.k_rot[s] = 0.0;
+
+    uint32_t h;
+    if (!m_free_handles.empty()) {
+        h = m_free_handles.back();
+        m_free_handles.pop_back();
+        m_generation[h - 1] += 1;
+    } else {
+        m_slot_of.push_back(kDeadSlot);
+        m_generation.push_back(1);
+        h = static_cast<uint32_t>(m_slot_of.size());
+    }
+    m_slot_of[h - 1] = s;
+    b.handle[s] = h;
+    if (m_broadphase_ready) insertBall(s);
+    return BallId{h, m_generation[h - 1]};
+}
+
+void Model::deleteBall(BallId id) {
+    const uint32_t s = slotOf(id);
+    // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
+    for (std::size_t i = m_pairs.size(); i-- > 0;) {
+        const Pair& p = m_pairs[i];
+        if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(i);
+    }
+    auto& b = *m_balls;
+    if (b.proxy[s] >= 0) m_broadphase->destroy(b.proxy[s]);
+    const uint32_t last = static_cast<uint32_t>(b.size() - 1);
+    if (s != last) {
+        b.move(s, last);
+        m_slot_of[b.handle[s] - 1] = s;
+        for (auto& p : m_pairs) {
+            if (p.end1 == last) p.end1 = s;
+            if (!p.wall && p.end2 == last) p.end2 = s;
+        }
+    }
+    b.resize(last);
+    m_slot_of[id.index - 1] = kDeadSlot;
+    m_free_handles.push_back(id.index);
+}
+
+std::vector<BallId> Model::ballIds() const {
+    std::vector<BallId> ids;
+    ids.reserve(m_balls->size());
+    for (uint32_t h = 1; h <= m_slot_of.size(); ++h)
+        if (m_slot_of[h - 1] != kDeadSlot) ids.push_back(BallId{h, m_generation[h - 1]});
+    return ids;
+}
+
+Vec2 Model::ballPos(BallId id) const { return m_balls->pos[slotOf(id)]; }
+Vec2 Model::ballVel(BallId id) const { return m_balls->vel[slotOf(id)]; }
+double Model::ballSpin(BallId id) const { return m_balls->spin[slotOf(id)]; }
+double Model::ballAngle(BallId id) const { return m_balls->angle[slotOf(id)]; }
+double Model::ballRadius(BallId id) const { return m_balls->radius[slotOf(id)]; }
+double Model::ballMass(BallId id) const { return m_balls->mass[slotOf(id)]; }
+double Model::ballInertia(BallId id) const { return m_balls->inertia[slotOf(id)]; }
+double Model::ballDensity(BallId id) const { return m_balls->density[slotOf(id)]; }
+Vec2 Model::ballForce(BallId id) const { return m_balls->force[slotOf(id)]; }
+double Model::ballMoment(BallId id) const { return m_balls->moment[slotOf(id)]; }
+Vec2 Model::ballAppliedForce(BallId id) const { return m_balls->fapp[slotOf(id)]; }
+double Model::ballAppliedMoment(BallId id) const { return m_balls->mapp[slotOf(id)]; }
+uint8_t Model::ballFixity(BallId id) const { return m_balls->fixity[slotOf(id)]; }
+
+static void requireFinite(const char* what, const Vec2& v) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
+        throw InputError(std::string("ball: ") + what + " must be finite");
+}
+
+void Model::setBallPos(BallId id, const Vec2& p) {
+    requireFinite("pos", p);
+    const uint32_t s = slotOf(id);
+    m_balls->pos[s] = p;
+}
+void Model::setBallVel(BallId id, const Vec2& v) {
+    requireFinite("vel", v);
+    m_balls->vel[slotOf(id)] = v;
+}
+void Model::setBallSpin(BallId id, double w) {
+    if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
+    m_balls->spin[slotOf(id)] = w;
+}
+void Model::setBallRadius(BallId id, double r) {
+    if (!(r > 0.0) || !std::isfinite(r))
+        throw InputError("ball: radius must be > 0 (got " + fmt(r) + ")");
+    const uint32_t s = slotOf(id);
+    m_balls->radius[s] = r;
+    if (m_balls->density[s] > 0.0) updateMass(s);
+}
+void Model::setBallDensity(BallId id, double rho) {
+    if (!(rho > 0.0) || !std::isfinite(rho))
+        throw InputError("ball: density must be > 0 (got " + fmt(rho) + ")");
+    const uint32_t s = slotOf(id);
+    m_balls->density[s] = rho;
+    updateMass(s);
+}
+void Model::setBallAppliedForce(BallId id, const Vec2& f) {
+    requireFinite("applied force", f);
+    m_balls->fapp[slotOf(id)] = f;
+}
+void Model::setBallAppliedMoment(BallId id, double m) {
+    if (!std::isfinite(m)) throw InputError("ball: applied moment must be finite");
+    m_balls->mapp[slotOf(id)] = m;
+}
+void Model::setBallFixity(BallId id, uint8_t f) { m_balls->fixity[slotOf(id)] = f; }
+
+static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
+                              std::vector<double>& fric, uint32_t s, const std::string& name,
+                              const char* owner) {
+    const std::string n = lower(name);
+    if (n == "kn") return kn[s];
+    if (n == "ks") return ks[s];
+    if (n == "fric") return fric[s];
+    throw InputError(std::string(owner) + ": unknown contact property '" + name +
+                     "' (inheritable: kn, ks, fric)");
+}
+
+double Model::ballContactProp(BallId id, const std::string& name) const {
+    auto& b = *m_balls;
+    return inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball");
+}
+void Model::setBallContactProp(BallId id, const std::string& name, double v) {
+    if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
+        throw InputError("ball: " + name + " must be >= 0 (got " + fmt(v) + ")");
+    auto& b = *m_balls;
+    inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball") = v;
+}
+
+std::vector<std::string> Model::ballGroups(BallId id) const {
+    std::vector<std::string> out;
+    const uint64_t g = m_balls->groups[slotOf(id)];
+    for (std::size_t i = 0; i < m_group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    return out;
+}
+void Model::addBallGroup(BallId id, const std::string& group) {
+    const uint32_t s = slotOf(id);
+    m_balls->groups[s] |= uint64_t(1) << groupIndex(group, true);
+}
+
+// ------------------------------------------------------------------------ walls
+
+WallId Model::createWall(const WallDef& d) {
+    const std::size_t n = d.points.size();
+    if (n < 2) throw InputError("wall: needs at least 2 points (got " + std::to_string(n) + ")");
+    if (d.closed && n < 3) throw InputError("wall: a closed wall needs at least 3 points");
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec2& p = d.points[i];
+        if (!std::isfinite(p.x()) || !std::isfinite(p.y()))
+            throw InputError("wall: point " + std::to_string(i + 1) + " is not finite");
+        const std::size_t j = (i + 1) % n;
+        if ((i + 1 < n || d.closed) && (d.points[j] - p).norm() <= 0.0)
+            throw InputError("wall: points " + std::to_string(i + 1) + " and " +
+                             std::to_string(j + 1) + " coincide (zero-length segment)");
+    }
+    if (!std::isfinite(d.vel.x()) || !std::isfinite(d.vel.y()) || !std::isfinite(d.spin))
+        throw InputError("wall: vel and spin must be finite");
+    for (double v : {d.kn, d.ks, d.fric})
+        if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
+            throw InputError("wall: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
+
+    WallData w;
+    w.closed = d.closed;
+    w.first_vertex = static_cast<uint32_t>(m_vertices.size());
+    w.vertex_count = static_cast<uint32_t>(n);
+    Vec2 centroid = Vec2::Zero();
+    for (const auto& p : d.points) {
+        m_vertices.push_back(p);
+        centroid += p;
+    }
+    centroid /= static_cast<double>(n);
+    w.center = std::isnan(d.center.x()) ? centroid : d.center;
+    w.vel = d.vel;
+    w.spin = d.spin;
+    for (const auto& g : d.groups) w.groups |= uint64_t(1) << groupIndex(g, true);
+    w.kn = d.kn, w.ks = d.ks, w.fric = d.fric;
+    const uint32_t wall_index = static_cast<uint32_t>(m_walls.size());
+    const std::size_t nseg = d.closed ? n : n - 1;
+    w.first_segment = static_cast<uint32_t>(m_segments.size());
+    w.segment_count = static_cast<uint32_t>(nseg);
+    for (std::size_t i = 0; i < nseg; ++i) {
+        Segment s;
+        s.wall = wall_index;
+        s.a = w.first_vertex + static_cast<uint32_t>(i);
+        s.b = w.first_vertex + static_cast<uint32_t>((i + 1) % n);
+        const int32_t first = static_cast<int32_t>(w.first_segment);
+        const int32_t k = static_cast<int32_t>(i), ns = static_cast<int32_t>(nseg);
+        s.prev = (i > 0) ? first + k - 1 : (d.closed ? first + ns - 1 : -1);
+        s.next = (i + 1 < nseg) ? first + k + 1 : (d.closed ? first : -1);
+        m_segments.push_back(s);
+    }
+    m_walls.push_back(w);
+    if (m_broadphase_ready)
+        for (uint32_t i = 0; i < nseg; ++i) insertSegment(w.first_segment + i);
+    return WallId{wall_index + 1, m_walls.back().generation};
+}
+
+std::size_t Model::wallCount() const { return m_walls.size(); }
+
+std::vector<WallId> Model::wallIds() const {
+    std::vector<WallId> ids;
+    for (std::size_t i = 0; i < m_walls.size(); ++i)
+        if (m_walls[i].alive) ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_walls[i].generation});
+    return ids;
+}
+
+const Model::WallData& Model::wallOf(WallId id) const {
+    if (id.index == 0 || id.index > m_walls.size() || !m_walls[id.index - 1].alive ||
+        m_walls[id.index - 1].generation != id.generation)
+        throw InputError("wall id " + std::to_string(id.index) + " does not exist");
+    return m_walls[id.index - 1];
+}
+Model::WallData& Model::wallOf(WallId id) {
+    return const_cast<WallData&>(static_cast<const Model*>(this)->wallOf(id));
+}
+
+std::vector<Vec2> Model::wallPoints(WallId id) const {
+    const WallData& w = wallOf(id);
+    return std::vector<Vec2>(m_vertices.begin() + w.first_vertex,
+                             m_vertices.begin() + w.first_vertex + w.vertex_count);
+}
+Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
+void Model::setWallVel(WallId id, const Vec2& v) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) throw InputError("wall: vel must be finite");
+    wallOf(id).vel = v;
+}
+double Model::wallSpin(WallId id) const { return wallOf(id).spin; }
+void Model::setWallSpin(WallId id, double w) {
+    if (!std::isfinite(w)) throw InputError("wall: spin must be finite");
+    wallOf(id).spin = w;
+}
+Vec2 Model::wallCenter(WallId id) const { return wallOf(id).center; }
+void Model::setWallCenter(WallId id, const Vec2& c) { wallOf(id).center = c; }
+Vec2 Model::wallForce(WallId id) const { return wallOf(id).force; }
+
+double Model::wallContactProp(WallId id, const std::string& name) const {
+    const WallData& w = wallOf(id);
+    const std::string n = lower(name);
+    if (n == "kn") return w.kn;
+    if (n == "ks") return w.ks;
+    if (n == "fric") return w.fric;
+    throw InputError("wall: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
+}
+void Model::setWallContactProp(WallId id, const std::string& name, double v) {
+    if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
+        throw InputError("wall: " + name + " must be >= 0 (got " + fmt(v) + ")");
+    WallData& w = wallOf(id);
+    const std::string n = lower(name);
+    if (n == "kn") w.kn = v;
+    else if (n == "ks") w.ks = v;
+    else if (n == "fric") w.fric = v;
+    else throw InputError("wall: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
+}
+
+// ------------------------------------------------------------------------ contact-model rules
+
+const ModelFactory& Model::contactModelFactory(const std::string& name) {
+    return m_registry.find(name);
+}
+
+static int32_t propIndex(const ContactModel& m, const std::string& name) {
+    const std::string key = lower(name);
+    for (int32_t i = 0; i < m.PropCount(); ++i) {
+        const PropInfo* info = m.PropInfoAt(i);
+        if (info && lower(info->name) == key) return i;
+    }
+    return -1;
+}
+
+static std::string knownProps(const ContactModel& m) {
+    std::string s = m.PropNames();
+    std::string out;
+    for (char c : s) out += (c == ',') ? std::string(", ") : std::string(1, c);
+    return out;
+}
+
+static void applyProps(ContactModel& proto, const std::vector<PropValue>& props,
+                       const std::string& where) {
+    for (const auto& pv : props) {
+        const int32_t idx = propIndex(proto, pv.name);
+        if (idx < 0)
+            throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
+                             proto.Name() + "' (known: " + knownProps(proto) + ")");
+        if (proto.AcceptProp(idx, pv.value) != 0)
+            throw InputError(where + ": " + proto.LastError());
+    }
+}
+
+void Model::setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props) {
+    addContactModelRule(name, props, "", "");
+}
+
+void Model::addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
+                                const std::string& group_a, const std::string& group_b) {
+    auto rule = std::make_unique<Rule>();
+    rule->factory = &m_registry.find(name);
+    rule->model_name = rule->factory->name;
+    rule->prototype = m_registry.createPrototype(*rule->factory);
+    applyProps(*rule->prototype, props, "contact_model");
+    PropBlock pb{};
+    pb.size = sizeof(PropBlock);
+    pb.version = m_fd_template.version;
+    for (int i = 0; i < 2; ++i) pb.kn[i] = pb.ks[i] = pb.fric[i] = kNotSet;
+    if (const char* err = rule->prototype->PreCycle(pb))
+        throw InputError(std::string("contact_model '") + rule->model_name + "': " + err);
+    rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
+    rule->group_b = group_b.empty() ? -1 : groupIndex(group_b, true);
+    rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
+    rule->order = static_cast<int>(m_rules.size());
+    rule->activity = rule->prototype->ActivityDistance();
+    rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
+    if (rule->specificity == 0) {
+        // A new default replaces the old one for future contacts; the old rule stays alive
+        // (existing contacts hold objects from its pool) but is no longer matched.
+        m_rules.push_back(std::move(m_rules[0]));
+        m_rules[0] = std::move(rule);
+    } else {
+        m_rules.push_back(std::move(rule));
+    }
+    // Pairs that are not in contact pick the new rules up when they touch.
+    ++m_rules_version;
+    m_max_activity = 0.0;
+    for (const auto& r : m_rules)
+        if (r->prototype) m_max_activity = std::max(m_max_activity, r->activity);
+}
+
+const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
+    const Rule* best = m_rules[0].get();
+    int best_spec = -1, best_order = -1;
+    auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
+    for (std::size_t i = 1; i < m_rules.size(); ++i) {
+        const Rule& r = *m_rules[i];
+        if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
+        const bool match = (in(g1, r.group_a) && in(g2, r.group_b)) ||
+                           (in(g2, r.group_a) && in(g1, r.group_b));
+        if (match && (r.specificity > best_spec ||
+                      (r.specificity == best_spec && r.order > best_order))) {
+            best = &r;
+            best_spec = r.specificity;
+            best_order = r.order;
+        }
+    }
+    return *best;
+}
+
+// ------------------------------------------------------------------------ contacts (queries)
+
+ContactKey Model::keyOf(const Pair& p) const { return ContactKey{p.key}; }
+
+Model::Pair* Model::pairByKey(ContactKey key) {
+    auto it = m_pair_index.find(key.value);
+    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
+}
+const Model::Pair* Model::pairByKey(ContactKey key) const {
+    auto it = m_pair_index.find(key.value);
+    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
+}
+
+ContactInfo Model::infoOf(const Pair& p) const {
+    ContactInfo c;
+    c.key = keyOf(p);
+    const uint32_t h1 = m_balls->handle[p.end1];
+    c.ball1 = BallId{h1, m_generation[h1 - 1]};
+    if (p.wall) {
+        const Segment& s = m_segments[p.end2];
+        c.wall = WallId{s.wall + 1, m_walls[s.wall].generation};
+        c.segment = static_cast<int32_t>(p.end2 - m_walls[s.wall].first_segment);
+    } else {
+        const uint32_t h2 = m_balls->handle[p.end2];
+        c.ball2 = BallId{h2, m_generation[h2 - 1]};
+    }
+    c.active = p.active;
+    c.normal = p.normal;
+    c.point = p.point;
+    c.overlap = p.overlap;
+    c.normal_force = p.n_force;
+    c.shear_force = p.s_force;
+    c.moment = p.moment;
+    c.sliding = p.sliding;
+    c.model = p.rule ? p.rule->model_name : "";
+    return c;
+}
+
+std::string Model::describePair(const Pair& p) const {
+    std::string s = "contact ball " + std::to_string(m_balls->handle[p.end1]) + " - ";
+    if (p.wall) {
+        const Segment& seg = m_segments[p.end2];
+        s += "wall " + std::to_string(seg.wall + 1) + " segment " +
+             std::to_string(p.end2 - m_walls[seg.wall].first_segment + 1);
+    } else {
+        s += "ball " + std::to_string(m_balls->handle[p.end2]);
+    }
+    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "') at " +
+         vecText(p.point);
+    return s;
+}
+
+std::size_t Model::contactCount(bool active_only) const {
+    if (!active_only) return m_pairs.size();
+    std::size_t n = 0;
+    for (const auto& p : m_pairs) n += p.active;
+    return n;
+}
+
+std::vector<ContactInfo> Model::contacts(bool active_only) const {
+    std::vector<ContactInfo> out;
+    for (const auto& p : m_pairs)
+        if (p.active || !active_only) out.push_back(infoOf(p));
+    return out;
+}
+
+bool Model::findContact(ContactKey key, ContactInfo& out) const {
+    const Pair* p = pairByKey(key);
+    if (!p) return false;
+    out = infoOf(*p);
+    return true;
+}
+
+double Model::contactProp(ContactKey key, const std::string& name) const {
+    const Pair* p = pairByKey(key);
+    if (!p || !p->model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*p->model, name);
+    if (idx < 0)
+        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
+                         "' (known: " + knownProps(*p->model) + ")");
+    return p->model->ReturnProp(idx);
+}
+
+void Model::setContactProp(ContactKey key, const std::string& name, double value) {
+    Pair* p = pairByKey(key);
+    if (!p || !p->model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*p->model, name);
+    if (idx < 0)
+        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
+                         "' (known: " + knownProps(*p->model) + ")");
+    if (p->model->AcceptProp(idx, value) != 0) throw InputError(std::string("contact: ") + p->model->LastError());
+}
+
+void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
+    Pair* p = pairByKey(key);
+    if (!p) throw InputError("contact no longer exists");
+    if (!std::isfinite(normal_force) || !std::isfinite(shear_force))
+        throw InputError("contact: forces must be finite");
+    p->n_force = normal_force;
+    p->s_force = shear_force;
+}
+
+// ------------------------------------------------------------------------ the cycle
+
+void Model::prepareRun() {
+    if (!m_broadphase_ready) initBroadphase();
+    for (auto& r : m_rules)
+        if (r->prototype) {
+            PropBlock pb{};
+            pb.size = sizeof(PropBlock);
+            pb.version = m_fd_template.version;
+            for (int i = 0; i < 2; ++i) pb.kn[i] = pb.ks[i] = pb.fric[i] = kNotSet;
+            if (const char* err = r->prototype->PreCycle(pb))
+                throw InputError("contact model '" + r->model_name + "': " + err);
+        }
+    if (!m_rules[0]->prototype && m_rules.size() == 1 && ballCount() > 0 && !m_warned_no_model) {
+        m_warned_no_model = true;
+        warn("no contact model is set (contact_model{...}): bodies will pass through each other");
+    }
+}
+
+void Model::runSteps(int64_t steps) {
+    using std::chrono::duration;
+    const bool prof = m_profile.enabled;
+    for (int64_t i = 0; i < steps; ++i) {
+        // The PFC cycle (seed digest section 1), each phase timed into m_profile.
+        Clock::time_point t0, t1;
+        if (prof) t0 = Clock::now();
+        computeTimestep();
+        if (prof) t1 = Clock::now(), m_profile.timestep += duration<double>(t1 - t0).count(), t0 = t1;
+        lawOfMotion();
+        moveWalls();
+        if (prof) t1 = Clock::now(), m_profile.motion += duration<double>(t1 - t0).count(), t0 = t1;
+        detectContacts();
+        if (prof) t1 = Clock::now(), m_profile.detection += duration<double>(t1 - t0).count(), t0 = t1;
+        forceDisplacement();
+        if (prof) t1 = Clock::now(), m_profile.force_displacement += duration<double>(t1 - t0).count(), t0 = t1;
+        bookkeeping();
+        if (prof) t1 = Clock::now(), m_profile.bookkeeping += duration<double>(t1 - t0).count();
+        ++m_profile.cycles;
+    }
+}
+
+void Model::cycle(int64_t steps) {
+    if (steps < 0) throw InputError("cycle: number of steps must be >= 0");
+    prepareRun();
+    try {
+        runSteps(steps);
+    } catch (...) {
+        flushWarnings();
+        throw;
+    }
+    flushWarnings();
+}
+
+void Model::solveTime(double duration) {
+    if (!(duration >= 0.0) || !std::isfinite(duration))
+        throw InputError("solve: time must be >= 0 (got " + fmt(duration) + ")");
+    prepareRun();
+    const double end = m_time + duration;
+    try {
+        // Land exactly on `end`: cap each step by the time left.
+        while (end - m_time > 1e-12 * std::max(1.0, std::fabs(end))) {
+            m_step_cap = end - m_time;
+            runSteps(1);
+        }
+    } catch (...) {
+        m_step_cap = 0.0;
+        flushWarnings();
+        throw;
+    }
+    m_step_cap = 0.0;
+    flushWarnings();
+}
+
+std::string Model::lastStepReason() const {
+    std::string s = std::string(stepRuleName(m_dt_rule)) + " rule, dt = " + fmt(m_dt) + " s";
+    std::string where;
+    switch (m_dt_where.kind) {
+        case StepWhere::Ball:
+            if (m_dt_where.index < ballCount()) where = describeBall(m_dt_where.index);
+            break;
+        case StepWhere::Pair:
+            if (const Pair* p = pairByKey(ContactKey{m_dt_where.key})) where = describePair(*p);
+            break;
+        case StepWhere::Wall: where = "wall " + std::to_string(m_dt_where.index + 1); break;
+        case StepWhere::None: break;
+    }
+    if (!where.empty()) s += " (" + where + ")";
+    return s;
+}
+
+void Model::warn(const std::string& text) {
+    if (m_warning_handler) m_warning_handler(text);
+}
+
+void Model::throwNonFinite(const std::string& what) const {
+    throw NumericalError("non-finite state at step " + std::to_string(m_step) + " (t = " +
+                         fmt(m_time) + " s): " + what);
+}
+
+}  // namespace talus

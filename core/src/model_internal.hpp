@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// Internal data of Model, shared by the phase files. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "talus/model.hpp"
+#include "talus/plugin_registry.hpp"
+
+namespace talus {
+
+constexpr uint32_t kDeadSlot = 0xffffffffu;
+constexpr uint32_t kWallBit = 0x80000000u;  // in ContactKey: end 2 is a wall segment
+
+/// Fixed-size blocks for per-contact model objects (one pool per rule), so that a contact's
+/// model is placed by Clone without a heap allocation of its own.
+class ObjectPool {
+public:
+    explicit ObjectPool(std::size_t block_size);
+    void* allocate();
+    void release(void* p);
+    std::size_t blockSize() const { return m_block; }
+
+private:
+    std::size_t m_block;
+    std::vector<std::unique_ptr<unsigned char[]>> m_chunks;
+    std::vector<void*> m_free;
+};
+
+/// A contact-model assignment: which model, with which properties, for which groups.
+struct Model::Rule {
+    std::string model_name;
+    const ModelFactory* factory = nullptr;
+    PluginRegistry::PrototypePtr prototype;
+    int group_a = -1;  // -1 = any
+    int group_b = -1;
+    int specificity = 0;  // number of groups named
+    int order = 0;        // later rules win ties
+    double activity = 0.0;
+    std::unique_ptr<ObjectPool> pool;
+};
+
+struct Model::Segment {
+    uint32_t wall;     // index into m_walls
+    uint32_t a, b;     // vertex indices into m_vertices
+    int32_t prev = -1;  // neighbouring segment sharing vertex a (-1: none)
+    int32_t next = -1;  // neighbouring segment sharing vertex b (-1: none)
+    int32_t proxy = -1;
+    Box fat;
+};
+
+struct Model::WallData {
+    uint32_t generation = 1;
+    bool alive = true;
+    bool closed = false;
+    uint32_t first_segment = 0, segment_count = 0;
+    uint32_t first_vertex = 0, vertex_count = 0;
+    Vec2 vel{0.0, 0.0};
+    double spin = 0.0;
+    Vec2 center{0.0, 0.0};
+    uint64_t groups = 0;
+    double kn = kNotSet, ks = kNotSet, fric = kNotSet;
+    Vec2 force{0.0, 0.0};  // force the balls exert on the wall, last step [N]
+    double moment = 0.0;   // about `center` [N m]
+};
+
+/// A broadphase candidate pair. Every pair owns a model object (cloned from its rule's
+/// prototype, with the ends' properties) so that its stiffness and expected contact duration
+/// are known before touch; the pair is a *contact* while `active`. On separation the object is
+/// replaced by a fresh clone, so a new touch starts from a fresh state.
+struct Model::Pair {
+    uint32_t end1 = 0;  // ball slot
+    uint32_t end2 = 0;  // ball slot, or segment index when `wall`
+    bool wall = false;
+    bool active = false;
+    bool sliding = false;
+    bool touched = false;  // overlap was positive at some step of this life
+    uint32_t steps = 0;    // steps with positive overlap in this life
+    uint32_t rules_version = 0;
+    Rule* rule = nullptr;
+    ContactModel* model = nullptr;
+    double mass_eff = 0.0;
+    double activity = 0.0;
+    double n_force = 0.0, s_force = 0.0, moment = 0.0;
+    double overlap = 0.0;   // at the last FDlaw
+    double knest = 0.0, ksest = 0.0, krest = 0.0;
+    double duration = 0.0;  // expected contact duration from the model at touch [s]
+    double work = 0.0, work_peak = 0.0;  // energy taken by the contact in this life [J]
+    double strain = 0.0;    // stored energy reported at the last FDlaw [J]
+    double bond = 0.0;
+    Vec2 normal{0.0, 0.0};
+    Vec2 point{0.0, 0.0};
+    uint64_t key = 0;
+};
+
+struct Model::BallArrays {
+    std::vector<Vec2> pos, vel, force, fapp;
+    std::vector<double> angle, spin, moment, mapp;
+    std::vector<double> radius, mass, inv_mass, inertia, inv_inertia, density;
+    std::vector<uint8_t> fixity;
+    std::vector<uint32_t> handle;  // slot -> handle index (1-based)
+    std::vector<int32_t> proxy;    // broadphase proxy id
+    std::vector<Box> fat;          // fat box as the broadphase holds it
+    std::vector<uint64_t> groups;
+    std::vector<double> kn, ks, fric;
+    std::vector<double> k_tran, k_rot;  // time-step accumulators (automatic mode)
+
+    std::size_t size() const { return pos.size(); }
+    void resize(std::size_t n);
+    /// Moves slot `from` into slot `to` (all arrays).
+    void move(std::size_t to, std::size_t from);
+    void permute(const std::vector<uint32_t>& new_to_old);
+};
+
+/// A proxy's user value: the ball's handle index (stable, unlike its slot), or
+/// kWallBit | segment index for a wall segment.
+inline uint32_t proxyUserBall(uint32_t handle) { return handle; }
+inline uint32_t proxyUserSegment(uint32_t seg) { return kWallBit | seg; }
+
+}  // namespace talus

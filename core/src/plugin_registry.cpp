@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+//
+// dlopen-based plugin loading with the checks of docs/plugin-abi.md "What the host refuses".
+// Every refusal names the file and both sides' values, so a user can tell which build to redo.
+#include "talus/plugin_registry.hpp"
+
+#include <dlfcn.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "talus/errors.hpp"
+
+#ifndef TALUS_BUILD_PLUGIN_DIR
+#define TALUS_BUILD_PLUGIN_DIR ""
+#endif
+#ifndef TALUS_INSTALL_PLUGIN_DIR
+#define TALUS_INSTALL_PLUGIN_DIR ""
+#endif
+
+namespace talus {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+bool fileExists(const std::string& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+std::string canonical(const std::string& path) {
+    char* r = ::realpath(path.c_str(), nullptr);
+    if (!r) return path;
+    std::string s(r);
+    std::free(r);
+    return s;
+}
+
+}  // namespace
+
+struct PluginRegistry::Library {
+    std::string path;
+    void* handle = nullptr;
+    const PluginInfo* info = nullptr;
+    std::vector<ContactModel*> references;
+    ~Library() {
+        // Prototypes go back to the library that made them. The library itself stays mapped:
+        // unloading code that static destructors of other libraries may still reference at exit
+        // is not worth the risk, and nothing is gained in a process that is ending.
+        for (ContactModel* p : references)
+            if (info && info->destroy_prototype) info->destroy_prototype(p);
+    }
+};
+
+PluginRegistry::PluginRegistry() {
+    if (const char* env = std::getenv("TALUS_PLUGIN_PATH")) {
+        std::stringstream ss(env);
+        std::string dir;
+        while (std::getline(ss, dir, ':'))
+            if (!dir.empty()) m_dirs.push_back(dir);
+    }
+    if (std::strlen(TALUS_BUILD_PLUGIN_DIR)) m_dirs.push_back(TALUS_BUILD_PLUGIN_DIR);
+    if (std::strlen(TALUS_INSTALL_PLUGIN_DIR)) m_dirs.push_back(TALUS_INSTALL_PLUGIN_DIR);
+}
+
+PluginRegistry::~PluginRegistry() = default;
+
+PluginRegistry& PluginRegistry::global() {
+    static PluginRegistry registry;
+    return registry;
+}
+
+void PluginRegistry::addSearchDirectory(const std::string& dir) {
+    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end()) m_dirs.insert(m_dirs.begin(), dir);
+}
+
+std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
+    if (!fileExists(path_in))
+        throw PluginError("load_plugin: no such file '" + path_in + "'");
+    const std::string path = canonical(path_in);
+    for (const auto& lib : m_libraries)
+        if (lib->path == path) return {};  // already loaded
+
+    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+        const char* why = ::dlerror();
+        throw PluginError("load_plugin: cannot load '" + path + "': " + (why ? why : "unknown"));
+    }
+    ::dlerror();
+    auto entry = reinterpret_cast<TalusPluginInfoFn>(::dlsym(handle, TALUS_PLUGIN_ENTRY));
+    if (!entry)
+        throw PluginError("load_plugin: '" + path + "' is not a Talus plugin: it does not export '" +
+                          TALUS_PLUGIN_ENTRY + "' (declare it with TALUS_PLUGIN_EXPORT)");
+    const PluginInfo* info = entry();
+    auto refuse = [&](const std::string& what, const std::string& plugin, const std::string& host) {
+        throw PluginError("load_plugin: '" + path + "' was built for " + what + " " + plugin +
+                          " but this Talus has " + host + "; rebuild the plugin against this Talus");
+    };
+    if (!info) throw PluginError("load_plugin: '" + path + "': talus_plugin_info() returned null");
+    if (info->abi_major != TALUS_ABI_MAJOR)
+        refuse("plugin ABI", std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
+               std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR));
+    if (info->abi_minor > TALUS_ABI_MINOR)
+        refuse("plugin ABI", std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
+               std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR) +
+                   " (older minor version)");
+    if (info->sizeof_plugininfo != sizeof(PluginInfo))
+        refuse("sizeof(PluginInfo) =", std::to_string(info->sizeof_plugininfo),
+               std::to_string(sizeof(PluginInfo)));
+    if (info->dim != TALUS_DIM)
+        refuse("dimension", std::to_string(info->dim), std::to_string(TALUS_DIM));
+    if (info->sizeof_fdblock != sizeof(FdBlock))
+        refuse("sizeof(FdBlock) =", std::to_string(info->sizeof_fdblock), std::to_string(sizeof(FdBlock)));
+    if (info->sizeof_propblock != sizeof(PropBlock))
+        refuse("sizeof(PropBlock) =", std::to_string(info->sizeof_propblock),
+               std::to_string(sizeof(PropBlock)));
+    if (!info->build_key || std::strcmp(info->build_key, TALUS_BUILD_KEY) != 0)
+        refuse("build key", info->build_key ? info->build_key : "(none)", TALUS_BUILD_KEY);
+    if (info->model_count <= 0 || !info->create_prototype || !info->destroy_prototype)
+        throw PluginError("load_plugin: '" + path + "' offers no models (model_count = " +
+                          std::to_string(info->model_count) +
+                          ", or create_prototype/destroy_prototype missing)");
+
+    auto lib = std::make_unique<Library>();
+    lib->path = path;
+    lib->handle = handle;
+    lib->info = info;
+    std::vector<ModelFactory> added;
+    for (int32_t i = 0; i < info->model_count; ++i) {
+        ContactModel* proto = info->create_prototype(i);
+        if (!proto)
+            throw PluginError("load_plugin: '" + path + "': create_prototype(" + std::to_string(i) +
+                              ") returned null");
+        lib->references.push_back(proto);
+        const std::string name = proto->Name() ? proto->Name() : "";
+        if (name.empty())
+            throw PluginError("load_plugin: '" + path + "': model " + std::to_string(i) + " has no name");
+        auto clash = [&](const ModelFactory& f) { return lower(f.name) == lower(name); };
+        auto it = std::find_if(m_models.begin(), m_models.end(), clash);
+        if (it != m_models.end())
+            throw PluginError("load_plugin: '" + path + "' defines model '" + name +
+                              "', which is already defined by '" + it->library +
+                              "' (plugin version " + it->plugin_version +
+                              "); model names must be unique");
+        if (std::find_if(added.begin(), added.end(), clash) != added.end())
+            throw PluginError("load_plugin: '" + path + "' defines model '" + name + "' twice");
+        ModelFactory f;
+        f.name = name;
+        f.library = path;
+        f.plugin_version = info->plugin_version ? info->plugin_version : "";
+        f.index = i;
+        f.info = info;
+        f.reference = proto;
+        added.push_back(f);
+    }
+    std::vector<std::string> names;
+    for (auto& f : added) {
+        names.push_back(f.name);
+        m_models.push_back(std::move(f));
+    }
+    m_libraries.push_back(std::move(lib));
+    return names;
+}
+
+const ModelFactory* PluginRegistry::tryFind(const std::string& name) const {
+    const std::string key = lower(name);
+    for (const auto& f : m_models)
+        if (lower(f.name) == key) return &f;
+    return nullptr;
+}
+
+const ModelFactory& PluginRegistry::find(const std::string& name) {
+    if (const ModelFactory* f = tryFind(name)) return *f;
+    const std::string file = "libtalus_" + lower(name) + ".so";
+    for (const auto& dir : m_dirs) {
+        const std::string path = dir + "/" + file;
+        if (fileExists(path)) {
+            load(path);
+            if (const ModelFactory* f = tryFind(name)) return *f;
+        }
+    }
+    std::string known;
+    for (const auto& n : modelNames()) known += (known.empty() ? "" : ", ") + n;
+    std::string dirs;
+    for (const auto& d : m_dirs) dirs += (dirs.empty() ? "" : ":") + d;
+    throw PluginError("unknown contact model '" + name + "' (loaded: " +
+                      (known.empty() ? std::string("none") : known) + "; searched " + file +
+                      " in " + (dirs.empty() ? std::string("no directories") : dirs) +
+                      "; set TALUS_PLUGIN_PATH or call talus.load_plugin)");
+}
+
+std::vector<std::string> PluginRegistry::modelNames() const {
+    std::vector<std::string> names;
+    for (const auto& f : m_models) names.push_back(f.name);
+    return names;
+}
+
+void PluginRegistry::PrototypeDeleter::operator()(ContactModel* p) const {
+    if (p && info) info->destroy_prototype(p);
+}
+
+PluginRegistry::PrototypePtr PluginRegistry::createPrototype(const ModelFactory& f) const {
+    ContactModel* p = f.info->create_prototype(f.index);
+    if (!p) throw PluginError("contact model '" + f.name + "': create_prototype returned null");
+    return PrototypePtr(p, PrototypeDeleter{f.info});
+}
+
+}  // namespace talus

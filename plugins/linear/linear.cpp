@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+//
+// `linear`: the PFC linear contact model (docs/models/linear.md).
+//
+//   normal:  F_n^l = kn u_n                       (secant, absolute; no tension)
+//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (accuracy-reference 3.2)
+//   dashpot: F^d = c (rate), c_n = 2 dp_nratio sqrt(m* kn), c_s = 2 dp_sratio sqrt(m* ks)
+//   dp_mode: 0 full; 1 total normal force >= 0; 2 shear dashpot off while sliding; 3 = 1 and 2
+//
+// kn, ks and fric are inherited from the ends when they define them (springs in series,
+// friction minimum), as PFC2D 3.x did with ball and wall properties.
+// The dashpots use the implicit, impulse-exact scheme of talus/sdk/dashpot.hpp.
+#include <cmath>
+
+#include "talus/contact_model.hpp"
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/model_base.hpp"
+#include "talus/sdk/shear_spring.hpp"
+
+namespace {
+
+using namespace talus;
+using namespace talus::sdk;
+
+const char* const kDpModes[] = {"full", "no_tension", "no_shear_slip", "no_tension_no_shear_slip",
+                                nullptr};
+
+class Linear final : public ModelBase<Linear> {
+public:
+    static constexpr const char* kName = "linear";
+
+    // properties (PFC names)
+    double kn = 0.0;         // [N/m]
+    double ks = 0.0;         // [N/m]
+    double fric = 0.0;       // [-]
+    double dp_nratio = 0.0;  // [-]
+    double dp_sratio = 0.0;  // [-]
+    double dp_mode = 0.0;    // 0..3
+    // state (read-only)
+    double lin_fn = 0.0;     // linear normal force [N]
+    double lin_fs = 0.0;     // linear shear force [N]
+    double dp_fn = 0.0;      // normal dashpot force [N]
+    double dp_fs = 0.0;      // shear dashpot force [N]
+    double lin_slip = 0.0;   // 1 while sliding
+    // per-contact derived values (not properties)
+    double mass_eff_ = 0.0;
+    double cn_ = 0.0, cs_ = 0.0;
+    double last_overlap_ = 0.0;
+    bool touching_ = false;
+
+    static const PropTable<Linear>& Table() {
+        static const PropTable<Linear> t = {
+            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &Linear::kn, 0.0},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Linear::ks, 0.0},
+            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &Linear::fric,
+             0.0},
+            {{"dp_nratio", "-", 0, 0.0, "normal critical damping ratio", nullptr},
+             &Linear::dp_nratio, 0.0, 1.0, false, "(1 = critical)"},
+            {{"dp_sratio", "-", 0, 0.0, "shear critical damping ratio", nullptr},
+             &Linear::dp_sratio, 0.0, 1.0, false, "(1 = critical)"},
+            {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", kDpModes}, &Linear::dp_mode, 0.0,
+             3.0},
+            {{"lin_fn", "N", kPropReadOnly | kPropState, 0.0, "linear normal force", nullptr},
+             &Linear::lin_fn},
+            {{"lin_fs", "N", kPropReadOnly | kPropState, 0.0, "linear shear force", nullptr},
+             &Linear::lin_fs},
+            {{"dp_fn", "N", kPropReadOnly | kPropState, 0.0, "normal dashpot force", nullptr},
+             &Linear::dp_fn},
+            {{"dp_fs", "N", kPropReadOnly | kPropState, 0.0, "shear dashpot force", nullptr},
+             &Linear::dp_fs},
+            {{"lin_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr},
+             &Linear::lin_slip},
+        };
+        return t;
+    }
+
+    bool inherit(const PropBlock& pb) {
+        kn = inheritSeries(kn, pb.kn);
+        ks = inheritSeries(ks, pb.ks);
+        fric = inheritMin(fric, pb.fric);
+        setMass(pb.mass_eff);
+        return true;
+    }
+
+    void setMass(double m) {
+        mass_eff_ = m;
+        cn_ = dashpotCoefficient(dp_nratio, m, kn);
+        cs_ = dashpotCoefficient(dp_sratio, m, ks);
+    }
+
+    bool noTension() const { return dp_mode == 1.0 || dp_mode == 3.0; }
+    bool noShearDashpotWhileSliding() const { return dp_mode >= 2.0; }
+
+    void fdlaw(FdBlock& fd) {
+        if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
+        const double dt = fd.tdel;
+        const bool energy = (fd.flags & kFdEnergyOn) != 0;
+
+        if (fd.u_n <= 0.0) {
+            // Separated: pay the dashpot impulse still owed for the part of the last step spent
+            // in contact (full mode only; with the no-tension limit the force was already zero).
+            double closing = 0.0;
+            if (touching_ && !noTension())
+                closing = dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n);
+            touching_ = false;
+            lin_fn = lin_fs = dp_fs = lin_slip = 0.0;
+            dp_fn = closing;
+            fd.n_force = closing;
+            fd.s_force = 0.0;
+            fd.moment = 0.0;
+            if (energy) {
+                fd.energy[kEnergyStrain] = 0.0;
+                fd.energy[kEnergyDashpot] = closing * fd.du_n;
+            }
+            writeEstimates(fd);
+            last_overlap_ = fd.u_n;
+            return;
+        }
+
+        const bool first = !touching_;
+        const double lead = first ? onsetFraction(fd.u_n, fd.du_n) : 0.5;
+        // On the first step only the part of the shear increment after touch loads the spring.
+        const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
+
+        lin_fn = kn * fd.u_n;
+        const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
+        lin_slip = sr.sliding ? 1.0 : 0.0;
+
+        dp_fn = dashpotForce(cn_, mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
+        if (noTension() && lin_fn + dp_fn < 0.0) dp_fn = -lin_fn;
+        dp_fs = 0.0;
+        if (!(sr.sliding && noShearDashpotWhileSliding()))
+            dp_fs = -dashpotForce(cs_, mass_eff_, fd.u_dot_s, -lin_fs, dt, lead);
+
+        fd.n_force = lin_fn + dp_fn;
+        fd.s_force = lin_fs + dp_fs;
+        fd.moment = 0.0;
+        if (sr.sliding) fd.flags |= kFdSliding;
+        writeEstimates(fd);
+        if (energy) {
+            fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
+            fd.energy[kEnergySlip] = sr.slip_work;
+            fd.energy[kEnergyDashpot] = dp_fn * fd.du_n - dp_fs * fd.du_s;
+        }
+        touching_ = true;
+        last_overlap_ = fd.u_n;
+    }
+
+    void writeEstimates(FdBlock& fd) const {
+        fd.knest = kn * dashpotStiffnessFactor(dp_nratio);
+        fd.ksest = ks * dashpotStiffnessFactor(dp_sratio);
+        fd.krest = 0.0;
+    }
+
+    void saveRestoreState(ModelSaveObject& so) {
+        so.Double(lin_fn);
+        so.Double(lin_fs);
+        so.Double(dp_fn);
+        so.Double(dp_fs);
+        so.Double(lin_slip);
+        so.Double(mass_eff_);
+        so.Double(cn_);
+        so.Double(cs_);
+        so.Double(last_overlap_);
+        so.Bool(touching_);
+    }
+
+    int32_t Version() const override { return 1; }
+    double KnEstimate() const override { return kn * dashpotStiffnessFactor(dp_nratio); }
+    double KsEstimate() const override { return ks * dashpotStiffnessFactor(dp_sratio); }
+    double ContactDuration(double mass_eff, double) const override {
+        // Half period of the undamped spring; damping only lengthens the contact.
+        return kn > 0.0 ? M_PI * std::sqrt(mass_eff / kn) : HUGE_VAL;
+    }
+};
+
+ContactModel* createPrototype(int32_t index) { return index == 0 ? new Linear() : nullptr; }
+void destroyPrototype(ContactModel* p) { delete static_cast<Linear*>(p); }
+
+const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, destroyPrototype);
+
+}  // namespace
+
+TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
