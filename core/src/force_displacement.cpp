@@ -23,16 +23,6 @@ namespace talus {
 
 namespace {
 
-/// Duration the resolution rule assumes: the model's estimate for this approach speed (skipped
-/// when approach < 0), and never more than the half period pi sqrt(m*/knest) of the current
-/// tangent stiffness, which includes the dashpot allowance the model reports.
-inline double contactDuration(const Model::Pair& p, double mass_eff, double approach) {
-    double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
-                               : std::numeric_limits<double>::infinity();
-    if (p.knest > 0.0) d = std::min(d, M_PI * std::sqrt(mass_eff / p.knest));
-    return d;
-}
-
 std::string num(double v) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -65,11 +55,10 @@ void Model::forceLoop() {
         std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
         std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
         m_limits = StepLimits{};
+        m_limits_stale = false;
     }
     (void)nb;
     const double dt = m_dt;
-    const double resolution = m_timestep.resolution;
-    const double safety = m_timestep.safety;
     FdBlock fd = m_fd_template;
     fd.tdel = dt;
     fd.time = m_time;
@@ -96,25 +85,11 @@ void Model::forceLoop() {
             const double reach = rsum + p.activity;
             if (!p.active && dist2 >= reach * reach) {
                 if constexpr (kAuto) {
-                    // Approach limit of a pair not yet touching (timestep.cpp).
-                    const double gap = std::sqrt(dist2) - rsum;
-                    const Vec2 vrel = b.vel[s2] - b.vel[s1];
+                    const double dist = std::sqrt(dist2);
                     const Vec2 arel = (b.force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
                                       (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-                    const double closing = vrel.norm() + arel.norm() * dt;
-                    const double t_free = closing > 0.0 ? 0.5 * gap / closing
-                                                        : std::numeric_limits<double>::infinity();
-                    if (t_free < m_limits.approach) {
-                        const double dist = std::sqrt(dist2);
-                        const double approach = dist > 0.0 ? std::max(0.0, -vrel.dot(d) / dist) : 0.0;
-                        const double m_eff = b.mass[s1] * b.mass[s2] / (b.mass[s1] + b.mass[s2]);
-                        double lim = safety * std::sqrt(std::min(b.mass[s1], b.mass[s2]) /
-                                                        std::max(p.knest + p.ksest, 1e-300));
-                        if (resolution > 0.0)
-                            lim = std::min(lim, contactDuration(p, m_eff, approach) / resolution);
-                        const double d_pair = std::max(t_free, lim);
-                        if (d_pair < m_limits.approach) m_limits.approach = d_pair, m_limits.approach_key = p.key;
-                    }
+                    noteApproach(p, dist - rsum, b.vel[s2] - b.vel[s1], arel.norm(),
+                                 dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
                 }
                 if (!b.fat[s1].overlaps(b.fat[s2])) m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
@@ -143,20 +118,8 @@ void Model::forceLoop() {
             spin2 = wall->spin;
             if (!p.active && g.overlap <= -p.activity) {
                 if constexpr (kAuto) {
-                    const double gap = -g.overlap;
-                    const Vec2 vrel = v2c - b.vel[s1];
                     const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-                    const double closing = vrel.norm() + a1.norm() * dt;
-                    const double t_free = closing > 0.0 ? 0.5 * gap / closing
-                                                        : std::numeric_limits<double>::infinity();
-                    if (t_free < m_limits.approach) {
-                        const double approach = std::max(0.0, -vrel.dot(g.normal));
-                        double lim = safety * std::sqrt(b.mass[s1] / std::max(p.knest + p.ksest, 1e-300));
-                        if (resolution > 0.0)
-                            lim = std::min(lim, contactDuration(p, b.mass[s1], approach) / resolution);
-                        const double d_pair = std::max(t_free, lim);
-                        if (d_pair < m_limits.approach) m_limits.approach = d_pair, m_limits.approach_key = p.key;
-                    }
+                    noteApproach(p, -g.overlap, v2c - b.vel[s1], a1.norm(), g.normal);
                 }
                 if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
@@ -223,21 +186,9 @@ void Model::forceLoop() {
         }
 
         // ---- extras
-        if constexpr (kAuto) {
-            const double kn = fd.knest, ks = fd.ksest;
-            b.k_tran[s1] += kn + ks;
-            b.k_rot[s1] += ks * r1c.squaredNorm() + fd.krest;
-            if (!p.wall) {
-                b.k_tran[p.end2] += kn + ks;
-                b.k_rot[p.end2] += ks * (g.point - x2).squaredNorm() + fd.krest;
-            }
-            if (resolution > 0.0) {
-                double dur = p.duration;
-                if (kn > 0.0) dur = std::min(dur, M_PI * std::sqrt(mass_eff / kn));
-                const double d = dur / resolution;
-                if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = p.key;
-            }
-        }
+        if constexpr (kAuto)
+            noteContact(p, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
+                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff);
         if constexpr (kEnergy) {
             m_energy_acc.slip += fd.energy[kEnergySlip];
             m_energy_acc.dashpot += fd.energy[kEnergyDashpot];

@@ -15,6 +15,7 @@
 
 #include "broadphase.hpp"
 #include "model_internal.hpp"
+#include "props.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
@@ -179,6 +180,7 @@ void Model::updateMass(uint32_t s) {
 }
 
 BallId Model::createBall(const BallDef& d) {
+    m_limits_stale = true;
     auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
     if (!(d.radius > 0.0) || !std::isfinite(d.radius))
         throw InputError("ball: radius must be > 0 (got " + fmt(d.radius) + ")");
@@ -247,6 +249,7 @@ BallId Model::createBall(const BallDef& d) {
 }
 
 void Model::deleteBall(BallId id) {
+    m_limits_stale = true;
     const uint32_t s = slotOf(id);
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_pairs.size(); i-- > 0;) {
@@ -297,19 +300,23 @@ static void requireFinite(const char* what, const Vec2& v) {
 }
 
 void Model::setBallPos(BallId id, const Vec2& p) {
+    m_limits_stale = true;
     requireFinite("pos", p);
     const uint32_t s = slotOf(id);
     m_balls->pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
+    m_limits_stale = true;
     requireFinite("vel", v);
     m_balls->vel[slotOf(id)] = v;
 }
 void Model::setBallSpin(BallId id, double w) {
+    m_limits_stale = true;
     if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
     m_balls->spin[slotOf(id)] = w;
 }
 void Model::setBallRadius(BallId id, double r) {
+    m_limits_stale = true;
     if (!(r > 0.0) || !std::isfinite(r))
         throw InputError("ball: radius must be > 0 (got " + fmt(r) + ")");
     const uint32_t s = slotOf(id);
@@ -317,6 +324,7 @@ void Model::setBallRadius(BallId id, double r) {
     if (m_balls->density[s] > 0.0) updateMass(s);
 }
 void Model::setBallDensity(BallId id, double rho) {
+    m_limits_stale = true;
     if (!(rho > 0.0) || !std::isfinite(rho))
         throw InputError("ball: density must be > 0 (got " + fmt(rho) + ")");
     const uint32_t s = slotOf(id);
@@ -370,6 +378,7 @@ void Model::addBallGroup(BallId id, const std::string& group) {
 // ------------------------------------------------------------------------ walls
 
 WallId Model::createWall(const WallDef& d) {
+    m_limits_stale = true;
     const std::size_t n = d.points.size();
     if (n < 2) throw InputError("wall: needs at least 2 points (got " + std::to_string(n) + ")");
     if (d.closed && n < 3) throw InputError("wall: a closed wall needs at least 3 points");
@@ -450,11 +459,13 @@ std::vector<Vec2> Model::wallPoints(WallId id) const {
 }
 Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
 void Model::setWallVel(WallId id, const Vec2& v) {
+    m_limits_stale = true;
     if (!std::isfinite(v.x()) || !std::isfinite(v.y())) throw InputError("wall: vel must be finite");
     wallOf(id).vel = v;
 }
 double Model::wallSpin(WallId id) const { return wallOf(id).spin; }
 void Model::setWallSpin(WallId id, double w) {
+    m_limits_stale = true;
     if (!std::isfinite(w)) throw InputError("wall: spin must be finite");
     wallOf(id).spin = w;
 }
@@ -487,34 +498,6 @@ const ModelFactory& Model::contactModelFactory(const std::string& name) {
     return m_registry.find(name);
 }
 
-static int32_t propIndex(const ContactModel& m, const std::string& name) {
-    const std::string key = lower(name);
-    for (int32_t i = 0; i < m.PropCount(); ++i) {
-        const PropInfo* info = m.PropInfoAt(i);
-        if (info && lower(info->name) == key) return i;
-    }
-    return -1;
-}
-
-static std::string knownProps(const ContactModel& m) {
-    std::string s = m.PropNames();
-    std::string out;
-    for (char c : s) out += (c == ',') ? std::string(", ") : std::string(1, c);
-    return out;
-}
-
-static void applyProps(ContactModel& proto, const std::vector<PropValue>& props,
-                       const std::string& where) {
-    for (const auto& pv : props) {
-        const int32_t idx = propIndex(proto, pv.name);
-        if (idx < 0)
-            throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
-                             proto.Name() + "' (known: " + knownProps(proto) + ")");
-        if (proto.AcceptProp(idx, pv.value) != 0)
-            throw InputError(where + ": " + proto.LastError());
-    }
-}
-
 void Model::setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props) {
     addContactModelRule(name, props, "", "");
 }
@@ -526,10 +509,7 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     rule->model_name = rule->factory->name;
     rule->prototype = m_registry.createPrototype(*rule->factory);
     applyProps(*rule->prototype, props, "contact_model");
-    PropBlock pb{};
-    pb.size = sizeof(PropBlock);
-    pb.version = m_fd_template.version;
-    for (int i = 0; i < 2; ++i) pb.kn[i] = pb.ks[i] = pb.fric[i] = kNotSet;
+    PropBlock pb = emptyPropBlock();
     if (const char* err = rule->prototype->PreCycle(pb))
         throw InputError(std::string("contact_model '") + rule->model_name + "': " + err);
     rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
@@ -548,6 +528,7 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     }
     // Pairs that are not in contact pick the new rules up when they touch.
     ++m_rules_version;
+    m_limits_stale = true;
     m_max_activity = 0.0;
     for (const auto& r : m_rules)
         if (r->prototype) m_max_activity = std::max(m_max_activity, r->activity);
@@ -656,6 +637,7 @@ double Model::contactProp(ContactKey key, const std::string& name) const {
 }
 
 void Model::setContactProp(ContactKey key, const std::string& name, double value) {
+    m_limits_stale = true;
     Pair* p = pairByKey(key);
     if (!p || !p->model) throw InputError("contact no longer exists");
     const int32_t idx = propIndex(*p->model, name);
@@ -678,12 +660,14 @@ void Model::setContactForce(ContactKey key, double normal_force, double shear_fo
 
 void Model::prepareRun() {
     if (!m_broadphase_ready) initBroadphase();
+    const TimestepSettings& t = m_timestep;
+    if (t.automatic != m_last_settings.automatic || t.safety != m_last_settings.safety ||
+        t.resolution != m_last_settings.resolution)
+        m_limits_stale = true;
+    m_last_settings = t;
     for (auto& r : m_rules)
         if (r->prototype) {
-            PropBlock pb{};
-            pb.size = sizeof(PropBlock);
-            pb.version = m_fd_template.version;
-            for (int i = 0; i < 2; ++i) pb.kn[i] = pb.ks[i] = pb.fric[i] = kNotSet;
+            PropBlock pb = emptyPropBlock();
             if (const char* err = r->prototype->PreCycle(pb))
                 throw InputError("contact model '" + r->model_name + "': " + err);
         }

@@ -24,6 +24,7 @@
 #include <limits>
 
 #include "model_internal.hpp"
+#include "narrowphase.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
@@ -37,12 +38,107 @@ double stepForDisplacement(double a, double b, double c) {
     return 2.0 * c / (b + std::sqrt(b * b + 2.0 * a * c));
 }
 
+/// Duration the resolution rule assumes: the model's estimate at this approach speed (skipped when
+/// approach < 0), never more than the half period pi sqrt(m*/knest) of the tangent stiffness,
+/// which includes the dashpot allowance the model reports.
+double contactDuration(const Model::Pair& p, double knest, double mass_eff, double approach) {
+    double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
+                               : std::numeric_limits<double>::infinity();
+    if (knest > 0.0) d = std::min(d, M_PI * std::sqrt(mass_eff / knest));
+    return d;
+}
+
 double roomInside(const Box& fat, const Box& box) {
     return std::min(std::min(box.lo.x() - fat.lo.x(), fat.hi.x() - box.hi.x()),
                     std::min(box.lo.y() - fat.lo.y(), fat.hi.y() - box.hi.y()));
 }
 
 }  // namespace
+
+void Model::noteApproach(const Pair& p, double gap, const Vec2& vrel, double accel,
+                         const Vec2& normal) {
+    // A pair not yet touching may not close more than half its gap in one step, unless that
+    // step already meets the limits the contact will impose once it exists.
+    const double closing = vrel.norm() + accel * m_dt;
+    if (!(closing > 0.0)) return;
+    const double t_free = 0.5 * std::max(gap, 0.0) / closing;
+    if (t_free >= m_limits.approach) return;
+    const auto& b = *m_balls;
+    const double m1 = b.mass[p.end1];
+    const double m2 = p.wall ? 0.0 : b.mass[p.end2];
+    const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
+    const double m_min = p.wall ? m1 : std::min(m1, m2);
+    double lim = m_timestep.safety * std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300));
+    if (m_timestep.resolution > 0.0)
+        lim = std::min(lim, contactDuration(p, p.knest, m_eff, std::max(0.0, -vrel.dot(normal))) /
+                                m_timestep.resolution);
+    const double d = std::max(t_free, lim);
+    if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = p.key;
+}
+
+void Model::noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
+                        double arm2_sq, double mass_eff) {
+    auto& b = *m_balls;
+    b.k_tran[p.end1] += kn + ks;
+    b.k_rot[p.end1] += ks * arm1_sq + kr;
+    if (!p.wall) {
+        b.k_tran[p.end2] += kn + ks;
+        b.k_rot[p.end2] += ks * arm2_sq + kr;
+    }
+    if (m_timestep.resolution > 0.0) {
+        const double d = std::min(p.duration, contactDuration(p, kn, mass_eff, -1.0)) /
+                         m_timestep.resolution;
+        if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = p.key;
+    }
+}
+
+void Model::surveyPairs() {
+    // The limits the force loop gathers, from the stored state, for a first step or after the
+    // user changed the scene between runs.
+    auto& b = *m_balls;
+    std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
+    std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
+    m_limits = StepLimits{};
+    for (Pair& p : m_pairs) {
+        const Vec2 x1 = b.pos[p.end1];
+        ContactGeometry g;
+        Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
+        double accel;
+        if (p.wall) {
+            const Segment& sg = m_segments[p.end2];
+            const bool next = sg.next >= 0;
+            const Vec2& after = next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
+            if (!ballSegmentGeometry(x1, b.radius[p.end1], m_vertices[sg.a], m_vertices[sg.b],
+                                     sg.prev >= 0, next, after, g))
+                continue;
+            const WallData& w = m_walls[sg.wall];
+            x2 = w.center;
+            v2 = w.vel + spinCross(w.spin, g.point - x2);
+            accel = ((b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1] + m_gravity).norm();
+        } else {
+            x2 = b.pos[p.end2];
+            const Vec2 d = x2 - x1;
+            const double dist = d.norm();
+            g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+            g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
+            g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
+            v2 = b.vel[p.end2];
+            accel = ((b.force[p.end2] + b.fapp[p.end2]) * b.inv_mass[p.end2] -
+                     (b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1]).norm();
+        }
+        const Vec2 vrel = v2 - b.vel[p.end1];
+        const double m1 = b.mass[p.end1];
+        const double m_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
+        if (p.active || g.overlap > -p.activity) {
+            if (!p.active) p.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
+            noteContact(p, p.knest, p.ksest, p.krest, (g.point - x1).squaredNorm(),
+                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
+        } else {
+            noteApproach(p, -g.overlap, vrel, accel, g.normal);
+        }
+    }
+    m_limits_stale = false;
+}
 
 void Model::computeTimestep() {
     const double inf = std::numeric_limits<double>::infinity();
@@ -58,6 +154,10 @@ void Model::computeTimestep() {
         return;
     }
     if (!(m_timestep.safety > 0.0)) throw InputError("timestep: safety must be > 0");
+    if (!(m_timestep.resolution >= 0.0)) throw InputError("timestep: resolution must be >= 0");
+    if (!(m_timestep.growth > 1.0)) throw InputError("timestep: growth must be > 1");
+    if (!(m_timestep.max > 0.0)) throw InputError("timestep: max must be > 0");
+    if (m_limits_stale) surveyPairs();
 
     double dt = m_timestep.max;
     StepRule rule = StepRule::Max;

@@ -110,7 +110,7 @@ public:
             fd.moment = 0.0;
             if (energy) {
                 fd.energy[kEnergyStrain] = 0.0;
-                fd.energy[kEnergyDashpot] = closing * fd.du_n;
+                fd.energy[kEnergyDashpot] = closing * fd.du_n;  // impulse times rate
             }
             writeEstimates(fd);
             last_overlap_ = fd.u_n;
@@ -126,11 +126,12 @@ public:
         const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
         lin_slip = sr.sliding ? 1.0 : 0.0;
 
-        dp_fn = dashpotForce(cn_, mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
-        if (noTension() && lin_fn + dp_fn < 0.0) dp_fn = -lin_fn;
-        dp_fs = 0.0;
+        const double dn = dashpotForce(cn_, mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
+        dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
+        double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            dp_fs = -dashpotForce(cs_, mass_eff_, fd.u_dot_s, -lin_fs, dt, lead);
+            ds = dashpotForce(cs_, mass_eff_, fd.u_dot_s, -lin_fs, dt, lead);
+        dp_fs = -ds;
 
         fd.n_force = lin_fn + dp_fn;
         fd.s_force = lin_fs + dp_fs;
@@ -140,7 +141,8 @@ public:
         if (energy) {
             fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
             fd.energy[kEnergySlip] = sr.slip_work;
-            fd.energy[kEnergyDashpot] = dp_fn * fd.du_n - dp_fs * fd.du_s;
+            fd.energy[kEnergyDashpot] = dashpotEnergy(cn_, dp_fn, dn, dt, lead) +
+                                        dashpotEnergy(cs_, ds, ds, dt, lead);
         }
         touching_ = true;
         last_overlap_ = fd.u_n;

@@ -296,6 +296,11 @@ private:
 
     template <bool kAuto, bool kEnergy, bool kGuard>
     void forceLoop();          // force_displacement.cpp
+    // time-step limits gathered per pair (timestep.cpp)
+    void noteApproach(const Pair& p, double gap, const Vec2& vrel, double accel, const Vec2& normal);
+    void noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
+                     double arm2_sq, double mass_eff);
+    void surveyPairs();
 
     // helpers
     uint32_t slotOf(BallId id) const;  // throws InputError for a stale id
@@ -367,6 +372,8 @@ private:
     } m_dt_where;
     bool m_first_cycle = true;
     bool m_warned_no_model = false;
+    TimestepSettings m_last_settings;
+    bool m_limits_stale = true;  // the scene changed outside a cycle: survey before the next step
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
 

@@ -66,6 +66,15 @@ inline double dashpotForce(double c, double m, double rate, double elastic, doub
     return c * ((lead + 0.5) * rate - 0.5 * dt * elastic / m) / (1.0 + a);
 }
 
+/// Energy dissipated by a dashpot force over this step [J]. The dissipation is the impulse times
+/// the rate at the force's time level, and that rate is unclipped / (c (lead + 1/2)) by
+/// construction of dashpotForce; `applied` may differ from `unclipped` when a no-tension limit
+/// cut the force.
+inline double dashpotEnergy(double c, double applied, double unclipped, double dt, double lead = 0.5) {
+    if (c <= 0.0) return 0.0;
+    return applied * unclipped * dt / (c * (lead + 0.5));
+}
+
 /// Impulse still owed after separation, as a force over this step [N]. `last_overlap` and
 /// `overlap` are the overlaps at the last contact step and now (<= 0); `rate` the rate over
 /// the step between them.

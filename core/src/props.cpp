@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+#include "props.hpp"
+
+#include <cctype>
+
+#include "talus/errors.hpp"
+
+namespace talus {
+
+namespace {
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+}  // namespace
+
+int32_t propIndex(const ContactModel& m, const std::string& name) {
+    const std::string key = lower(name);
+    for (int32_t i = 0; i < m.PropCount(); ++i) {
+        const PropInfo* info = m.PropInfoAt(i);
+        if (info && lower(info->name) == key) return i;
+    }
+    return -1;
+}
+
+std::string knownProps(const ContactModel& m) {
+    std::string out;
+    for (const char* c = m.PropNames(); c && *c; ++c) out += (*c == ',') ? std::string(", ") : std::string(1, *c);
+    return out;
+}
+
+void applyProps(ContactModel& model, const std::vector<PropValue>& props, const std::string& where) {
+    for (const auto& pv : props) {
+        const int32_t idx = propIndex(model, pv.name);
+        if (idx < 0)
+            throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
+                             model.Name() + "' (known: " + knownProps(model) + ")");
+        if (model.AcceptProp(idx, pv.value) != 0) throw InputError(where + ": " + model.LastError());
+    }
+}
+
+PropBlock emptyPropBlock() {
+    PropBlock pb{};
+    pb.size = sizeof(PropBlock);
+    pb.version = TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR;
+    for (int i = 0; i < 2; ++i) pb.kn[i] = pb.ks[i] = pb.fric[i] = kNotSet;
+    return pb;
+}
+
+}  // namespace talus
