@@ -73,7 +73,6 @@ void Model::forceLoop() {
         ContactGeometry g;
         Vec2 v2c, x2;
         double spin2;
-        double m2 = 0.0;  // 0 = wall
         const WallData* wall = nullptr;
 
         if (!p.wall) {
@@ -95,12 +94,11 @@ void Model::forceLoop() {
                 continue;
             }
             const double dist = std::sqrt(dist2);
-            g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+            g.normal = dist > 0.0 ? Vec2(d * (1.0 / dist)) : Vec2(0.0, 1.0);
             g.overlap = rsum - dist;
             g.point = x1 + (r1 - 0.5 * g.overlap) * g.normal;
             v2c = b.vel[s2] + spinCross(b.spin[s2], g.point - x2);
             spin2 = b.spin[s2];
-            m2 = b.mass[s2];
         } else {
             const Segment& sg = m_segments[p.end2];
             wall = &m_walls[sg.wall];
@@ -127,8 +125,7 @@ void Model::forceLoop() {
         }
 
         // ---- the pair is a contact this step
-        const double m1 = b.mass[s1];
-        const double mass_eff = m2 > 0.0 ? m1 * m2 / (m1 + m2) : m1;
+        const double mass_eff = p.mass_eff;
         const Vec2 r1c = g.point - x1;
         const Vec2 v1c = b.vel[s1] + spinCross(b.spin[s1], r1c);
         const Vec2 vrel = v2c - v1c;

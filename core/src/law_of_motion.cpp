@@ -15,7 +15,11 @@
 // Energy (only when traced): the kinetic energy at whole step t is taken as
 // (1/2) m v(t - dt/2).v(t + dt/2); with that definition a leapfrog step satisfies the
 // work-energy theorem exactly for trapezoidal work (docs/physics/energy.md).
+//
+// The loop is compiled in two forms: the plain one (no damping, no energy, no fixity), which is
+// what a benchmark or a rockfall run without options executes, and the general one.
 #include <cmath>
+#include <string>
 
 #include "model_internal.hpp"
 
@@ -28,68 +32,100 @@ inline double localDamping(double alpha, double force, double vel) {
     return -alpha * std::fabs(force) * (vel > 0.0 ? 1.0 : -1.0);
 }
 
+std::string text(double v) { return std::to_string(v); }
+
 }  // namespace
 
 void Model::lawOfMotion() {
+    const bool general = m_energy_on || m_damping.local > 0.0 || m_damping.viscous > 0.0 ||
+                         m_fixed_balls > 0;
+    general ? moveBalls<true>() : moveBalls<false>();
+    m_first_cycle = false;
+    m_time += m_dt;
+    ++m_step;
+}
+
+template <bool kGeneral>
+void Model::moveBalls() {
     auto& b = *m_balls;
     const std::size_t n = b.size();
     const double dt = m_dt;
     const double w = m_first_cycle ? 0.5 * dt : 0.5 * (m_dt_prev + dt);
+    const Vec2 g = m_gravity;
+    Vec2* pos = b.pos.data();
+    Vec2* vel = b.vel.data();
+    const Vec2* force = b.force.data();
+    const Vec2* fapp = b.fapp.data();
+    double* spin = b.spin.data();
+    double* angle = b.angle.data();
+    const double* moment = b.moment.data();
+    const double* mapp = b.mapp.data();
+    const double* inv_mass = b.inv_mass.data();
+    const double* inv_inertia = b.inv_inertia.data();
+
+    if constexpr (!kGeneral) {
+        bool finite = true;
+        for (std::size_t s = 0; s < n; ++s) {
+            const Vec2 v = vel[s] + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
+            const double om = spin[s] + (moment[s] + mapp[s]) * inv_inertia[s] * w;
+            vel[s] = v;
+            spin[s] = om;
+            pos[s] += v * dt;
+            angle[s] += om * dt;
+            finite &= std::isfinite(v.x() + v.y() + om);
+        }
+        if (!finite) reportNonFiniteBall();
+        return;
+    }
+
     const double alpha = m_damping.local;
     const double c = m_damping.viscous;
     const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
     const double gain = w / (1.0 + 0.5 * c * w);
     const bool energy = m_energy_on;
-
     double kinetic = 0.0, body = 0.0, damping = 0.0;
     for (std::size_t s = 0; s < n; ++s) {
-        const Vec2 v_old = b.vel[s];
-        const double w_old = b.spin[s];
+        const Vec2 v_old = vel[s];
+        const double w_old = spin[s];
         const uint8_t fix = b.fixity[s];
-        Vec2 f = b.force[s] + b.fapp[s];
-        double mom = b.moment[s] + b.mapp[s];
+        const Vec2 f = force[s] + fapp[s];
+        const double mom = moment[s] + mapp[s];
         Vec2 fd = Vec2::Zero();
         double md = 0.0;
         if (alpha > 0.0) {
             // PFC applies the damping to the unbalanced force including gravity.
-            const Vec2 unbalanced = f + b.mass[s] * m_gravity;
+            const Vec2 unbalanced = f + b.mass[s] * g;
             fd = Vec2(localDamping(alpha, unbalanced.x(), v_old.x()),
                       localDamping(alpha, unbalanced.y(), v_old.y()));
             md = localDamping(alpha, mom, w_old);
         }
-        const Vec2 acc = (f + fd) * b.inv_mass[s] + m_gravity;
-        const double ang = (mom + md) * b.inv_inertia[s];
-        Vec2 v = v_old;
-        double spin = w_old;
-        if (c > 0.0) {
-            if (!(fix & kFixX)) v.x() = keep * v.x() + gain * acc.x();
-            if (!(fix & kFixY)) v.y() = keep * v.y() + gain * acc.y();
-            if (!(fix & kFixSpin)) spin = keep * spin + gain * ang;
-        } else {
-            if (!(fix & kFixX)) v.x() += acc.x() * w;
-            if (!(fix & kFixY)) v.y() += acc.y() * w;
-            if (!(fix & kFixSpin)) spin += ang * w;
+        const Vec2 acc = (f + fd) * inv_mass[s] + g;
+        const double ang = (mom + md) * inv_inertia[s];
+        Vec2 v = keep * v_old + gain * acc;
+        double om = keep * w_old + gain * ang;
+        if (fix) {
+            if (fix & kFixX) v.x() = v_old.x();
+            if (fix & kFixY) v.y() = v_old.y();
+            if (fix & kFixSpin) om = w_old;
         }
-        b.vel[s] = v;
-        b.spin[s] = spin;
-        b.pos[s] += v * dt;
-        b.angle[s] += spin * dt;
-        if (!std::isfinite(b.pos[s].x() + b.pos[s].y() + v.x() + v.y() + spin))
-            throwNonFinite(describeBall(static_cast<uint32_t>(s)) + ": velocity (" +
-                           std::to_string(v.x()) + ", " + std::to_string(v.y()) + "), spin " +
-                           std::to_string(spin) + ", contact force (" +
-                           std::to_string(b.force[s].x()) + ", " + std::to_string(b.force[s].y()) +
-                           ")");
+        vel[s] = v;
+        spin[s] = om;
+        pos[s] += v * dt;
+        angle[s] += om * dt;
         if (energy) {
             const double m = b.mass[s];
-            kinetic += 0.5 * (m * v_old.dot(v) + b.inertia[s] * w_old * spin);
-            body += (m * m_gravity + b.fapp[s]).dot(v) * dt + b.mapp[s] * spin * dt;
-            // Work of the damping impulse on the half-step kinetic energy.
+            kinetic += 0.5 * (m * v_old.dot(v) + b.inertia[s] * w_old * om);
+            body += (m * g + fapp[s]).dot(v) * dt + mapp[s] * om * dt;
+            // Work of the damping impulses on the half-step kinetic energy.
             Vec2 dmp = fd;
             if (c > 0.0) dmp -= c * m * 0.5 * (v_old + v);
-            damping -= w * (dmp.dot(0.5 * (v_old + v)) + md * 0.5 * (w_old + spin));
+            damping -= w * (dmp.dot(0.5 * (v_old + v)) + md * 0.5 * (w_old + om));
         }
     }
+    bool finite = true;
+    for (std::size_t s = 0; s < n && finite; ++s)
+        finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
+    if (!finite) reportNonFiniteBall();
     if (energy) {
         // Snapshot at the whole step t (before this step's work is added).
         m_energy = m_energy_acc;
@@ -97,9 +133,17 @@ void Model::lawOfMotion() {
         m_energy_acc.body += body;
         m_energy_acc.damping += damping;
     }
-    m_first_cycle = false;
-    m_time += dt;
-    ++m_step;
+}
+
+void Model::reportNonFiniteBall() const {
+    const auto& b = *m_balls;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const Vec2& v = b.vel[s];
+        if (std::isfinite(v.x() + v.y() + b.spin[s] + b.pos[s].x() + b.pos[s].y())) continue;
+        throwNonFinite(describeBall(static_cast<uint32_t>(s)) + ": velocity (" + text(v.x()) +
+                       ", " + text(v.y()) + "), spin " + text(b.spin[s]) + ", contact force (" +
+                       text(b.force[s].x()) + ", " + text(b.force[s].y()) + ")");
+    }
 }
 
 void Model::moveWalls() {

@@ -165,6 +165,15 @@ std::string Model::describeBall(uint32_t slot) const {
     return "ball " + std::to_string(m_balls->handle[slot]) + " at " + vecText(m_balls->pos[slot]);
 }
 
+void Model::refreshPairMasses(uint32_t s) {
+    // Pairs cache their effective mass (force_displacement.cpp); a mass change is rare.
+    const auto& b = *m_balls;
+    for (auto& p : m_pairs)
+        if (p.end1 == s || (!p.wall && p.end2 == s))
+            p.mass_eff = p.wall ? b.mass[p.end1]
+                                : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]);
+}
+
 void Model::updateMass(uint32_t s) {
     auto& b = *m_balls;
     const double r = b.radius[s];
@@ -226,6 +235,7 @@ BallId Model::createBall(const BallDef& d) {
         b.inv_inertia[s] = 1.0 / d.inertia;
     }
     b.fixity[s] = d.fixity;
+    if (d.fixity) ++m_fixed_balls;
     b.proxy[s] = -1;
     b.groups[s] = 0;
     for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << groupIndex(g, true);
@@ -257,6 +267,7 @@ void Model::deleteBall(BallId id) {
         if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(i);
     }
     auto& b = *m_balls;
+    if (b.fixity[s]) --m_fixed_balls;
     if (b.proxy[s] >= 0) m_broadphase->destroy(b.proxy[s]);
     const uint32_t last = static_cast<uint32_t>(b.size() - 1);
     if (s != last) {
@@ -322,6 +333,7 @@ void Model::setBallRadius(BallId id, double r) {
     const uint32_t s = slotOf(id);
     m_balls->radius[s] = r;
     if (m_balls->density[s] > 0.0) updateMass(s);
+    refreshPairMasses(s);
 }
 void Model::setBallDensity(BallId id, double rho) {
     m_limits_stale = true;
@@ -330,6 +342,7 @@ void Model::setBallDensity(BallId id, double rho) {
     const uint32_t s = slotOf(id);
     m_balls->density[s] = rho;
     updateMass(s);
+    refreshPairMasses(s);
 }
 void Model::setBallAppliedForce(BallId id, const Vec2& f) {
     requireFinite("applied force", f);
@@ -339,7 +352,11 @@ void Model::setBallAppliedMoment(BallId id, double m) {
     if (!std::isfinite(m)) throw InputError("ball: applied moment must be finite");
     m_balls->mapp[slotOf(id)] = m;
 }
-void Model::setBallFixity(BallId id, uint8_t f) { m_balls->fixity[slotOf(id)] = f; }
+void Model::setBallFixity(BallId id, uint8_t f) {
+    uint8_t& cur = m_balls->fixity[slotOf(id)];
+    m_fixed_balls += (f != 0) - (cur != 0);
+    cur = f;
+}
 
 static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
                               std::vector<double>& fric, uint32_t s, const std::string& name,

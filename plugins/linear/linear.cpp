@@ -42,9 +42,10 @@ public:
     double dp_fn = 0.0;      // normal dashpot force [N]
     double dp_fs = 0.0;      // shear dashpot force [N]
     double lin_slip = 0.0;   // 1 while sliding
-    // per-contact derived values (not properties)
+    // per-contact derived values (not properties), cached so FDlaw needs no square root
     double mass_eff_ = 0.0;
-    double cn_ = 0.0, cs_ = 0.0;
+    Dashpot normal_dashpot_, shear_dashpot_;
+    double knest_ = 0.0, ksest_ = 0.0;
     double last_overlap_ = 0.0;
     bool touching_ = false;
 
@@ -84,9 +85,13 @@ public:
 
     void setMass(double m) {
         mass_eff_ = m;
-        cn_ = dashpotCoefficient(dp_nratio, m, kn);
-        cs_ = dashpotCoefficient(dp_sratio, m, ks);
+        normal_dashpot_.set(dashpotCoefficient(dp_nratio, m, kn), m);
+        shear_dashpot_.set(dashpotCoefficient(dp_sratio, m, ks), m);
+        knest_ = kn * dashpotStiffnessFactor(dp_nratio);
+        ksest_ = ks * dashpotStiffnessFactor(dp_sratio);
     }
+
+    void onPropChanged() { setMass(mass_eff_); }
 
     bool noTension() const { return dp_mode == 1.0 || dp_mode == 3.0; }
     bool noShearDashpotWhileSliding() const { return dp_mode >= 2.0; }
@@ -101,7 +106,8 @@ public:
             // in contact (full mode only; with the no-tension limit the force was already zero).
             double closing = 0.0;
             if (touching_ && !noTension())
-                closing = dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n);
+                closing = dashpotClosingForce(normal_dashpot_.coefficient(), fd.u_dot_n,
+                                              last_overlap_, fd.u_n);
             touching_ = false;
             lin_fn = lin_fs = dp_fs = lin_slip = 0.0;
             dp_fn = closing;
@@ -126,11 +132,11 @@ public:
         const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
         lin_slip = sr.sliding ? 1.0 : 0.0;
 
-        const double dn = dashpotForce(cn_, mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
+        const double dn = normal_dashpot_.force(fd.u_dot_n, lin_fn, dt, lead);
         dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
         double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds = dashpotForce(cs_, mass_eff_, fd.u_dot_s, -lin_fs, dt, lead);
+            ds = shear_dashpot_.force(fd.u_dot_s, -lin_fs, dt, lead);
         dp_fs = -ds;
 
         fd.n_force = lin_fn + dp_fn;
@@ -141,16 +147,17 @@ public:
         if (energy) {
             fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
             fd.energy[kEnergySlip] = sr.slip_work;
-            fd.energy[kEnergyDashpot] = dashpotEnergy(cn_, dp_fn, dn, dt, lead) +
-                                        dashpotEnergy(cs_, ds, ds, dt, lead);
+            fd.energy[kEnergyDashpot] =
+                dashpotEnergy(normal_dashpot_.coefficient(), dp_fn, dn, dt, lead) +
+                dashpotEnergy(shear_dashpot_.coefficient(), ds, ds, dt, lead);
         }
         touching_ = true;
         last_overlap_ = fd.u_n;
     }
 
     void writeEstimates(FdBlock& fd) const {
-        fd.knest = kn * dashpotStiffnessFactor(dp_nratio);
-        fd.ksest = ks * dashpotStiffnessFactor(dp_sratio);
+        fd.knest = knest_;
+        fd.ksest = ksest_;
         fd.krest = 0.0;
     }
 
@@ -161,8 +168,6 @@ public:
         so.Double(dp_fs);
         so.Double(lin_slip);
         so.Double(mass_eff_);
-        so.Double(cn_);
-        so.Double(cs_);
         so.Double(last_overlap_);
         so.Bool(touching_);
     }

@@ -289,6 +289,9 @@ private:
     // phases (one source file each)
     void computeTimestep();    // timestep.cpp
     void lawOfMotion();        // law_of_motion.cpp
+    template <bool kGeneral>
+    void moveBalls();          // law_of_motion.cpp
+    void reportNonFiniteBall() const;
     void moveWalls();          // law_of_motion.cpp
     void detectContacts();     // contact_detection.cpp
     void forceDisplacement();  // force_displacement.cpp
@@ -307,6 +310,7 @@ private:
     const WallData& wallOf(WallId id) const;
     WallData& wallOf(WallId id);
     void updateMass(uint32_t slot);
+    void refreshPairMasses(uint32_t slot);
     void initBroadphase();
     void insertBall(uint32_t slot);
     void insertSegment(uint32_t seg);
@@ -372,6 +376,7 @@ private:
     } m_dt_where;
     bool m_first_cycle = true;
     bool m_warned_no_model = false;
+    std::size_t m_fixed_balls = 0;  // balls with any fixity bit (they need the general loop)
     TimestepSettings m_last_settings;
     bool m_limits_stale = true;  // the scene changed outside a cycle: survey before the next step
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)

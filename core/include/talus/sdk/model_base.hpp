@@ -12,6 +12,8 @@
 //   void saveRestoreState(talus::ModelSaveObject& so);     // per-contact state only
 //   bool inherit(const talus::PropBlock& pb);              // set per-contact properties; false +
 //                                                           // fail("...") on error
+// and optionally
+//   void onPropChanged();                                  // recompute cached derived values
 // and overrides KnEstimate, KsEstimate and ContactDuration.
 #pragma once
 
@@ -105,6 +107,7 @@ public:
             return fail(std::string("property '") + p.info.name + "' is read-only");
         if (const char* why = checkRange(p, value)) return fail(why);
         self().*(p.member) = value;
+        self().onPropChanged();
         return 0;
     }
 
@@ -167,7 +170,12 @@ public:
         for (const auto& p : Derived::Table())
             if (!(p.info.flags & kPropReadOnly)) so.Double(self().*(p.member));
         self().saveRestoreState(so);
+        if (!so.IsSaving()) self().onPropChanged();
     }
+
+    /// Called after a property changed (AcceptProp, restore): a derived model recomputes what it
+    /// caches from its properties by declaring its own onPropChanged().
+    void onPropChanged() {}
 
 protected:
     static int32_t fail(const std::string& why) {

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Installs what Talus needs from Debian's packages (idempotent: installs only what is missing).
+# Works as root on a fresh machine, or through sudo.
+set -euo pipefail
+
+packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2)
+if [[ "${TALUS_WITH_LAMMPS:-0}" == 1 ]]; then packages+=(lammps); fi
+
+missing=()
+for p in "${packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+        missing+=("$p")
+    fi
+done
+if ((${#missing[@]} == 0)); then
+    echo "setup: all packages present (${packages[*]})"
+    exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+    if command -v sudo >/dev/null; then sudo="sudo"; else
+        echo "setup: need root (or sudo) to install: ${missing[*]}" >&2
+        exit 1
+    fi
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
