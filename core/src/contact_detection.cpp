@@ -178,14 +178,14 @@ PropBlock Model::propBlockFor(const Pair& p) const {
     return pb;
 }
 
-/// Clones the rule's prototype for the pair; throws PluginError naming the contact on failure.
-static ContactModel* cloneFor(Model::Rule& rule, const PropBlock& pb, const std::string& where) {
+ContactModel* Model::cloneFor(Pair& p) {
+    Rule& rule = *p.rule;
     void* mem = rule.pool->allocate();
-    ContactModel* m = rule.prototype->Clone(pb, mem);
+    ContactModel* m = rule.prototype->Clone(propBlockFor(p), mem);
     if (!m) {
         rule.pool->release(mem);
         throw PluginError("contact model '" + rule.model_name + "': cannot create the model for " +
-                          where + ": " + rule.prototype->LastError());
+                          describePair(p) + ": " + rule.prototype->LastError());
     }
     return m;
 }
@@ -215,7 +215,7 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
     p.activity = rule.activity;
     const double m1 = b.mass[p.end1];
     p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
-    p.model = cloneFor(*p.rule, propBlockFor(p), describePair(p));
+    p.model = cloneFor(p);
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
     m_pair_index.emplace(p.key, static_cast<uint32_t>(m_pairs.size()));
@@ -250,7 +250,7 @@ void Model::refreshRule(Pair& p) {
     p.rule->pool->release(p.model);
     p.rule = rule;
     p.activity = rule->activity;
-    p.model = cloneFor(*rule, propBlockFor(p), describePair(p));
+    p.model = cloneFor(p);
 }
 
 void Model::resetPair(Pair& p) {
@@ -258,7 +258,7 @@ void Model::resetPair(Pair& p) {
     p.model->Destroy();
     p.rule->pool->release(p.model);
     p.model = nullptr;
-    p.model = cloneFor(*p.rule, propBlockFor(p), describePair(p));
+    p.model = cloneFor(p);
     p.active = p.sliding = p.touched = false;
     p.steps = 0;
     p.n_force = p.s_force = p.moment = 0.0;

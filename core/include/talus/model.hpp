@@ -319,6 +319,7 @@ private:
     void addPairsFor(int32_t proxy_id);
     bool makePair(uint32_t ball_slot, uint32_t other, bool other_is_segment);
     void removePair(std::size_t index);
+    ContactModel* cloneFor(Pair& p);
     void refreshRule(Pair& p);
     void resetPair(Pair& p);
     void endContact(Pair& p, bool check_guard);
