@@ -181,11 +181,20 @@ PropBlock Model::propBlockFor(const Pair& p) const {
 ContactModel* Model::cloneFor(Pair& p) {
     Rule& rule = *p.rule;
     void* mem = rule.pool->allocate();
-    ContactModel* m = rule.prototype->Clone(propBlockFor(p), mem);
+    ContactModel* m = nullptr;
+    std::string why;
+    try {
+        m = rule.prototype->Clone(propBlockFor(p), mem);
+        if (!m) why = rule.prototype->LastError();
+    } catch (const std::exception& e) {
+        why = e.what();
+    } catch (...) {
+        why = "unknown exception";
+    }
     if (!m) {
         rule.pool->release(mem);
         throw PluginError("contact model '" + rule.model_name + "': cannot create the model for " +
-                          describePair(p) + ": " + rule.prototype->LastError());
+                          describePair(p) + ": " + why);
     }
     return m;
 }

@@ -158,7 +158,17 @@ void Model::forceLoop() {
         if constexpr (kEnergy)
             for (double& e : fd.energy) e = 0.0;
 
-        p.model->FDlaw(fd);
+        try {
+            p.model->FDlaw(fd);
+        } catch (const std::exception& e) {
+            // A model without the SDK's barrier threw (docs/plugin-abi.md, "Exceptions").
+            fd.status = 1;
+            m_plugin_error = e.what();
+            fd.error = m_plugin_error.c_str();
+        } catch (...) {
+            fd.status = 1;
+            fd.error = "unknown exception";
+        }
 
         if (fd.status != 0)
             throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +

@@ -83,8 +83,12 @@ void PluginRegistry::addSearchDirectory(const std::string& dir) {
 }
 
 std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
-    if (!fileExists(path_in))
+    if (!fileExists(path_in)) {
+        struct stat st {};
+        if (::stat(path_in.c_str(), &st) == 0)
+            throw PluginError("load_plugin: '" + path_in + "' is not a regular file");
         throw PluginError("load_plugin: no such file '" + path_in + "'");
+    }
     const std::string path = canonical(path_in);
     for (const auto& lib : m_libraries)
         if (lib->path == path) return {};  // already loaded
@@ -124,10 +128,13 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
                std::to_string(sizeof(PropBlock)));
     if (!info->build_key || std::strcmp(info->build_key, TALUS_BUILD_KEY) != 0)
         refuse("build key", info->build_key ? info->build_key : "(none)", TALUS_BUILD_KEY);
-    if (info->model_count <= 0 || !info->create_prototype || !info->destroy_prototype)
+    if (info->model_count <= 0)
         throw PluginError("load_plugin: '" + path + "' offers no models (model_count = " +
-                          std::to_string(info->model_count) +
-                          ", or create_prototype/destroy_prototype missing)");
+                          std::to_string(info->model_count) + ")");
+    if (!info->create_prototype || !info->destroy_prototype)
+        throw PluginError("load_plugin: '" + path + "': PluginInfo::" +
+                          (info->create_prototype ? "destroy_prototype" : "create_prototype") +
+                          " is null");
 
     auto lib = std::make_unique<Library>();
     lib->path = path;

@@ -35,7 +35,13 @@ void applyProps(ContactModel& model, const std::vector<PropValue>& props, const 
         if (idx < 0)
             throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
                              model.Name() + "' (known: " + knownProps(model) + ")");
-        if (model.AcceptProp(idx, pv.value) != 0) throw InputError(where + ": " + model.LastError());
+        int32_t status;
+        try {
+            status = model.AcceptProp(idx, pv.value);
+        } catch (const std::exception& e) {
+            throw PluginError(where + ": model '" + model.Name() + "' threw from AcceptProp: " + e.what());
+        }
+        if (status != 0) throw InputError(where + ": " + model.LastError());
     }
 }
 

@@ -95,7 +95,7 @@ public:
     ///    the automatic time step uses; written at every call. Zero means "no stiffness".
     ///  * out: energy[] only when kFdEnergyOn is set: stored partitions (strain, bond strain) as
     ///    the current value, accumulated ones (slip, dashpot, plastic) as this step's increment.
-    ///  * out: flags kFdSliding, kFdBonded, kFdBroken (+ break_mode), kFdKeep, kFdSkipEngine.
+    ///  * out: flags kFdSliding, kFdBonded, kFdBroken (+ break_mode), kFdKeep.
     ///  * errors: set status != 0 and error (text the model owns) -- or throw: ModelBase turns an
     ///    exception into status/error before it reaches the host.
     /// The null model writes its outputs as zeros and touches no other field.
@@ -116,6 +116,11 @@ public:
     /// properties. One call per value, in the same order when saving and restoring; read
     /// so.DataVersion() to restore data written by an older Version() of the model.
     void saveRestoreState(ModelSaveObject& so) { so.Double(calls); }
+
+    /// Called after a property changed (AcceptProp) and after a restore: recompute here whatever
+    /// the model caches from its properties (a dashpot coefficient, a stiffness ratio), so that
+    /// a contact:set or a restored contact never runs on stale values. Optional.
+    void onPropChanged() {}
 
     // ------------------------------------------------------------------ identity and properties
     // (ModelBase implements these from kName and Table(); shown for reference.)

@@ -82,11 +82,9 @@ enum FdFlags : uint32_t {
     kFdFirstCall = 1u << 0,    ///< in: first FDlaw of this contact (it just became active)
     kFdEnergyOn = 1u << 1,     ///< in: energy tracing is on; write FdBlock::energy
     kFdSliding = 1u << 8,      ///< out: the contact slid this step (PFC bSliding)
-    kFdBonded = 1u << 9,       ///< out: a bond is present
+    kFdBonded = 1u << 9,       ///< out: a bond is present (reported by contact queries)
     kFdBroken = 1u << 10,      ///< out: a bond broke this step (raises a bond_break event)
     kFdKeep = 1u << 11,        ///< out: do not delete this contact even when separated
-    kFdSkipEngine = 1u << 12,  ///< out: PFC bflag; the host applies the forces but skips its
-                               ///<      own checks for this contact this step
 };
 
 /// Bond-break modes written to FdBlock::break_mode together with kFdBroken.
@@ -226,6 +224,7 @@ public:
     virtual bool OKToDelete() const = 0;
     virtual void SaveRestore(ModelSaveObject& so) = 0;
     /// Bit 0: FDlaw may run concurrently on different contacts (no shared mutable state).
+    /// Reserved for a threaded force loop; this release cycles contacts serially.
     virtual uint32_t Traits() const = 0;
 
 protected:

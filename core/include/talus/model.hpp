@@ -416,6 +416,7 @@ private:
 
     Profile m_profile;
     FdBlock m_fd_template{};
+    std::string m_plugin_error;  // text of an exception caught at the plugin boundary
 };
 
 }  // namespace talus
