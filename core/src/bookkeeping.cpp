@@ -4,6 +4,7 @@
 // the hot loop and in the order they happened, then the cycle hooks run (histories, Lua
 // callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
 // Also: energy tracing switches and the profile report.
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -20,13 +21,21 @@ void Model::bookkeeping() {
         if (m_event_handler)
             for (const Event& e : events) m_event_handler(e);
     }
-    for (std::size_t i = 0; i < m_hooks.size(); ++i) {
-        const Hook& h = m_hooks[i];
-        if (h.every > 0 && m_step % h.every == 0) {
-            auto fn = h.fn;  // the hook may remove itself
+    if (m_hooks.empty()) return;
+    // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
+    // added now first run at the next step.
+    ++m_hooks_running;
+    const std::size_t n = m_hooks.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (m_hooks[i].every > 0 && m_step % m_hooks[i].every == 0) {
+            auto fn = m_hooks[i].fn;  // copy: the vector may grow during the call
             fn(*this);
         }
     }
+    if (--m_hooks_running == 0)
+        m_hooks.erase(std::remove_if(m_hooks.begin(), m_hooks.end(),
+                                     [](const Hook& h) { return h.every == 0; }),
+                      m_hooks.end());
 }
 
 int Model::addCycleHook(int64_t every, std::function<void(Model&)> fn) {
@@ -38,7 +47,10 @@ int Model::addCycleHook(int64_t every, std::function<void(Model&)> fn) {
 void Model::removeCycleHook(int handle) {
     for (std::size_t i = 0; i < m_hooks.size(); ++i)
         if (m_hooks[i].handle == handle) {
-            m_hooks.erase(m_hooks.begin() + static_cast<std::ptrdiff_t>(i));
+            if (m_hooks_running > 0)
+                m_hooks[i].every = 0;  // erased after the hooks of this step have run
+            else
+                m_hooks.erase(m_hooks.begin() + static_cast<std::ptrdiff_t>(i));
             return;
         }
 }

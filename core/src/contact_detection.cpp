@@ -268,10 +268,11 @@ void Model::resetPair(Pair& p) {
     p.rule->pool->release(p.model);
     p.model = nullptr;
     p.model = cloneFor(p);
-    p.active = p.sliding = p.touched = false;
+    p.active = p.sliding = p.bonded = p.touched = false;
     p.steps = 0;
     p.n_force = p.s_force = p.moment = 0.0;
     p.work = p.work_peak = p.strain = p.bond = 0.0;
+    p.rate_n = p.rate_s = p.rate_t = 0.0;
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
     p.krest = 0.0;

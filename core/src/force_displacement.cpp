@@ -137,6 +137,24 @@ void Model::forceLoop() {
             first = true;
             ++m_profile.contacts_created;
             p.duration = p.model->ContactDuration(mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+            if (m_contact_events) {
+                Event ev;
+                ev.kind = EventKind::ContactCreated;
+                ev.time = m_time;
+                ev.pos = g.point;
+                ev.contact = ContactKey{p.key};
+                ev.model = p.rule->model_name;
+                m_events.push_back(std::move(ev));
+            }
+        } else if (p.n_force > 0.0 && g.normal.dot(p.normal) < 0.0) {
+            // A contact that was pushing the bodies apart cannot reverse its normal within a step
+            // unless one body went through the other (a model exerting no force may let it).
+            throw NumericalError("at step " + std::to_string(m_step) + " (t = " + num(m_time) +
+                                 " s): " + describePair(p) +
+                                 ": the contact normal reversed within one step, so one body "
+                                 "passed through the other (overlap " + num(g.overlap) +
+                                 " m); the contact is too soft for this impact or the step too "
+                                 "large");
         }
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
@@ -193,33 +211,41 @@ void Model::forceLoop() {
         }
 
         // ---- extras
+        const bool ends =
+            g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete();
         if constexpr (kAuto)
             noteContact(p, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
-                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff);
+                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff,
+                        (fd.flags & kFdBonded) == 0);
         if constexpr (kEnergy) {
             m_energy_acc.slip += fd.energy[kEnergySlip];
             m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
             m_energy_acc.plastic += fd.energy[kEnergyPlastic];
+            const double stored_before = p.strain + p.bond;
             p.strain = fd.energy[kEnergyStrain];
             p.bond = fd.energy[kEnergyBondStrain];
-            strain_now += p.strain;
-            bond_now += p.bond;
+            const double stored = p.strain + p.bond;
+            // A break releases what the contact held (accuracy-reference 3.6, pitfall 2); so
+            // does the end of a contact that is still loaded.
+            if (fd.flags & kFdBroken) m_energy_acc.released += std::max(0.0, stored_before - stored);
+            if (ends) {
+                m_energy_acc.released += stored;
+            } else {
+                strain_now += p.strain;
+                bond_now += p.bond;
+            }
         }
         if constexpr (kGuard) {
-            // Energy the contact took this step: trapezoidal work of its forces over the
-            // relative displacement since touch (docs/physics/guard.md).
-            double dun, dus = fd.du_s, dth = fd.dtheta;
-            if (first) {
-                const double frac = sdk::onsetFraction(g.overlap, fd.du_n);
-                dun = g.overlap - std::max(g.overlap - fd.du_n, -p.activity);
-                dus *= frac;
-                dth *= frac;
-            } else {
-                dun = std::max(g.overlap, -p.activity) - p.overlap;
-            }
-            p.work += 0.5 * ((fn_old + fd.n_force) * dun - (fs_old + fd.s_force) * dus -
-                             (m_old + fd.moment) * dth);
+            // Energy the contact took from the bodies: last step's force times the mean of the
+            // two half-step rates around it, over the velocity window -- exactly what the law of
+            // motion did with it (docs/physics/guard.md).
+            p.work += m_window * (fn_old * 0.5 * (p.rate_n + fd.u_dot_n) -
+                                  fs_old * 0.5 * (p.rate_s + fd.u_dot_s) -
+                                  m_old * 0.5 * (p.rate_t + fd.t_dot_rel));
             p.work_peak = std::max(p.work_peak, p.work);
+            p.rate_n = fd.u_dot_n;
+            p.rate_s = fd.u_dot_s;
+            p.rate_t = fd.t_dot_rel;
         }
 
         p.n_force = fd.n_force;
@@ -232,6 +258,7 @@ void Model::forceLoop() {
         p.ksest = fd.ksest;
         p.krest = fd.krest;
         p.sliding = (fd.flags & kFdSliding) != 0;
+        p.bonded = (fd.flags & kFdBonded) != 0;
         if (g.overlap > 0.0) {
             ++p.steps;
             p.touched = true;
@@ -246,8 +273,7 @@ void Model::forceLoop() {
             ev.model = p.rule->model_name;
             m_events.push_back(std::move(ev));
         }
-        if (g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete())
-            endContact(p, kGuard);
+        if (ends) endContact(p, kGuard);
     }
 
     for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
@@ -258,8 +284,10 @@ void Model::forceLoop() {
 }
 
 void Model::endContact(Pair& p, bool check_guard) {
-    if (m_energy_on) m_energy_acc.released += p.strain + p.bond;
     if (check_guard && p.touched) {
+        // The force of this last step acts in the next law of motion; estimate its work with
+        // the current rates.
+        p.work += m_dt * (p.n_force * p.rate_n - p.s_force * p.rate_s - p.moment * p.rate_t);
         if (m_guard.energy != GuardAction::Off && p.work_peak > 0.0 &&
             p.work < -m_guard.energy_tolerance * p.work_peak) {
             const std::string what =

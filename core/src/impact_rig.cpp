@@ -146,7 +146,9 @@ ImpactResult runImpact(const ImpactSetup& s, PluginRegistry& registry) {
         t_prev = t;
         f_prev = fn;
     }
-    if (ended) m.cycle(1);  // apply what the model owed at separation (closing impulses)
+    // One step applies what the model owed at separation (closing impulses), one more brings the
+    // energy snapshot (one step behind, docs/physics/energy.md) past the contact.
+    if (ended) m.cycle(2);
     r.separated = ended;
     const Probe end = probe();
     r.vn_out = normalOf(end);
@@ -190,6 +192,12 @@ DriveResult driveContact(const DriveSetup& s, PluginRegistry& registry) {
         return c;
     };
     ContactModel* model = clone();
+    struct DestroyAtExit {  // also when FDlaw fails and we throw
+        ContactModel*& m;
+        ~DestroyAtExit() {
+            if (m) m->Destroy();
+        }
+    } destroy_at_exit{model};
     const double activity = proto->ActivityDistance();
 
     DriveResult out;
@@ -232,12 +240,12 @@ DriveResult driveContact(const DriveSetup& s, PluginRegistry& registry) {
         out.plastic += fd.energy[kEnergyPlastic];
         if (u <= -activity && !(fd.flags & kFdKeep) && model->OKToDelete()) {
             model->Destroy();
+            model = nullptr;
             model = clone();
             active = false;
             fd.n_force = fd.s_force = fd.moment = 0.0;
         }
     }
-    model->Destroy();
     return out;
 }
 

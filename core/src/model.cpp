@@ -604,6 +604,7 @@ ContactInfo Model::infoOf(const Pair& p) const {
     c.shear_force = p.s_force;
     c.moment = p.moment;
     c.sliding = p.sliding;
+    c.bonded = p.bonded;
     c.model = p.rule ? p.rule->model_name : "";
     return c;
 }

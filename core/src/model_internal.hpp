@@ -78,6 +78,7 @@ struct Model::Pair {
     bool wall = false;
     bool active = false;
     bool sliding = false;
+    bool bonded = false;
     bool touched = false;  // overlap was positive at some step of this life
     uint32_t steps = 0;    // steps with positive overlap in this life
     uint32_t rules_version = 0;
@@ -90,6 +91,7 @@ struct Model::Pair {
     double knest = 0.0, ksest = 0.0, krest = 0.0;
     double duration = 0.0;  // expected contact duration from the model at touch [s]
     double work = 0.0, work_peak = 0.0;  // energy taken by the contact in this life [J]
+    double rate_n = 0.0, rate_s = 0.0, rate_t = 0.0;  // half-step rates at the last FDlaw
     double strain = 0.0;    // stored energy reported at the last FDlaw [J]
     double bond = 0.0;
     Vec2 normal{0.0, 0.0};

@@ -77,7 +77,7 @@ void Model::noteApproach(const Pair& p, double gap, const Vec2& vrel, double acc
 }
 
 void Model::noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
-                        double arm2_sq, double mass_eff) {
+                        double arm2_sq, double mass_eff, bool impact) {
     auto& b = *m_balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
@@ -85,7 +85,8 @@ void Model::noteContact(const Pair& p, double kn, double ks, double kr, double a
         b.k_tran[p.end2] += kn + ks;
         b.k_rot[p.end2] += ks * arm2_sq + kr;
     }
-    if (m_timestep.resolution > 0.0) {
+    // A bond is not an impact: bonded contacts get the stability rule only.
+    if (impact && m_timestep.resolution > 0.0) {
         const double d = std::min(p.duration, contactDuration(p, kn, mass_eff, -1.0)) /
                          m_timestep.resolution;
         if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = p.key;
@@ -132,7 +133,7 @@ void Model::surveyPairs() {
         if (p.active || g.overlap > -p.activity) {
             if (!p.active) p.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
             noteContact(p, p.knest, p.ksest, p.krest, (g.point - x1).squaredNorm(),
-                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
+                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff, !p.bonded);
         } else {
             noteApproach(p, -g.overlap, vrel, accel, g.normal);
         }

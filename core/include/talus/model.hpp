@@ -136,6 +136,7 @@ struct ContactInfo {
     double shear_force = 0.0;
     double moment = 0.0;
     bool sliding = false;
+    bool bonded = false;
     std::string model;
 };
 
@@ -256,6 +257,8 @@ public:
     int addCycleHook(int64_t every, std::function<void(Model&)> fn);
     void removeCycleHook(int handle);
     void setEventHandler(std::function<void(const Event&)> fn) { m_event_handler = std::move(fn); }
+    /// Contact-created events cost a queue entry per new contact; they are queued only when asked.
+    void enableContactCreatedEvents(bool on) { m_contact_events = on; }
     /// Warnings (guard findings) go here; the default prints to stderr.
     void setWarningHandler(std::function<void(const std::string&)> fn) {
         m_warning_handler = std::move(fn);
@@ -302,7 +305,7 @@ private:
     // time-step limits gathered per pair (timestep.cpp)
     void noteApproach(const Pair& p, double gap, const Vec2& vrel, double accel, const Vec2& normal);
     void noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
-                     double arm2_sq, double mass_eff);
+                     double arm2_sq, double mass_eff, bool impact);
     void surveyPairs();
 
     // helpers
@@ -369,6 +372,7 @@ private:
     int64_t m_step = 0;
     double m_dt = 0.0;       // step taken by the last cycle
     double m_dt_prev = 0.0;  // step before it (for the velocity update window)
+    double m_window = 0.0;   // time between the two half-step velocities of the last update
     StepRule m_dt_rule = StepRule::Fixed;
     struct StepWhere {  // what set the last step; turned into words only when asked
         enum Kind { None, Ball, Pair, Wall } kind = None;
@@ -393,7 +397,7 @@ private:
     // --- energy: running sums, and the snapshot at the last whole step (energy.md)
     bool m_energy_on = false;
     EnergyTotals m_energy_acc;
-    EnergyTotals m_energy;
+    EnergyTotals m_energy;  // snapshot at the last whole step (law_of_motion.cpp)
 
     // --- guard counters (aggregated warnings)
     int64_t m_underresolved = 0;
@@ -409,7 +413,9 @@ private:
     };
     std::vector<Hook> m_hooks;
     int m_next_hook = 1;
+    int m_hooks_running = 0;
     std::vector<Event> m_events;
+    bool m_contact_events = false;
     std::function<void(const Event&)> m_event_handler;
     std::function<void(const std::string&)> m_warning_handler;
     std::vector<std::string> m_group_names;

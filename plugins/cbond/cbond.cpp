@@ -1,0 +1,215 @@
+// SPDX-License-Identifier: MIT
+//
+// `cbond`: the linear contact model with a PFC contact bond (accuracy-reference 4 "Contact
+// bond", seed digest section 1; docs/models/cbond.md).
+//
+//   normal   F_n = kn (u_n - u_ref)          bonded: tension allowed
+//            F_n = max(0, kn (u_n - u_ref))  unbonded (u_ref = 0 unless the bond formed at a gap)
+//   shear    F_s <- F_s - ks dU_s            bonded: no slip
+//            |F_s| <= fric F_n               unbonded: Coulomb slider (accuracy-reference 3.2)
+//   bond     strengths are forces: cb_tenf (tensile), cb_shearf (shear)
+//            -F_n >= cb_tenf       -> breaks in tension; both forces go to zero
+//            |F_s| >= cb_shearf    -> breaks in shear; the forces are kept if F_n > 0 and
+//                                     |F_s| <= fric F_n, else F_s is scaled to fric max(F_n, 0)
+//                                     (and a tensile F_n goes to zero: no bond, no tension)
+//
+// Bond creation. There is no bond command yet (a later issue adds `bond{}`). A rule with
+// cb_bond = 1 bonds each contact it creates on the contact's first FDlaw, if the ends touch or
+// are within cb_gap; the activity distance is then cb_gap, so that the engine creates contacts
+// within the gap. A bond formed at a gap is force-free there: u_ref = min(0, u_n at bonding).
+//
+// Energies: strain = F_n^2/(2 kn) + F_s^2/(2 ks) (bonded or not). On a break:
+//  - a contact left without force (tension break, or a shear break under tension) reports the
+//    energy it held, once, as strain at the breaking step; the engine deletes such a contact in
+//    the same step when it is beyond the activity distance and books that energy as `released`;
+//  - a contact left in compression whose shear force is scaled to the Coulomb limit has slipped:
+//    the drop (F_s^2 - F_s'^2)/(2 ks) is slip work.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "talus/contact_model.hpp"
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/model_base.hpp"
+#include "talus/sdk/shear_spring.hpp"
+
+namespace {
+
+using namespace talus;
+using namespace talus::sdk;
+
+const char* const kBondFlag[] = {"no", "yes", nullptr};
+const char* const kStates[] = {"unbonded", "bonded", "broken_tension", "broken_shear", nullptr};
+enum CbState { kUnbonded = 0, kBonded = 1, kBrokenTension = 2, kBrokenShear = 3 };
+
+class CBond final : public ModelBase<CBond> {
+public:
+    static constexpr const char* kName = "cbond";
+
+    // properties
+    double kn = 0.0;         // [N/m]
+    double ks = 0.0;         // [N/m]
+    double fric = 0.0;       // [-]
+    double cb_tenf = 0.0;    // tensile strength [N]
+    double cb_shearf = 0.0;  // shear strength [N]
+    double cb_bond = 0.0;    // 1: bond on the first FDlaw
+    double cb_gap = 0.0;     // bonding gap [m]
+    // state (read-only)
+    double bonded = 0.0;    // 1 while bonded
+    double cb_state = 0.0;  // CbState
+    double cb_fn = 0.0;     // normal force [N]
+    double cb_fs = 0.0;     // shear force [N]
+    // per-contact bookkeeping
+    double u_ref_ = 0.0;  // overlap at which the normal force is zero [m]
+    bool started_ = false;
+    bool touching_ = false;
+
+    // One property per entry (clang-format would put every value on its own line).
+    // clang-format off
+    static const PropTable<CBond>& Table() {
+        static const PropTable<CBond> t = {
+            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &CBond::kn, 0.0},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &CBond::ks, 0.0},
+            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
+             &CBond::fric, 0.0},
+            {{"cb_tenf", "N", 0, 0.0, "bond tensile strength (force; inf: unbreakable)", nullptr},
+             &CBond::cb_tenf, 0.0},
+            {{"cb_shearf", "N", 0, 0.0, "bond shear strength (force; inf: unbreakable)", nullptr},
+             &CBond::cb_shearf, 0.0},
+            {{"cb_bond", "-", kPropInteger, 0.0, "1: bond each new contact on its first FDlaw",
+              kBondFlag},
+             &CBond::cb_bond, 0.0, 1.0},
+            {{"cb_gap", "m", 0, 0.0, "largest gap at which a contact is bonded", nullptr},
+             &CBond::cb_gap, 0.0},
+            {{"bonded", "-", kPropReadOnly | kPropState, 0.0, "1 while bonded", nullptr},
+             &CBond::bonded},
+            {{"cb_state", "-", kPropReadOnly | kPropState | kPropInteger, 0.0, "bond state",
+              kStates},
+             &CBond::cb_state},
+            {{"cb_fn", "N", kPropReadOnly | kPropState, 0.0, "normal force", nullptr},
+             &CBond::cb_fn},
+            {{"cb_fs", "N", kPropReadOnly | kPropState, 0.0, "shear force", nullptr},
+             &CBond::cb_fs},
+        };
+        return t;
+    }
+    // clang-format on
+
+    int32_t AcceptProp(int32_t index, double value) override {
+        // Strengths may be infinite (an unbreakable bond); stiffnesses, friction and gap not.
+        const auto& t = Table();
+        if (index >= 0 && index < PropCount() && std::isinf(value)) {
+            const auto member = t[static_cast<std::size_t>(index)].member;
+            if (member != &CBond::cb_tenf && member != &CBond::cb_shearf)
+                return fail(std::string("cbond: '") + t[static_cast<std::size_t>(index)].info.name +
+                            "' must be finite");
+        }
+        return ModelBase<CBond>::AcceptProp(index, value);
+    }
+
+    bool inherit(const PropBlock& pb) {
+        kn = inheritSeries(kn, pb.kn);
+        ks = inheritSeries(ks, pb.ks);
+        fric = inheritMin(fric, pb.fric);
+        return true;
+    }
+
+    void fdlaw(FdBlock& fd) {
+        const double u = fd.u_n;
+        if (!started_) {
+            started_ = true;
+            if (cb_bond == 1.0 && u >= -cb_gap) {
+                bonded = 1.0;
+                cb_state = kBonded;
+                u_ref_ = std::min(u, 0.0);  // force-free at the bonding gap
+            }
+        }
+        const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        double slip_work = 0.0, held = 0.0;
+
+        // Only the part of the first step after the spring engaged loads the shear spring: a
+        // bond engages at the activity distance, an unbonded contact at u_n = u_ref.
+        const double engaged = bonded == 1.0 ? u + ActivityDistance() : u - u_ref_;
+        const double du_s = touching_ ? fd.du_s : fd.du_s * onsetFraction(engaged, fd.du_n);
+
+        if (bonded == 1.0) {
+            touching_ = true;
+            cb_fn = kn * (u - u_ref_);
+            cb_fs -= ks * du_s;  // no slip while bonded
+            const bool tension = cb_fn < 0.0 && -cb_fn >= cb_tenf;
+            const bool shear = !tension && std::fabs(cb_fs) > 0.0 && std::fabs(cb_fs) >= cb_shearf;
+            if (tension || shear) {
+                bonded = 0.0;
+                cb_state = tension ? kBrokenTension : kBrokenShear;
+                fd.flags |= kFdBroken;
+                fd.break_mode = tension ? kBreakTension : kBreakShear;
+                const double stored = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks);
+                if (cb_fn <= 0.0) {
+                    // Nothing holds the ends together any more: both forces go (PFC rule for
+                    // tension; a shear break under tension leaves no compression either).
+                    cb_fn = 0.0;
+                    cb_fs = 0.0;
+                    held = stored;
+                } else if (std::fabs(cb_fs) > fric * cb_fn) {
+                    // Shear break in compression beyond friction: slip to the Coulomb limit.
+                    const double limited = std::copysign(fric * cb_fn, cb_fs);
+                    slip_work = springEnergy(cb_fs, ks) - springEnergy(limited, ks);
+                    cb_fs = limited;
+                }
+            }
+        } else if (u - u_ref_ > 0.0) {
+            // Unbonded: the linear law without tension (accuracy-reference 3.2).
+            cb_fn = kn * (u - u_ref_);
+            const ShearResult sr = updateShearSpring(cb_fs, ks, du_s, fric * cb_fn);
+            slip_work = sr.slip_work;
+            if (sr.sliding) fd.flags |= kFdSliding;
+            touching_ = true;
+        } else {
+            cb_fn = 0.0;
+            slip_work = springEnergy(cb_fs, ks);  // the slider lets go as F_n vanishes
+            cb_fs = 0.0;
+            touching_ = false;
+        }
+
+        fd.n_force = cb_fn;
+        fd.s_force = cb_fs;
+        fd.moment = 0.0;
+        fd.knest = kn;
+        fd.ksest = ks;
+        fd.krest = 0.0;
+        if (bonded == 1.0) fd.flags |= kFdBonded | kFdKeep;
+        if (energy) {
+            fd.energy[kEnergyStrain] = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks) + held;
+            fd.energy[kEnergySlip] = slip_work;
+        }
+    }
+
+    void saveRestoreState(ModelSaveObject& so) {
+        so.Double(bonded);
+        so.Double(cb_state);
+        so.Double(cb_fn);
+        so.Double(cb_fs);
+        so.Double(u_ref_);
+        so.Bool(started_);
+        so.Bool(touching_);
+    }
+
+    int32_t Version() const override { return 1; }
+    double KnEstimate() const override { return kn; }
+    double KsEstimate() const override { return ks; }
+    double ContactDuration(double mass_eff, double) const override {
+        return kn > 0.0 ? M_PI * std::sqrt(mass_eff / kn) : HUGE_VAL;
+    }
+    /// Contacts within the bonding gap must exist for the first FDlaw to bond them.
+    double ActivityDistance() const override { return cb_bond == 1.0 ? cb_gap : 0.0; }
+    bool OKToDelete() const override { return bonded != 1.0; }
+};
+
+ContactModel* createPrototype(int32_t index) { return index == 0 ? new CBond() : nullptr; }
+void destroyPrototype(ContactModel* p) { delete static_cast<CBond*>(p); }
+
+const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, destroyPrototype);
+
+}  // namespace
+
+TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }

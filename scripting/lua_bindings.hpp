@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: MIT
+//
+// What the wrap_<thing>.cpp files share: the Lua-side state of a model and the functions that
+// push and check each userdata type.
+//
+// Ownership: a model userdata ("talus.Model") owns the C++ Model. Ball, wall, contact and
+// history userdata store an id and a pointer to the LuaModel, and keep the model userdata alive
+// through their user value, so a ball kept in a variable never outlives its model. Lua functions
+// the model calls back are kept in the model userdata's user-value table (not in the registry),
+// so a callback that refers to its model does not keep the model alive forever.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <lua.hpp>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lua_runtime.hpp"
+#include "talus/model.hpp"
+
+namespace talus::lua {
+
+inline constexpr const char* kModelType = "talus.Model";
+inline constexpr const char* kBallType = "talus.Ball";
+inline constexpr const char* kWallType = "talus.Wall";
+inline constexpr const char* kContactType = "talus.Contact";
+inline constexpr const char* kHistoryType = "talus.History";
+
+struct LuaModel;
+
+/// One CSV history (m:history{...}): a cycle hook writing one row every `every` steps.
+struct History {
+    struct Column {
+        enum Kind { Time, Step, Dt, Energy, BalanceError, Function };
+        std::string name;
+        Kind kind = Time;
+        double EnergyTotals::*energy = nullptr;  // for Kind::Energy
+        int ref = LUA_NOREF;                     // for Kind::Function (model user-value table)
+    };
+    std::string path;
+    std::FILE* file = nullptr;
+    int64_t every = 1;
+    std::vector<Column> columns;
+    int hook = 0;  // Model cycle-hook handle, 0 once closed
+    int64_t rows = 0;
+    bool writing = false;        // a row is being written (a column function is running)
+    bool close_pending = false;  // close() was asked for while writing
+
+    bool open() const { return file != nullptr; }
+    /// Writes one row at the model's current state. Throws on a failing column function.
+    void writeRow(LuaModel& lm);
+    /// Removes the hook and closes the file (deferred to the end of the row when writing).
+    void close(LuaModel& lm);
+};
+
+/// The Lua side of a model. Lives inside the model userdata (placement new; __gc destroys it).
+struct LuaModel {
+    std::unique_ptr<Model> model;
+    /// The Lua thread that runs callbacks: the one that called the current cycle/solve (a
+    /// coroutine may run the model), else the one that created it.
+    lua_State* L = nullptr;
+    std::vector<std::unique_ptr<History>> histories;
+    int bond_break_ref = LUA_NOREF;               // on_event("bond_break", fn)
+    int contact_created_ref = LUA_NOREF;          // on_event("contact_created", fn)
+    int warning_ref = LUA_NOREF;                  // on_warning(fn)
+    std::vector<std::pair<int, int>> cycle_refs;  // on_cycle: (hook handle, function ref)
+    /// Nesting depth of cycle/solve calls. While the engine runs its hook loop, removing a hook
+    /// from it would shift the loop and skip the next hook for that step, so removals are
+    /// deferred: the hook is disabled at once and erased when the outermost run returns.
+    int running = 0;
+    std::vector<int> removed_hooks;
+
+    /// Removes a cycle hook (deferred while running, see above).
+    void removeHook(int handle);
+    bool hookRemoved(int handle) const;
+    /// Called when a run call returns: erases the hooks removed during it.
+    void finishRun();
+
+    ~LuaModel();
+    /// Releases everything (histories, then the engine model) and leaves an empty, valid object:
+    /// __gc calls this instead of the destructor, so a ball or callback that still reaches the
+    /// userdata afterwards (a finalizer at exit) finds `model == nullptr`, not freed memory.
+    void close();
+    /// Closes every history file.
+    void closeHistories();
+    /// Flushes every open history file (after each run call, so os.exit loses nothing).
+    void flushHistories();
+};
+
+/// Sets LuaModel::L for the duration of a run call and restores it afterwards.
+class ActiveThread {
+public:
+    ActiveThread(LuaModel& lm, lua_State* L) : m_lm(lm), m_saved(lm.L) { lm.L = L; }
+    ~ActiveThread() { m_lm.L = m_saved; }
+    ActiveThread(const ActiveThread&) = delete;
+    ActiveThread& operator=(const ActiveThread&) = delete;
+
+private:
+    LuaModel& m_lm;
+    lua_State* m_saved;
+};
+
+// ------------------------------------------------------------------ model (wrap_model.cpp)
+
+/// talus.model{...}
+int newModel(lua_State* L);
+
+/// The LuaModel of the model userdata at `index`; throws ScriptError naming `fn` (and hinting
+/// at the m:fn(...) method-call syntax) when it is not one.
+LuaModel& checkModel(lua_State* L, int index, const char* fn);
+/// Pushes the model userdata that owns `lm` (it is alive whenever one of its objects is used).
+void pushModel(lua_State* L, const LuaModel& lm);
+/// Stores the value at `value_index` in the model's user-value table; returns its reference.
+int storeRef(lua_State* L, const LuaModel& lm, int value_index);
+void pushRef(lua_State* L, const LuaModel& lm, int ref);
+void releaseRef(lua_State* L, const LuaModel& lm, int ref);
+
+/// Parses the options of m:timestep{...} / impact{timestep = {...}} into `ts`.
+void readTimestepOptions(const Options& o, TimestepSettings& ts);
+/// Parses the options of m:guard{...} / impact{guard = {...}} into `g`.
+void readGuardOptions(const Options& o, GuardSettings& g);
+/// Reads a contact-model property table {kn = 1e8, dp_mode = "no_tension"} for `model_name`.
+/// Enum properties accept their names; keys are applied in sorted order (deterministic).
+std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
+                                 const std::string& what);
+/// Pushes {body=, boundary=, ..., balance_error=}.
+void pushEnergies(lua_State* L, const EnergyTotals& e);
+
+/// Names of the energy items (EnergyTotals fields) and their members, for histories.
+struct EnergyItem {
+    const char* name;
+    double EnergyTotals::*member;
+};
+const std::vector<EnergyItem>& energyItems();
+
+// ------------------------------------------------------------------ bodies and contacts
+
+/// Pushes a ball userdata for `id`, keeping the model userdata at `model_index` alive.
+void pushBall(lua_State* L, int model_index, BallId id);
+void pushWall(lua_State* L, int model_index, WallId id);
+void pushContact(lua_State* L, int model_index, ContactKey key);
+
+/// The ball at `index` (with its model); nullptr if the value is not a ball.
+struct BallRef {
+    LuaModel* lm;
+    BallId id;
+};
+BallRef* testBall(lua_State* L, int index);
+
+// ------------------------------------------------------------------ open functions
+
+void openModel(lua_State* L);    // wrap_model.cpp: talus.Model metatable
+void openBall(lua_State* L);     // wrap_ball.cpp
+void openWall(lua_State* L);     // wrap_wall.cpp
+void openContact(lua_State* L);  // wrap_contact.cpp
+void openHistory(lua_State* L);  // wrap_history.cpp
+/// Model methods implemented in other files, added to the model's method table at `index`.
+void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
+/// talus.impact and talus.drive, added to the module table at the top of the stack.
+void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
+
+}  // namespace talus::lua
+
+/// Opens the `talus` module (registered in package.preload by the CLI).
+extern "C" int luaopen_talus(lua_State* L);

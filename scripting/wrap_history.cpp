@@ -1,0 +1,378 @@
+// SPDX-License-Identifier: MIT
+// m:history{file =, every =, columns =}: CSV histories written by a model cycle hook.
+//
+// Column order is deterministic: as given when `columns` is a list ({"time", {"y", fn}}),
+// sorted by name when it is a map ({time = "time", y = fn}), whose iteration order Lua does not
+// define. The first row is written at the current state when the history is created; then one
+// row every `every` steps. Rows are flushed after every run call (cycle/solve), so a script that
+// ends with os.exit() loses nothing; the file is closed by h:close(), m:close_history() or when
+// the model is collected.
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include "lua_bindings.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+struct HistoryRef {
+    LuaModel* lm;
+    History* history;
+};
+
+const char* const kBuiltins[] = {"time", "step", "dt"};
+
+std::string knownSpecs() {
+    std::vector<std::string> names(std::begin(kBuiltins), std::end(kBuiltins));
+    for (const EnergyItem& e : energyItems()) names.push_back(e.name);
+    names.push_back("balance_error");
+    return joinNames(names) + ", or a function";
+}
+
+/// Parses one column spec (the value on top of the stack) into `col`.
+void parseSpec(lua_State* L, LuaModel& lm, History::Column& col) {
+    const int t = lua_type(L, -1);
+    if (t == LUA_TFUNCTION) {
+        col.kind = History::Column::Function;
+        col.ref = storeRef(L, lm, -1);
+        return;
+    }
+    std::string name;
+    if (t == LUA_TSTRING) {
+        name = lua_tostring(L, -1);
+    } else if (t == LUA_TTABLE) {
+        // {"kinetic"} or {"kinetic", "rock"} (the API sketch's group-wise form)
+        lua_rawgeti(L, -1, 1);
+        const bool ok = lua_type(L, -1) == LUA_TSTRING;
+        if (ok) name = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        if (!ok) throw ScriptError("history: column '" + col.name + "': {name} needs a string");
+        if (lua_rawlen(L, -1) > 1)
+            throw ScriptError("history: column '" + col.name +
+                              "': group-wise energies are not available yet (the engine traces "
+                              "whole-model energies only); use {\"" +
+                              name + "\"}");
+    } else {
+        throw ScriptError("history: column '" + col.name + "' must be a name (" + knownSpecs() +
+                          "), got " + typeName(L, -1));
+    }
+    if (name == "time")
+        col.kind = History::Column::Time;
+    else if (name == "step")
+        col.kind = History::Column::Step;
+    else if (name == "dt")
+        col.kind = History::Column::Dt;
+    else if (name == "balance_error")
+        col.kind = History::Column::BalanceError;
+    else {
+        for (const EnergyItem& e : energyItems())
+            if (name == e.name) {
+                col.kind = History::Column::Energy;
+                col.energy = e.member;
+                return;
+            }
+        throw ScriptError("history: column '" + col.name + "': unknown quantity '" + name +
+                          "' (known: " + knownSpecs() + ")");
+    }
+}
+
+std::string formatNumber(double v) {
+    if (std::isnan(v)) return "nan";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.12g", v);
+    return buf;
+}
+
+/// Quotes a header cell if it needs it (RFC 4180).
+std::string csvCell(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    return out + "\"";
+}
+
+HistoryRef& checkHistory(lua_State* L, int index, const char* fn) {
+    auto* h = static_cast<HistoryRef*>(testUserdata(L, index, kHistoryType));
+    if (!h)
+        throw ScriptError(std::string("history: call it as a method, h:") + fn +
+                          "(...) (the first argument is a " + typeName(L, index) +
+                          ", not a history)");
+    if (!h->lm->model) throw ScriptError("history: its model was closed");
+    return *h;
+}
+
+int w_history(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "history");
+        const Options o(L, 2, "history", {"file", "every", "columns"});
+        auto h = std::make_unique<History>();
+        h->path = o.string("file", "");
+        if (h->path.empty()) throw ScriptError("history: 'file' is required (a CSV path)");
+        h->every = o.integer("every", 1);
+        if (h->every < 1)
+            throw ScriptError("history: 'every' must be >= 1 (got " + std::to_string(h->every) +
+                              ")");
+        if (o.push("columns") != LUA_TTABLE) {
+            const std::string got = typeName(L, -1);
+            lua_pop(L, 1);
+            throw ScriptError("history: 'columns' must be a table (got " + got + ")");
+        }
+        const int cols = lua_gettop(L);
+        const auto n = static_cast<lua_Integer>(lua_rawlen(L, cols));
+        if (n > 0) {
+            // List form: "time" or {"name", spec}, in the order given.
+            for (lua_Integer i = 1; i <= n; ++i) {
+                History::Column col;
+                const int t = lua_rawgeti(L, cols, i);
+                if (t == LUA_TSTRING) {
+                    col.name = lua_tostring(L, -1);
+                } else if (t == LUA_TTABLE) {
+                    lua_rawgeti(L, -1, 1);
+                    const bool ok = lua_type(L, -1) == LUA_TSTRING;
+                    if (ok) col.name = lua_tostring(L, -1);
+                    lua_pop(L, 1);
+                    if (!ok || lua_rawlen(L, -1) != 2)
+                        throw ScriptError("history: column " + std::to_string(i) +
+                                          " must be a name or a pair {\"name\", spec}");
+                    lua_rawgeti(L, -1, 2);
+                    lua_remove(L, -2);
+                } else {
+                    throw ScriptError("history: column " + std::to_string(i) +
+                                      " must be a name or a pair {\"name\", spec} (got " +
+                                      typeName(L, -1) + ")");
+                }
+                parseSpec(L, lm, col);
+                lua_pop(L, 1);
+                h->columns.push_back(col);
+            }
+            lua_pushnil(L);
+            while (lua_next(L, cols) != 0) {
+                const bool in_list =
+                    lua_isinteger(L, -2) && lua_tointeger(L, -2) >= 1 && lua_tointeger(L, -2) <= n;
+                lua_pop(L, 1);
+                if (!in_list)
+                    throw ScriptError(
+                        "history: 'columns' is either a list ({\"time\", {\"y\", "
+                        "fn}}) or a map ({time = \"time\", y = fn}), not both");
+            }
+        } else {
+            // Map form: name = spec, sorted by name.
+            std::vector<std::string> names;
+            lua_pushnil(L);
+            while (lua_next(L, cols) != 0) {
+                lua_pop(L, 1);
+                if (lua_type(L, -1) != LUA_TSTRING)
+                    throw ScriptError("history: column names must be strings");
+                names.push_back(lua_tostring(L, -1));
+            }
+            std::sort(names.begin(), names.end());
+            for (const std::string& name : names) {
+                History::Column col;
+                col.name = name;
+                lua_pushstring(L, name.c_str());
+                lua_rawget(L, cols);
+                parseSpec(L, lm, col);
+                lua_pop(L, 1);
+                h->columns.push_back(col);
+            }
+        }
+        lua_pop(L, 1);
+        if (h->columns.empty()) throw ScriptError("history: 'columns' is empty");
+        for (const History::Column& c : h->columns)
+            if ((c.kind == History::Column::Energy || c.kind == History::Column::BalanceError) &&
+                !lm.model->energyTracing())
+                throw ScriptError("history: column '" + c.name +
+                                  "' needs energy tracing; call m:energy{on = true} first");
+
+        h->file = std::fopen(h->path.c_str(), "w");
+        if (!h->file)
+            throw ScriptError("history: cannot write '" + h->path + "' (" + std::strerror(errno) +
+                              ")");
+        std::string header;
+        for (std::size_t i = 0; i < h->columns.size(); ++i)
+            header += (i ? "," : "") + csvCell(h->columns[i].name);
+        std::fprintf(h->file, "%s\n", header.c_str());
+
+        History* hp = h.get();
+        LuaModel* lmp = &lm;
+        lm.histories.push_back(std::move(h));
+        try {
+            ActiveThread active(lm, L);
+            hp->writeRow(lm);
+        } catch (...) {
+            hp->close(lm);
+            throw;
+        }
+        std::fflush(hp->file);
+        hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
+
+        auto* ref = static_cast<HistoryRef*>(lua_newuserdatauv(L, sizeof(HistoryRef), 1));
+        ref->lm = &lm;
+        ref->history = hp;
+        luaL_setmetatable(L, kHistoryType);
+        lua_pushvalue(L, 1);
+        lua_setiuservalue(L, -2, 1);
+        return 1;
+    });
+}
+
+int w_close_history(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "close_history");
+        for (auto& h : lm.histories) h->close(lm);
+        return 0;
+    });
+}
+
+int w_h_close(lua_State* L) {
+    return catchexcept(L, [&] {
+        HistoryRef& h = checkHistory(L, 1, "close");
+        h.history->close(*h.lm);
+        return 0;
+    });
+}
+
+int w_h_flush(lua_State* L) {
+    return catchexcept(L, [&] {
+        HistoryRef& h = checkHistory(L, 1, "flush");
+        if (h.history->open()) std::fflush(h.history->file);
+        return 0;
+    });
+}
+
+int w_h_index(lua_State* L) {
+    return catchexcept(L, [&] {
+        HistoryRef& h = checkHistory(L, 1, "index");
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        if (key == "close" || key == "flush") {
+            lua_pushstring(L, key.c_str());
+            lua_rawget(L, lua_upvalueindex(1));
+        } else if (key == "file") {
+            lua_pushstring(L, h.history->path.c_str());
+        } else if (key == "rows") {
+            lua_pushinteger(L, static_cast<lua_Integer>(h.history->rows));
+        } else if (key == "open") {
+            lua_pushboolean(L, h.history->open());
+        } else if (key == "columns") {
+            std::vector<std::string> names;
+            for (const auto& c : h.history->columns) names.push_back(c.name);
+            pushStringList(L, names);
+        } else {
+            throw ScriptError("history: unknown field '" + key +
+                              "' (known: file, rows, open, columns, close(), flush())");
+        }
+        return 1;
+    });
+}
+
+const luaL_Reg kHistoryMethods[] = {
+    {"close", w_h_close},
+    {"flush", w_h_flush},
+    {nullptr, nullptr},
+};
+
+}  // namespace
+
+void History::writeRow(LuaModel& lm) {
+    if (!open()) return;
+    Model& m = *lm.model;
+    writing = true;
+    std::string row;
+    try {
+        EnergyTotals e;
+        bool have_energy = false;
+        for (std::size_t i = 0; i < columns.size(); ++i) {
+            const Column& c = columns[i];
+            if (i) row += ',';
+            switch (c.kind) {
+                case Column::Time:
+                    row += formatNumber(m.time());
+                    break;
+                case Column::Step:
+                    row += std::to_string(m.step());
+                    break;
+                case Column::Dt:
+                    row += formatNumber(m.lastTimestep());
+                    break;
+                case Column::Energy:
+                case Column::BalanceError:
+                    if (!have_energy) e = m.energies(), have_energy = true;
+                    row +=
+                        formatNumber(c.kind == Column::Energy ? e.*(c.energy) : e.balanceError());
+                    break;
+                case Column::Function: {
+                    lua_State* L = lm.L;
+                    const int base = lua_gettop(L);
+                    pushRef(L, lm, c.ref);
+                    pushModel(L, lm);
+                    if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+                        std::string msg = errorText(L, -1);
+                        lua_settop(L, base);
+                        throw CallbackError(msg);
+                    }
+                    const int t = lua_type(L, -1);
+                    if (t == LUA_TNUMBER)
+                        row += formatNumber(lua_tonumber(L, -1));
+                    else if (t == LUA_TBOOLEAN)
+                        row += lua_toboolean(L, -1) ? "1" : "0";
+                    else if (t != LUA_TNIL) {
+                        const std::string got = typeName(L, -1);
+                        lua_settop(L, base);
+                        throw ScriptError("history '" + path + "': column '" + c.name +
+                                          "' returned a " + got +
+                                          " (a number, boolean or nil "
+                                          "is expected)");
+                    }
+                    lua_settop(L, base);
+                    break;
+                }
+            }
+        }
+    } catch (...) {
+        writing = false;
+        if (close_pending) close(lm);
+        throw;
+    }
+    writing = false;
+    if (open()) {
+        std::fprintf(file, "%s\n", row.c_str());
+        ++rows;
+    }
+    if (close_pending) close(lm);
+}
+
+void History::close(LuaModel& lm) {
+    if (writing) {
+        close_pending = true;
+        return;
+    }
+    close_pending = false;
+    lm.removeHook(hook);
+    hook = 0;
+    if (file) std::fclose(file);
+    file = nullptr;
+}
+
+void addHistoryMethods(lua_State* L, int methods_index) {
+    lua_pushcfunction(L, w_history);
+    lua_setfield(L, methods_index, "history");
+    lua_pushcfunction(L, w_close_history);
+    lua_setfield(L, methods_index, "close_history");
+}
+
+void openHistory(lua_State* L) {
+    luaL_newmetatable(L, kHistoryType);
+    luaL_newlib(L, kHistoryMethods);
+    lua_pushcclosure(L, w_h_index, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pop(L, 1);
+}
+
+}  // namespace talus::lua

@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: MIT
+// talus.impact{...} and talus.drive{...}: the single-contact rig (core impact_rig.hpp).
+// Angles cross the boundary in degrees (users think of impact angles in degrees); everything
+// else is SI, as in the engine.
+#include <cmath>
+
+#include "lua_bindings.hpp"
+#include "talus/impact_rig.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+
+void setNumber(lua_State* L, const char* key, double v) {
+    lua_pushnumber(L, v);
+    lua_setfield(L, -2, key);
+}
+
+void pushNumbers(lua_State* L, const std::vector<double>& v) {
+    lua_createtable(L, static_cast<int>(v.size()), 0);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        lua_pushnumber(L, v[i]);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+}
+
+/// Pushes the columns of a trace: {time = {...}, overlap = {...}, ...}.
+void pushTrace(lua_State* L, const std::vector<TracePoint>& trace) {
+    std::vector<double> t, u, fn, fs, mo;
+    for (const TracePoint& p : trace) {
+        t.push_back(p.time);
+        u.push_back(p.overlap);
+        fn.push_back(p.normal_force);
+        fs.push_back(p.shear_force);
+        mo.push_back(p.moment);
+    }
+    lua_createtable(L, 0, 5);
+    pushNumbers(L, t);
+    lua_setfield(L, -2, "time");
+    pushNumbers(L, u);
+    lua_setfield(L, -2, "overlap");
+    pushNumbers(L, fn);
+    lua_setfield(L, -2, "normal_force");
+    pushNumbers(L, fs);
+    lua_setfield(L, -2, "shear_force");
+    pushNumbers(L, mo);
+    lua_setfield(L, -2, "moment");
+}
+
+std::vector<PropValue> propsOption(const Options& o, const std::string& model) {
+    if (o.push("props") == LUA_TNIL) {
+        lua_pop(o.state(), 1);
+        return {};
+    }
+    std::vector<PropValue> props = readProps(o.state(), -1, model, o.what());
+    lua_pop(o.state(), 1);
+    return props;
+}
+
+int w_impact(lua_State* L) {
+    return catchexcept(L, [&] {
+        const Options o(L, 1, "impact",
+                        {"model",         "props",          "target", "radius",       "density",
+                         "target_radius", "target_density", "mass",   "speed",        "tangential",
+                         "angle",         "velocity",       "spin",   "target_speed", "target_spin",
+                         "gap",           "timestep",       "guard",  "trace",        "max_steps"});
+        ImpactSetup s;
+        s.model = o.string("model", s.model);
+        s.props = propsOption(o, s.model);
+        s.ball_target = o.choice("target", 0, {"wall", "ball"}) == 1;
+        s.mass_mode =
+            o.choice("mass", 0, {"disk", "sphere"}) == 0 ? MassMode::Disk : MassMode::Sphere;
+        s.radius = o.number("radius", s.radius);
+        s.density = o.number("density", s.density);
+        s.target_radius = o.number("target_radius", s.target_radius);
+        s.target_density = o.number("target_density", s.target_density);
+        if (o.has("angle") || o.has("velocity")) {
+            if (o.has("speed") || o.has("tangential"))
+                throw ScriptError("impact: give either speed/tangential or velocity/angle");
+            if (!o.has("angle") || !o.has("velocity"))
+                throw ScriptError(
+                    "impact: 'angle' (degrees from the normal) and 'velocity' "
+                    "(impact speed) go together");
+            const double v = o.number("velocity", 0.0);
+            const double a = o.number("angle", 0.0);
+            if (!(a >= 0.0 && a < 90.0))
+                throw ScriptError(
+                    "impact: 'angle' must be in [0, 90) degrees from the normal "
+                    "(got " +
+                    numberText(a) + ")");
+            s.normal_speed = v * std::cos(a * kDegree);
+            s.tangential_speed = v * std::sin(a * kDegree);
+        } else {
+            s.normal_speed = o.number("speed", s.normal_speed);
+            s.tangential_speed = o.number("tangential", s.tangential_speed);
+        }
+        s.spin = o.number("spin", s.spin);
+        s.target_speed = o.number("target_speed", s.target_speed);
+        s.target_spin = o.number("target_spin", s.target_spin);
+        s.gap = o.number("gap", s.gap);
+        s.max_steps = o.integer("max_steps", s.max_steps);
+        if (s.max_steps < 1) throw ScriptError("impact: 'max_steps' must be >= 1");
+        if (o.push("timestep") != LUA_TNIL) {
+            const Options ts(L, -1, "timestep",
+                             {"safety", "resolution", "fixed", "max", "growth", "auto"});
+            readTimestepOptions(ts, s.timestep);
+        }
+        lua_pop(L, 1);
+        if (o.push("guard") != LUA_TNIL) {
+            const Options g(L, -1, "guard",
+                            {"energy", "energy_tolerance", "resolution", "min_steps"});
+            readGuardOptions(g, s.guard);
+        }
+        lua_pop(L, 1);
+        std::string trace_file;
+        const int trace_type = o.push("trace");
+        if (trace_type == LUA_TSTRING) trace_file = lua_tostring(L, -1);
+        const bool trace_table = trace_type == LUA_TBOOLEAN && lua_toboolean(L, -1);
+        lua_pop(L, 1);
+        if (trace_type != LUA_TNIL && trace_type != LUA_TSTRING && trace_type != LUA_TBOOLEAN)
+            throw ScriptError("impact: 'trace' must be a CSV file name or true");
+        s.keep_trace = !trace_file.empty() || trace_table;
+
+        const ImpactResult r = runImpact(s);
+        if (!trace_file.empty()) writeTraceCsv(r.trace, trace_file);
+
+        lua_createtable(L, 0, 28);
+        lua_pushboolean(L, r.separated);
+        lua_setfield(L, -2, "separated");
+        setNumber(L, "restitution", r.restitution);
+        setNumber(L, "tangential_restitution", r.tangential_restitution);
+        setNumber(L, "vn_in", r.vn_in);
+        setNumber(L, "vn_out", r.vn_out);
+        setNumber(L, "vt_in", r.vt_in);
+        setNumber(L, "vt_out", r.vt_out);
+        setNumber(L, "slip_in", r.slip_in);
+        setNumber(L, "slip_out", r.slip_out);
+        setNumber(L, "spin_out", r.spin_out);
+        setNumber(L, "target_spin_out", r.target_spin_out);
+        setNumber(L, "rebound_angle", r.rebound_angle / kDegree);
+        setNumber(L, "contact_point_angle", r.contact_point_angle / kDegree);
+        setNumber(L, "duration", r.duration);
+        setNumber(L, "force_duration", r.force_duration);
+        setNumber(L, "peak_force", r.peak_force);
+        setNumber(L, "max_overlap", r.max_overlap);
+        lua_pushinteger(L, static_cast<lua_Integer>(r.steps_in_contact));
+        lua_setfield(L, -2, "steps");
+        setNumber(L, "timestep", r.timestep);
+        lua_pushstring(L, r.step_rule.c_str());
+        lua_setfield(L, -2, "step_rule");
+        setNumber(L, "energy_in", r.energy_in);
+        setNumber(L, "energy_out", r.energy_out);
+        pushEnergies(L, r.energy);
+        lua_setfield(L, -2, "energies");
+        if (trace_table) {
+            pushTrace(L, r.trace);
+            lua_setfield(L, -2, "trace");
+        }
+        return 1;
+    });
+}
+
+int w_drive(lua_State* L) {
+    return catchexcept(L, [&] {
+        const Options o(L, 1, "drive",
+                        {"model", "props", "target", "radius", "target_radius", "mass",
+                         "target_mass", "dt", "overlap", "shear"});
+        DriveSetup s;
+        s.model = o.string("model", s.model);
+        s.props = propsOption(o, s.model);
+        s.ball_target = o.choice("target", 0, {"wall", "ball"}) == 1;
+        s.radius = o.number("radius", s.radius);
+        s.target_radius = o.number("target_radius", s.target_radius);
+        s.mass = o.number("mass", s.mass);
+        s.target_mass = o.number("target_mass", s.target_mass);
+        s.dt = o.number("dt", s.dt);
+        s.overlap = o.numbers("overlap");
+        s.shear = o.numbers("shear");
+        if (s.overlap.empty())
+            throw ScriptError("drive: 'overlap' (a list of overlaps [m]) is required");
+        if (!(s.radius > 0.0) || !(s.mass > 0.0))
+            throw ScriptError("drive: 'radius' and 'mass' must be > 0");
+        if (s.ball_target && (!(s.target_radius > 0.0) || !(s.target_mass > 0.0)))
+            throw ScriptError("drive: 'target_radius' and 'target_mass' must be > 0");
+
+        const DriveResult r = driveContact(s);
+        pushTrace(L, r.trace);
+        pushNumbers(L, r.knest);
+        lua_setfield(L, -2, "knest");
+        setNumber(L, "strain", r.strain);
+        setNumber(L, "slip", r.slip);
+        setNumber(L, "dashpot", r.dashpot);
+        setNumber(L, "plastic", r.plastic);
+        return 1;
+    });
+}
+
+}  // namespace
+
+void addImpactFunctions(lua_State* L) {
+    lua_pushcfunction(L, w_impact);
+    lua_setfield(L, -2, "impact");
+    lua_pushcfunction(L, w_drive);
+    lua_setfield(L, -2, "drive");
+}
+
+}  // namespace talus::lua

@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+//
+// Dense-pack speed benchmark (docs/benchmarks.md). Builds and settles the dense pack of
+// talus/scenes.hpp (or loads a cached settled state), then, from that state, times cycle(steps)
+// with the fixed step and prints ns per particle-step, contacts and pairs per particle, and the
+// per-phase profile. Every timed run starts from a fresh model built from the same saved state,
+// the same state the LAMMPS input reads (--export-lammps), so the two codes start equal.
+//
+// Usage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] [options]
+//   sorted     memory reordering on (Model::setSortInterval, --sort-interval steps)
+//   unsorted   off: the disks stay in creation order, which the builder randomises
+// Options:
+//   --state FILE          settled-state cache: loaded if it holds this scene, else written
+//   --export-lammps FILE  LAMMPS data file of the starting state
+//   --warmup STEPS        untimed steps before the timed run (default 1000)
+//   --sort-interval K     (default 1000, as LAMMPS's default atom sort)
+//   --seed S  --aspect A  scene parameters (defaults 1 and 4)
+//   --guard on|off        the engine's stability guard (default: the engine's default)
+//   --no-profile          time without the per-phase clock reads
+//   --settle-only         stop after settling (and exporting)
+// Each timed run prints one machine-readable line starting with "RESULT" (key=value pairs);
+// scripts/bench/dense_pack.sh collects them.
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "talus/errors.hpp"
+#include "talus/model.hpp"
+#include "talus/scenes.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+    int n = 0;
+    int64_t steps = 0;
+    std::string mode = "both";
+    std::string state_path;
+    std::string lammps_path;
+    int64_t warmup = 1000;
+    int64_t sort_interval = 1000;
+    uint64_t seed = 1;
+    double aspect = 4.0;
+    std::string guard;  // "" = engine default
+    bool profile = true;
+    bool settle_only = false;
+};
+
+[[noreturn]] void usage(const char* why) {
+    std::fprintf(stderr,
+                 "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
+                 "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
+                 "[--seed S] [--aspect A] [--guard on|off] [--no-profile] [--settle-only]\n",
+                 why);
+    std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+    Options o;
+    std::vector<std::string> pos;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) usage(("missing value after " + a).c_str());
+            return argv[++i];
+        };
+        if (a == "--state") o.state_path = value();
+        else if (a == "--export-lammps") o.lammps_path = value();
+        else if (a == "--warmup") o.warmup = std::atoll(value().c_str());
+        else if (a == "--sort-interval") o.sort_interval = std::atoll(value().c_str());
+        else if (a == "--seed") o.seed = std::strtoull(value().c_str(), nullptr, 10);
+        else if (a == "--aspect") o.aspect = std::atof(value().c_str());
+        else if (a == "--guard") o.guard = value();
+        else if (a == "--no-profile") o.profile = false;
+        else if (a == "--settle-only") o.settle_only = true;
+        else if (a.rfind("--", 0) == 0) usage(("unknown option " + a).c_str());
+        else pos.push_back(a);
+    }
+    if (pos.size() < 2 || pos.size() > 3) usage("need N and STEPS");
+    o.n = std::atoi(pos[0].c_str());
+    o.steps = std::atoll(pos[1].c_str());
+    if (pos.size() == 3) o.mode = pos[2];
+    if (o.n < 1 || o.steps < 1) usage("N and STEPS must be >= 1");
+    if (o.mode != "sorted" && o.mode != "unsorted" && o.mode != "both") usage("bad mode");
+    if (!o.guard.empty() && o.guard != "on" && o.guard != "off") usage("--guard on|off");
+    if (o.warmup < 0 || o.sort_interval < 1) usage("bad --warmup or --sort-interval");
+    return o;
+}
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+/// The settled state: from the cache if it holds this scene, else built and settled now.
+talus::PackState settledState(const Options& o, const talus::DensePackDef& def) {
+    if (!o.state_path.empty() && std::ifstream(o.state_path).good()) {
+        talus::PackState st = talus::loadPackState(o.state_path);
+        if (talus::sameScene(st.def, def) && st.def.shuffle == def.shuffle) {
+            std::printf("state: loaded %s (%zu disks)\n", o.state_path.c_str(), st.balls.size());
+            return st;
+        }
+        std::printf("state: %s holds another scene; settling anew\n", o.state_path.c_str());
+    }
+    const auto t0 = Clock::now();
+    talus::Model model;
+    const talus::DensePack pack = talus::buildDensePack(model, def);
+    const talus::SettleResult sr = talus::settleDensePack(model, pack, def);
+    const double wall = seconds(t0, Clock::now());
+    std::printf("settle: %lld steps (%.4f s simulated, %.4f s of it undamped) in %.1f s wall, "
+                "KE/disk %.3g J (limit %.3g J)%s\n",
+                static_cast<long long>(sr.steps), sr.time, sr.fall_time, wall, sr.ke_per_ball,
+                sr.ke_limit, sr.converged ? "" : " -- NOT converged (time cap)");
+    std::printf("box %.6g m x %.6g m, weight %.6g N\n", pack.width, pack.height, pack.weight);
+    talus::PackState st = talus::capturePackState(model, pack, def);
+    if (!o.state_path.empty()) {
+        talus::savePackState(st, o.state_path);
+        std::printf("state: wrote %s\n", o.state_path.c_str());
+    }
+    return st;
+}
+
+void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
+    talus::Model model;
+    const talus::DensePack pack = talus::buildDensePackFromState(model, st);
+    if (o.guard == "off") {
+        model.guard().energy = talus::GuardAction::Off;
+        model.guard().resolution = talus::GuardAction::Off;
+    } else if (o.guard == "on") {
+        model.guard().energy = talus::GuardAction::Warn;
+        model.guard().resolution = talus::GuardAction::Warn;
+    }
+    const bool guard_on = model.guard().energy != talus::GuardAction::Off ||
+                          model.guard().resolution != talus::GuardAction::Off;
+    model.setSortInterval(sorted ? o.sort_interval : 0);
+    model.profile().enabled = o.profile;
+    if (o.warmup > 0) model.cycle(o.warmup);
+    model.profile().reset();
+
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    model.cycle(o.steps);
+    const double wall = seconds(t0, Clock::now());
+    // CPU time of the process over the same interval: cpu/wall well below 1 means the machine
+    // was busy and the wall time is inflated (LAMMPS prints the same as "% CPU use").
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+
+    const double n = static_cast<double>(model.ballCount());
+    const std::size_t active = model.contactCount(true);
+    const std::size_t pairs = model.contactCount(false);
+    std::size_t wall_contacts = 0;
+    for (const talus::ContactInfo& c : model.contacts(true)) wall_contacts += c.wall.valid();
+    const double ns = 1e9 * wall / (static_cast<double>(o.steps) * n);
+    const talus::Profile& p = model.profile();
+    double floor_share = 0.0;
+    if (pack.weight > 0.0) floor_share = -model.wallForce(pack.floor).y() / pack.weight;
+
+    std::printf("\n== Talus dense pack, N = %d, %lld steps (after %lld warm-up), memory order %s%s\n",
+                o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
+                sorted ? "sorted every " : "unsorted",
+                sorted ? (std::to_string(o.sort_interval) + " steps").c_str() : "");
+    std::printf("wall time %.3f s (%.1f%% CPU use): %.2f ns per particle-step\n", wall,
+                100.0 * cpu / wall, ns);
+    std::printf("contacts per particle %.4f (ball-ball %.4f, %zu wall contacts), pairs per "
+                "particle %.4f\n",
+                double(active) / n, double(active - wall_contacts) / n, wall_contacts,
+                double(pairs) / n);
+    std::printf("mean KE per disk %.3g J, floor carries %.4f of the weight\n",
+                talus::meanKineticEnergy(model), floor_share);
+    if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
+    std::printf(
+        "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
+        "profile=%d wall_s=%.6f cpu_s=%.6f ns_per_particle_step=%.4f contacts_per_particle=%.5f "
+        "ball_contacts_per_particle=%.5f wall_contacts=%zu pairs_per_particle=%.5f "
+        "t_timestep=%.6f t_motion=%.6f t_detection=%.6f t_force=%.6f t_bookkeeping=%.6f "
+        "proxy_moves=%lld pairs_created=%lld contacts_created=%lld\n",
+        o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
+        sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
+        guard_on ? "on" : "off", o.profile ? 1 : 0, wall, cpu, ns, double(active) / n,
+        double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep,
+        p.motion, p.detection, p.force_displacement, p.bookkeeping,
+        static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
+        static_cast<long long>(p.contacts_created));
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parse(argc, argv);
+    try {
+        talus::DensePackDef def;
+        def.n = o.n;
+        def.seed = o.seed;
+        def.aspect = o.aspect;
+        const talus::PackState st = settledState(o, def);
+        if (!o.lammps_path.empty()) {
+            talus::writeLammpsData(st, o.lammps_path);
+            std::printf("lammps: wrote %s\n", o.lammps_path.c_str());
+        }
+        if (o.settle_only) return 0;
+        if (o.mode != "unsorted") timedRun(o, st, true);
+        if (o.mode != "sorted") timedRun(o, st, false);
+    } catch (const talus::Error& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

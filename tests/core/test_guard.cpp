@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: MIT
+//
+// The stability guard (GuardSettings; core/src/force_displacement.cpp endContact, law_of_motion
+// non-finite check): a run that becomes non-finite stops with NumericalError naming the ball or
+// contact and the step; an impact resolved in fewer than min_steps steps is reported (warning or
+// error) naming the contact and its number of steps; a contact that gave back more energy than
+// it took is reported; and the default automatic step gives no findings at all.
+#include <catch2/catch.hpp>
+
+#include "test_support.hpp"
+
+using namespace talus;
+using namespace talus::test;
+
+namespace {
+
+constexpr double kR = 0.05, kRho = 2600.0, kKn = 1e7;
+
+std::unique_ptr<Model> makeModel(const Vec2& g, const std::vector<PropValue>& props) {
+    ModelDef def;
+    def.gravity = g;
+    auto m = std::make_unique<Model>(def);
+    m->setDefaultContactModel("linear", props);
+    return m;
+}
+
+/// Ball above a floor moving down at v0 (no gravity); returns the ball id.
+BallId dropScene(Model& m, double gap, double v0) {
+    m.createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));
+    return m.createBall(ballAt(Vec2(0.0, kR + gap), kR, kRho, Vec2(0.0, -v0)));
+}
+
+/// Runs until the contact has ended; returns the number of steps with positive overlap.
+int64_t runToSeparation(Model& m, BallId b) {
+    int64_t loaded = 0;
+    bool touched = false;
+    for (int i = 0; i < 100000; ++i) {
+        m.cycle(1);
+        const bool over = m.ballPos(b).y() < kR;
+        loaded += over;
+        touched = touched || over;
+        if (touched && m.contactCount() == 0) break;
+    }
+    return loaded;
+}
+
+}  // namespace
+
+TEST_CASE("a run that becomes non-finite stops with NumericalError naming the ball and step",
+          "[core][guard]") {
+    // A stiff contact (ball created overlapping a wall by 1 mm, kn = 1e7) with an absurd fixed
+    // step, 1e160 s: the first step computes the force, the second multiplies it by dt^2 / m
+    // ~ 1e324 and the position overflows. Either the law of motion (ball) or the force loop
+    // (contact, next to the ball) may be the one to notice; both name ball 1 and the step.
+    auto m = makeModel(Vec2::Zero(), linearProps(kKn));
+    const BallId b = dropScene(*m, -1e-3, 0.0);
+    m->timestep() = fixedStep(1e160);
+    m->cycle(1);
+    CHECK(std::isfinite(m->ballPos(b).y()));
+    try {
+        m->cycle(5);
+        FAIL("no NumericalError");
+    } catch (const NumericalError& e) {
+        const std::string what = e.what();
+        INFO(what);
+        CHECK(what.find("non-finite") != std::string::npos);
+        CHECK(what.find("ball 1") != std::string::npos);
+        // The model stays at the step that failed, and the message names it.
+        CHECK(what.find("step " + std::to_string(m->step())) != std::string::npos);
+        CHECK(m->step() <= 2);
+    }
+}
+
+TEST_CASE("a contact law returning a non-finite force is named", "[core][guard]") {
+    // kn near the largest double times an overlap > 1 m overflows to inf inside the model; the
+    // engine must name the contact (ball, wall, segment, model) and the step.
+    auto m = makeModel(Vec2::Zero(), linearProps(1e308));
+    m->createWall(wallOf({Vec2(-100.0, 0.0), Vec2(100.0, 0.0)}));
+    m->createBall(ballAt(Vec2(0.0, 8.0), 10.0, kRho));
+    try {
+        m->cycle(1);
+        FAIL("no NumericalError");
+    } catch (const NumericalError& e) {
+        const std::string what = e.what();
+        INFO(what);
+        CHECK(what.find("non-finite") != std::string::npos);
+        CHECK(what.find("contact ball 1 - wall 1 segment 1") != std::string::npos);
+        CHECK(what.find("'linear'") != std::string::npos);
+        CHECK(what.find("step " + std::to_string(m->step())) != std::string::npos);
+    }
+}
+
+TEST_CASE("an impact resolved in fewer than 10 steps gives one guard warning", "[core][guard]") {
+    // Fixed step dt = T/5 (T = pi sqrt(m/k)): the contact lasts ~5 steps.
+    auto m = makeModel(Vec2::Zero(), linearProps(kKn));
+    WarningLog log;
+    log.attach(*m);
+    const BallId b = dropScene(*m, 0.003, 1.0);
+    const double T = linearDuration(diskMass(kRho, kR), kKn);
+    m->timestep() = fixedStep(T / 5.0);
+    m->guard().energy = GuardAction::Off;  // this test is about resolution only
+    const int64_t loaded = runToSeparation(*m, b);
+    REQUIRE(loaded < 10);
+    REQUIRE(log.texts.size() == 1);
+    const std::string& w = log.texts.front();
+    INFO(w);
+    CHECK(w.find("guard: 1 contact(s) lasted fewer than 10 steps") != std::string::npos);
+    CHECK(w.find("contact ball 1 - wall 1 segment 1 (model 'linear')") != std::string::npos);
+    CHECK(w.find("lasted " + std::to_string(loaded) + " steps") != std::string::npos);
+    // A min_steps of 3 accepts it.
+    auto m2 = makeModel(Vec2::Zero(), linearProps(kKn));
+    WarningLog log2;
+    log2.attach(*m2);
+    const BallId b2 = dropScene(*m2, 0.003, 1.0);
+    m2->timestep() = fixedStep(T / 5.0);
+    m2->guard().energy = GuardAction::Off;
+    m2->guard().min_steps = 3;
+    runToSeparation(*m2, b2);
+    CHECK(log2.texts.empty());
+}
+
+TEST_CASE("guard resolution = Error throws NumericalError naming the contact", "[core][guard]") {
+    auto m = makeModel(Vec2::Zero(), linearProps(kKn));
+    WarningLog log;
+    log.attach(*m);
+    const BallId b = dropScene(*m, 0.003, 1.0);
+    m->timestep() = fixedStep(linearDuration(diskMass(kRho, kR), kKn) / 5.0);
+    m->guard().resolution = GuardAction::Error;
+    m->guard().energy = GuardAction::Off;
+    try {
+        runToSeparation(*m, b);
+        FAIL("no NumericalError");
+    } catch (const NumericalError& e) {
+        const std::string what = e.what();
+        INFO(what);
+        CHECK(what.find("impact under-resolved") != std::string::npos);
+        CHECK(what.find("contact ball 1 - wall 1 segment 1") != std::string::npos);
+        CHECK(what.find("at least 10 steps") != std::string::npos);
+    }
+}
+
+// Fails today: the guard's contact work (force_displacement.cpp, forceLoop, kGuard block) measures
+// the first step's normal increment from the touch point (dun = overlap - max(overlap - du_n,
+// -activity)) and the last one only to overlap 0 (max(overlap, -activity) - p.overlap). For a
+// linear spring the trapezoid then telescopes to 1/2 k delta^2 in and out, i.e. W = 0 for any
+// step, while the bodies' kinetic energy changes by 1/2 k delta_1 (full step travel - delta_1) at
+// touch and the like at separation: exactly the integration error the guard should see. Using
+// the full step increment du_n on those two steps (the product-form KE identity of
+// docs/physics/energy.md holds for the whole step, F_old = 0 before touch) would make W the
+// kinetic energy the contact took.
+TEST_CASE("an under-resolved impact that creates energy is caught by the energy guard",
+          "[core][guard][!mayfail]") {
+    // At 5.5 steps per contact (dt = 0.57 sqrt(m/k), stable but under-resolved) the restitution
+    // error ranges over several percent with the phase of touch (test_bounce.cpp: +-1.7% at 8.5
+    // steps, growing like dt^2), i.e. energy errors of up to ~7%. The guard's tolerance is 1% of
+    // the energy taken, so some phases must be reported (Warn) and throw (Error), every reported
+    // one must really have e > 1, and every one with e^2 > 1.012 must be reported.
+    const double T = linearDuration(diskMass(kRho, kR), kKn), dt = T / 5.5;
+    int caught = 0, gained = 0;
+    double worst_gain = 0.0;
+    for (int i = 0; i < 40; ++i) {
+        const double phase = (i + 0.5) / 40.0;
+        auto m = makeModel(Vec2::Zero(), linearProps(kKn));
+        WarningLog log;
+        log.attach(*m);
+        const BallId b = dropScene(*m, dt * (3.0 + phase), 1.0);
+        m->timestep() = fixedStep(dt);
+        m->guard().resolution = GuardAction::Off;
+        runToSeparation(*m, b);
+        m->cycle(1);
+        const double e = m->ballVel(b).y() / 1.0;
+        const bool warned = log.any("gave back more energy than they took");
+        worst_gain = std::max(worst_gain, e * e - 1.0);
+        if (e * e > 1.0 + 1.2e-2) ++gained;
+        if (warned) {
+            ++caught;
+            INFO("phase " << phase << " e " << e << ": " << log.texts.front());
+            CHECK(e > 1.0);
+            CHECK(log.any("contact ball 1 - wall 1 segment 1"));
+        }
+        if (e * e > 1.0 + 1.2e-2) CHECK(warned);  // above tolerance (with 0.2% slack): caught
+    }
+    report(
+        "energy guard at 5.5 steps per contact: %d of 40 phases reported, %d gained > 1.2%% "
+        "(largest energy gain %.2f%%)\n",
+        caught, gained, 100.0 * worst_gain);
+    CHECK(caught > 0);
+
+    // Error mode throws.
+    bool threw = false;
+    for (int i = 0; i < 40 && !threw; ++i) {
+        auto m = makeModel(Vec2::Zero(), linearProps(kKn));
+        const BallId b = dropScene(*m, dt * (3.0 + (i + 0.5) / 40.0), 1.0);
+        m->timestep() = fixedStep(dt);
+        m->guard().resolution = GuardAction::Off;
+        m->guard().energy = GuardAction::Error;
+        try {
+            runToSeparation(*m, b);
+        } catch (const NumericalError& e) {
+            threw = true;
+            CHECK(std::string(e.what()).find("energy created") != std::string::npos);
+        }
+    }
+    CHECK(threw);
+}
+
+TEST_CASE("the default automatic step gives no guard findings", "[core][guard]") {
+    // Resolved impacts (30 steps) with and without damping, ball-wall and ball-ball: no warning.
+    Rng rng(8);
+    for (double beta : {0.0, 0.3}) {
+        for (int i = 0; i < 10; ++i) {
+            auto m = makeModel(Vec2(0.0, -9.81), linearProps(kKn, kKn, 0.4, beta, beta));
+            WarningLog log;
+            log.attach(*m);
+            m->createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));
+            m->createBall(ballAt(Vec2(0.0, kR + rng.uniform(0.05, 0.5)), kR, kRho, Vec2(0.7, 0.0)));
+            m->createBall(ballAt(Vec2(0.02, 3.0 * kR + rng.uniform(0.6, 1.0)), kR, kRho));
+            m->solveTime(1.5);
+            INFO("beta " << beta << (log.texts.empty() ? "" : ": " + log.texts.front()));
+            CHECK(log.texts.empty());
+        }
+    }
+}
+
+// Fails today. In a pour at the default automatic step the resolution guard reports contacts
+// that "lasted fewer than 10 steps" although the step is the resolved one (e.g. "contact ball 7 -
+// ball 68 lasted 3 steps, dt = 1.03e-4 s", a thirtieth of that pair's contact duration). Those
+// are grazing or chattering contacts that are short by nature; the guard counts a contact's life
+// in steps (force_displacement.cpp, endContact: p.steps < min_steps) instead of comparing the step
+// with the contact's duration, and its advice ("use the automatic step with its resolution rule")
+// cannot be followed. Requirement: no resolution finding when every step met the resolution rule.
+TEST_CASE("a pour at the default step gives no under-resolution findings",
+          "[core][guard][!mayfail]") {
+    ModelDef def;
+    def.gravity = Vec2(0.0, -9.81);
+    Model m(def);
+    WarningLog log;
+    log.attach(m);
+    m.setDefaultContactModel("linear", linearProps(1e5, 5e4, 0.5, 0.2, 0.1, 0));
+    m.createWall(wallOf({Vec2(0.0, 1.0), Vec2(0.0, 0.0), Vec2(0.4, 0.0), Vec2(0.4, 1.0)}));
+    Rng rng(2024);
+    for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 10; ++i)
+            m.createBall(ballAt(Vec2(0.05 + 0.034 * i + rng.uniform(-0.003, 0.003),
+                                     0.05 + 0.034 * j + rng.uniform(-0.003, 0.003)),
+                                rng.uniform(0.008, 0.012), 2600.0,
+                                Vec2(rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5))));
+    m.solveTime(0.4);
+    INFO((log.texts.empty() ? std::string("no warning") : log.texts.front()));
+    report("pour of 100 balls at the default step: %zu guard warning(s)\n", log.texts.size());
+    CHECK(!log.any("lasted fewer than"));
+}

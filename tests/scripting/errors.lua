@@ -1,0 +1,73 @@
+-- SPDX-License-Identifier: MIT
+-- Every error is a Lua error that names the script line of the call and says what was wrong.
+local T = require("testlib")
+local s = T.script()
+local function at(line) return s .. ":" .. line .. ":" end
+
+local m = talus.model{ gravity = {0, -9.81} }
+local l
+
+l = T.line(); T.fails(function() m:ball{ pos = {0, 1}, radius = -0.1, density = 2600 } end,
+    { at(l) .. " ball: radius must be > 0 (got -0.1)" }, "core InputError with the line")
+l = T.line(); T.fails(function() m:ball{ pos = {0, 1}, radius = 0.1 } end,
+    { at(l) .. " ball: 'density' or 'mass' is required" }, "missing option")
+l = T.line(); T.fails(function() m:ball{ pos = {0, 1}, radius = 0.1, density = 1, colour = 1 } end,
+    { at(l) .. " ball: unknown option 'colour' (known: angle, density, fix" }, "unknown option")
+l = T.line(); T.fails(function() m:ball{ pos = "up", radius = 0.1, density = 1 } end,
+    { at(l) .. " ball: 'pos' must be a vector {x, y} (got string)" }, "type error")
+l = T.line(); T.fails(function() m:contact_model("linear", { knn = 1e8 }) end,
+    { at(l), "contact_model: unknown property 'knn' for model 'linear' (known: kn, ks, fric, dp_nratio" },
+    "unknown property lists the known ones")
+l = T.line(); T.fails(function() m:contact_model("linear", { dp_nratio = 2 }) end,
+    { at(l), "dp_nratio" }, "property range")
+l = T.line(); T.fails(function() m:contact_model("linear", { dp_mode = "soft" }) end,
+    { at(l), "'dp_mode' must be one of \"full\", \"no_tension\"" }, "enum property by name")
+l = T.line(); T.fails(function() m:contact_model("no_such_model", {}) end,
+    { at(l), "unknown contact model 'no_such_model'" }, "unknown model")
+l = T.line(); T.fails(function() talus.load_plugin("/nonexistent/libtalus_x.so") end,
+    { at(l), "load_plugin: no such file '/nonexistent/libtalus_x.so'" }, "missing plugin")
+l = T.line(); T.fails(function() m:timestep{ safety = 0 } end,
+    { at(l), "timestep: 'safety' must be > 0 (got 0)" }, "timestep validation")
+l = T.line(); T.fails(function() m:guard{ energy = "loud" } end,
+    { at(l), "guard: 'energy' must be one of \"warn\", \"error\", \"off\" (got \"loud\")" }, "enum")
+l = T.line(); T.fails(function() m.cycle(10) end,
+    { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")
+l = T.line(); T.fails(function() m:cycle(2.5) end,
+    { at(l), "cycle: number of steps must be an integer (got 2.5)" }, "integer")
+l = T.line(); T.fails(function() m:cylce(10) end,
+    { at(l), "model: unknown method or field 'cylce' (known: ball, ball_count" }, "misspelt method")
+l = T.line(); T.fails(function() m:energies() end,
+    { at(l), "energies: energy tracing is off" }, "energies off")
+l = T.line(); T.fails(function() m:solve{ ratio = 1e-5 } end,
+    { at(l), "solve: unknown option 'ratio' (known: time)" }, "unsupported solve mode")
+-- through pcall directly (no Lua frame in between): the nearest Lua line is used
+l = T.line(); local ok, err = pcall(m.cycle, m, -1)
+T.check(not ok and err:find(at(l) .. " cycle: number of steps must be >= 0 (got -1)", 1, true),
+    "error through pcall names the calling line: " .. tostring(err))
+
+-- a numerical error during cycle: an impact resolved in too few steps, guard set to "error"
+local n = talus.model{ gravity = {0, -9.81} }
+n:contact_model("linear", { kn = 1e8 })
+n:wall{ points = { {-1, 0}, {1, 0} } }
+n:ball{ pos = {0, 0.11}, radius = 0.1, density = 2600, vel = {0, -2} }
+n:timestep{ fixed = 1e-3 }
+n:guard{ resolution = "error", min_steps = 10 }
+l = T.line(); T.fails(function() n:cycle(200) end,
+    { at(l), "impact under-resolved" }, "NumericalError from cycle")
+
+-- an error inside a callback keeps the callback's own line and stops the run
+local c = talus.model{}
+c:ball{ pos = {0, 0}, radius = 0.1, density = 1 }
+local cb_line = T.line() + 1
+c:on_cycle(function(model, step) if step == 3 then error("stop here") end end)
+T.fails(function() c:cycle(10) end, { at(cb_line) .. " stop here" }, "callback error")
+T.check(c:step() == 3, "the run stopped at the failing step")
+
+-- warnings go to on_warning when set
+local w = talus.model{}
+local warnings = {}
+w:on_warning(function(text) warnings[#warnings + 1] = text end)
+w:ball{ pos = {0, 0}, radius = 0.1, density = 1 }
+w:cycle(1)
+T.check(#warnings == 1 and warnings[1]:find("no contact model is set", 1, true), "on_warning")
+T.done("errors")

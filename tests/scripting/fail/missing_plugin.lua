@@ -1,0 +1,3 @@
+-- SPDX-License-Identifier: MIT
+local m = talus.model{}
+talus.load_plugin("build/plugins/libtalus_not_there.so")

@@ -1,0 +1,48 @@
+-- SPDX-License-Identifier: MIT
+-- Small assertion helpers for the Lua API tests (run by `talus run`; a failed check raises an
+-- error, so the test exits non-zero with the failing line).
+local T = {}
+
+T.checks = 0
+
+function T.check(cond, what)
+    T.checks = T.checks + 1
+    if not cond then error("check failed: " .. tostring(what), 2) end
+end
+
+--- |a - b| <= tol * max(1, |b|) (relative for large values, absolute near zero).
+function T.near(a, b, tol, what)
+    T.checks = T.checks + 1
+    if type(a) ~= "number" or type(b) ~= "number" or a ~= a or b ~= b
+        or math.abs(a - b) > tol * math.max(1, math.abs(b)) then
+        error(string.format("check failed: %s: got %.17g, expected %.17g (tol %g)", tostring(what),
+            tonumber(a) or 0 / 0, tonumber(b) or 0 / 0, tol), 2)
+    end
+end
+
+--- The line of the caller (to build the expected "file:line:" prefix of an error).
+function T.line() return debug.getinfo(2, "l").currentline end
+
+--- Calls fn, expects it to fail with a message containing every plain string in `parts`.
+function T.fails(fn, parts, what)
+    T.checks = T.checks + 1
+    local ok, err = pcall(fn)
+    if ok then error("check failed: " .. tostring(what) .. ": no error was raised", 2) end
+    err = tostring(err)
+    for _, p in ipairs(parts) do
+        if not err:find(p, 1, true) then
+            error(string.format("check failed: %s: message %q does not contain %q", tostring(what),
+                err, p), 2)
+        end
+    end
+    return err
+end
+
+--- Name of this test script as it appears in error positions (the chunk name).
+function T.script() return debug.getinfo(2, "S").short_src end
+
+function T.done(name)
+    print(string.format("%s: %d checks passed", name, T.checks))
+end
+
+return T
