@@ -221,13 +221,12 @@ void Model::forceLoop() {
             m_energy_acc.slip += fd.energy[kEnergySlip];
             m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
             m_energy_acc.plastic += fd.energy[kEnergyPlastic];
-            const double stored_before = p.strain + p.bond;
+            // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the model
+            // says how much), and so does the end of a contact that is still loaded.
+            m_energy_acc.released += fd.energy[kEnergyReleased];
             p.strain = fd.energy[kEnergyStrain];
             p.bond = fd.energy[kEnergyBondStrain];
             const double stored = p.strain + p.bond;
-            // A break releases what the contact held (accuracy-reference 3.6, pitfall 2); so
-            // does the end of a contact that is still loaded.
-            if (fd.flags & kFdBroken) m_energy_acc.released += std::max(0.0, stored_before - stored);
             if (ends) {
                 m_energy_acc.released += stored;
             } else {

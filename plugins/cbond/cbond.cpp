@@ -19,9 +19,9 @@
 // within the gap. A bond formed at a gap is force-free there: u_ref = min(0, u_n at bonding).
 //
 // Energies: strain = F_n^2/(2 kn) + F_s^2/(2 ks) (bonded or not). On a break:
-//  - a contact left without force (tension break, or a shear break under tension) reports the
-//    energy it held, once, as strain at the breaking step; the engine deletes such a contact in
-//    the same step when it is beyond the activity distance and books that energy as `released`;
+//  - the strain reported on the breaking step is the value after the break (zero for a contact
+//    left without force: a tension break, or a shear break under tension), and what the springs
+//    held at the break minus what they still hold is reported as kEnergyReleased;
 //  - a contact left in compression whose shear force is scaled to the Coulomb limit has slipped:
 //    the drop (F_s^2 - F_s'^2)/(2 ks) is slip work.
 #include <algorithm>
@@ -125,7 +125,7 @@ public:
             }
         }
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
-        double slip_work = 0.0, held = 0.0;
+        double slip_work = 0.0, released = 0.0;
 
         // Only the part of the first step after the spring engaged loads the shear spring: a
         // bond engages at the activity distance, an unbonded contact at u_n = u_ref.
@@ -143,13 +143,12 @@ public:
                 cb_state = tension ? kBrokenTension : kBrokenShear;
                 fd.flags |= kFdBroken;
                 fd.break_mode = tension ? kBreakTension : kBreakShear;
-                const double stored = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks);
                 if (cb_fn <= 0.0) {
                     // Nothing holds the ends together any more: both forces go (PFC rule for
                     // tension; a shear break under tension leaves no compression either).
+                    released = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks);
                     cb_fn = 0.0;
                     cb_fs = 0.0;
-                    held = stored;
                 } else if (std::fabs(cb_fs) > fric * cb_fn) {
                     // Shear break in compression beyond friction: slip to the Coulomb limit.
                     const double limited = std::copysign(fric * cb_fn, cb_fs);
@@ -179,8 +178,9 @@ public:
         fd.krest = 0.0;
         if (bonded == 1.0) fd.flags |= kFdBonded | kFdKeep;
         if (energy) {
-            fd.energy[kEnergyStrain] = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks) + held;
+            fd.energy[kEnergyStrain] = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks);
             fd.energy[kEnergySlip] = slip_work;
+            fd.energy[kEnergyReleased] = released;
         }
     }
 

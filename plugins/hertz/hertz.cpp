@@ -71,9 +71,9 @@ public:
     double hz_slip = 0.0;  // 1 while sliding
     // derived values (not properties)
     double hz_e_done_ = 0.0;  // the hz_e that dp_nratio was derived from (0: none)
-    double e_star_ = 0.0;  // effective modulus E* [Pa]
-    double g_star_ = 0.0;  // effective shear modulus G* [Pa]
-    double r_star_ = 0.0;  // effective radius R* [m]
+    double e_star_ = 0.0;     // effective modulus E* [Pa]
+    double g_star_ = 0.0;     // effective shear modulus G* [Pa]
+    double r_star_ = 0.0;     // effective radius R* [m]
     double mass_eff_ = 0.0;
     double last_overlap_ = 0.0;
     double window_end_ = 0.0;  // overlap at which the last step's dashpot window ended [m]
@@ -85,19 +85,38 @@ public:
             {{"hz_shear", "Pa", 0, 0.0, "shear modulus G", nullptr}, &Hertz::hz_shear, 0.0},
             // range [0, 0.5) checked in AcceptProp and PreCycle (the table's ranges are closed)
             {{"hz_poiss", "-", 0, 0.0, "Poisson ratio", nullptr}, &Hertz::hz_poiss},
-            {{"hz_alpha", "-", 0, 1.5, "exponent of the normal force", nullptr}, &Hertz::hz_alpha,
-             1.5, 1.5, false, "(only the Hertz exponent 1.5 is implemented) "},
-            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &Hertz::fric,
+            {{"hz_alpha", "-", 0, 1.5, "exponent of the normal force", nullptr},
+             &Hertz::hz_alpha,
+             1.5,
+             1.5,
+             false,
+             "(only the Hertz exponent 1.5 is implemented) "},
+            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
+             &Hertz::fric,
              0.0},
             {{"dp_nratio", "-", 0, 0.0, "normal critical damping ratio", nullptr},
-             &Hertz::dp_nratio, 0.0, 1.0, false, "(1 = critical) "},
+             &Hertz::dp_nratio,
+             0.0,
+             1.0,
+             false,
+             "(1 = critical) "},
             {{"dp_sratio", "-", 0, 0.0, "shear critical damping ratio", nullptr},
-             &Hertz::dp_sratio, 0.0, 1.0, false, "(1 = critical) "},
-            {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", kDpModes}, &Hertz::dp_mode, 0.0,
+             &Hertz::dp_sratio,
+             0.0,
+             1.0,
+             false,
+             "(1 = critical) "},
+            {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", kDpModes},
+             &Hertz::dp_mode,
+             0.0,
              3.0},
-            {{"hz_e", "-", 0, 0.0,
-              "target normal restitution; sets dp_nratio (0 = not used)", nullptr},
-             &Hertz::hz_e, 0.0, 1.0, false, "(0 = not used) "},
+            {{"hz_e", "-", 0, 0.0, "target normal restitution; sets dp_nratio (0 = not used)",
+              nullptr},
+             &Hertz::hz_e,
+             0.0,
+             1.0,
+             false,
+             "(0 = not used) "},
             {{"hz_fn", "N", kPropReadOnly | kPropState, 0.0, "Hertz normal force", nullptr},
              &Hertz::hz_fn},
             {{"hz_fs", "N", kPropReadOnly | kPropState, 0.0, "Mindlin shear force", nullptr},
@@ -208,8 +227,8 @@ public:
         // Equal materials: 1/E* = 2 (1-nu^2)/E = (1-nu)/G for two balls; a rigid wall
         // contributes nothing, so E* = E/(1-nu^2) = 2G/(1-nu) (accuracy-reference 1.2).
         const double one_side_compliance = (1.0 - hz_poiss) / (2.0 * hz_shear);  // (1-nu^2)/E
-        e_star_ = hz_shear > 0.0 ? 1.0 / (wall ? one_side_compliance : 2.0 * one_side_compliance)
-                                 : 0.0;
+        e_star_ =
+            hz_shear > 0.0 ? 1.0 / (wall ? one_side_compliance : 2.0 * one_side_compliance) : 0.0;
         // Mindlin: 1/G* = (2-nu_A)/G_A + (2-nu_B)/G_B; the rigid wall's term is zero.
         g_star_ = hz_shear > 0.0 ? hz_shear / ((wall ? 1.0 : 2.0) * (2.0 - hz_poiss)) : 0.0;
         const double r1 = pb.radius[0], r2 = pb.radius[1];
@@ -256,8 +275,8 @@ public:
                 closing = -dashpotPotential(window_end_) / dt;
             if (energy) {
                 fd.energy[kEnergyStrain] = 0.0;
-                fd.energy[kEnergyDashpot] = 0.5 * (dp_fn_old + closing) * fd.du_n -
-                                            0.5 * dp_fs_old * fd.du_s;
+                fd.energy[kEnergyDashpot] =
+                    0.5 * (dp_fn_old + closing) * fd.du_n - 0.5 * dp_fs_old * fd.du_s;
                 // The shear spring lets go of what it stored (the last force was at most
                 // fric F_n, which vanishes at separation): micro-slip.
                 fd.energy[kEnergySlip] = -0.5 * fs_old * fd.du_s + strain_s_old;

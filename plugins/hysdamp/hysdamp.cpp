@@ -69,27 +69,35 @@ public:
     double hd_slip = 0.0;  // 1 while sliding
     // per-contact values (not properties)
     double last_overlap_ = 0.0;
-    double last_strain_ = 0.0;  // normal strain energy at the last step [J]
-    double last_rate_ = 0.0;    // overlap rate of the last step [m/s]
-    double last_applied_ = 0.0; // normal force applied at the last step, with corrections [N]
+    double last_strain_ = 0.0;     // normal strain energy at the last step [J]
+    double last_rate_ = 0.0;       // overlap rate of the last step [m/s]
+    double last_applied_ = 0.0;    // normal force applied at the last step, with corrections [N]
     bool last_was_first_ = false;  // the last step was this contact's first
     bool touching_ = false;
 
     static const PropTable<HysDamp>& Table() {
         static const PropTable<HysDamp> t = {
-            {{"kn_m", "N/m", kPropInheritable, 0.0,
-              "mean normal stiffness (k_load + k_unload)/2", nullptr},
-             &HysDamp::kn_m, 0.0},
+            {{"kn_m", "N/m", kPropInheritable, 0.0, "mean normal stiffness (k_load + k_unload)/2",
+              nullptr},
+             &HysDamp::kn_m,
+             0.0},
             // The range depends on `tension`; the combination is checked in PreCycle.
-            {{"d", "-", 0, 1.0, "ratio k_load / k_unload", nullptr}, &HysDamp::d, 0.05, 1.0, false,
+            {{"d", "-", 0, 1.0, "ratio k_load / k_unload", nullptr},
+             &HysDamp::d,
+             0.05,
+             1.0,
+             false,
              "(Shimizu-Cundall hysteretic damping, seed digest section 4: 0.05 <= d <= 1 without "
              "tension, 0.4 <= d <= 1 with tension) "},
             {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &HysDamp::ks, 0.0},
             {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
-             &HysDamp::fric, 0.0},
+             &HysDamp::fric,
+             0.0},
             {{"tension", "-", kPropInteger, 0.0, "tension branch below the residual overlap",
               kTensionModes},
-             &HysDamp::tension, 0.0, 1.0},
+             &HysDamp::tension,
+             0.0,
+             1.0},
             {{"hd_fn", "N", kPropReadOnly | kPropState, 0.0, "normal force", nullptr},
              &HysDamp::hd_fn},
             {{"hd_fs", "N", kPropReadOnly | kPropState, 0.0, "shear force", nullptr},
@@ -164,12 +172,12 @@ public:
                 // includes the energy left in the tension branch, lost with the contact. The
                 // closing force C also works over the next step (the engine pairs it with a zero
                 // force there), whose displacement is du_n - C dt^2/m*, C itself included.
-                const double du_next =
-                    fd.mass_eff > 0.0 ? fd.du_n - closing * fd.tdel * fd.tdel / fd.mass_eff : fd.du_n;
-                fd.energy[kEnergyPlastic] =
-                    touching_ ? 0.5 * (last_applied_ + closing) * fd.du_n + 0.5 * closing * du_next +
-                                    last_strain_
-                              : 0.0;
+                const double du_next = fd.mass_eff > 0.0
+                                           ? fd.du_n - closing * fd.tdel * fd.tdel / fd.mass_eff
+                                           : fd.du_n;
+                fd.energy[kEnergyPlastic] = touching_ ? 0.5 * (last_applied_ + closing) * fd.du_n +
+                                                            0.5 * closing * du_next + last_strain_
+                                                      : 0.0;
             }
             touching_ = false;
             hd_fn = hd_fs = hd_slip = 0.0;
@@ -269,7 +277,7 @@ public:
         for (const double corner : {u0, umax}) {
             const bool crossed = (u_old < corner && corner <= u) || (u <= corner && corner < u_old);
             if (!crossed || (corner == umax && u < u_old)) continue;  // u_max only on reloading
-            const double tau = (corner - u_old) / rate;  // in [0, dt]
+            const double tau = (corner - u_old) / rate;               // in [0, dt]
             const bool up = u > u_old;
             const double before = slopeAt(corner, !up, umax, u0);
             const double after = slopeAt(corner, up, umax, u0);

@@ -16,8 +16,8 @@
 //
 // How it differs from `hertz`: the formulas are used as written for every contact, so a wall
 // counts as a body of the same material (hertz: a rigid wall, twice the E* and G*); form 1 is
-// 3/2 of Hertz's force; there is no contact dashpot (thesis B damps with the law of motion, DampingSettings::viscous) and
-// no scaling of the shear force on normal unloading.
+// 3/2 of Hertz's force; there is no contact dashpot (thesis B damps with the law of motion,
+// DampingSettings::viscous) and no scaling of the shear force on normal unloading.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -59,9 +59,10 @@ public:
             // range [0, 0.5) checked in AcceptProp and PreCycle (the table's ranges are closed)
             {{"ng_poiss", "-", 0, 0.0, "Poisson ratio", nullptr}, &Ng::ng_poiss},
             {{"ng_form", "-", kPropInteger, 0.0, "use of k_n: 0 tangent, 1 secant", kForms},
-             &Ng::ng_form, 0.0, 1.0},
-            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &Ng::fric,
-             0.0},
+             &Ng::ng_form,
+             0.0,
+             1.0},
+            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &Ng::fric, 0.0},
             {{"ng_fn", "N", kPropReadOnly | kPropState, 0.0, "normal force", nullptr}, &Ng::ng_fn},
             {{"ng_fs", "N", kPropReadOnly | kPropState, 0.0, "shear force", nullptr}, &Ng::ng_fs},
             {{"ng_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr},
@@ -188,8 +189,8 @@ public:
         // 2.8683 (m*^2/(R* E^2 v))^(1/5) (accuracy-reference 1.2).
         const double e = (secant() ? 1.5 : 1.0) * ng_shear / (1.0 - ng_poiss);
         if (!(approach_speed > 0.0) || !(e > 0.0) || !(r_star_ > 0.0)) return HUGE_VAL;
-        static const double factor = 2.0 * std::sqrt(M_PI) * std::tgamma(1.4) /
-                                     std::tgamma(0.9) * std::pow(15.0 / 16.0, 0.4);
+        static const double factor = 2.0 * std::sqrt(M_PI) * std::tgamma(1.4) / std::tgamma(0.9) *
+                                     std::pow(15.0 / 16.0, 0.4);
         return factor * std::pow(mass_eff * mass_eff / (r_star_ * e * e * approach_speed), 0.2);
     }
 };

@@ -47,8 +47,8 @@ struct Config {
     std::string label;  // row group title
     std::vector<PropValue> props;
     double e_exact;
-    double duration;    // closed-form contact duration at kV0 [s] (for the gap range)
-    bool hertz_like;    // zero stiffness at touch: add the capped-stability rows
+    double duration;  // closed-form contact duration at kV0 [s] (for the gap range)
+    bool hertz_like;  // zero stiffness at touch: add the capped-stability rows
 };
 
 struct Setting {
@@ -67,7 +67,8 @@ double linearE(double beta, int mode) {
     if (beta == 0.0) return 1.0;
     const double s = std::sqrt(1.0 - beta * beta);
     // accuracy-reference 1.1: dashpot may pull (mode 0), or total force clipped at zero (mode 1)
-    return mode == 0 ? std::exp(-M_PI * beta / s) : std::exp(-beta * (M_PI - 2.0 * std::asin(beta)) / s);
+    return mode == 0 ? std::exp(-M_PI * beta / s)
+                     : std::exp(-beta * (M_PI - 2.0 * std::asin(beta)) / s);
 }
 
 /// Restitution of m u'' = -(K u^1.5 + c0 u^0.25 u') (clipped at zero in mode 1), RK4.
@@ -90,29 +91,44 @@ std::vector<Config> configs() {
     for (double beta : {0.2, 0.5})
         for (int mode : {0, 1}) {
             char label[96];
-            std::snprintf(label, sizeof label, "linear, dp_nratio = %.1f, dp_mode = %d", beta, mode);
-            out.push_back({"linear", label,
+            std::snprintf(label, sizeof label, "linear, dp_nratio = %.1f, dp_mode = %d", beta,
+                          mode);
+            out.push_back({"linear",
+                           label,
                            {{"kn", kn}, {"dp_nratio", beta}, {"dp_mode", double(mode)}},
-                           linearE(beta, mode), tc_lin / std::sqrt(1.0 - beta * beta), false});
+                           linearE(beta, mode),
+                           tc_lin / std::sqrt(1.0 - beta * beta),
+                           false});
         }
     // Lac du Bonnet granite (seed digest section 8), rigid wall: E* = 2G/(1-nu).
     const double G = 27.4e9, nu = 0.26, es = 2.0 * G / (1.0 - nu);
     const double tc_hz = lawtest::hertzImpact(kMass, kR, es, kV0).tc;
-    out.push_back({"hertz", "hertz, elastic (G = 27.4 GPa, nu = 0.26)",
-                   {{"hz_shear", G}, {"hz_poiss", nu}}, 1.0, tc_hz, true});
+    out.push_back({"hertz",
+                   "hertz, elastic (G = 27.4 GPa, nu = 0.26)",
+                   {{"hz_shear", G}, {"hz_poiss", nu}},
+                   1.0,
+                   tc_hz,
+                   true});
     for (int mode : {0, 1}) {
         char label[96];
         std::snprintf(label, sizeof label, "hertz, dp_nratio = 0.2, dp_mode = %d", mode);
-        out.push_back({"hertz", label,
-                       {{"hz_shear", G}, {"hz_poiss", nu}, {"dp_nratio", 0.2}, {"dp_mode", double(mode)}},
-                       hertzDampedE(es, 0.2, mode, tc_hz), tc_hz, true});
+        out.push_back(
+            {"hertz",
+             label,
+             {{"hz_shear", G}, {"hz_poiss", nu}, {"dp_nratio", 0.2}, {"dp_mode", double(mode)}},
+             hertzDampedE(es, 0.2, mode, tc_hz),
+             tc_hz,
+             true});
     }
     // ng: the literal formula counts the wall as the same material, E = G/(1-nu) (form 0).
     for (int form : {0, 1}) {
         const double e_ng = (form ? 1.5 : 1.0) * G / (1.0 - nu);
-        out.push_back({"ng", form ? "ng, secant (ng_form = 1)" : "ng, tangent (ng_form = 0)",
-                       {{"ng_shear", G}, {"ng_poiss", nu}, {"ng_form", double(form)}}, 1.0,
-                       lawtest::hertzImpact(kMass, kR, e_ng, kV0).tc, true});
+        out.push_back({"ng",
+                       form ? "ng, secant (ng_form = 1)" : "ng, tangent (ng_form = 0)",
+                       {{"ng_shear", G}, {"ng_poiss", nu}, {"ng_form", double(form)}},
+                       1.0,
+                       lawtest::hertzImpact(kMass, kR, e_ng, kV0).tc,
+                       true});
     }
     for (auto [d, tension] : {std::pair<double, bool>{0.5, false}, {0.1, false}, {0.6, true}}) {
         const double k1 = 2.0 * d * kn / (1.0 + d), k2 = 2.0 * kn / (1.0 + d);
@@ -121,8 +137,12 @@ std::vector<Config> configs() {
         char label[96];
         std::snprintf(label, sizeof label, "hysdamp, kn_m = 1e8 N/m, d = %.1f, tension = %d", d,
                       tension ? 1 : 0);
-        out.push_back({"hysdamp", label, {{"kn_m", kn}, {"d", d}, {"tension", tension ? 1.0 : 0.0}},
-                       lawtest::hysdampRestitution(d, tension), tf, false});
+        out.push_back({"hysdamp",
+                       label,
+                       {{"kn_m", kn}, {"d", d}, {"tension", tension ? 1.0 : 0.0}},
+                       lawtest::hysdampRestitution(d, tension),
+                       tf,
+                       false});
     }
     return out;
 }
@@ -141,7 +161,8 @@ Row measure(const Config& c, const Setting& st, int phases, uint64_t seed) {
         s.radius = kR;
         s.density = kRho;
         s.normal_speed = kV0;
-        s.guard.energy = GuardAction::Off;  // we measure what happens, warnings would only repeat it
+        s.guard.energy =
+            GuardAction::Off;  // we measure what happens, warnings would only repeat it
         s.guard.resolution = GuardAction::Off;
         s.max_steps = 200000;
         if (st.rule == "resolution") {
@@ -198,9 +219,12 @@ int main(int argc, char** argv) {
     uint64_t seed = 20261122;
     std::vector<std::string> only;
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--phases") && i + 1 < argc) phases = std::atoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--model") && i + 1 < argc) only.push_back(argv[++i]);
-        else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
+        if (!std::strcmp(argv[i], "--phases") && i + 1 < argc)
+            phases = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--model") && i + 1 < argc)
+            only.push_back(argv[++i]);
+        else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc)
+            seed = std::strtoull(argv[++i], nullptr, 10);
         else {
             std::fprintf(stderr, "usage: %s [--phases N] [--model NAME]... [--seed S]\n", argv[0]);
             return 2;
@@ -212,17 +236,20 @@ int main(int argc, char** argv) {
     for (double s : {0.9, 0.6, 0.4, 0.2, 0.1, 0.05}) settings.push_back({"stability", s});
     for (double n : {5.0, 10.0, 20.0, 30.0, 50.0, 100.0}) settings.push_back({"resolution", n});
 
-    std::printf("Restitution error |e - e_exact| / e_exact over %d random phases of first touch;\n"
-                "disk R = 0.1 m, 2600 kg/m^3, on a wall at 1 m/s. Time: median per impact,\n"
-                "including the rig's set-up (one Model per impact). Seed %llu.\n\n",
-                phases, static_cast<unsigned long long>(seed));
+    std::printf(
+        "Restitution error |e - e_exact| / e_exact over %d random phases of first touch;\n"
+        "disk R = 0.1 m, 2600 kg/m^3, on a wall at 1 m/s. Time: median per impact,\n"
+        "including the rig's set-up (one Model per impact). Seed %llu.\n\n",
+        phases, static_cast<unsigned long long>(seed));
     for (const Config& c : configs()) {
         if (!only.empty() && std::find(only.begin(), only.end(), c.model) == only.end()) continue;
         std::vector<Setting> rows = settings;
         if (c.hertz_like)
             for (double s : {0.9, 0.4, 0.1}) rows.push_back({"stability+cap", s});
         std::printf("### %s (e_exact = %.6f)\n\n", c.label.c_str(), c.e_exact);
-        std::printf("| step rule | setting | steps in contact | mean error | worst error | time per impact |\n");
+        std::printf(
+            "| step rule | setting | steps in contact | mean error | worst error | time per impact "
+            "|\n");
         std::printf("|---|---|---|---|---|---|\n");
         for (const Setting& st : rows) {
             const Row r = measure(c, st, phases, seed);

@@ -152,8 +152,8 @@ public:
 
     /// A fresh per-contact object (owned by the driver).
     ContactModel* clone() {
-        m_storage.emplace_back(
-            (m_proto->ObjectSize() + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t));
+        m_storage.emplace_back((m_proto->ObjectSize() + sizeof(std::max_align_t) - 1) /
+                               sizeof(std::max_align_t));
         ContactModel* c = m_proto->Clone(m_pb, m_storage.back().data());
         if (!c) throw PluginError(m_proto->LastError());
         m_objects.push_back(c);
@@ -191,14 +191,15 @@ private:
 /// `b`, then both to the end. Returns true if every output of the second half is bit-identical.
 /// `u` and `us` give overlap and shear displacement per sample.
 inline bool saveRestoreContinuesExactly(LawDriver& drv, const std::vector<double>& u,
-                                        const std::vector<double>& us, double dt,
-                                        std::size_t split, int* compared = nullptr) {
+                                        const std::vector<double>& us, double dt, std::size_t split,
+                                        int* compared = nullptr) {
     ContactModel* a = drv.clone();
     FdBlock fa{};
     bool have = false;
     auto step = [&](ContactModel* m, FdBlock& fd, bool& has, std::size_t i) {
         const double un = i ? u[i - 1] : 0.0, usp = i ? us[i - 1] : 0.0;
-        FdBlock next = drv.block(u[i], (u[i] - un) / dt, (us[i] - usp) / dt, dt, has ? &fd : nullptr);
+        FdBlock next =
+            drv.block(u[i], (u[i] - un) / dt, (us[i] - usp) / dt, dt, has ? &fd : nullptr);
         m->FDlaw(next);
         fd = next;
         has = true;

@@ -36,7 +36,7 @@ constexpr double kG = 27.4e9, kNu = 0.26, kR = 0.1, kRho = 2600.0;
 
 std::vector<PropValue> hertzProps(double G, double nu, double fric = 0.0, double beta_n = 0.0,
                                   int mode = 0, double beta_s = 0.0) {
-    return {{"hz_shear", G},      {"hz_poiss", nu},       {"fric", fric},
+    return {{"hz_shear", G},       {"hz_poiss", nu},      {"fric", fric},
             {"dp_nratio", beta_n}, {"dp_sratio", beta_s}, {"dp_mode", static_cast<double>(mode)}};
 }
 
@@ -45,7 +45,9 @@ std::vector<PropValue> hertzProps(double G, double nu, double fric = 0.0, double
 double eStar(double G, double nu, bool wall) { return (wall ? 2.0 : 1.0) * G / (1.0 - nu); }
 
 /// A gap for a random phase of first touch, over 1..20 steps of travel at the resolved step.
-double randomGap(Rng& rng, double v0, double t_c) { return v0 * (t_c / 30.0) * rng.uniform(1.0, 20.0); }
+double randomGap(Rng& rng, double v0, double t_c) {
+    return v0 * (t_c / 30.0) * rng.uniform(1.0, 20.0);
+}
 
 }  // namespace
 
@@ -92,7 +94,15 @@ TEST_CASE("hertz: Chung & Ooi tests 1 and 2 (sphere masses, rigid wall)", "[hert
     const Case cases[] = {
         {{"glass", 48e9, 0.20, 2800}, true, 0.01, 10.0, 10.70e3, 274e-6, 40.3e-6, 10, 1e-6, 0.1e-6},
         {{"limestone", 20e9, 0.25, 2500}, true, 0.01, 10.0, 7108, 368e-6, 54.2e-6, 1, 1e-6, 0.1e-6},
-        {{"Al alloy", 70e9, 0.30, 2699}, false, 0.1, 0.2, 11.37e3, 49.7e-6, 0.732e-3, 10, 0.1e-6,
+        {{"Al alloy", 70e9, 0.30, 2699},
+         false,
+         0.1,
+         0.2,
+         11.37e3,
+         49.7e-6,
+         0.732e-3,
+         10,
+         0.1e-6,
          1e-6},
         {{"Mg alloy", 40e9, 0.35, 1800}, false, 0.1, 0.2, 7233, 52.1e-6, 0.767e-3, 1, 0.1e-6, 1e-6},
     };
@@ -185,8 +195,8 @@ TEST_CASE("hertz: damped restitution matches an RK4 integration and does not dep
                 return mode == 1 ? std::max(0.0, f) : f;
             };
             const double tc1 = hertzImpact(m, kR, es, 1.0).tc;
-            const double e_ref = referenceRestitution(
-                m, 1.0, tc1, force, [](double u, double) { return u; });
+            const double e_ref =
+                referenceRestitution(m, 1.0, tc1, force, [](double u, double) { return u; });
             REQUIRE(e_ref > 0.0);
             REQUIRE(e_ref < 1.0);
             Stats err;
@@ -220,8 +230,8 @@ TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees"
     // Hertz law without attractive force, i.e. our dp_mode 1; the fit reproduces our ratio to
     // 7e-4 for e in [0.2, 0.9] (it drifts above e = 0.93, where it was not fitted).
     auto thornton = [](double e) {
-        const double h[10] = {-6.918798, -16.41105, 146.8049, -796.4559, 2928.711,
-                              -7206.864, 11494.29,  -11342.18, 6276.757, -1489.915};
+        const double h[10] = {-6.918798, -16.41105, 146.8049,  -796.4559, 2928.711,
+                              -7206.864, 11494.29,  -11342.18, 6276.757,  -1489.915};
         double alpha = 0.0, p = 1.0;
         for (double hi : h) alpha += hi * (p *= e);
         return std::sqrt(1.0 / (1.0 - (1.0 + e) * (1.0 + e) * std::exp(alpha)) - 1.0);
@@ -229,7 +239,9 @@ TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees"
     Rng rng(8);
     for (int mode : {0, 1})
         for (double e : {0.2, 0.53, 0.8, 0.97}) {
-            std::vector<PropValue> props = {{"hz_shear", kG}, {"hz_poiss", kNu}, {"hz_e", e},
+            std::vector<PropValue> props = {{"hz_shear", kG},
+                                            {"hz_poiss", kNu},
+                                            {"hz_e", e},
                                             {"dp_mode", static_cast<double>(mode)}};
             LawDriver drv("hertz", props, false, kR, 0.0, diskMass(kRho, kR));
             const double beta = drv.prototype().ReturnProp(4);  // dp_nratio, derived
@@ -240,7 +252,8 @@ TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees"
                 s.model = "hertz";
                 s.props = props;
                 s.normal_speed = v0;
-                s.gap = randomGap(rng, v0, hertzImpact(diskMass(kRho, kR), kR, eStar(kG, kNu, true), v0).tc);
+                s.gap = randomGap(rng, v0,
+                                  hertzImpact(diskMass(kRho, kR), kR, eStar(kG, kNu, true), v0).tc);
                 const ImpactResult r = runImpact(s);
                 INFO("mode " << mode << " e " << e << " v0 " << v0 << ": beta " << beta);
                 CHECK(r.restitution == Approx(e).margin(1e-3));
@@ -252,7 +265,8 @@ TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees"
                Contains("needs a damping ratio above 1") && Contains("0.1196"));
 }
 
-TEST_CASE("hertz: oblique impacts in the sliding regime (accuracy-reference 1.5)", "[hertz][oblique]") {
+TEST_CASE("hertz: oblique impacts in the sliding regime (accuracy-reference 1.5)",
+          "[hertz][oblique]") {
     // Chung & Ooi test 4 set-up: Al oxide, R = 2.5 mm, |v| = 3.9 m/s, mu = 0.092, no spin;
     // angles above the sliding threshold tan(theta) >= (1 + 1/kappa) mu (1 + e). The impulse
     // identity makes e_t = 1 - mu (1+e)/tan(theta) exact for any law whose Coulomb limit acts on
@@ -285,8 +299,7 @@ TEST_CASE("hertz: oblique impacts in the sliding regime (accuracy-reference 1.5)
                 const double arm = r.max_overlap / (2.0 * R);
                 INFO((mm == MassMode::Disk ? "disk" : "sphere")
                      << " beta " << beta << " theta " << deg << ": e_t " << r.tangential_restitution
-                     << " vs " << et << ", spin " << r.spin_out << " vs " << -w << ", arm "
-                     << arm);
+                     << " vs " << et << ", spin " << r.spin_out << " vs " << -w << ", arm " << arm);
                 CHECK(r.tangential_restitution == Approx(et).epsilon(1e-5));
                 CHECK(r.spin_out < 0.0);  // friction on the bottom of a ball moving to +x
                 CHECK(-r.spin_out <= w * (1.0 + 1e-5));
@@ -321,7 +334,8 @@ TEST_CASE("hertz: driveContact follows the force law, the tangent and the Mindli
             CHECK(r.knest[i] == Approx(2.0 * es * std::sqrt(r_eff * u)).epsilon(1e-12));
         }
         // Strain energy from the law itself: int F du = (2/5) F u.
-        CHECK(r.strain == Approx(0.4 * r.trace.back().normal_force * d.overlap.back()).epsilon(1e-12));
+        CHECK(r.strain ==
+              Approx(0.4 * r.trace.back().normal_force * d.overlap.back()).epsilon(1e-12));
     }
 
     SECTION("shear: Mindlin stiffness 8 G* sqrt(R* u), Coulomb cap, scaling on unloading") {
@@ -338,7 +352,8 @@ TEST_CASE("hertz: driveContact follows the force law, the tangent and the Mindli
             d.dt = dt;
             // Load to u1 with no shear, then shear in small steps at constant overlap.
             const double u1 = 1e-4, ds = 1e-9;
-            for (int i = 1; i <= 10; ++i) d.overlap.push_back(u1 * i / 10.0), d.shear.push_back(0.0);
+            for (int i = 1; i <= 10; ++i)
+                d.overlap.push_back(u1 * i / 10.0), d.shear.push_back(0.0);
             for (int i = 1; i <= 10; ++i) d.overlap.push_back(u1), d.shear.push_back(ds * i);
             // Unload to u1/4 at constant shear displacement.
             d.overlap.push_back(0.25 * u1), d.shear.push_back(ds * 10);
@@ -365,8 +380,8 @@ TEST_CASE("hertz: driveContact follows the force law, the tangent and the Mindli
             const double fn1 = 4.0 / 3.0 * es * std::sqrt(r_eff) * std::pow(u1, 1.5);
             CHECK(q.trace.back().shear_force == Approx(-0.3 * fn1).epsilon(1e-12));
             CHECK(q.slip > 0.0);
-            CHECK(q.strain == Approx(0.4 * fn1 * u1 + 0.5 * std::pow(0.3 * fn1, 2) / kt)
-                                  .epsilon(1e-9));
+            CHECK(q.strain ==
+                  Approx(0.4 * fn1 * u1 + 0.5 * std::pow(0.3 * fn1, 2) / kt).epsilon(1e-9));
         }
     }
 }
@@ -443,7 +458,8 @@ TEST_CASE("hertz: property errors name the property and the reason", "[hertz][pr
                Contains("'hz_alpha'") && Contains("only the Hertz exponent 1.5"));
     CHECK_THAT(modelError("hertz", {{"dp_mode", 4}}),
                Contains("'dp_mode' must be one of 0 = full") && Contains("got 4"));
-    CHECK_THAT(modelError("hertz", {{"dp_nratio", 1.5}}), Contains("'dp_nratio' must be in [0, 1]"));
+    CHECK_THAT(modelError("hertz", {{"dp_nratio", 1.5}}),
+               Contains("'dp_nratio' must be in [0, 1]"));
     CHECK_THAT(modelError("hertz", {{"fric", -0.1}}), Contains("'fric' must be >= 0"));
     CHECK_THAT(modelError("hertz", {{"hz_fn", 1.0}}), Contains("read-only"));
     CHECK(modelError("hertz", hertzProps(kG, 0.499, 0.5, 0.3, 3, 0.2)).empty());
@@ -451,7 +467,8 @@ TEST_CASE("hertz: property errors name the property and the reason", "[hertz][pr
     CHECK(modelError("hertz", {{"HZ_SHEAR", 1e9}}).empty());
 }
 
-TEST_CASE("hertz: fric is inherited from the ends (minimum), the moduli are not", "[hertz][props]") {
+TEST_CASE("hertz: fric is inherited from the ends (minimum), the moduli are not",
+          "[hertz][props]") {
     LawDriver drv("hertz", hertzProps(kG, kNu, 0.8), true, kR, kR, 1.0);
     PropBlock pb = drv.propBlock();
     pb.fric[0] = 0.3, pb.fric[1] = 0.5;

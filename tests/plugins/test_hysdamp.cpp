@@ -55,7 +55,8 @@ TEST_CASE("hysdamp: restitution is sqrt(d) without tension, at any speed", "[hys
             for (int i = 0; i < 3; ++i) {
                 const ImpactResult r = impact(d, false, v0, rng);
                 REQUIRE(r.separated);
-                err.add((r.restitution - hysdampRestitution(d, false)) / hysdampRestitution(d, false));
+                err.add((r.restitution - hysdampRestitution(d, false)) /
+                        hysdampRestitution(d, false));
             }
     INFO("worst relative error " << err.worst << ", mean " << err.mean());
     CHECK(err.worst < 5e-5);
@@ -69,7 +70,8 @@ TEST_CASE("hysdamp: restitution with tension is sqrt(d - (1-d)^2), at any speed"
             for (int i = 0; i < 3; ++i) {
                 const ImpactResult r = impact(d, true, v0, rng);
                 REQUIRE(r.separated);
-                err.add((r.restitution - hysdampRestitution(d, true)) / hysdampRestitution(d, true));
+                err.add((r.restitution - hysdampRestitution(d, true)) /
+                        hysdampRestitution(d, true));
             }
     INFO("worst relative error " << err.worst << ", mean " << err.mean());
     CHECK(err.worst < 3e-4);
@@ -78,8 +80,7 @@ TEST_CASE("hysdamp: restitution with tension is sqrt(d - (1-d)^2), at any speed"
     CHECK(impact(0.7, true, 1.0, rng2).restitution < std::sqrt(0.7) - 0.05);
 }
 
-TEST_CASE("hysdamp: peak force, overlap and force duration follow the bilinear law",
-          "[hysdamp]") {
+TEST_CASE("hysdamp: peak force, overlap and force duration follow the bilinear law", "[hysdamp]") {
     const double m = diskMass(kRho, kR), v0 = 2.0;
     Rng rng(5);
     for (bool tension : {false, true})
@@ -132,9 +133,10 @@ TEST_CASE("hysdamp: the time step follows the unloading stiffness", "[hysdamp][t
     CHECK(st.restitution == Approx(std::sqrt(d)).epsilon(2e-4));
 }
 
-TEST_CASE("hysdamp: driveContact loop: loading, unloading through u0, reloading to the loading "
-          "line",
-          "[hysdamp][drive]") {
+TEST_CASE(
+    "hysdamp: driveContact loop: loading, unloading through u0, reloading to the loading "
+    "line",
+    "[hysdamp][drive]") {
     const double d = 0.5, k1 = kLoad(d), k2 = kUnload(d);
     for (bool tension : {false, true}) {
         DriveSetup s;
@@ -346,7 +348,8 @@ TEST_CASE("hysdamp: range errors cite the thesis rule for each tension mode", "[
     CHECK_THAT(modelError("hysdamp", {{"hd_u0", 0.0}}), Contains("read-only"));
 }
 
-TEST_CASE("hysdamp: kn_m, ks and fric are inherited from the ends (PFC rules)", "[hysdamp][props]") {
+TEST_CASE("hysdamp: kn_m, ks and fric are inherited from the ends (PFC rules)",
+          "[hysdamp][props]") {
     LawDriver drv("hysdamp", hdProps(0.5, false, 1e7, 0.9), true, kR, kR, 1.0);
     PropBlock pb = drv.propBlock();
     pb.kn[0] = 2e8, pb.kn[1] = 2e8;  // in series: 1e8

@@ -55,7 +55,8 @@ TEST_CASE("linear: property errors", "[linear][props]") {
     CHECK_THAT(modelError("linear", {{"lin_fn", 1.0}}), Contains("read-only"));
 }
 
-TEST_CASE("linear: kn and ks in series, fric the minimum, else the model's own", "[linear][props]") {
+TEST_CASE("linear: kn and ks in series, fric the minimum, else the model's own",
+          "[linear][props]") {
     LawDriver drv("linear", {{"kn", 5e7}, {"ks", 2e7}, {"fric", 0.7}}, true, 0.1, 0.1, 1.0);
     const ContactModel& proto = drv.prototype();
     std::vector<std::max_align_t> storage(proto.ObjectSize() / sizeof(std::max_align_t) + 1);
@@ -111,8 +112,12 @@ TEST_CASE("linear: strain energy F^2/(2k) and the books of a damped impact", "[l
 TEST_CASE("linear: SaveRestore mid-contact continues bit for bit", "[linear][save]") {
     for (int mode : {0, 1, 3}) {
         LawDriver drv("linear",
-                      {{"kn", 1e8}, {"ks", 5e7}, {"fric", 0.3}, {"dp_nratio", 0.2},
-                       {"dp_sratio", 0.1}, {"dp_mode", static_cast<double>(mode)}},
+                      {{"kn", 1e8},
+                       {"ks", 5e7},
+                       {"fric", 0.3},
+                       {"dp_nratio", 0.2},
+                       {"dp_sratio", 0.1},
+                       {"dp_mode", static_cast<double>(mode)}},
                       false, 0.1, 0.0, 30.0);
         std::vector<double> u, us;
         for (int i = 1; i <= 120; ++i) {

@@ -23,7 +23,9 @@ namespace {
 constexpr double kG = 6.88e9, kNu = 0.38, kR = 0.1, kRho = 2600.0;
 
 std::vector<PropValue> ngProps(int form, double fric = 0.0) {
-    return {{"ng_shear", kG}, {"ng_poiss", kNu}, {"ng_form", static_cast<double>(form)},
+    return {{"ng_shear", kG},
+            {"ng_poiss", kNu},
+            {"ng_form", static_cast<double>(form)},
             {"fric", fric}};
 }
 
@@ -59,8 +61,8 @@ TEST_CASE("ng: driveContact follows k_n from the contact radius, tangent and sec
                 // knest is dF/du: k_n for the tangent form, (3/2) k_n for the secant form.
                 CHECK(r.knest[i] == Approx((form == 0 ? 1.0 : 1.5) * kn).epsilon(1e-12));
             }
-            CHECK(r.strain == Approx(0.4 * r.trace.back().normal_force * d.overlap.back())
-                                  .epsilon(1e-12));
+            CHECK(r.strain ==
+                  Approx(0.4 * r.trace.back().normal_force * d.overlap.back()).epsilon(1e-12));
         }
 }
 

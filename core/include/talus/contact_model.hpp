@@ -71,7 +71,8 @@ enum EnergyPartition : int32_t {
     kEnergyDashpot = 2,     ///< accumulated: viscous work, >= 0 [J]
     kEnergyPlastic = 3,     ///< accumulated: plastic work, >= 0 [J]
     kEnergyBondStrain = 4,  ///< stored: elastic energy in a bond [J]
-    kEnergyCount = 5
+    kEnergyReleased = 5,    ///< accumulated: stored energy lost when a bond broke this step [J]
+    kEnergyCount = 6
 };
 
 /// Type of a contact's second end. A wall is always end 2.
