@@ -81,10 +81,9 @@ void Model::setEnergyTracing(bool on) {
             ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
         m_energy_acc.initial_kinetic = ke;
         m_energy_acc.kinetic = ke;
-        double strain = 0.0;
-        for (const auto& p : m_pairs)
-            if (p.active) strain += p.strain;
-        m_energy_acc.strain = strain;
+        // Models report stored energy only while tracing is on; until the next step it is not known.
+        m_energy_acc.strain = 0.0;
+        for (auto& c : m_cold) c.strain = c.bond = 0.0;
         m_energy = m_energy_acc;
     }
     m_energy_on = on;

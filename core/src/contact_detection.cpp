@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <unordered_map>
 
 #include "broadphase.hpp"
 #include "model_internal.hpp"
@@ -202,33 +203,35 @@ ContactModel* Model::cloneFor(Pair& p) {
 bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
     auto& b = *m_balls;
     Pair p;
+    PairCold cold;
     if (other_is_segment) {
         p.end1 = s1;
         p.end2 = other;
         p.wall = true;
-        p.key = (uint64_t(b.handle[s1]) << 32) | (kWallBit | other);
+        cold.key = (uint64_t(b.handle[s1]) << 32) | (kWallBit | other);
     } else {
         if (s1 == other) return false;
         uint32_t a = s1, c = other;
         if (b.handle[a] > b.handle[c]) std::swap(a, c);
         p.end1 = a;
         p.end2 = c;
-        p.key = (uint64_t(b.handle[a]) << 32) | b.handle[c];
+        cold.key = (uint64_t(b.handle[a]) << 32) | b.handle[c];
     }
-    if (m_pair_index.count(p.key)) return false;
+    if (m_pair_index.count(cold.key)) return false;
     const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
     const Rule& rule = ruleFor(b.groups[p.end1], g2);
     if (!rule.prototype) return false;  // no contact model: bodies pass through
     p.rule = const_cast<Rule*>(&rule);
-    p.rules_version = m_rules_version;
+    cold.rules_version = m_rules_version;
     p.activity = rule.activity;
     const double m1 = b.mass[p.end1];
     p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
     p.model = cloneFor(p);
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
-    m_pair_index.emplace(p.key, static_cast<uint32_t>(m_pairs.size()));
+    m_pair_index.emplace(cold.key, static_cast<uint32_t>(m_pairs.size()));
     m_pairs.push_back(p);
+    m_cold.push_back(cold);
     ++m_profile.pairs_created;
     return true;
 }
@@ -240,17 +243,19 @@ void Model::removePair(std::size_t i) {
         p.rule->pool->release(p.model);
         p.model = nullptr;
     }
-    m_pair_index.erase(p.key);
+    m_pair_index.erase(m_cold[i].key);
     const std::size_t last = m_pairs.size() - 1;
     if (i != last) {
         m_pairs[i] = m_pairs[last];
-        m_pair_index[m_pairs[i].key] = static_cast<uint32_t>(i);
+        m_cold[i] = m_cold[last];
+        m_pair_index[m_cold[i].key] = static_cast<uint32_t>(i);
     }
     m_pairs.pop_back();
+    m_cold.pop_back();
 }
 
 void Model::refreshRule(Pair& p) {
-    p.rules_version = m_rules_version;
+    m_cold[pairIndex(p)].rules_version = m_rules_version;
     const auto& b = *m_balls;
     const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
     Rule* rule = const_cast<Rule*>(&ruleFor(b.groups[p.end1], g2));
@@ -268,14 +273,17 @@ void Model::resetPair(Pair& p) {
     p.rule->pool->release(p.model);
     p.model = nullptr;
     p.model = cloneFor(p);
-    p.active = p.sliding = p.bonded = p.touched = false;
+    p.active = p.sliding = p.bonded = false;
     p.steps = 0;
     p.n_force = p.s_force = p.moment = 0.0;
-    p.work = p.work_peak = p.strain = p.bond = 0.0;
-    p.rate_n = p.rate_s = p.rate_t = 0.0;
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
-    p.krest = 0.0;
+    PairCold& c = m_cold[pairIndex(p)];
+    const uint64_t key = c.key;
+    const uint32_t version = c.rules_version;
+    c = PairCold{};
+    c.key = key;
+    c.rules_version = version;
 }
 
 // ------------------------------------------------------------------------ memory order
@@ -320,10 +328,41 @@ void Model::sortBalls() {
         if (!p.wall) p.end2 = new_of[p.end2];
     }
     // Pairs in the order of their first end, so the force loop walks memory forward.
-    std::stable_sort(m_pairs.begin(), m_pairs.end(), [](const Pair& x, const Pair& y) {
-        return x.end1 != y.end1 ? x.end1 < y.end1 : x.key < y.key;
+    std::vector<uint32_t> porder(m_pairs.size());
+    std::iota(porder.begin(), porder.end(), 0u);
+    std::sort(porder.begin(), porder.end(), [&](uint32_t x, uint32_t y) {
+        const Pair &px = m_pairs[x], &py = m_pairs[y];
+        return px.end1 != py.end1 ? px.end1 < py.end1 : m_cold[x].key < m_cold[y].key;
     });
-    for (std::size_t i = 0; i < m_pairs.size(); ++i) m_pair_index[m_pairs[i].key] = static_cast<uint32_t>(i);
+    std::vector<Pair> pairs(m_pairs.size());
+    std::vector<PairCold> cold(m_cold.size());
+    for (std::size_t i = 0; i < porder.size(); ++i) {
+        pairs[i] = m_pairs[porder[i]];
+        cold[i] = m_cold[porder[i]];
+        m_pair_index[cold[i].key] = static_cast<uint32_t>(i);
+    }
+    m_pairs.swap(pairs);
+    m_cold.swap(cold);
+    repackContactObjects();
+}
+
+void Model::repackContactObjects() {
+    // Contact objects are placed as pairs appear, so after a while the force loop, which walks
+    // the pairs in memory order, jumps around the pools. Move every object into a fresh pool in
+    // the pairs' order (ContactModel::MoveTo) and drop the old pools.
+    std::vector<std::unique_ptr<ObjectPool>> fresh(m_rules.size());
+    std::unordered_map<const Rule*, std::size_t> slot;
+    for (std::size_t r = 0; r < m_rules.size(); ++r) {
+        slot[m_rules[r].get()] = r;
+        if (m_rules[r]->pool) fresh[r] = std::make_unique<ObjectPool>(m_rules[r]->pool->blockSize());
+    }
+    for (auto& p : m_pairs) {
+        if (!p.model) continue;
+        ObjectPool& pool = *fresh[slot[p.rule]];
+        p.model = p.model->MoveTo(pool.allocate());
+    }
+    for (std::size_t r = 0; r < m_rules.size(); ++r)
+        if (fresh[r]) m_rules[r]->pool = std::move(fresh[r]);
 }
 
 }  // namespace talus

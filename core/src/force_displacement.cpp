@@ -47,7 +47,6 @@ void Model::forceDisplacement() {
 template <bool kAuto, bool kEnergy, bool kGuard>
 void Model::forceLoop() {
     auto& b = *m_balls;
-    const std::size_t nb = b.size();
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
     std::fill(b.moment.begin(), b.moment.end(), 0.0);
     for (auto& w : m_walls) w.force.setZero(), w.moment = 0.0;
@@ -57,37 +56,41 @@ void Model::forceLoop() {
         m_limits = StepLimits{};
         m_limits_stale = false;
     }
-    (void)nb;
     const double dt = m_dt;
     FdBlock fd = m_fd_template;
     fd.tdel = dt;
     fd.time = m_time;
     double strain_now = 0.0, bond_now = 0.0;
     m_to_remove.clear();
+    const Vec2* pos = b.pos.data();
+    const Vec2* vel = b.vel.data();
+    const double* radius = b.radius.data();
+    const double* spin = b.spin.data();
+    Vec2* force = b.force.data();
+    double* moment = b.moment.data();
 
     for (std::size_t i = 0; i < m_pairs.size(); ++i) {
         Pair& p = m_pairs[i];
         const uint32_t s1 = p.end1;
-        const Vec2 x1 = b.pos[s1];
-        const double r1 = b.radius[s1];
+        const Vec2 x1 = pos[s1];
+        const double r1 = radius[s1];
         ContactGeometry g;
         Vec2 v2c, x2;
         double spin2;
-        const WallData* wall = nullptr;
 
         if (!p.wall) {
             const uint32_t s2 = p.end2;
-            x2 = b.pos[s2];
+            x2 = pos[s2];
             const Vec2 d = x2 - x1;
-            const double rsum = r1 + b.radius[s2];
+            const double rsum = r1 + radius[s2];
             const double dist2 = d.squaredNorm();
             const double reach = rsum + p.activity;
             if (!p.active && dist2 >= reach * reach) {
                 if constexpr (kAuto) {
                     const double dist = std::sqrt(dist2);
-                    const Vec2 arel = (b.force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
-                                      (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-                    noteApproach(p, dist - rsum, b.vel[s2] - b.vel[s1], arel.norm(),
+                    const Vec2 arel = (force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
+                                      (force[s1] + b.fapp[s1]) * b.inv_mass[s1];
+                    noteApproach(p, m_cold[i], dist - rsum, vel[s2] - vel[s1], arel.norm(),
                                  dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
                 }
                 if (!b.fat[s1].overlaps(b.fat[s2])) m_to_remove.push_back(static_cast<uint32_t>(i));
@@ -97,27 +100,27 @@ void Model::forceLoop() {
             g.normal = dist > 0.0 ? Vec2(d * (1.0 / dist)) : Vec2(0.0, 1.0);
             g.overlap = rsum - dist;
             g.point = x1 + (r1 - 0.5 * g.overlap) * g.normal;
-            v2c = b.vel[s2] + spinCross(b.spin[s2], g.point - x2);
-            spin2 = b.spin[s2];
+            v2c = vel[s2] + spinCross(spin[s2], g.point - x2);
+            spin2 = spin[s2];
         } else {
             const Segment& sg = m_segments[p.end2];
-            wall = &m_walls[sg.wall];
             const bool has_next = sg.next >= 0;
             const Vec2& after = has_next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
             if (!ballSegmentGeometry(x1, r1, m_vertices[sg.a], m_vertices[sg.b], sg.prev >= 0,
                                      has_next, after, g)) {
                 // The ball is in a neighbouring segment's region: that segment holds the contact.
-                if (p.active) endContact(p, false);
+                if (p.active) endContact(p, m_cold[i], false);
                 if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
-            x2 = wall->center;
-            v2c = wall->vel + spinCross(wall->spin, g.point - x2);
-            spin2 = wall->spin;
+            const WallData& wall = m_walls[sg.wall];
+            x2 = wall.center;
+            v2c = wall.vel + spinCross(wall.spin, g.point - x2);
+            spin2 = wall.spin;
             if (!p.active && g.overlap <= -p.activity) {
                 if constexpr (kAuto) {
-                    const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-                    noteApproach(p, -g.overlap, v2c - b.vel[s1], a1.norm(), g.normal);
+                    const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
+                    noteApproach(p, m_cold[i], -g.overlap, v2c - vel[s1], a1.norm(), g.normal);
                 }
                 if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
@@ -127,34 +130,17 @@ void Model::forceLoop() {
         // ---- the pair is a contact this step
         const double mass_eff = p.mass_eff;
         const Vec2 r1c = g.point - x1;
-        const Vec2 v1c = b.vel[s1] + spinCross(b.spin[s1], r1c);
+        const Vec2 v1c = vel[s1] + spinCross(spin[s1], r1c);
         const Vec2 vrel = v2c - v1c;
         const Vec2 t = perp(g.normal);
         bool first = false;
         if (!p.active) {
-            if (p.rules_version != m_rules_version) refreshRule(p);
-            p.active = true;
             first = true;
-            ++m_profile.contacts_created;
-            p.duration = p.model->ContactDuration(mass_eff, std::max(0.0, -vrel.dot(g.normal)));
-            if (m_contact_events) {
-                Event ev;
-                ev.kind = EventKind::ContactCreated;
-                ev.time = m_time;
-                ev.pos = g.point;
-                ev.contact = ContactKey{p.key};
-                ev.model = p.rule->model_name;
-                m_events.push_back(std::move(ev));
-            }
-        } else if (p.n_force > 0.0 && g.normal.dot(p.normal) < 0.0) {
+            activate(p, m_cold[i], g, vrel);
+        } else if constexpr (kGuard) {
             // A contact that was pushing the bodies apart cannot reverse its normal within a step
             // unless one body went through the other (a model exerting no force may let it).
-            throw NumericalError("at step " + std::to_string(m_step) + " (t = " + num(m_time) +
-                                 " s): " + describePair(p) +
-                                 ": the contact normal reversed within one step, so one body "
-                                 "passed through the other (overlap " + num(g.overlap) +
-                                 " m); the contact is too soft for this impact or the step too "
-                                 "large");
+            if (p.n_force > 0.0 && g.normal.dot(m_cold[i].normal) < 0.0) reportPassThrough(p, g);
         }
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
@@ -162,7 +148,7 @@ void Model::forceLoop() {
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
         fd.u_dot_s = vrel.dot(t);
-        fd.t_dot_rel = spin2 - b.spin[s1];
+        fd.t_dot_rel = spin2 - spin[s1];
         fd.du_n = fd.u_dot_n * dt;
         fd.du_s = fd.u_dot_s * dt;
         fd.dtheta = fd.t_dot_rel * dt;
@@ -187,23 +173,16 @@ void Model::forceLoop() {
             fd.status = 1;
             fd.error = "unknown exception";
         }
-
-        if (fd.status != 0)
-            throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
-                              std::to_string(m_step) + " on " + describePair(p) + ": " +
-                              (fd.error ? fd.error : "(no message)"));
-        if (!std::isfinite(fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest))
-            throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(fd.n_force) +
-                           ", shear force " + num(fd.s_force) + ", moment " + num(fd.moment) +
-                           " at overlap " + num(g.overlap));
+        if (fd.status != 0 || !std::isfinite(fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest))
+            reportFailedLaw(p, fd);
 
         // ---- forces onto the ends
         const Vec2 f = fd.n_force * g.normal + fd.s_force * t;
-        b.force[s1] -= f;
-        b.moment[s1] -= cross(r1c, f) + fd.moment;
+        force[s1] -= f;
+        moment[s1] -= cross(r1c, f) + fd.moment;
         if (!p.wall) {
-            b.force[p.end2] += f;
-            b.moment[p.end2] += cross(g.point - x2, f) + fd.moment;
+            force[p.end2] += f;
+            moment[p.end2] += cross(g.point - x2, f) + fd.moment;
         } else {
             WallData& w = m_walls[m_segments[p.end2].wall];
             w.force += f;
@@ -213,66 +192,56 @@ void Model::forceLoop() {
         // ---- extras
         const bool ends =
             g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete();
-        if constexpr (kAuto)
-            noteContact(p, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
-                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff,
-                        (fd.flags & kFdBonded) == 0);
-        if constexpr (kEnergy) {
-            m_energy_acc.slip += fd.energy[kEnergySlip];
-            m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
-            m_energy_acc.plastic += fd.energy[kEnergyPlastic];
-            // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the model
-            // says how much), and so does the end of a contact that is still loaded.
-            m_energy_acc.released += fd.energy[kEnergyReleased];
-            p.strain = fd.energy[kEnergyStrain];
-            p.bond = fd.energy[kEnergyBondStrain];
-            const double stored = p.strain + p.bond;
-            if (ends) {
-                m_energy_acc.released += stored;
-            } else {
-                strain_now += p.strain;
-                bond_now += p.bond;
+        if constexpr (kAuto || kEnergy || kGuard) {
+            PairCold& c = m_cold[i];
+            if constexpr (kAuto) {
+                c.krest = fd.krest;
+                noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
+                            p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff,
+                            (fd.flags & kFdBonded) == 0);
             }
-        }
-        if constexpr (kGuard) {
-            // Energy the contact took from the bodies: last step's force times the mean of the
-            // two half-step rates around it, over the velocity window -- exactly what the law of
-            // motion did with it (docs/physics/guard.md).
-            p.work += m_window * (fn_old * 0.5 * (p.rate_n + fd.u_dot_n) -
-                                  fs_old * 0.5 * (p.rate_s + fd.u_dot_s) -
-                                  m_old * 0.5 * (p.rate_t + fd.t_dot_rel));
-            p.work_peak = std::max(p.work_peak, p.work);
-            p.rate_n = fd.u_dot_n;
-            p.rate_s = fd.u_dot_s;
-            p.rate_t = fd.t_dot_rel;
+            if constexpr (kEnergy) {
+                m_energy_acc.slip += fd.energy[kEnergySlip];
+                m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
+                m_energy_acc.plastic += fd.energy[kEnergyPlastic];
+                // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the
+                // model says how much), and so does the end of a contact that is still loaded.
+                m_energy_acc.released += fd.energy[kEnergyReleased];
+                c.strain = fd.energy[kEnergyStrain];
+                c.bond = fd.energy[kEnergyBondStrain];
+                if (ends) {
+                    m_energy_acc.released += c.strain + c.bond;
+                } else {
+                    strain_now += c.strain;
+                    bond_now += c.bond;
+                }
+            }
+            if constexpr (kGuard) {
+                // Energy the contact took from the bodies: last step's force times the mean of
+                // the two half-step rates around it, over the velocity window -- exactly what the
+                // law of motion did with it (docs/physics/guard.md).
+                c.work += m_window * (fn_old * 0.5 * (c.rate_n + fd.u_dot_n) -
+                                      fs_old * 0.5 * (c.rate_s + fd.u_dot_s) -
+                                      m_old * 0.5 * (c.rate_t + fd.t_dot_rel));
+                c.work_peak = std::max(c.work_peak, c.work);
+                c.rate_n = fd.u_dot_n;
+                c.rate_s = fd.u_dot_s;
+                c.rate_t = fd.t_dot_rel;
+                c.normal = g.normal;
+            }
         }
 
         p.n_force = fd.n_force;
         p.s_force = fd.s_force;
         p.moment = fd.moment;
-        p.normal = g.normal;
-        p.point = g.point;
         p.overlap = g.overlap;
         p.knest = fd.knest;
         p.ksest = fd.ksest;
-        p.krest = fd.krest;
         p.sliding = (fd.flags & kFdSliding) != 0;
         p.bonded = (fd.flags & kFdBonded) != 0;
-        if (g.overlap > 0.0) {
-            ++p.steps;
-            p.touched = true;
-        }
-        if (fd.flags & kFdBroken) {
-            Event ev;
-            ev.kind = EventKind::BondBreak;
-            ev.time = m_time;
-            ev.pos = g.point;
-            ev.contact = ContactKey{p.key};
-            ev.mode = fd.break_mode;
-            ev.model = p.rule->model_name;
-            m_events.push_back(std::move(ev));
-        }
-        if (ends) endContact(p, kGuard);
+        p.steps += g.overlap > 0.0;
+        if (fd.flags & kFdBroken) queueBreak(i, g.point, fd.break_mode);
+        if (ends) endContact(p, m_cold[i], kGuard);
     }
 
     for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
@@ -282,16 +251,65 @@ void Model::forceLoop() {
     }
 }
 
-void Model::endContact(Pair& p, bool check_guard) {
-    if (check_guard && p.touched) {
+// The rare paths of the loop, kept out of it so that its body stays small.
+
+void Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+    if (c.rules_version != m_rules_version) refreshRule(p);
+    p.active = true;
+    ++m_profile.contacts_created;
+    c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    c.normal = g.normal;
+    if (m_contact_events) {
+        Event ev;
+        ev.kind = EventKind::ContactCreated;
+        ev.time = m_time;
+        ev.pos = g.point;
+        ev.contact = ContactKey{c.key};
+        ev.model = p.rule->model_name;
+        m_events.push_back(std::move(ev));
+    }
+}
+
+void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
+    Event ev;
+    ev.kind = EventKind::BondBreak;
+    ev.time = m_time;
+    ev.pos = point;
+    ev.contact = ContactKey{m_cold[i].key};
+    ev.mode = mode;
+    ev.model = m_pairs[i].rule->model_name;
+    m_events.push_back(std::move(ev));
+}
+
+void Model::reportFailedLaw(const Pair& p, const FdBlock& fd) const {
+    if (fd.status != 0)
+        throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
+                          std::to_string(m_step) + " on " + describePair(p) + ": " +
+                          (fd.error ? fd.error : "(no message)"));
+    throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(fd.n_force) +
+                   ", shear force " + num(fd.s_force) + ", moment " + num(fd.moment) +
+                   ", knest " + num(fd.knest) + ", ksest " + num(fd.ksest) + " at overlap " +
+                   num(fd.u_n));
+}
+
+void Model::reportPassThrough(const Pair& p, const ContactGeometry& g) const {
+    throw NumericalError("at step " + std::to_string(m_step) + " (t = " + num(m_time) +
+                         " s): " + describePair(p) +
+                         ": the contact normal reversed within one step, so one body passed "
+                         "through the other (overlap " + num(g.overlap) +
+                         " m); the contact is too soft for this impact or the step too large");
+}
+
+void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
+    if (check_guard && p.steps > 0) {
         // The force of this last step acts in the next law of motion; estimate its work with
         // the current rates.
-        p.work += m_dt * (p.n_force * p.rate_n - p.s_force * p.rate_s - p.moment * p.rate_t);
-        if (m_guard.energy != GuardAction::Off && p.work_peak > 0.0 &&
-            p.work < -m_guard.energy_tolerance * p.work_peak) {
+        c.work += m_dt * (p.n_force * c.rate_n - p.s_force * c.rate_s - p.moment * c.rate_t);
+        if (m_guard.energy != GuardAction::Off && c.work_peak > 0.0 &&
+            c.work < -m_guard.energy_tolerance * c.work_peak) {
             const std::string what =
-                describePair(p) + " returned " + num(-p.work) + " J more than it took (peak " +
-                num(p.work_peak) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
+                describePair(p) + " returned " + num(-c.work) + " J more than it took (peak " +
+                num(c.work_peak) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
                 "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
                 " s; the step (" + num(m_dt) + " s) is too large for the model's stiffness, or the "
                 "model reports too low a stiffness (knest " + num(p.knest) + " N/m)";

@@ -15,6 +15,7 @@
 
 #include "broadphase.hpp"
 #include "model_internal.hpp"
+#include "narrowphase.hpp"
 #include "props.hpp"
 #include "talus/errors.hpp"
 
@@ -572,8 +573,6 @@ const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
 
 // ------------------------------------------------------------------------ contacts (queries)
 
-ContactKey Model::keyOf(const Pair& p) const { return ContactKey{p.key}; }
-
 Model::Pair* Model::pairByKey(ContactKey key) {
     auto it = m_pair_index.find(key.value);
     return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
@@ -583,9 +582,38 @@ const Model::Pair* Model::pairByKey(ContactKey key) const {
     return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
 }
 
-ContactInfo Model::infoOf(const Pair& p) const {
+std::size_t Model::pairIndex(const Pair& p) const {
+    return static_cast<std::size_t>(&p - m_pairs.data());
+}
+
+bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const {
+    const auto& b = *m_balls;
+    const Vec2& x1 = b.pos[p.end1];
+    ContactGeometry g;
+    if (p.wall) {
+        const Segment& sg = m_segments[p.end2];
+        const bool next = sg.next >= 0;
+        const Vec2& after = next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
+        if (!ballSegmentGeometry(x1, b.radius[p.end1], m_vertices[sg.a], m_vertices[sg.b],
+                                 sg.prev >= 0, next, after, g))
+            return false;
+    } else {
+        const Vec2 d = b.pos[p.end2] - x1;
+        const double dist = d.norm();
+        g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+        g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
+        g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
+    }
+    normal = g.normal;
+    overlap = g.overlap;
+    point = g.point;
+    return true;
+}
+
+ContactInfo Model::infoOf(std::size_t index) const {
+    const Pair& p = m_pairs[index];
     ContactInfo c;
-    c.key = keyOf(p);
+    c.key = ContactKey{m_cold[index].key};
     const uint32_t h1 = m_balls->handle[p.end1];
     c.ball1 = BallId{h1, m_generation[h1 - 1]};
     if (p.wall) {
@@ -597,9 +625,7 @@ ContactInfo Model::infoOf(const Pair& p) const {
         c.ball2 = BallId{h2, m_generation[h2 - 1]};
     }
     c.active = p.active;
-    c.normal = p.normal;
-    c.point = p.point;
-    c.overlap = p.overlap;
+    pairGeometry(p, c.normal, c.overlap, c.point);
     c.normal_force = p.n_force;
     c.shear_force = p.s_force;
     c.moment = p.moment;
@@ -618,8 +644,10 @@ std::string Model::describePair(const Pair& p) const {
     } else {
         s += "ball " + std::to_string(m_balls->handle[p.end2]);
     }
-    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "') at " +
-         vecText(p.point);
+    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
+    Vec2 n, point;
+    double overlap;
+    if (pairGeometry(p, n, overlap, point)) s += " at " + vecText(point);
     return s;
 }
 
@@ -632,15 +660,15 @@ std::size_t Model::contactCount(bool active_only) const {
 
 std::vector<ContactInfo> Model::contacts(bool active_only) const {
     std::vector<ContactInfo> out;
-    for (const auto& p : m_pairs)
-        if (p.active || !active_only) out.push_back(infoOf(p));
+    for (std::size_t i = 0; i < m_pairs.size(); ++i)
+        if (m_pairs[i].active || !active_only) out.push_back(infoOf(i));
     return out;
 }
 
 bool Model::findContact(ContactKey key, ContactInfo& out) const {
     const Pair* p = pairByKey(key);
     if (!p) return false;
-    out = infoOf(*p);
+    out = infoOf(pairIndex(*p));
     return true;
 }
 

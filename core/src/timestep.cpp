@@ -55,8 +55,8 @@ double roomInside(const Box& fat, const Box& box) {
 
 }  // namespace
 
-void Model::noteApproach(const Pair& p, double gap, const Vec2& vrel, double accel,
-                         const Vec2& normal) {
+void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
+                         double accel, const Vec2& normal) {
     // A pair not yet touching may not close more than half its gap in one step, unless that
     // step already meets the limits the contact will impose once it exists.
     const double closing = vrel.norm() + accel * m_dt;
@@ -73,11 +73,11 @@ void Model::noteApproach(const Pair& p, double gap, const Vec2& vrel, double acc
         lim = std::min(lim, contactDuration(p, p.knest, m_eff, std::max(0.0, -vrel.dot(normal))) /
                                 m_timestep.resolution);
     const double d = std::max(t_free, lim);
-    if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = p.key;
+    if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = c.key;
 }
 
-void Model::noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
-                        double arm2_sq, double mass_eff, bool impact) {
+void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
+                        double arm1_sq, double arm2_sq, double mass_eff, bool impact) {
     auto& b = *m_balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
@@ -87,9 +87,9 @@ void Model::noteContact(const Pair& p, double kn, double ks, double kr, double a
     }
     // A bond is not an impact: bonded contacts get the stability rule only.
     if (impact && m_timestep.resolution > 0.0) {
-        const double d = std::min(p.duration, contactDuration(p, kn, mass_eff, -1.0)) /
+        const double d = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0)) /
                          m_timestep.resolution;
-        if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = p.key;
+        if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = c.key;
     }
 }
 
@@ -100,7 +100,9 @@ void Model::surveyPairs() {
     std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
     std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
     m_limits = StepLimits{};
-    for (Pair& p : m_pairs) {
+    for (std::size_t i = 0; i < m_pairs.size(); ++i) {
+        Pair& p = m_pairs[i];
+        PairCold& cold = m_cold[i];
         const Vec2 x1 = b.pos[p.end1];
         ContactGeometry g;
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
@@ -131,11 +133,12 @@ void Model::surveyPairs() {
         const double m1 = b.mass[p.end1];
         const double m_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
         if (p.active || g.overlap > -p.activity) {
-            if (!p.active) p.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
-            noteContact(p, p.knest, p.ksest, p.krest, (g.point - x1).squaredNorm(),
+            if (!p.active)
+                cold.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
+            noteContact(p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
                         p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff, !p.bonded);
         } else {
-            noteApproach(p, -g.overlap, vrel, accel, g.normal);
+            noteApproach(p, cold, -g.overlap, vrel, accel, g.normal);
         }
     }
     m_limits_stale = false;

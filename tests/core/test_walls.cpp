@@ -223,7 +223,7 @@ TEST_CASE("crossing a straight or slightly convex vertex slowly: no force spike"
     for (double kink : {0.0, 0.2, 1.0, 10.0}) {
         const Crossing c = crossHeld(kink, 0.005, 0.01);
         report(
-            "vertex crossing held at 5 mm/s, convex %.0f deg: worst |F_y - W|/W = %.3e, max "
+            "vertex crossing held at 5 mm/s, convex %.1f deg: worst |F_y - W|/W = %.3e, max "
             "contacts %zu\n",
             kink, c.worst, c.max_contacts);
         INFO("kink " << kink << " worst " << c.worst);

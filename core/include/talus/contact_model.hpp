@@ -207,6 +207,10 @@ public:
     virtual ContactModel* Clone(const PropBlock& pb, void* storage) const = 0;
     /// Destroys an object made by Clone, in place (the host frees the storage).
     virtual void Destroy() = 0;
+    /// Moves this per-contact object, state and all, into `storage` (ObjectSize() bytes) and
+    /// destroys it here; returns the object at its new place. The host uses it to keep contact
+    /// objects in the order it visits them (memory locality), so it must be cheap and exact.
+    virtual ContactModel* MoveTo(void* storage) = 0;
 
     // --- cycling
     /// Validates the properties before cycling. Returns nullptr if fine, else an error text.

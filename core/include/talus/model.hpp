@@ -26,6 +26,7 @@
 namespace talus {
 
 class Broadphase;
+struct ContactGeometry;  // narrowphase.hpp
 
 constexpr double kNotSet = std::numeric_limits<double>::quiet_NaN();
 
@@ -278,6 +279,7 @@ public:
     // Internal types (core/src/model_internal.hpp).
     struct BallArrays;
     struct Pair;
+    struct PairCold;
     struct Segment;
     struct WallData;
     struct Rule;
@@ -303,9 +305,10 @@ private:
     template <bool kAuto, bool kEnergy, bool kGuard>
     void forceLoop();          // force_displacement.cpp
     // time-step limits gathered per pair (timestep.cpp)
-    void noteApproach(const Pair& p, double gap, const Vec2& vrel, double accel, const Vec2& normal);
-    void noteContact(const Pair& p, double kn, double ks, double kr, double arm1_sq,
-                     double arm2_sq, double mass_eff, bool impact);
+    void noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel, double accel,
+                      const Vec2& normal);
+    void noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
+                     double arm1_sq, double arm2_sq, double mass_eff, bool impact);
     void surveyPairs();
 
     // helpers
@@ -325,14 +328,21 @@ private:
     ContactModel* cloneFor(Pair& p);
     void refreshRule(Pair& p);
     void resetPair(Pair& p);
-    void endContact(Pair& p, bool check_guard);
+    void endContact(Pair& p, PairCold& c, bool check_guard);
+    void activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
+    void queueBreak(std::size_t index, const Vec2& point, int32_t mode);
+    [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
+    [[noreturn]] void reportPassThrough(const Pair& p, const ContactGeometry& g) const;
     const Rule& ruleFor(uint64_t groups1, uint64_t groups2) const;
     PropBlock propBlockFor(const Pair& p) const;
-    ContactKey keyOf(const Pair& p) const;
-    ContactInfo infoOf(const Pair& p) const;
+    ContactInfo infoOf(std::size_t index) const;
+    /// Geometry of a pair now (for queries): normal, overlap, contact point.
+    bool pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const;
     Pair* pairByKey(ContactKey key);
     const Pair* pairByKey(ContactKey key) const;
+    std::size_t pairIndex(const Pair& p) const;  // index of a pair in m_pairs
     void sortBalls();
+    void repackContactObjects();
     void compactDeleted();
     void flushWarnings();
     [[noreturn]] void throwNonFinite(const std::string& what) const;
@@ -351,6 +361,7 @@ private:
 
     // --- contacts (pairs = broadphase candidates; active pairs carry a model object)
     std::vector<Pair> m_pairs;
+    std::vector<PairCold> m_cold;  // same index as m_pairs
     std::unordered_map<uint64_t, uint32_t> m_pair_index;
     std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
     uint32_t m_rules_version = 1;

@@ -73,6 +73,11 @@ public:
         return new (storage) ThrowerRaw(*this);
     }
     void Destroy() override { this->~ThrowerRaw(); }
+    ContactModel* MoveTo(void* storage) override {
+        auto* moved = new (storage) ThrowerRaw(*this);
+        this->~ThrowerRaw();
+        return moved;
+    }
     const char* PreCycle(const PropBlock&) override { return nullptr; }
     void FDlaw(FdBlock& fd) override {
         if (fd.u_n > 0.0)

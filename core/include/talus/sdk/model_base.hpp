@@ -23,6 +23,7 @@
 #include <limits>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "talus/contact_model.hpp"
@@ -135,6 +136,12 @@ public:
     }
 
     void Destroy() override { self().~Derived(); }
+
+    ContactModel* MoveTo(void* storage) override {
+        Derived* moved = new (storage) Derived(std::move(self()));
+        self().~Derived();
+        return moved;
+    }
 
     const char* PreCycle(const PropBlock&) override {
         for (const auto& p : Derived::Table()) {
