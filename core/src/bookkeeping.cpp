@@ -57,13 +57,19 @@ void Model::removeCycleHook(int handle) {
 
 void Model::flushWarnings() {
     if (m_underresolved > 0) {
-        warn("guard: " + std::to_string(m_underresolved) + " contact(s) lasted fewer than " +
+        warn("guard: " + std::to_string(m_underresolved) + " contact(s) had fewer than " +
              std::to_string(m_guard.min_steps) +
-             " steps, so their restitution and peak force are not resolved (thesis A asks for "
-             "10-20 steps per impact); first: " +
+             " steps per contact duration, so their restitution and peak force are not "
+             "resolved (thesis A asks for 10-20 steps per impact); first: " +
              m_underresolved_first +
              ". Use the automatic step with its resolution rule, or a smaller fixed step.");
         m_underresolved = 0;
+    }
+    if (m_stiffness_lies > 0) {
+        warn("guard: " + std::to_string(m_stiffness_lies) +
+             " contact(s) were stiffer than their model reported; first: " +
+             m_stiffness_lies_first);
+        m_stiffness_lies = 0;
     }
     if (m_energy_gain > 0) {
         warn("guard: " + std::to_string(m_energy_gain) +

@@ -14,6 +14,7 @@
 
 #include "broadphase.hpp"
 #include "model_internal.hpp"
+#include "narrowphase.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
@@ -41,6 +42,13 @@ Box Model::segmentBox(uint32_t seg) const {
     const double h = 0.5 * m_max_activity;
     return Box{Vec2(std::min(a.x(), b.x()) - h, std::min(a.y(), b.y()) - h),
                Vec2(std::max(a.x(), b.x()) + h, std::max(a.y(), b.y()) + h)};
+}
+
+bool Model::segmentGeometry(uint32_t seg, const Vec2& c, double r, ContactGeometry& g) const {
+    const Segment& sg = m_segments[seg];
+    const Vec2* before = sg.prev >= 0 ? &m_vertices[m_segments[sg.prev].a] : nullptr;
+    const Vec2* after = sg.next >= 0 ? &m_vertices[m_segments[sg.next].b] : nullptr;
+    return ballSegmentGeometry(c, r, m_vertices[sg.a], m_vertices[sg.b], before, after, g);
 }
 
 void Model::setBroadphaseMargin(double margin) {

@@ -23,6 +23,8 @@ namespace talus {
 
 namespace {
 
+constexpr std::size_t kPrefetchAhead = 4;
+
 std::string num(double v) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -33,7 +35,8 @@ std::string num(double v) {
 
 void Model::forceDisplacement() {
     const bool automatic = m_timestep.automatic;
-    const bool guard = m_guard.energy != GuardAction::Off || m_guard.resolution != GuardAction::Off;
+    const bool guard = m_guard.energy != GuardAction::Off || m_guard.resolution != GuardAction::Off ||
+                       m_guard.stiffness != GuardAction::Off;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (automatic) {
         if (m_energy_on) guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
@@ -69,8 +72,21 @@ void Model::forceLoop() {
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
 
-    for (std::size_t i = 0; i < m_pairs.size(); ++i) {
+    const std::size_t npairs = m_pairs.size();
+    for (std::size_t i = 0; i < npairs; ++i) {
         Pair& p = m_pairs[i];
+        // The loop is bound by memory latency on the contact objects, which the pair only points
+        // to: fetch a few pairs ahead (measured on the dense-pack benchmark, docs/benchmarks.md).
+        if (i + kPrefetchAhead < npairs) {
+            const Pair& ahead = m_pairs[i + kPrefetchAhead];
+            if (ahead.active) {
+                const char* obj = reinterpret_cast<const char*>(ahead.model);
+                __builtin_prefetch(obj);
+                __builtin_prefetch(obj + 64);
+                __builtin_prefetch(obj + 128);
+                __builtin_prefetch(obj + 192);
+            }
+        }
         const uint32_t s1 = p.end1;
         const Vec2 x1 = pos[s1];
         const double r1 = radius[s1];
@@ -104,10 +120,7 @@ void Model::forceLoop() {
             spin2 = spin[s2];
         } else {
             const Segment& sg = m_segments[p.end2];
-            const bool has_next = sg.next >= 0;
-            const Vec2& after = has_next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
-            if (!ballSegmentGeometry(x1, r1, m_vertices[sg.a], m_vertices[sg.b], sg.prev >= 0,
-                                     has_next, after, g)) {
+            if (!segmentGeometry(p.end2, x1, r1, g)) {
                 // The ball is in a neighbouring segment's region: that segment holds the contact.
                 if (p.active) endContact(p, m_cold[i], false);
                 if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
@@ -224,6 +237,16 @@ void Model::forceLoop() {
                                       fs_old * 0.5 * (c.rate_s + fd.u_dot_s) -
                                       m_old * 0.5 * (c.rate_t + fd.t_dot_rel));
                 c.work_peak = std::max(c.work_peak, c.work);
+                c.knest_max = std::max(c.knest_max, fd.knest);
+                c.dt_max = std::max(c.dt_max, dt);
+                if (first)
+                    c.born_overlapped = g.overlap > std::max(fd.du_n, 0.0) * (1.0 + 1e-9) + 1e-15;
+                // The secant stiffness at the deepest overlap, where the rate (and so a dashpot's
+                // force) is about zero, checks the stiffness the model reports.
+                if (g.overlap > c.overlap_max) {
+                    c.overlap_max = g.overlap;
+                    c.force_at_max = fd.n_force;
+                }
                 c.rate_n = fd.u_dot_n;
                 c.rate_s = fd.u_dot_s;
                 c.rate_t = fd.t_dot_rel;
@@ -305,7 +328,8 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         // The force of this last step acts in the next law of motion; estimate its work with
         // the current rates.
         c.work += m_dt * (p.n_force * c.rate_n - p.s_force * c.rate_s - p.moment * c.rate_t);
-        if (m_guard.energy != GuardAction::Off && c.work_peak > 0.0 &&
+        // A contact created overlapping (by placement) gives back energy it never took.
+        if (m_guard.energy != GuardAction::Off && !c.born_overlapped && c.work_peak > 0.0 &&
             c.work < -m_guard.energy_tolerance * c.work_peak) {
             const std::string what =
                 describePair(p) + " returned " + num(-c.work) + " J more than it took (peak " +
@@ -316,13 +340,32 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
             if (m_guard.energy == GuardAction::Error) throw NumericalError("energy created: " + what);
             if (m_energy_gain++ == 0) m_energy_gain_first = what;
         }
-        if (m_guard.resolution != GuardAction::Off && p.steps < static_cast<uint32_t>(m_guard.min_steps)) {
-            const std::string what = describePair(p) + " lasted " + std::to_string(p.steps) +
-                                     " steps (t = " + num(m_time) + " s, dt = " + num(m_dt) + " s)";
+        // Under-resolved: a step taken during the contact was too large for the impact's own
+        // duration (the model's estimate at touch). A contact that is short for other reasons
+        // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
+        // stiffness check's business.
+        if (m_guard.resolution != GuardAction::Off && !p.bonded &&
+            c.duration < m_guard.min_steps * c.dt_max) {
+            const std::string what = describePair(p) + " had " + num(c.duration / c.dt_max) +
+                                     " steps per contact duration (" + num(c.duration) +
+                                     " s at dt = " + num(c.dt_max) + " s, t = " + num(m_time) +
+                                     " s); it lasted " + std::to_string(p.steps) + " steps";
             if (m_guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
                                      std::to_string(m_guard.min_steps) + " steps are needed");
             if (m_underresolved++ == 0) m_underresolved_first = what;
+        }
+        const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
+        if (m_guard.stiffness != GuardAction::Off && !p.bonded && secant > 2.0 * c.knest_max) {
+            const std::string what =
+                describePair(p) + ": at its deepest overlap its normal force was " +
+                num(secant) + " N/m of overlap while it reported knest up to " +
+                num(c.knest_max) +
+                " N/m; the time step follows knest, so the model must report its true tangent "
+                "stiffness (docs/plugin-abi.md, time-step contract)";
+            if (m_guard.stiffness == GuardAction::Error)
+                throw NumericalError("stiffness under-reported: " + what);
+            if (m_stiffness_lies++ == 0) m_stiffness_lies_first = what;
         }
     }
     resetPair(p);

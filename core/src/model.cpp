@@ -591,12 +591,7 @@ bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& poi
     const Vec2& x1 = b.pos[p.end1];
     ContactGeometry g;
     if (p.wall) {
-        const Segment& sg = m_segments[p.end2];
-        const bool next = sg.next >= 0;
-        const Vec2& after = next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
-        if (!ballSegmentGeometry(x1, b.radius[p.end1], m_vertices[sg.a], m_vertices[sg.b],
-                                 sg.prev >= 0, next, after, g))
-            return false;
+        if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) return false;
     } else {
         const Vec2 d = b.pos[p.end2] - x1;
         const double dist = d.norm();

@@ -103,6 +103,12 @@ struct Model::PairCold {
     double rate_n = 0.0, rate_s = 0.0, rate_t = 0.0;  // half-step rates at the last FDlaw
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
     Vec2 normal{0.0, 0.0};  // at the last FDlaw (guard: pass-through check)
+    // guard
+    double knest_max = 0.0;        // largest reported normal stiffness in this life [N/m]
+    double dt_max = 0.0;           // largest step taken while in contact [s]
+    double overlap_max = 0.0;      // deepest overlap in this life [m]
+    double force_at_max = 0.0;     // normal force there [N]
+    bool born_overlapped = false;  // first touched with more overlap than one step's approach
 };
 
 struct Model::BallArrays {

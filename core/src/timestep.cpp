@@ -57,21 +57,32 @@ double roomInside(const Box& fat, const Box& box) {
 
 void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
                          double accel, const Vec2& normal) {
-    // A pair not yet touching may not close more than half its gap in one step, unless that
-    // step already meets the limits the contact will impose once it exists.
-    const double closing = vrel.norm() + accel * m_dt;
-    if (!(closing > 0.0)) return;
-    const double t_free = 0.5 * std::max(gap, 0.0) / closing;
+    // A pair not yet touching may not close more than half its gap in one step (bounded with
+    // the relative acceleration, so that bodies at rest are covered too), unless that step
+    // already meets the limits the contact will have once it exists.
+    const double t_free = stepForDisplacement(accel, vrel.norm(), 0.5 * std::max(gap, 0.0));
     if (t_free >= m_limits.approach) return;
     const auto& b = *m_balls;
     const double m1 = b.mass[p.end1];
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
     const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
     const double m_min = p.wall ? m1 : std::min(m1, m2);
-    double lim = m_timestep.safety * std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300));
-    if (m_timestep.resolution > 0.0)
-        lim = std::min(lim, contactDuration(p, p.knest, m_eff, std::max(0.0, -vrel.dot(normal))) /
-                                m_timestep.resolution);
+    // The impact's duration depends on its speed for nonlinear laws (Hertz: v^-1/5); the speed
+    // at touch includes what the acceleration adds within a step, so iterate step -> speed.
+    const double approach = std::max(0.0, -vrel.dot(normal));
+    const double n_res = m_timestep.resolution;
+    double dt = std::max(m_dt, 1e-9 * c.duration);
+    double duration = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        duration = contactDuration(p, p.knest, m_eff, approach + accel * dt);
+        dt = duration / (n_res > 0.0 ? n_res : M_PI);
+        if (!(dt < 1e300)) break;
+    }
+    // Stability of the contact about to form: `safety` of its own time scale duration/pi
+    // (= sqrt(m*/k) for a linear spring), which also covers laws with no stiffness at touch.
+    double lim = m_timestep.safety *
+                 std::min(std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300)), duration / M_PI);
+    if (n_res > 0.0) lim = std::min(lim, duration / n_res);
     const double d = std::max(t_free, lim);
     if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = c.key;
 }
@@ -85,10 +96,14 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
         b.k_tran[p.end2] += kn + ks;
         b.k_rot[p.end2] += ks * arm2_sq + kr;
     }
-    // A bond is not an impact: bonded contacts get the stability rule only.
-    if (impact && m_timestep.resolution > 0.0) {
-        const double d = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0)) /
-                         m_timestep.resolution;
+    if (!impact) return;  // a bond is not an impact: bonded contacts get the stability rule only
+    const double duration = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0));
+    // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
+    // large steps early in an impact: bound the step by `safety` of the impact's time scale.
+    const double stable = m_timestep.safety * duration / M_PI;
+    if (stable < m_limits.stability) m_limits.stability = stable, m_limits.stability_key = c.key;
+    if (m_timestep.resolution > 0.0) {
+        const double d = duration / m_timestep.resolution;
         if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = c.key;
     }
 }
@@ -108,13 +123,8 @@ void Model::surveyPairs() {
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
         double accel;
         if (p.wall) {
-            const Segment& sg = m_segments[p.end2];
-            const bool next = sg.next >= 0;
-            const Vec2& after = next ? m_vertices[m_segments[sg.next].b] : m_vertices[sg.b];
-            if (!ballSegmentGeometry(x1, b.radius[p.end1], m_vertices[sg.a], m_vertices[sg.b],
-                                     sg.prev >= 0, next, after, g))
-                continue;
-            const WallData& w = m_walls[sg.wall];
+            if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) continue;
+            const WallData& w = m_walls[m_segments[p.end2].wall];
             x2 = w.center;
             v2 = w.vel + spinCross(w.spin, g.point - x2);
             accel = ((b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1] + m_gravity).norm();
@@ -183,7 +193,12 @@ void Model::computeTimestep() {
     }
     if (rule == StepRule::Stability) where = StepWhere{StepWhere::Ball, worst, 0};
 
-    // Resolution and approach, per pair (gathered by the force loop).
+    // Stability, resolution and approach, per pair (gathered by the force loop).
+    if (m_limits.stability < dt) {
+        dt = m_limits.stability;
+        rule = StepRule::Stability;
+        where = StepWhere{StepWhere::Pair, 0, m_limits.stability_key};
+    }
     if (m_limits.resolution < dt) {
         dt = m_limits.resolution;
         rule = StepRule::Resolution;

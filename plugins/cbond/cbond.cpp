@@ -29,6 +29,7 @@
 #include <limits>
 
 #include "talus/contact_model.hpp"
+#include "talus/sdk/corners.hpp"
 #include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/model_base.hpp"
 #include "talus/sdk/shear_spring.hpp"
@@ -63,6 +64,8 @@ public:
     double u_ref_ = 0.0;  // overlap at which the normal force is zero [m]
     bool started_ = false;
     bool touching_ = false;
+    bool sliding_ = false;        // the slider slid at the last contact step
+    double last_engaged_ = 0.0;   // u_n - u_ref at the last contact step [m]
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off
@@ -126,6 +129,7 @@ public:
         }
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
         double slip_work = 0.0, released = 0.0;
+        Corners corner;
 
         // Only the part of the first step after the spring engaged loads the shear spring: a
         // bond engages at the activity distance, an unbonded contact at u_n = u_ref.
@@ -157,21 +161,33 @@ public:
                 }
             }
         } else if (u - u_ref_ > 0.0) {
-            // Unbonded: the linear law without tension (accuracy-reference 3.2).
+            // Unbonded: the linear law without tension (accuracy-reference 3.2), with the
+            // corner impulses at touch (talus/sdk/corners.hpp).
+            const bool first = !touching_;
             cb_fn = kn * (u - u_ref_);
             const ShearResult sr = updateShearSpring(cb_fs, ks, du_s, fric * cb_fn);
             slip_work = sr.slip_work;
+            sliding_ = sr.sliding;
             if (sr.sliding) fd.flags |= kFdSliding;
+            if (first)
+                corner = linearOnsetCorners(kn, ks, fric, cb_fs, sr.sliding, fd,
+                                            onsetFraction(u - u_ref_, fd.du_n));
             touching_ = true;
+            last_engaged_ = u - u_ref_;
         } else {
+            // Separated: the corner impulses still owed for the last contact step.
+            if (touching_)
+                corner = linearClosingCorners(kn, ks, fric, cb_fs, sliding_, fd,
+                                              closingFraction(last_engaged_, u - u_ref_), true);
             cb_fn = 0.0;
             slip_work = springEnergy(cb_fs, ks);  // the slider lets go as F_n vanishes
             cb_fs = 0.0;
             touching_ = false;
+            sliding_ = false;
         }
 
-        fd.n_force = cb_fn;
-        fd.s_force = cb_fs;
+        fd.n_force = cb_fn + corner.normal;
+        fd.s_force = cb_fs + corner.shear;
         fd.moment = 0.0;
         fd.knest = kn;
         fd.ksest = ks;
@@ -192,9 +208,11 @@ public:
         so.Double(u_ref_);
         so.Bool(started_);
         so.Bool(touching_);
+        so.Bool(sliding_);
+        so.Double(last_engaged_);
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
     double KnEstimate() const override { return kn; }
     double KsEstimate() const override { return ks; }
     double ContactDuration(double mass_eff, double) const override {

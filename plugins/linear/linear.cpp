@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "talus/contact_model.hpp"
+#include "talus/sdk/corners.hpp"
 #include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/model_base.hpp"
 #include "talus/sdk/shear_spring.hpp"
@@ -102,21 +103,39 @@ public:
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
 
         if (fd.u_n <= 0.0) {
-            // Separated: pay the dashpot impulse still owed for the part of the last step spent
-            // in contact (full mode only; with the no-tension limit the force was already zero).
-            double closing = 0.0;
-            if (touching_ && !noTension())
-                closing = dashpotClosingForce(normal_dashpot_.coefficient(), fd.u_dot_n,
-                                              last_overlap_, fd.u_n);
+            // Separated. Pay what the last contact step owed for the part of the step the
+            // contact lasted beyond (or fell short of) the step's centre (talus/sdk/dashpot.hpp):
+            // the dashpots and the shear spring act until separation; the normal spring's force
+            // falls to zero there (a corner). With the no-tension limit and a normal dashpot the
+            // normal force had already reached zero before the overlap did: nothing is owed.
+            double closing_n = 0.0, closing_s = 0.0, released_shear = 0.0, dash = 0.0;
+            if (touching_) {
+                const double frac = closingFraction(last_overlap_, fd.u_n);
+                const double cn = normal_dashpot_.coefficient();
+                const bool normal_corner = !noTension() || cn <= 0.0;
+                const Corners k =
+                    linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd, frac,
+                                         normal_corner);
+                const double dn =
+                    normal_corner ? dashpotClosingForce(cn, fd.u_dot_n, last_overlap_, fd.u_n) : 0.0;
+                const double ds = dashpotClosingForce(shear_dashpot_.coefficient(), fd.u_dot_s,
+                                                      last_overlap_, fd.u_n);
+                closing_n = k.normal + dn;
+                closing_s = k.shear - ds;
+                dash += dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
+                // The shear spring lets go as the contact ends: its energy goes to friction.
+                released_shear = springEnergy(lin_fs, ks);
+            }
             touching_ = false;
             lin_fn = lin_fs = dp_fs = lin_slip = 0.0;
-            dp_fn = closing;
-            fd.n_force = closing;
-            fd.s_force = 0.0;
+            dp_fn = 0.0;
+            fd.n_force = closing_n;
+            fd.s_force = closing_s;
             fd.moment = 0.0;
             if (energy) {
                 fd.energy[kEnergyStrain] = 0.0;
-                fd.energy[kEnergyDashpot] = closing * fd.du_n;  // impulse times rate
+                fd.energy[kEnergySlip] = released_shear;
+                fd.energy[kEnergyDashpot] = dash;  // impulse times rate
             }
             writeEstimates(fd);
             last_overlap_ = fd.u_n;
@@ -139,8 +158,12 @@ public:
             ds = shear_dashpot_.force(fd.u_dot_s, -lin_fs, dt, lead);
         dp_fs = -ds;
 
-        fd.n_force = lin_fn + dp_fn;
-        fd.s_force = lin_fs + dp_fs;
+        // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);
+        // a sliding shear force follows the normal spring's corner (Coulomb).
+        const Corners corner =
+            first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
+        fd.n_force = lin_fn + dp_fn + corner.normal;
+        fd.s_force = lin_fs + dp_fs + corner.shear;
         fd.moment = 0.0;
         if (sr.sliding) fd.flags |= kFdSliding;
         writeEstimates(fd);

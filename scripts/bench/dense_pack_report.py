@@ -19,7 +19,8 @@ COLUMNS = [
     "mode", "n", "steps", "warmup", "rep", "load1", "wall_s", "cpu_s", "ns_per_particle_step",
     "contacts_per_particle", "ball_contacts_per_particle", "wall_contacts",
     "pairs_per_particle", "t_timestep", "t_motion", "t_detection", "t_force", "t_bookkeeping",
-    "t_pair", "t_neigh", "t_comm", "t_output", "t_modify", "t_other", "neigh_builds", "guard",
+    "t_pair", "t_neigh", "t_comm", "t_output", "t_modify", "t_other", "neigh_builds",
+    "proxy_moves", "pairs_created", "contacts_created", "ke_start", "ke_end", "guard",
 ]
 
 TALUS_PHASES = [("t_timestep", "timestep"), ("t_motion", "law of motion"),
@@ -85,6 +86,18 @@ def report(raw, csv_path, meta):
     runs = read_raw(raw)
     if not runs:
         sys.exit(f"no runs in {raw}")
+    # Older files may have fewer columns: rewrite them under the current header first, so that
+    # every row of a file matches its header.
+    if os.path.exists(csv_path):
+        with open(csv_path, newline="") as f:
+            old = list(csv.DictReader(f))
+            f.seek(0)
+            header = next(csv.reader(f), [])
+        if header != COLUMNS:
+            with open(csv_path, "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
+                w.writeheader()
+                w.writerows(old)
     new = not os.path.exists(csv_path)
     with open(csv_path, "a", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
@@ -111,7 +124,7 @@ def report(raw, csv_path, meta):
              ("lammps", "sorted"): "LAMMPS gran/hooke/history"}
     print(f"\nSession {meta.get('session')} on {meta.get('cpu')} ({meta.get('machine')}); "
           f"Talus {meta.get('compiler')} {meta.get('flags')}; LAMMPS {meta.get('lammps_version')}")
-    print("\n| N | code | ns/particle-step (min) | spread | CPU use | contacts/particle "
+    print("\n| N | code | ns/particle-step (min) | spread | CPU use | ball-ball contacts/particle "
           "| pairs/particle | steps | wall time (min) | runs |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     best = {}
@@ -124,7 +137,7 @@ def report(raw, csv_path, meta):
         cpu_use = 100.0 * float(b.get("cpu_s", 0)) / float(b["wall_s"])
         print(f"| {key[0]} | {label.get(key[1:], key[1] + ' ' + key[2])} | {fmt(min(ns))} | "
               f"{fmt(spread, 0)}% | {fmt(cpu_use, 0)}% | "
-              f"{float(b.get('contacts_per_particle', 'nan')):.3f} | "
+              f"{float(b.get('ball_contacts_per_particle', 'nan')):.3f} | "
               f"{float(b.get('pairs_per_particle', 'nan')):.3f} | {b['steps']} | "
               f"{float(b['wall_s']):.2f} s | {len(rs)} |")
     print("\nPer-phase time of the fastest run, ns per particle-step (share of the total):\n")

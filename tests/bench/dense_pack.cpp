@@ -141,6 +141,7 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     model.profile().enabled = o.profile;
     if (o.warmup > 0) model.cycle(o.warmup);
     model.profile().reset();
+    const double ke_start = talus::meanKineticEnergy(model);
 
     const auto t0 = Clock::now();
     const std::clock_t c0 = std::clock();
@@ -170,22 +171,24 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
                 "particle %.4f\n",
                 double(active) / n, double(active - wall_contacts) / n, wall_contacts,
                 double(pairs) / n);
-    std::printf("mean KE per disk %.3g J, floor carries %.4f of the weight\n",
-                talus::meanKineticEnergy(model), floor_share);
+    const double ke_end = talus::meanKineticEnergy(model);
+    std::printf("mean KE per disk %.3g J at the start, %.3g J at the end; the floor carries %.4f "
+                "of the weight\n",
+                ke_start, ke_end, floor_share);
     if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
     std::printf(
         "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
         "profile=%d wall_s=%.6f cpu_s=%.6f ns_per_particle_step=%.4f contacts_per_particle=%.5f "
         "ball_contacts_per_particle=%.5f wall_contacts=%zu pairs_per_particle=%.5f "
         "t_timestep=%.6f t_motion=%.6f t_detection=%.6f t_force=%.6f t_bookkeeping=%.6f "
-        "proxy_moves=%lld pairs_created=%lld contacts_created=%lld\n",
+        "proxy_moves=%lld pairs_created=%lld contacts_created=%lld ke_start=%.4g ke_end=%.4g\n",
         o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
         sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
         guard_on ? "on" : "off", o.profile ? 1 : 0, wall, cpu, ns, double(active) / n,
         double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep,
         p.motion, p.detection, p.force_displacement, p.bookkeeping,
         static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
-        static_cast<long long>(p.contacts_created));
+        static_cast<long long>(p.contacts_created), ke_start, ke_end);
     std::fflush(stdout);
 }
 

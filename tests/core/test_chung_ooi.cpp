@@ -25,6 +25,7 @@
 // duration 1e-3, peak force and overlap 2e-3, restitution 1e-3 undamped and 5e-3 damped (the
 // requirement of test_restitution.cpp).
 #include <catch2/catch.hpp>
+#include <tuple>
 
 #include "test_support.hpp"
 

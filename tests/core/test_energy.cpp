@@ -116,16 +116,11 @@ TEST_CASE("energy balance of a normal bounce in both dashpot modes", "[core][ene
     }
 }
 
-// Fails today. A sticking contact that separates while its shear spring is loaded loses the
-// spring energy 1/2 F_s^2 / k_s. The engine books as `released` what the model reports at the
-// step the contact ends (force_displacement.cpp: p.strain of that FDlaw call, plus the model's
-// kEnergyReleased), but the linear model's separated branch (plugins/linear/linear.cpp,
-// Linear::fdlaw, u_n <= 0) zeroes lin_fs and reports strain 0 and no released energy; so the
-// energy is in no category and the balance misses it by a constant that does not shrink with
-// the step (measured 2.7% of the energy in for ks = kn/2, V_s = v_n/2, mu = 1e9, at every step
-// size). Requirement: as for the sliding case, a residual that decreases with the step and is
-// below 1% at the default.
-TEST_CASE("energy balance when a loaded shear spring separates", "[core][energy][!mayfail]") {
+// A sticking contact that separates while its shear spring is loaded must book the spring's
+// energy 1/2 F_s^2 / k_s somewhere (the linear model reports it as slip work when the spring lets
+// go; an earlier version dropped it and the balance missed 2.7% of the energy in at every step).
+// Requirement: a residual that decreases with the step and is below 1% at the default.
+TEST_CASE("energy balance when a loaded shear spring separates", "[core][energy]") {
     const Bounce c{linearProps(kKn, 0.5 * kKn, 1e9), Vec2(0.5, -1.0), 0.0};
     std::vector<double> mean;
     for (int n : {30, 60, 120, 240}) mean.push_back(balanceStats(c, n, 10, 300 + n).mean());

@@ -97,9 +97,13 @@ struct GuardSettings {
     /// A contact that returned more energy than it took over its life (docs/physics/guard.md).
     GuardAction energy = GuardAction::Warn;
     double energy_tolerance = 0.01;  ///< allowed gain as a fraction of the peak energy taken
-    /// An impact resolved in fewer than `min_steps` steps (thesis A: 10-20 per impact).
+    /// A contact whose step was too large for its own time scale: fewer than `min_steps` steps
+    /// per contact duration at the stiffness the model reported (thesis A: 10-20 per impact).
     GuardAction resolution = GuardAction::Warn;
     int min_steps = 10;
+    /// A model whose forces change faster than its reported stiffness allows (the time step
+    /// follows the reported stiffness, so an under-reporting model gets too large a step).
+    GuardAction stiffness = GuardAction::Warn;
 };
 
 /// Law-of-motion damping options.
@@ -321,6 +325,8 @@ private:
     void insertBall(uint32_t slot);
     void insertSegment(uint32_t seg);
     Box ballBox(uint32_t slot) const;
+    /// Ball against wall segment `seg` with the chain's shared-vertex rule (narrowphase.hpp).
+    bool segmentGeometry(uint32_t seg, const Vec2& centre, double radius, ContactGeometry& g) const;
     Box segmentBox(uint32_t seg) const;
     void addPairsFor(int32_t proxy_id);
     bool makePair(uint32_t ball_slot, uint32_t other, bool other_is_segment);
@@ -400,9 +406,10 @@ private:
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).
     struct StepLimits {
+        double stability = std::numeric_limits<double>::infinity();
         double resolution = std::numeric_limits<double>::infinity();
         double approach = std::numeric_limits<double>::infinity();
-        uint64_t resolution_key = 0, approach_key = 0;
+        uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
     } m_limits;
 
     // --- energy: running sums, and the snapshot at the last whole step (energy.md)
@@ -415,6 +422,8 @@ private:
     std::string m_underresolved_first;
     int64_t m_energy_gain = 0;
     std::string m_energy_gain_first;
+    int64_t m_stiffness_lies = 0;
+    std::string m_stiffness_lies_first;
 
     // --- hooks and events
     struct Hook {

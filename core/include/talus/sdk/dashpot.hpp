@@ -31,6 +31,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "talus/sdk/corners.hpp"
+
 namespace talus::sdk {
 
 /// Dashpot coefficient for a critical damping ratio `beta` [-] (accuracy-reference 1.1):
@@ -104,9 +106,8 @@ inline double dashpotEnergy(double c, double applied, double unclipped, double d
 /// `overlap` are the overlaps at the last contact step and now (<= 0); `rate` the rate over
 /// the step between them.
 inline double dashpotClosingForce(double c, double rate, double last_overlap, double overlap) {
-    if (c <= 0.0 || last_overlap <= overlap) return 0.0;
-    const double frac = last_overlap / (last_overlap - overlap);  // tau'/dt in [0, 1]
-    return c * rate * (frac - 0.5);
+    if (c <= 0.0) return 0.0;
+    return c * rate * (closingFraction(last_overlap, overlap) - 0.5);
 }
 
 }  // namespace talus::sdk
