@@ -166,6 +166,10 @@ void Model::forceLoop() {
         fd.du_s = fd.u_dot_s * dt;
         fd.dtheta = fd.t_dot_rel * dt;
         fd.mass_eff = mass_eff;
+        fd.inv_mass_eff_s = b.inv_mass[s1] + r1c.squaredNorm() * b.inv_inertia[s1];
+        if (!p.wall)
+            fd.inv_mass_eff_s +=
+                b.inv_mass[p.end2] + (g.point - x2).squaredNorm() * b.inv_inertia[p.end2];
         const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
         fd.n_force = fn_old;
         fd.s_force = fs_old;

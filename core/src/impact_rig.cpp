@@ -206,6 +206,8 @@ DriveResult driveContact(const DriveSetup& s, PluginRegistry& registry) {
     fd.version = TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR;
     fd.tdel = s.dt;
     fd.mass_eff = pb.mass_eff;
+    // Disks touching at their rims: r^2 / I = 2 / m per end.
+    fd.inv_mass_eff_s = 3.0 / s.mass + (s.ball_target ? 3.0 / s.target_mass : 0.0);
     bool active = false;
     double u_prev = 0.0, us_prev = 0.0;
     for (std::size_t i = 0; i < s.overlap.size(); ++i) {

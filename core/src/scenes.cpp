@@ -53,7 +53,8 @@ Lattice latticeFor(const DensePackDef& d) {
     l.spacing = 2.0 * d.r_max * (1.0 + d.lattice_gap);
     l.pitch = l.spacing * std::sqrt(3.0) / 2.0;
     // cols * a / (rows * pitch) = aspect with cols * rows ~ n.
-    l.cols = std::max(1, static_cast<int>(std::ceil(std::sqrt(d.n * d.aspect * l.pitch / l.spacing))));
+    l.cols =
+        std::max(1, static_cast<int>(std::ceil(std::sqrt(d.n * d.aspect * l.pitch / l.spacing))));
     l.rows = (d.n + l.cols - 1) / l.cols;
     // Odd rows are shifted by half a spacing, so the box is half a spacing wider.
     l.width = l.cols * l.spacing + (l.rows > 1 ? 0.5 * l.spacing : 0.0);
@@ -127,12 +128,14 @@ double dampingRatioForRestitution(double e, bool no_tension) {
     // e = exp(-beta (pi - 2 asin beta) / sqrt(1 - beta^2)) has no closed inverse; e falls
     // monotonically with beta on [0, 1), towards exp(-2) as beta -> 1, so bisect.
     if (e <= std::exp(-2.0))
-        throw InputError("a no-tension dashpot cannot give a restitution below exp(-2) = 0.135 "
-                         "(damping ratio < 1)");
+        throw InputError(
+            "a no-tension dashpot cannot give a restitution below exp(-2) = 0.135 "
+            "(damping ratio < 1)");
     double lo = 0.0, hi = 1.0 - 1e-12;
     for (int i = 0; i < 100; ++i) {
         const double mid = 0.5 * (lo + hi);
-        const double em = std::exp(-mid * (M_PI - 2.0 * std::asin(mid)) / std::sqrt(1.0 - mid * mid));
+        const double em =
+            std::exp(-mid * (M_PI - 2.0 * std::asin(mid)) / std::sqrt(1.0 - mid * mid));
         (em > e ? lo : hi) = mid;
     }
     return 0.5 * (lo + hi);
@@ -167,8 +170,7 @@ DensePack buildDensePack(Model& model, const DensePackDef& d) {
         }
     }
     if (d.shuffle)  // Fisher-Yates
-        for (std::size_t i = balls.size(); i > 1; --i)
-            std::swap(balls[i - 1], balls[rng.below(i)]);
+        for (std::size_t i = balls.size(); i > 1; --i) std::swap(balls[i - 1], balls[rng.below(i)]);
 
     DensePack pack = setUpBox(model, d, lat.width, lat.height);
     pack.balls.reserve(balls.size());
@@ -196,7 +198,8 @@ SettleResult settleDensePack(Model& model, const DensePack& pack, const DensePac
     if (s.check_every < 1) throw InputError("settle: check_every must be >= 1");
     SettleResult r;
     double mean_mass = 0.0, mean_radius = 0.0;
-    for (BallId id : pack.balls) mean_mass += model.ballMass(id), mean_radius += model.ballRadius(id);
+    for (BallId id : pack.balls)
+        mean_mass += model.ballMass(id), mean_radius += model.ballRadius(id);
     const double nb = std::max<double>(1.0, static_cast<double>(pack.balls.size()));
     mean_mass /= nb;
     mean_radius /= nb;
@@ -256,8 +259,8 @@ PackState capturePackState(const Model& model, const DensePack& pack, const Dens
     st.balls.reserve(pack.balls.size());
     for (BallId id : pack.balls) {
         const Vec2 x = model.ballPos(id), v = model.ballVel(id);
-        st.balls.push_back(PackBall{model.ballRadius(id), x.x(), x.y(), v.x(), v.y(),
-                                    model.ballSpin(id)});
+        st.balls.push_back(
+            PackBall{model.ballRadius(id), x.x(), x.y(), v.x(), v.y(), model.ballSpin(id)});
     }
     return st;
 }
@@ -309,7 +312,8 @@ PackState loadPackState(const std::string& path) {
         return InputError("dense-pack state '" + path + "': " + what);
     };
     char line[256];
-    if (!std::fgets(line, sizeof line, in) || std::strncmp(line, kStateMagic, std::strlen(kStateMagic)) != 0)
+    if (!std::fgets(line, sizeof line, in) ||
+        std::strncmp(line, kStateMagic, std::strlen(kStateMagic)) != 0)
         throw bad("not a dense-pack state file (first line)");
     PackState st;
     DensePackDef& d = st.def;
@@ -379,10 +383,11 @@ void writeLammpsData(const PackState& st, const std::string& path) {
     File f = openFile(path, "w");
     std::FILE* o = f.get();
     const DensePackDef& d = st.def;
-    std::fprintf(o,
-                 "LAMMPS data file: Talus dense pack, n %d, seed %llu (units si; the density column "
-                 "needs 'set ... density/disc' for disk masses)\n\n",
-                 d.n, static_cast<unsigned long long>(d.seed));
+    std::fprintf(
+        o,
+        "LAMMPS data file: Talus dense pack, n %d, seed %llu (units si; the density column "
+        "needs 'set ... density/disc' for disk masses)\n\n",
+        d.n, static_cast<unsigned long long>(d.seed));
     std::fprintf(o, "%zu atoms\n1 atom types\n\n", st.balls.size());
     std::fprintf(o, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n%.17g %.17g zlo zhi\n\n", st.width,
                  st.height, -d.r_max, d.r_max);

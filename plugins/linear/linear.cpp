@@ -5,6 +5,8 @@
 //   normal:  F_n^l = kn u_n                       (secant, absolute; no tension)
 //   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (accuracy-reference 3.2)
 //   dashpot: F^d = c (rate), c_n = 2 dp_nratio sqrt(m* kn), c_s = 2 dp_sratio sqrt(m* ks)
+//            (PFC's coefficients; the implicit solve of the shear dashpot uses the tangential
+//            effective mass, rotation included, FdBlock::inv_mass_eff_s)
 //   dp_mode: 0 full; 1 total normal force >= 0; 2 shear dashpot off while sliding; 3 = 1 and 2
 //
 // kn, ks and fric are inherited from the ends when they define them (springs in series,
@@ -155,7 +157,7 @@ public:
         dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
         double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds = shear_dashpot_.force(fd.u_dot_s, -lin_fs, dt, lead);
+            ds = shear_dashpot_.force(fd.u_dot_s, -lin_fs, dt, lead, fd.inv_mass_eff_s);
         dp_fs = -ds;
 
         // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);

@@ -22,9 +22,9 @@
 // scripts/bench/dense_pack.sh collects them.
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -70,17 +70,28 @@ Options parse(int argc, char** argv) {
             if (i + 1 >= argc) usage(("missing value after " + a).c_str());
             return argv[++i];
         };
-        if (a == "--state") o.state_path = value();
-        else if (a == "--export-lammps") o.lammps_path = value();
-        else if (a == "--warmup") o.warmup = std::atoll(value().c_str());
-        else if (a == "--sort-interval") o.sort_interval = std::atoll(value().c_str());
-        else if (a == "--seed") o.seed = std::strtoull(value().c_str(), nullptr, 10);
-        else if (a == "--aspect") o.aspect = std::atof(value().c_str());
-        else if (a == "--guard") o.guard = value();
-        else if (a == "--no-profile") o.profile = false;
-        else if (a == "--settle-only") o.settle_only = true;
-        else if (a.rfind("--", 0) == 0) usage(("unknown option " + a).c_str());
-        else pos.push_back(a);
+        if (a == "--state")
+            o.state_path = value();
+        else if (a == "--export-lammps")
+            o.lammps_path = value();
+        else if (a == "--warmup")
+            o.warmup = std::atoll(value().c_str());
+        else if (a == "--sort-interval")
+            o.sort_interval = std::atoll(value().c_str());
+        else if (a == "--seed")
+            o.seed = std::strtoull(value().c_str(), nullptr, 10);
+        else if (a == "--aspect")
+            o.aspect = std::atof(value().c_str());
+        else if (a == "--guard")
+            o.guard = value();
+        else if (a == "--no-profile")
+            o.profile = false;
+        else if (a == "--settle-only")
+            o.settle_only = true;
+        else if (a.rfind("--", 0) == 0)
+            usage(("unknown option " + a).c_str());
+        else
+            pos.push_back(a);
     }
     if (pos.size() < 2 || pos.size() > 3) usage("need N and STEPS");
     o.n = std::atoi(pos[0].c_str());
@@ -112,10 +123,11 @@ talus::PackState settledState(const Options& o, const talus::DensePackDef& def) 
     const talus::DensePack pack = talus::buildDensePack(model, def);
     const talus::SettleResult sr = talus::settleDensePack(model, pack, def);
     const double wall = seconds(t0, Clock::now());
-    std::printf("settle: %lld steps (%.4f s simulated, %.4f s of it undamped) in %.1f s wall, "
-                "KE/disk %.3g J (limit %.3g J)%s\n",
-                static_cast<long long>(sr.steps), sr.time, sr.fall_time, wall, sr.ke_per_ball,
-                sr.ke_limit, sr.converged ? "" : " -- NOT converged (time cap)");
+    std::printf(
+        "settle: %lld steps (%.4f s simulated, %.4f s of it undamped) in %.1f s wall, "
+        "KE/disk %.3g J (limit %.3g J)%s\n",
+        static_cast<long long>(sr.steps), sr.time, sr.fall_time, wall, sr.ke_per_ball, sr.ke_limit,
+        sr.converged ? "" : " -- NOT converged (time cap)");
     std::printf("box %.6g m x %.6g m, weight %.6g N\n", pack.width, pack.height, pack.weight);
     talus::PackState st = talus::capturePackState(model, pack, def);
     if (!o.state_path.empty()) {
@@ -161,20 +173,22 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     double floor_share = 0.0;
     if (pack.weight > 0.0) floor_share = -model.wallForce(pack.floor).y() / pack.weight;
 
-    std::printf("\n== Talus dense pack, N = %d, %lld steps (after %lld warm-up), memory order %s%s\n",
-                o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
-                sorted ? "sorted every " : "unsorted",
-                sorted ? (std::to_string(o.sort_interval) + " steps").c_str() : "");
+    std::printf(
+        "\n== Talus dense pack, N = %d, %lld steps (after %lld warm-up), memory order %s%s\n", o.n,
+        static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
+        sorted ? "sorted every " : "unsorted",
+        sorted ? (std::to_string(o.sort_interval) + " steps").c_str() : "");
     std::printf("wall time %.3f s (%.1f%% CPU use): %.2f ns per particle-step\n", wall,
                 100.0 * cpu / wall, ns);
-    std::printf("contacts per particle %.4f (ball-ball %.4f, %zu wall contacts), pairs per "
-                "particle %.4f\n",
-                double(active) / n, double(active - wall_contacts) / n, wall_contacts,
-                double(pairs) / n);
+    std::printf(
+        "contacts per particle %.4f (ball-ball %.4f, %zu wall contacts), pairs per "
+        "particle %.4f\n",
+        double(active) / n, double(active - wall_contacts) / n, wall_contacts, double(pairs) / n);
     const double ke_end = talus::meanKineticEnergy(model);
-    std::printf("mean KE per disk %.3g J at the start, %.3g J at the end; the floor carries %.4f "
-                "of the weight\n",
-                ke_start, ke_end, floor_share);
+    std::printf(
+        "mean KE per disk %.3g J at the start, %.3g J at the end; the floor carries %.4f "
+        "of the weight\n",
+        ke_start, ke_end, floor_share);
     if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
     std::printf(
         "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
@@ -185,10 +199,10 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
         o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
         sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
         guard_on ? "on" : "off", o.profile ? 1 : 0, wall, cpu, ns, double(active) / n,
-        double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep,
-        p.motion, p.detection, p.force_displacement, p.bookkeeping,
-        static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
-        static_cast<long long>(p.contacts_created), ke_start, ke_end);
+        double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep, p.motion,
+        p.detection, p.force_displacement, p.bookkeeping, static_cast<long long>(p.proxy_moves),
+        static_cast<long long>(p.pairs_created), static_cast<long long>(p.contacts_created),
+        ke_start, ke_end);
     std::fflush(stdout);
 }
 

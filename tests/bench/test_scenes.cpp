@@ -4,12 +4,11 @@
 // a small pack settles to rest, the walls carry its weight, no contact is overlapped by more
 // than a small fraction of a radius, and the saved state round-trips exactly.
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
-
-#include <catch2/catch.hpp>
 
 #include "talus/model.hpp"
 #include "talus/scenes.hpp"
@@ -63,11 +62,11 @@ TEST_CASE("dense pack: deterministic and overlap-free at build", "[scenes]") {
         CHECK(r >= d.r_min);
         CHECK(r <= d.r_max);
         const Vec2 x = a.ballPos(pa.balls[i]);
-        min_gap = std::min({min_gap, x.x() - r, pa.width - x.x() - r, x.y() - r,
-                            pa.height - x.y() - r});
+        min_gap =
+            std::min({min_gap, x.x() - r, pa.width - x.x() - r, x.y() - r, pa.height - x.y() - r});
         for (std::size_t j = 0; j < i; ++j)
-            min_gap = std::min(min_gap, (x - a.ballPos(pa.balls[j])).norm() - r -
-                                            a.ballRadius(pa.balls[j]));
+            min_gap = std::min(min_gap,
+                               (x - a.ballPos(pa.balls[j])).norm() - r - a.ballRadius(pa.balls[j]));
     }
     CHECK(min_gap > 0.0);
 }
@@ -96,7 +95,8 @@ TEST_CASE("dense pack: settles to rest with the weight on the walls", "[scenes]"
     // i.e. overlaps of a few micrometres with kn = 1e6 N/m; 1% of the smallest radius (8 um)
     // is a generous bound that a wrong stiffness, mass or gravity would still break.
     double max_overlap = 0.0;
-    for (const ContactInfo& c : model.contacts(true)) max_overlap = std::max(max_overlap, c.overlap);
+    for (const ContactInfo& c : model.contacts(true))
+        max_overlap = std::max(max_overlap, c.overlap);
     INFO("max overlap " << max_overlap << " m");
     CHECK(max_overlap > 0.0);
     CHECK(max_overlap < 0.01 * d.r_min);

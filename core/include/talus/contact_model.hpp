@@ -110,6 +110,11 @@ struct FdBlock {
     double du_s;       ///< shear displacement increment, u_dot_s * tdel [m]
     double dtheta;     ///< relative rotation increment, t_dot_rel * tdel [rad]
     double mass_eff;   ///< effective inertial mass m1 m2 / (m1 + m2), or m1 for a wall [kg]
+    /// Inverse effective mass for relative motion along t at the contact point, rotation
+    /// included: 1/m1 + r1^2/I1 (+ 1/m2 + r2^2/I2), r the centre-to-contact distance [1/kg].
+    /// (For a rolling disk on a wall this is 3/m: the tangential motion is three times as
+    /// mobile as the normal one; a shear dashpot integrated implicitly needs it.)
+    double inv_mass_eff_s;
     double time;       ///< simulated time at this step [s]
 
     // --- in/out: contact forces (previous values on entry)
@@ -130,7 +135,7 @@ struct FdBlock {
     int32_t break_mode;  ///< BreakMode, with kFdBroken
     int32_t reserved0;
     const char* error;  ///< out: message when status != 0 (model-owned storage)
-    double reserved[4];
+    double reserved[3];
 };
 
 /// Properties of the two ends, handed to Clone and PreCycle. A property an end does not define

@@ -34,9 +34,9 @@ struct DensePackDef {
     /// Dashpot mode of the linear model. 0 (full: the dashpot may pull) is what LAMMPS
     /// gran/hooke/history does without its `limit_damping` keyword, so it is the default.
     int dp_mode = 0;
-    double aspect = 4.0;        ///< box width / box height; a wide, low box settles quickly
-    double gravity = 9.81;      ///< [m/s^2], pointing -y
-    double timestep = 1e-5;     ///< [s] fixed step
+    double aspect = 4.0;     ///< box width / box height; a wide, low box settles quickly
+    double gravity = 9.81;   ///< [m/s^2], pointing -y
+    double timestep = 1e-5;  ///< [s] fixed step
     /// Lattice spacing = 2 r_max (1 + lattice_gap): the largest disks start this far apart.
     double lattice_gap = 0.02;
     uint64_t seed = 1;
@@ -52,8 +52,8 @@ double dampingRatioForRestitution(double e, bool no_tension = false);
 
 /// What a builder made.
 struct DensePack {
-    double width = 0.0;   ///< [m] box interior, x in [0, width]
-    double height = 0.0;  ///< [m] y in [0, height]
+    double width = 0.0;         ///< [m] box interior, x in [0, width]
+    double height = 0.0;        ///< [m] y in [0, height]
     std::vector<BallId> balls;  ///< in creation order
     WallId floor, right, top, left;
     double weight = 0.0;  ///< [N] total weight of the disks (per unit thickness)

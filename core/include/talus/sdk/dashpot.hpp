@@ -78,6 +78,14 @@ public:
         m_dt = -1.0;
     }
     double coefficient() const { return m_c; }
+    /// As force(), for a motion whose effective mass changes from step to step (given as its
+    /// inverse): no caching.
+    double force(double rate, double elastic, double dt, double lead, double inv_mass) const {
+        if (m_c <= 0.0) return 0.0;
+        const double lag = 0.5 * dt * inv_mass;
+        return m_c * ((lead + 0.5) * rate - lag * elastic) / (1.0 + m_c * lag);
+    }
+
     /// Same value as dashpotForce(c, m, rate, elastic, dt, lead).
     double force(double rate, double elastic, double dt, double lead = 0.5) {
         if (m_c <= 0.0) return 0.0;
