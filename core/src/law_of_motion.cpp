@@ -135,10 +135,13 @@ void Model::moveBalls() {
         finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
     if (!finite) reportNonFiniteBall();
     if (energy) {
+        // The damping impulse spans the window around t: its first part, before t, belongs in
+        // the snapshot at t, the rest after it.
+        m_energy_acc.damping += damping * lead;
         m_energy = m_energy_acc;
         m_energy.kinetic = kinetic;
         m_energy_acc.body += body;
-        m_energy_acc.damping += damping;
+        m_energy_acc.damping += damping * (1.0 - lead);
     }
 }
 
