@@ -243,8 +243,10 @@ void Model::forceLoop() {
                 c.work_peak = std::max(c.work_peak, c.work);
                 c.knest_max = std::max(c.knest_max, fd.knest);
                 c.dt_max = std::max(c.dt_max, dt);
-                if (first)
+                if (first) {
                     c.born_overlapped = g.overlap > std::max(fd.du_n, 0.0) * (1.0 + 1e-9) + 1e-15;
+                    c.approach_rate = std::max(fd.u_dot_n, 0.0);
+                }
                 // The secant stiffness at the deepest overlap, where the rate (and so a dashpot's
                 // force) is about zero, checks the stiffness the model reports.
                 if (g.overlap > c.overlap_max) {
@@ -333,11 +335,15 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         // the current rates.
         c.work += m_dt * (p.n_force * c.rate_n - p.s_force * c.rate_s - p.moment * c.rate_t);
         // A contact created overlapping (by placement) gives back energy it never took.
-        if (m_guard.energy != GuardAction::Off && !c.born_overlapped && c.work_peak > 0.0 &&
-            c.work < -m_guard.energy_tolerance * c.work_peak) {
+        // Reference: the larger of the energy the contact held at its peak and the kinetic
+        // energy of the approach (a contact that only ever gave energy has no peak).
+        const double reference =
+            std::max(c.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
+        if (m_guard.energy != GuardAction::Off && !c.born_overlapped && reference > 0.0 &&
+            c.work < -m_guard.energy_tolerance * reference) {
             const std::string what =
-                describePair(p) + " returned " + num(-c.work) + " J more than it took (peak " +
-                num(c.work_peak) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
+                describePair(p) + " returned " + num(-c.work) + " J more than it took (reference " +
+                num(reference) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
                 "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
                 " s; the step (" + num(m_dt) + " s) is too large for the model's stiffness, or the "
                 "model reports too low a stiffness (knest " + num(p.knest) + " N/m)";

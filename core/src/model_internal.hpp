@@ -109,6 +109,7 @@ struct Model::PairCold {
     double overlap_max = 0.0;      // deepest overlap in this life [m]
     double force_at_max = 0.0;     // normal force there [N]
     bool born_overlapped = false;  // first touched with more overlap than one step's approach
+    double approach_rate = 0.0;    // u_dot_n at touch [m/s]
 };
 
 struct Model::BallArrays {
