@@ -51,7 +51,7 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
 family=$(lscpu | sed -n 's/^CPU family: *//p' | head -1)
 model=$(lscpu | sed -n 's/^Model: *//p' | head -1)
 ncpu=$(nproc)
-machine=${TALUS_BENCH_MACHINE:-$(echo "$cpu-f${family}m${model}-${ncpu}cpu" | tr 'A-Z' 'a-z' |
+machine=${TALUS_BENCH_MACHINE:-$(echo "$cpu-f${family}m${model}-${ncpu}cpu" | tr '[:upper:]' '[:lower:]' |
     sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//')}
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
 compiler="$("$cxx" --version | head -1)"
