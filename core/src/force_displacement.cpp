@@ -109,7 +109,8 @@ void Model::forceLoop() {
                     noteApproach(p, m_cold[i], dist - rsum, vel[s2] - vel[s1], arel.norm(),
                                  dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
                 }
-                if (!b.fat[s1].overlaps(b.fat[s2])) m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((m_ball_moved[s1] | m_ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
+                    m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
             const double dist = std::sqrt(dist2);
@@ -123,7 +124,8 @@ void Model::forceLoop() {
             if (!segmentGeometry(p.end2, x1, r1, g)) {
                 // The ball is in a neighbouring segment's region: that segment holds the contact.
                 if (p.active) endContact(p, m_cold[i], false);
-                if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((m_ball_moved[s1] | m_segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
+                    m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
             const WallData& wall = m_walls[sg.wall];
@@ -135,7 +137,8 @@ void Model::forceLoop() {
                     const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
                     noteApproach(p, m_cold[i], -g.overlap, v2c - vel[s1], a1.norm(), g.normal);
                 }
-                if (!b.fat[s1].overlaps(sg.fat)) m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((m_ball_moved[s1] | m_segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
+                    m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
         }
@@ -252,6 +255,7 @@ void Model::forceLoop() {
                 if (g.overlap > c.overlap_max) {
                     c.overlap_max = g.overlap;
                     c.force_at_max = fd.n_force;
+                    c.rate_at_max = fd.u_dot_n;
                 }
                 c.rate_n = fd.u_dot_n;
                 c.rate_s = fd.u_dot_s;
@@ -270,10 +274,17 @@ void Model::forceLoop() {
         p.bonded = (fd.flags & kFdBonded) != 0;
         p.steps += g.overlap > 0.0;
         if (fd.flags & kFdBroken) queueBreak(i, g.point, fd.break_mode);
-        if (ends) endContact(p, m_cold[i], kGuard);
+        if (ends) {
+            endContact(p, m_cold[i], kGuard);
+            // Its ends may have moved apart while it was a contact (inactive pairs are checked
+            // only when an end is re-inserted).
+            const Box& fat2 = p.wall ? m_segments[p.end2].fat : b.fat[p.end2];
+            if (!b.fat[s1].overlaps(fat2)) m_to_remove.push_back(static_cast<uint32_t>(i));
+        }
     }
 
     for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
+    clearMovedFlags();
     if constexpr (kEnergy) {
         m_energy_acc.strain = strain_now;
         m_energy_acc.bond = bond_now;
@@ -365,8 +376,13 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                                      std::to_string(m_guard.min_steps) + " steps are needed");
             if (m_underresolved++ == 0) m_underresolved_first = what;
         }
+        // At the deepest overlap the force may be up to twice the reported stiffness times the
+        // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
+        // rate there (about zero for a resolved impact, not for a contact in a packing).
         const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
-        if (m_guard.stiffness != GuardAction::Off && !p.bonded && secant > 2.0 * c.knest_max) {
+        const double allowed = 2.0 * c.knest_max * c.overlap_max +
+                               2.0 * std::sqrt(p.mass_eff * c.knest_max) * std::fabs(c.rate_at_max);
+        if (m_guard.stiffness != GuardAction::Off && !p.bonded && c.force_at_max > allowed) {
             const std::string what =
                 describePair(p) + ": at its deepest overlap its normal force was " +
                 num(secant) + " N/m of overlap while it reported knest up to " +

@@ -111,6 +111,7 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
     : m_balls_ptr(std::make_unique<BallArrays>()),
       m_balls(m_balls_ptr.get()),
       m_broadphase(std::make_unique<Broadphase>()),
+      m_wall_broadphase(std::make_unique<Broadphase>()),
       m_registry(registry),
       m_gravity(def.gravity),
       m_mass_mode(def.mass_mode) {
@@ -280,6 +281,7 @@ void Model::deleteBall(BallId id) {
         }
     }
     b.resize(last);
+    if (m_ball_moved.size() > last) m_ball_moved.resize(last);
     m_slot_of[id.index - 1] = kDeadSlot;
     m_free_handles.push_back(id.index);
 }

@@ -108,6 +108,7 @@ struct Model::PairCold {
     double dt_max = 0.0;           // largest step taken while in contact [s]
     double overlap_max = 0.0;      // deepest overlap in this life [m]
     double force_at_max = 0.0;     // normal force there [N]
+    double rate_at_max = 0.0;      // overlap rate there [m/s]
     bool born_overlapped = false;  // first touched with more overlap than one step's approach
     double approach_rate = 0.0;    // u_dot_n at touch [m/s]
 };
@@ -131,9 +132,5 @@ struct Model::BallArrays {
     void permute(const std::vector<uint32_t>& new_to_old);
 };
 
-/// A proxy's user value: the ball's handle index (stable, unlike its slot), or
-/// kWallBit | segment index for a wall segment.
-inline uint32_t proxyUserBall(uint32_t handle) { return handle; }
-inline uint32_t proxyUserSegment(uint32_t seg) { return kWallBit | seg; }
 
 }  // namespace talus

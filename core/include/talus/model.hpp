@@ -328,7 +328,10 @@ private:
     /// Ball against wall segment `seg` with the chain's shared-vertex rule (narrowphase.hpp).
     bool segmentGeometry(uint32_t seg, const Vec2& centre, double radius, ContactGeometry& g) const;
     Box segmentBox(uint32_t seg) const;
-    void addPairsFor(int32_t proxy_id);
+    void addPairsForBall(uint32_t slot);
+    void addPairsForSegment(uint32_t seg);
+    void rebuildBallTree();
+    void clearMovedFlags();
     bool makePair(uint32_t ball_slot, uint32_t other, bool other_is_segment);
     void removePair(std::size_t index);
     ContactModel* cloneFor(Pair& p);
@@ -372,10 +375,14 @@ private:
     std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
     uint32_t m_rules_version = 1;
     double m_max_activity = 0.0;  // largest activity distance of any rule [m]
-    std::unique_ptr<Broadphase> m_broadphase;
+    std::unique_ptr<Broadphase> m_broadphase;       // balls
+    std::unique_ptr<Broadphase> m_wall_broadphase;  // wall segments
     double m_margin = 0.0;
     bool m_broadphase_ready = false;
-    std::vector<int32_t> m_query, m_moved;  // scratch for the broadphase
+    std::vector<int32_t> m_query;  // scratch for the broadphase
+    // Bodies re-inserted this step: only their pairs can have stopped overlapping.
+    std::vector<uint32_t> m_moved_balls, m_moved_segments;
+    std::vector<uint8_t> m_ball_moved, m_segment_moved;
     std::vector<uint32_t> m_to_remove;     // scratch for the force loop
 
     // --- settings and state
