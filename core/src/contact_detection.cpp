@@ -220,6 +220,18 @@ PropBlock Model::propBlockFor(const Pair& p) const {
     return pb;
 }
 
+double Model::tangentialInverseMass(const Pair& p) const {
+    // Contact points at the rims: r = R (the overlap's share is negligible for this use).
+    const auto& b = *m_balls;
+    const double r1 = b.radius[p.end1];
+    double inv = b.inv_mass[p.end1] + r1 * r1 * b.inv_inertia[p.end1];
+    if (!p.wall) {
+        const double r2 = b.radius[p.end2];
+        inv += b.inv_mass[p.end2] + r2 * r2 * b.inv_inertia[p.end2];
+    }
+    return inv;
+}
+
 ContactModel* Model::cloneFor(Pair& p) {
     Rule& rule = *p.rule;
     void* mem = rule.pool->allocate();
@@ -267,6 +279,7 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
     p.activity = rule.activity;
     const double m1 = b.mass[p.end1];
     p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
+    p.inv_mass_eff_s = tangentialInverseMass(p);
     p.model = cloneFor(p);
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();

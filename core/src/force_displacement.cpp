@@ -64,6 +64,7 @@ void Model::forceLoop() {
     fd.tdel = dt;
     fd.time = m_time;
     double strain_now = 0.0, bond_now = 0.0;
+    double finite_check = 0.0;
     m_to_remove.clear();
     const Vec2* pos = b.pos.data();
     const Vec2* vel = b.vel.data();
@@ -160,7 +161,6 @@ void Model::forceLoop() {
         }
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
-        fd.error = nullptr;
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
         fd.u_dot_s = vrel.dot(t);
@@ -169,16 +169,12 @@ void Model::forceLoop() {
         fd.du_s = fd.u_dot_s * dt;
         fd.dtheta = fd.t_dot_rel * dt;
         fd.mass_eff = mass_eff;
-        fd.inv_mass_eff_s = b.inv_mass[s1] + r1c.squaredNorm() * b.inv_inertia[s1];
-        if (!p.wall)
-            fd.inv_mass_eff_s +=
-                b.inv_mass[p.end2] + (g.point - x2).squaredNorm() * b.inv_inertia[p.end2];
+        fd.inv_mass_eff_s = p.inv_mass_eff_s;
         const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
         fd.n_force = fn_old;
         fd.s_force = fs_old;
         fd.moment = m_old;
         fd.knest = fd.ksest = fd.krest = 0.0;
-        fd.break_mode = kBreakNone;
         if constexpr (kEnergy)
             for (double& e : fd.energy) e = 0.0;
 
@@ -193,8 +189,9 @@ void Model::forceLoop() {
             fd.status = 1;
             fd.error = "unknown exception";
         }
-        if (fd.status != 0 || !std::isfinite(fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest))
-            reportFailedLaw(p, fd);
+        if (fd.status != 0) reportFailedLaw(p, fd);
+        // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
+        finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
 
         // ---- forces onto the ends
         const Vec2 f = fd.n_force * g.normal + fd.s_force * t;
@@ -283,6 +280,7 @@ void Model::forceLoop() {
         }
     }
 
+    if (!std::isfinite(finite_check)) findNonFiniteContact();
     for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
     clearMovedFlags();
     if constexpr (kEnergy) {
@@ -322,14 +320,21 @@ void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
 }
 
 void Model::reportFailedLaw(const Pair& p, const FdBlock& fd) const {
-    if (fd.status != 0)
-        throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
-                          std::to_string(m_step) + " on " + describePair(p) + ": " +
-                          (fd.error ? fd.error : "(no message)"));
-    throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(fd.n_force) +
-                   ", shear force " + num(fd.s_force) + ", moment " + num(fd.moment) +
-                   ", knest " + num(fd.knest) + ", ksest " + num(fd.ksest) + " at overlap " +
-                   num(fd.u_n));
+    throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
+                      std::to_string(m_step) + " on " + describePair(p) + ": " +
+                      (fd.error ? fd.error : "(no message)"));
+}
+
+void Model::findNonFiniteContact() const {
+    // The force loop only sums the models' outputs; find the first contact that made the sum
+    // non-finite (its stored values are this step's).
+    for (const Pair& p : m_pairs)
+        if (p.active && !std::isfinite(p.n_force + p.s_force + p.moment + p.knest + p.ksest))
+            throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(p.n_force) +
+                           ", shear force " + num(p.s_force) + ", moment " + num(p.moment) +
+                           ", knest " + num(p.knest) + ", ksest " + num(p.ksest) +
+                           " at overlap " + num(p.overlap));
+    throwNonFinite("a contact model returned a non-finite value (the contact ended in the same step)");
 }
 
 void Model::reportPassThrough(const Pair& p, const ContactGeometry& g) const {

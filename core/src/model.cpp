@@ -173,7 +173,8 @@ void Model::refreshPairMasses(uint32_t s) {
     for (auto& p : m_pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s))
             p.mass_eff = p.wall ? b.mass[p.end1]
-                                : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]);
+                                : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
+            p.inv_mass_eff_s = tangentialInverseMass(p);
 }
 
 void Model::updateMass(uint32_t s) {

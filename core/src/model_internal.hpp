@@ -74,7 +74,7 @@ struct Model::WallData {
 /// replaced by a fresh clone, so a new touch starts from a fresh state.
 ///
 /// The force loop streams through all pairs every step and is limited by memory traffic, so the
-/// data it needs at every step (96 bytes, 1.5 cache lines) is kept apart from the rest
+/// data it needs at every step (104 bytes) is kept apart from the rest
 /// (PairCold, same index), which only the time-step, guard and energy variants of the loop, the
 /// queries and the bookkeeping touch.
 struct Model::Pair {
@@ -88,6 +88,7 @@ struct Model::Pair {
     Rule* rule = nullptr;
     ContactModel* model = nullptr;
     double mass_eff = 0.0;
+    double inv_mass_eff_s = 0.0;  // FdBlock::inv_mass_eff_s, with the radii as lever arms
     double activity = 0.0;
     double n_force = 0.0, s_force = 0.0, moment = 0.0;
     double overlap = 0.0;  // at the last FDlaw

@@ -46,9 +46,10 @@ public:
     double dp_fs = 0.0;      // shear dashpot force [N]
     double lin_slip = 0.0;   // 1 while sliding
     // per-contact derived values (not properties), cached so FDlaw needs no square root
-    double mass_eff_ = 0.0;
-    Dashpot normal_dashpot_, shear_dashpot_;
+    double mass_eff_ = 0.0, inv_mass_eff_ = 0.0;
+    double cn_ = 0.0, cs_ = 0.0;  // dashpot coefficients [N s/m]
     double knest_ = 0.0, ksest_ = 0.0;
+    bool no_tension_ = false, no_shear_dp_sliding_ = false;
     double last_overlap_ = 0.0;
     bool touching_ = false;
 
@@ -88,16 +89,19 @@ public:
 
     void setMass(double m) {
         mass_eff_ = m;
-        normal_dashpot_.set(dashpotCoefficient(dp_nratio, m, kn), m);
-        shear_dashpot_.set(dashpotCoefficient(dp_sratio, m, ks), m);
+        inv_mass_eff_ = m > 0.0 ? 1.0 / m : 0.0;
+        cn_ = dashpotCoefficient(dp_nratio, m, kn);
+        cs_ = dashpotCoefficient(dp_sratio, m, ks);
         knest_ = kn * dashpotStiffnessFactor(dp_nratio);
         ksest_ = ks * dashpotStiffnessFactor(dp_sratio);
+        no_tension_ = dp_mode == 1.0 || dp_mode == 3.0;
+        no_shear_dp_sliding_ = dp_mode >= 2.0;
     }
 
     void onPropChanged() { setMass(mass_eff_); }
 
-    bool noTension() const { return dp_mode == 1.0 || dp_mode == 3.0; }
-    bool noShearDashpotWhileSliding() const { return dp_mode >= 2.0; }
+    bool noTension() const { return no_tension_; }
+    bool noShearDashpotWhileSliding() const { return no_shear_dp_sliding_; }
 
     void fdlaw(FdBlock& fd) {
         if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
@@ -113,15 +117,13 @@ public:
             double closing_n = 0.0, closing_s = 0.0, released_shear = 0.0, dash = 0.0;
             if (touching_) {
                 const double frac = closingFraction(last_overlap_, fd.u_n);
-                const double cn = normal_dashpot_.coefficient();
-                const bool normal_corner = !noTension() || cn <= 0.0;
+                const bool normal_corner = !noTension() || cn_ <= 0.0;
                 const Corners k =
                     linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd, frac,
                                          normal_corner);
                 const double dn =
-                    normal_corner ? dashpotClosingForce(cn, fd.u_dot_n, last_overlap_, fd.u_n) : 0.0;
-                const double ds = dashpotClosingForce(shear_dashpot_.coefficient(), fd.u_dot_s,
-                                                      last_overlap_, fd.u_n);
+                    normal_corner ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n) : 0.0;
+                const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
                 closing_n = k.normal + dn;
                 closing_s = k.shear - ds;
                 dash += dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
@@ -153,11 +155,11 @@ public:
         const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
         lin_slip = sr.sliding ? 1.0 : 0.0;
 
-        const double dn = normal_dashpot_.force(fd.u_dot_n, lin_fn, dt, lead);
+        const double dn = dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
         dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
         double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds = shear_dashpot_.force(fd.u_dot_s, -lin_fs, dt, lead, fd.inv_mass_eff_s);
+            ds = dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead);
         dp_fs = -ds;
 
         // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);
@@ -173,8 +175,7 @@ public:
             fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
             fd.energy[kEnergySlip] = sr.slip_work;
             fd.energy[kEnergyDashpot] =
-                dashpotEnergy(normal_dashpot_.coefficient(), dp_fn, dn, dt, lead) +
-                dashpotEnergy(shear_dashpot_.coefficient(), ds, ds, dt, lead);
+                dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
         }
         touching_ = true;
         last_overlap_ = fd.u_n;

@@ -335,12 +335,14 @@ private:
     bool makePair(uint32_t ball_slot, uint32_t other, bool other_is_segment);
     void removePair(std::size_t index);
     ContactModel* cloneFor(Pair& p);
+    double tangentialInverseMass(const Pair& p) const;
     void refreshRule(Pair& p);
     void resetPair(Pair& p);
     void endContact(Pair& p, PairCold& c, bool check_guard);
     void activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
     void queueBreak(std::size_t index, const Vec2& point, int32_t mode);
     [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
+    [[noreturn]] void findNonFiniteContact() const;
     [[noreturn]] void reportPassThrough(const Pair& p, const ContactGeometry& g) const;
     const Rule& ruleFor(uint64_t groups1, uint64_t groups2) const;
     PropBlock propBlockFor(const Pair& p) const;

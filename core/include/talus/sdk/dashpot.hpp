@@ -68,38 +68,14 @@ inline double dashpotForce(double c, double m, double rate, double elastic, doub
     return c * ((lead + 0.5) * rate - 0.5 * dt * elastic / m) / (1.0 + a);
 }
 
-/// A dashpot with the step-dependent factors of dashpotForce cached, so that the force costs two
-/// multiplications while the step does not change (fixed-step runs, most automatic steps).
-class Dashpot {
-public:
-    void set(double c, double mass_eff) {
-        m_c = c;
-        m_mass = mass_eff;
-        m_dt = -1.0;
-    }
-    double coefficient() const { return m_c; }
-    /// As force(), for a motion whose effective mass changes from step to step (given as its
-    /// inverse): no caching.
-    double force(double rate, double elastic, double dt, double lead, double inv_mass) const {
-        if (m_c <= 0.0) return 0.0;
-        const double lag = 0.5 * dt * inv_mass;
-        return m_c * ((lead + 0.5) * rate - lag * elastic) / (1.0 + m_c * lag);
-    }
-
-    /// Same value as dashpotForce(c, m, rate, elastic, dt, lead).
-    double force(double rate, double elastic, double dt, double lead = 0.5) {
-        if (m_c <= 0.0) return 0.0;
-        if (dt != m_dt) {
-            m_dt = dt;
-            m_gain = m_c / (1.0 + m_c * dt / (2.0 * m_mass));
-            m_lag = 0.5 * dt / m_mass;
-        }
-        return m_gain * ((lead + 0.5) * rate - m_lag * elastic);
-    }
-
-private:
-    double m_c = 0.0, m_mass = 1.0, m_dt = -1.0, m_gain = 0.0, m_lag = 0.0;
-};
+/// dashpotForce with the effective mass given as its inverse (one division instead of two):
+/// the form the force loop of a model uses.
+inline double dashpotForceInv(double c, double inv_mass, double rate, double elastic, double dt,
+                              double lead = 0.5) {
+    if (c <= 0.0) return 0.0;
+    const double lag = 0.5 * dt * inv_mass;
+    return c * ((lead + 0.5) * rate - lag * elastic) / (1.0 + c * lag);
+}
 
 /// Energy dissipated by a dashpot force over this step [J]. The dissipation is the impulse times
 /// the rate at the force's time level, and that rate is unclipped / (c (lead + 1/2)) by
