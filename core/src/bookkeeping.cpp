@@ -66,9 +66,9 @@ void Model::flushWarnings() {
         m_underresolved = 0;
     }
     if (m_stiffness_lies > 0) {
-        warn("guard: " + std::to_string(m_stiffness_lies) +
-             " contact(s) were stiffer than their model reported; first: " +
-             m_stiffness_lies_first);
+        warn(
+            "guard: " + std::to_string(m_stiffness_lies) +
+            " contact(s) were stiffer than their model reported; first: " + m_stiffness_lies_first);
         m_stiffness_lies = 0;
     }
     if (m_energy_gain > 0) {
@@ -87,7 +87,8 @@ void Model::setEnergyTracing(bool on) {
             ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
         m_energy_acc.initial_kinetic = ke;
         m_energy_acc.kinetic = ke;
-        // Models report stored energy only while tracing is on; until the next step it is not known.
+        // Models report stored energy only while tracing is on; until the next step it is not
+        // known.
         m_energy_acc.strain = 0.0;
         for (auto& c : m_cold) c.strain = c.bond = 0.0;
         m_energy = m_energy_acc;
@@ -96,7 +97,8 @@ void Model::setEnergyTracing(bool on) {
 }
 
 EnergyTotals Model::energies() const {
-    if (!m_energy_on) throw InputError("energies: energy tracing is off (call energy{on = true} first)");
+    if (!m_energy_on)
+        throw InputError("energies: energy tracing is off (call energy{on = true} first)");
     return m_energy;
 }
 

@@ -64,7 +64,9 @@ bool Broadphase::move(int32_t proxy, const Box& box) {
     return m_impl->tree.MoveProxy(proxy, m_impl->toTree(box), b2Vec2(0.0f, 0.0f));
 }
 
-Box Broadphase::fatBox(int32_t proxy) const { return m_impl->toWorld(m_impl->tree.GetFatAABB(proxy)); }
+Box Broadphase::fatBox(int32_t proxy) const {
+    return m_impl->toWorld(m_impl->tree.GetFatAABB(proxy));
+}
 
 uint32_t Broadphase::user(int32_t proxy) const {
     return static_cast<uint32_t>(reinterpret_cast<uintptr_t>(m_impl->tree.GetUserData(proxy)));

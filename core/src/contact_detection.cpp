@@ -76,7 +76,8 @@ void Model::initBroadphase() {
         if (mean <= 0.0) {
             // Only walls: take 1% of the walls' extent.
             Box all{Vec2(1e300, 1e300), Vec2(-1e300, -1e300)};
-            for (const Vec2& v : m_vertices) all.lo = all.lo.cwiseMin(v), all.hi = all.hi.cwiseMax(v);
+            for (const Vec2& v : m_vertices)
+                all.lo = all.lo.cwiseMin(v), all.hi = all.hi.cwiseMax(v);
             mean = m_vertices.empty() ? 1.0 : std::max(0.01 * (all.hi - all.lo).norm(), 1e-6);
         }
         m_margin = 0.05 * mean;
@@ -92,7 +93,8 @@ void Model::initBroadphase() {
         m_segments[i].fat = m_wall_broadphase->fatBox(m_segments[i].proxy);
     }
     for (std::size_t s = 0; s < b.size(); ++s) {
-        b.proxy[s] = m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
+        b.proxy[s] =
+            m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
         b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
     }
     for (std::size_t s = 0; s < b.size(); ++s) addPairsForBall(static_cast<uint32_t>(s));
@@ -107,7 +109,8 @@ void Model::rebuildBallTree() {
     auto& b = *m_balls;
     m_broadphase->reset(m_margin);
     for (std::size_t s = 0; s < b.size(); ++s) {
-        b.proxy[s] = m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
+        b.proxy[s] =
+            m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
         b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
     }
 }
@@ -372,7 +375,8 @@ void Model::sortBalls() {
     }
     std::vector<uint32_t> order(n);
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return code[x] < code[y]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t x, uint32_t y) { return code[x] < code[y]; });
     b.permute(order);
     std::vector<uint32_t> new_of(n);
     for (std::size_t i = 0; i < n; ++i) new_of[order[i]] = static_cast<uint32_t>(i);
@@ -408,7 +412,8 @@ void Model::repackContactObjects() {
     std::unordered_map<const Rule*, std::size_t> slot;
     for (std::size_t r = 0; r < m_rules.size(); ++r) {
         slot[m_rules[r].get()] = r;
-        if (m_rules[r]->pool) fresh[r] = std::make_unique<ObjectPool>(m_rules[r]->pool->blockSize());
+        if (m_rules[r]->pool)
+            fresh[r] = std::make_unique<ObjectPool>(m_rules[r]->pool->blockSize());
     }
     for (auto& p : m_pairs) {
         if (!p.model) continue;

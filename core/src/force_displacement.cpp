@@ -35,15 +35,20 @@ std::string num(double v) {
 
 void Model::forceDisplacement() {
     const bool automatic = m_timestep.automatic;
-    const bool guard = m_guard.energy != GuardAction::Off || m_guard.resolution != GuardAction::Off ||
+    const bool guard = m_guard.energy != GuardAction::Off ||
+                       m_guard.resolution != GuardAction::Off ||
                        m_guard.stiffness != GuardAction::Off;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (automatic) {
-        if (m_energy_on) guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
-        else guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
+        if (m_energy_on)
+            guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
+        else
+            guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
     } else {
-        if (m_energy_on) guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
-        else guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
+        if (m_energy_on)
+            guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
+        else
+            guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
     }
 }
 
@@ -332,17 +337,18 @@ void Model::findNonFiniteContact() const {
         if (p.active && !std::isfinite(p.n_force + p.s_force + p.moment + p.knest + p.ksest))
             throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(p.n_force) +
                            ", shear force " + num(p.s_force) + ", moment " + num(p.moment) +
-                           ", knest " + num(p.knest) + ", ksest " + num(p.ksest) +
-                           " at overlap " + num(p.overlap));
-    throwNonFinite("a contact model returned a non-finite value (the contact ended in the same step)");
+                           ", knest " + num(p.knest) + ", ksest " + num(p.ksest) + " at overlap " +
+                           num(p.overlap));
+    throwNonFinite(
+        "a contact model returned a non-finite value (the contact ended in the same step)");
 }
 
 void Model::reportPassThrough(const Pair& p, const ContactGeometry& g) const {
-    throw NumericalError("at step " + std::to_string(m_step) + " (t = " + num(m_time) +
-                         " s): " + describePair(p) +
-                         ": the contact normal reversed within one step, so one body passed "
-                         "through the other (overlap " + num(g.overlap) +
-                         " m); the contact is too soft for this impact or the step too large");
+    throw NumericalError(
+        "at step " + std::to_string(m_step) + " (t = " + num(m_time) + " s): " + describePair(p) +
+        ": the contact normal reversed within one step, so one body passed "
+        "through the other (overlap " +
+        num(g.overlap) + " m); the contact is too soft for this impact or the step too large");
 }
 
 void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
@@ -361,9 +367,12 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                 describePair(p) + " returned " + num(-c.work) + " J more than it took (reference " +
                 num(reference) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
                 "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
-                " s; the step (" + num(m_dt) + " s) is too large for the model's stiffness, or the "
-                "model reports too low a stiffness (knest " + num(p.knest) + " N/m)";
-            if (m_guard.energy == GuardAction::Error) throw NumericalError("energy created: " + what);
+                " s; the step (" + num(m_dt) +
+                " s) is too large for the model's stiffness, or the "
+                "model reports too low a stiffness (knest " +
+                num(p.knest) + " N/m)";
+            if (m_guard.energy == GuardAction::Error)
+                throw NumericalError("energy created: " + what);
             if (m_energy_gain++ == 0) m_energy_gain_first = what;
         }
         // Under-resolved: a step taken during the contact was too large for the impact's own
@@ -389,9 +398,8 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                                2.0 * std::sqrt(p.mass_eff * c.knest_max) * std::fabs(c.rate_at_max);
         if (m_guard.stiffness != GuardAction::Off && !p.bonded && c.force_at_max > allowed) {
             const std::string what =
-                describePair(p) + ": at its deepest overlap its normal force was " +
-                num(secant) + " N/m of overlap while it reported knest up to " +
-                num(c.knest_max) +
+                describePair(p) + ": at its deepest overlap its normal force was " + num(secant) +
+                " N/m of overlap while it reported knest up to " + num(c.knest_max) +
                 " N/m; the time step follows knest, so the model must report its true tangent "
                 "stiffness (docs/plugin-abi.md, time-step contract)";
             if (m_guard.stiffness == GuardAction::Error)

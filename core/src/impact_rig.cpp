@@ -184,7 +184,8 @@ DriveResult driveContact(const DriveSetup& s, PluginRegistry& registry) {
     pb.mass_eff = s.ball_target ? s.mass * s.target_mass / (s.mass + s.target_mass) : s.mass;
     if (const char* err = proto->PreCycle(pb)) throw InputError(std::string("drive: ") + err);
 
-    const std::size_t words = (proto->ObjectSize() + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+    const std::size_t words =
+        (proto->ObjectSize() + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
     std::vector<std::max_align_t> storage(words);
     auto clone = [&]() {
         ContactModel* c = proto->Clone(pb, storage.data());
@@ -232,8 +233,8 @@ DriveResult driveContact(const DriveSetup& s, PluginRegistry& registry) {
         for (double& e : fd.energy) e = 0.0;
         model->FDlaw(fd);
         if (fd.status != 0)
-            throw PluginError("drive: model '" + f.name + "' failed at sample " + std::to_string(i) +
-                              ": " + (fd.error ? fd.error : "(no message)"));
+            throw PluginError("drive: model '" + f.name + "' failed at sample " +
+                              std::to_string(i) + ": " + (fd.error ? fd.error : "(no message)"));
         out.trace.push_back(TracePoint{fd.time, u, fd.n_force, fd.s_force, fd.moment});
         out.knest.push_back(fd.knest);
         out.strain = fd.energy[kEnergyStrain];

@@ -40,8 +40,8 @@ std::string text(double v) { return std::to_string(v); }
 
 void Model::lawOfMotion() {
     m_window = m_first_cycle ? 0.5 * m_dt : 0.5 * (m_dt_prev + m_dt);
-    const bool general = m_energy_on || m_damping.local > 0.0 || m_damping.viscous > 0.0 ||
-                         m_fixed_balls > 0;
+    const bool general =
+        m_energy_on || m_damping.local > 0.0 || m_damping.viscous > 0.0 || m_fixed_balls > 0;
     general ? moveBalls<true>() : moveBalls<false>();
     m_first_cycle = false;
     m_time += m_dt;

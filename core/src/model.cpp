@@ -42,13 +42,20 @@ using Clock = std::chrono::steady_clock;
 
 const char* stepRuleName(StepRule r) {
     switch (r) {
-        case StepRule::Fixed: return "fixed";
-        case StepRule::Stability: return "stability";
-        case StepRule::Resolution: return "resolution";
-        case StepRule::Approach: return "approach";
-        case StepRule::Kinematic: return "kinematic";
-        case StepRule::Max: return "max";
-        case StepRule::Growth: return "growth";
+        case StepRule::Fixed:
+            return "fixed";
+        case StepRule::Stability:
+            return "stability";
+        case StepRule::Resolution:
+            return "resolution";
+        case StepRule::Approach:
+            return "approach";
+        case StepRule::Kinematic:
+            return "kinematic";
+        case StepRule::Max:
+            return "max";
+        case StepRule::Growth:
+            return "growth";
     }
     return "?";
 }
@@ -77,15 +84,16 @@ void ObjectPool::release(void* p) { m_free.push_back(p); }
 void Model::BallArrays::resize(std::size_t n) {
     pos.resize(n), vel.resize(n), force.resize(n), fapp.resize(n);
     angle.resize(n), spin.resize(n), moment.resize(n), mapp.resize(n);
-    radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n),
-        inv_inertia.resize(n), density.resize(n);
+    radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n), inv_inertia.resize(n),
+        density.resize(n);
     fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
     kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
 }
 
 void Model::BallArrays::move(std::size_t to, std::size_t from) {
     pos[to] = pos[from], vel[to] = vel[from], force[to] = force[from], fapp[to] = fapp[from];
-    angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from], mapp[to] = mapp[from];
+    angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from],
+    mapp[to] = mapp[from];
     radius[to] = radius[from], mass[to] = mass[from], inv_mass[to] = inv_mass[from];
     inertia[to] = inertia[from], inv_inertia[to] = inv_inertia[from], density[to] = density[from];
     fixity[to] = fixity[from], handle[to] = handle[from], proxy[to] = proxy[from];
@@ -172,8 +180,9 @@ void Model::refreshPairMasses(uint32_t s) {
     const auto& b = *m_balls;
     for (auto& p : m_pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s))
-            p.mass_eff = p.wall ? b.mass[p.end1]
-                                : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
+            p.mass_eff = p.wall
+                             ? b.mass[p.end1]
+                             : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
             p.inv_mass_eff_s = tangentialInverseMass(p);
 }
 
@@ -459,7 +468,8 @@ std::size_t Model::wallCount() const { return m_walls.size(); }
 std::vector<WallId> Model::wallIds() const {
     std::vector<WallId> ids;
     for (std::size_t i = 0; i < m_walls.size(); ++i)
-        if (m_walls[i].alive) ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_walls[i].generation});
+        if (m_walls[i].alive)
+            ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_walls[i].generation});
     return ids;
 }
 
@@ -481,7 +491,8 @@ std::vector<Vec2> Model::wallPoints(WallId id) const {
 Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
 void Model::setWallVel(WallId id, const Vec2& v) {
     m_limits_stale = true;
-    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) throw InputError("wall: vel must be finite");
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
+        throw InputError("wall: vel must be finite");
     wallOf(id).vel = v;
 }
 double Model::wallSpin(WallId id) const { return wallOf(id).spin; }
@@ -507,10 +518,15 @@ void Model::setWallContactProp(WallId id, const std::string& name, double v) {
         throw InputError("wall: " + name + " must be >= 0 (got " + fmt(v) + ")");
     WallData& w = wallOf(id);
     const std::string n = lower(name);
-    if (n == "kn") w.kn = v;
-    else if (n == "ks") w.ks = v;
-    else if (n == "fric") w.fric = v;
-    else throw InputError("wall: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
+    if (n == "kn")
+        w.kn = v;
+    else if (n == "ks")
+        w.ks = v;
+    else if (n == "fric")
+        w.fric = v;
+    else
+        throw InputError("wall: unknown contact property '" + name +
+                         "' (inheritable: kn, ks, fric)");
 }
 
 // ------------------------------------------------------------------------ contact-model rules
@@ -562,10 +578,10 @@ const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
     for (std::size_t i = 1; i < m_rules.size(); ++i) {
         const Rule& r = *m_rules[i];
         if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
-        const bool match = (in(g1, r.group_a) && in(g2, r.group_b)) ||
-                           (in(g2, r.group_a) && in(g1, r.group_b));
-        if (match && (r.specificity > best_spec ||
-                      (r.specificity == best_spec && r.order > best_order))) {
+        const bool match =
+            (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
+        if (match &&
+            (r.specificity > best_spec || (r.specificity == best_spec && r.order > best_order))) {
             best = &r;
             best_spec = r.specificity;
             best_order = r.order;
@@ -688,7 +704,8 @@ void Model::setContactProp(ContactKey key, const std::string& name, double value
     if (idx < 0)
         throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
                          "' (known: " + knownProps(*p->model) + ")");
-    if (p->model->AcceptProp(idx, value) != 0) throw InputError(std::string("contact: ") + p->model->LastError());
+    if (p->model->AcceptProp(idx, value) != 0)
+        throw InputError(std::string("contact: ") + p->model->LastError());
 }
 
 void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
@@ -729,14 +746,18 @@ void Model::runSteps(int64_t steps) {
         Clock::time_point t0, t1;
         if (prof) t0 = Clock::now();
         computeTimestep();
-        if (prof) t1 = Clock::now(), m_profile.timestep += duration<double>(t1 - t0).count(), t0 = t1;
+        if (prof)
+            t1 = Clock::now(), m_profile.timestep += duration<double>(t1 - t0).count(), t0 = t1;
         lawOfMotion();
         moveWalls();
         if (prof) t1 = Clock::now(), m_profile.motion += duration<double>(t1 - t0).count(), t0 = t1;
         detectContacts();
-        if (prof) t1 = Clock::now(), m_profile.detection += duration<double>(t1 - t0).count(), t0 = t1;
+        if (prof)
+            t1 = Clock::now(), m_profile.detection += duration<double>(t1 - t0).count(), t0 = t1;
         forceDisplacement();
-        if (prof) t1 = Clock::now(), m_profile.force_displacement += duration<double>(t1 - t0).count(), t0 = t1;
+        if (prof)
+            t1 = Clock::now(), m_profile.force_displacement += duration<double>(t1 - t0).count(),
+            t0 = t1;
         bookkeeping();
         if (prof) t1 = Clock::now(), m_profile.bookkeeping += duration<double>(t1 - t0).count();
         ++m_profile.cycles;
@@ -785,8 +806,11 @@ std::string Model::lastStepReason() const {
         case StepWhere::Pair:
             if (const Pair* p = pairByKey(ContactKey{m_dt_where.key})) where = describePair(*p);
             break;
-        case StepWhere::Wall: where = "wall " + std::to_string(m_dt_where.index + 1); break;
-        case StepWhere::None: break;
+        case StepWhere::Wall:
+            where = "wall " + std::to_string(m_dt_where.index + 1);
+            break;
+        case StepWhere::None:
+            break;
     }
     if (!where.empty()) s += " (" + where + ")";
     return s;
@@ -797,8 +821,8 @@ void Model::warn(const std::string& text) {
 }
 
 void Model::throwNonFinite(const std::string& what) const {
-    throw NumericalError("non-finite state at step " + std::to_string(m_step) + " (t = " +
-                         fmt(m_time) + " s): " + what);
+    throw NumericalError("non-finite state at step " + std::to_string(m_step) +
+                         " (t = " + fmt(m_time) + " s): " + what);
 }
 
 }  // namespace talus

@@ -45,8 +45,8 @@ struct Model::Rule {
 };
 
 struct Model::Segment {
-    uint32_t wall;     // index into m_walls
-    uint32_t a, b;     // vertex indices into m_vertices
+    uint32_t wall;      // index into m_walls
+    uint32_t a, b;      // vertex indices into m_vertices
     int32_t prev = -1;  // neighbouring segment sharing vertex a (-1: none)
     int32_t next = -1;  // neighbouring segment sharing vertex b (-1: none)
     int32_t proxy = -1;
@@ -99,11 +99,11 @@ struct Model::PairCold {
     uint64_t key = 0;
     uint32_t rules_version = 0;
     double krest = 0.0;
-    double duration = 0.0;  // expected contact duration from the model at touch [s]
+    double duration = 0.0;               // expected contact duration from the model at touch [s]
     double work = 0.0, work_peak = 0.0;  // energy taken by the contact in this life [J]
     double rate_n = 0.0, rate_s = 0.0, rate_t = 0.0;  // half-step rates at the last FDlaw
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
-    Vec2 normal{0.0, 0.0};  // at the last FDlaw (guard: pass-through check)
+    Vec2 normal{0.0, 0.0};            // at the last FDlaw (guard: pass-through check)
     // guard
     double knest_max = 0.0;        // largest reported normal stiffness in this life [N/m]
     double dt_max = 0.0;           // largest step taken while in contact [s]
@@ -132,6 +132,5 @@ struct Model::BallArrays {
     void move(std::size_t to, std::size_t from);
     void permute(const std::vector<uint32_t>& new_to_old);
 };
-
 
 }  // namespace talus

@@ -79,7 +79,8 @@ PluginRegistry& PluginRegistry::global() {
 }
 
 void PluginRegistry::addSearchDirectory(const std::string& dir) {
-    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end()) m_dirs.insert(m_dirs.begin(), dir);
+    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end())
+        m_dirs.insert(m_dirs.begin(), dir);
 }
 
 std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
@@ -101,19 +102,23 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
     ::dlerror();
     auto entry = reinterpret_cast<TalusPluginInfoFn>(::dlsym(handle, TALUS_PLUGIN_ENTRY));
     if (!entry)
-        throw PluginError("load_plugin: '" + path + "' is not a Talus plugin: it does not export '" +
-                          TALUS_PLUGIN_ENTRY + "' (declare it with TALUS_PLUGIN_EXPORT)");
+        throw PluginError("load_plugin: '" + path +
+                          "' is not a Talus plugin: it does not export '" + TALUS_PLUGIN_ENTRY +
+                          "' (declare it with TALUS_PLUGIN_EXPORT)");
     const PluginInfo* info = entry();
     auto refuse = [&](const std::string& what, const std::string& plugin, const std::string& host) {
         throw PluginError("load_plugin: '" + path + "' was built for " + what + " " + plugin +
-                          " but this Talus has " + host + "; rebuild the plugin against this Talus");
+                          " but this Talus has " + host +
+                          "; rebuild the plugin against this Talus");
     };
     if (!info) throw PluginError("load_plugin: '" + path + "': talus_plugin_info() returned null");
     if (info->abi_major != TALUS_ABI_MAJOR)
-        refuse("plugin ABI", std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
+        refuse("plugin ABI",
+               std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
                std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR));
     if (info->abi_minor > TALUS_ABI_MINOR)
-        refuse("plugin ABI", std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
+        refuse("plugin ABI",
+               std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
                std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR) +
                    " (older minor version)");
     if (info->sizeof_plugininfo != sizeof(PluginInfo))
@@ -122,7 +127,8 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
     if (info->dim != TALUS_DIM)
         refuse("dimension", std::to_string(info->dim), std::to_string(TALUS_DIM));
     if (info->sizeof_fdblock != sizeof(FdBlock))
-        refuse("sizeof(FdBlock) =", std::to_string(info->sizeof_fdblock), std::to_string(sizeof(FdBlock)));
+        refuse("sizeof(FdBlock) =", std::to_string(info->sizeof_fdblock),
+               std::to_string(sizeof(FdBlock)));
     if (info->sizeof_propblock != sizeof(PropBlock))
         refuse("sizeof(PropBlock) =", std::to_string(info->sizeof_propblock),
                std::to_string(sizeof(PropBlock)));
@@ -149,7 +155,8 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         lib->references.push_back(proto);
         const std::string name = proto->Name() ? proto->Name() : "";
         if (name.empty())
-            throw PluginError("load_plugin: '" + path + "': model " + std::to_string(i) + " has no name");
+            throw PluginError("load_plugin: '" + path + "': model " + std::to_string(i) +
+                              " has no name");
         auto clash = [&](const ModelFactory& f) { return lower(f.name) == lower(name); };
         auto it = std::find_if(m_models.begin(), m_models.end(), clash);
         if (it != m_models.end())

@@ -25,11 +25,13 @@ int32_t propIndex(const ContactModel& m, const std::string& name) {
 
 std::string knownProps(const ContactModel& m) {
     std::string out;
-    for (const char* c = m.PropNames(); c && *c; ++c) out += (*c == ',') ? std::string(", ") : std::string(1, *c);
+    for (const char* c = m.PropNames(); c && *c; ++c)
+        out += (*c == ',') ? std::string(", ") : std::string(1, *c);
     return out;
 }
 
-void applyProps(ContactModel& model, const std::vector<PropValue>& props, const std::string& where) {
+void applyProps(ContactModel& model, const std::vector<PropValue>& props,
+                const std::string& where) {
     for (const auto& pv : props) {
         const int32_t idx = propIndex(model, pv.name);
         if (idx < 0)
@@ -39,7 +41,8 @@ void applyProps(ContactModel& model, const std::vector<PropValue>& props, const 
         try {
             status = model.AcceptProp(idx, pv.value);
         } catch (const std::exception& e) {
-            throw PluginError(where + ": model '" + model.Name() + "' threw from AcceptProp: " + e.what());
+            throw PluginError(where + ": model '" + model.Name() +
+                              "' threw from AcceptProp: " + e.what());
         }
         if (status != 0) throw InputError(where + ": " + model.LastError());
     }

@@ -2,16 +2,19 @@
 #include "talus/save_object.hpp"
 
 #include <cstring>
+#include <string>
 
 #include "talus/errors.hpp"
-#include <string>
 
 namespace talus {
 
 namespace {
 enum Tag : uint8_t { kTagDouble = 1, kTagInt = 2, kTagBool = 3 };
 const char* tagName(uint8_t t) {
-    return t == kTagDouble ? "a double" : t == kTagInt ? "an int" : t == kTagBool ? "a bool" : "an unknown value";
+    return t == kTagDouble ? "a double"
+           : t == kTagInt  ? "an int"
+           : t == kTagBool ? "a bool"
+                           : "an unknown value";
 }
 }  // namespace
 
@@ -36,7 +39,8 @@ void BinarySaveObject::get(uint8_t tag, void* p, std::size_t n) {
             m_error = "value " + std::to_string(value_index + 1) + ": expected " + tagName(tag) +
                       " but the save holds " + tagName(m_bytes[m_pos]) + " (state layout changed?)";
         else if (m_pos + 1 + n > m_bytes.size())
-            m_error = "the saved state is truncated (value " + std::to_string(value_index + 1) + ")";
+            m_error =
+                "the saved state is truncated (value " + std::to_string(value_index + 1) + ")";
     }
     if (!m_error.empty()) {
         std::memset(p, 0, n);
@@ -52,10 +56,12 @@ std::vector<uint8_t> saveContactModel(ContactModel& model) {
     return so.bytes();
 }
 
-void restoreContactModel(ContactModel& model, const std::vector<uint8_t>& bytes, int32_t data_version) {
+void restoreContactModel(ContactModel& model, const std::vector<uint8_t>& bytes,
+                         int32_t data_version) {
     if (data_version > model.Version())
-        throw InputError(std::string("restore: model '") + model.Name() + "' state was saved by version " +
-                         std::to_string(data_version) + ", newer than the loaded plugin's version " +
+        throw InputError(std::string("restore: model '") + model.Name() +
+                         "' state was saved by version " + std::to_string(data_version) +
+                         ", newer than the loaded plugin's version " +
                          std::to_string(model.Version()));
     BinarySaveObject so(bytes, data_version);
     model.SaveRestore(so);
@@ -66,8 +72,12 @@ void restoreContactModel(ContactModel& model, const std::vector<uint8_t>& bytes,
                          "' read less than was saved (state layout changed?)");
 }
 
-void BinarySaveObject::Double(double& v) { m_saving ? put(kTagDouble, &v, sizeof v) : get(kTagDouble, &v, sizeof v); }
-void BinarySaveObject::Int(int32_t& v) { m_saving ? put(kTagInt, &v, sizeof v) : get(kTagInt, &v, sizeof v); }
+void BinarySaveObject::Double(double& v) {
+    m_saving ? put(kTagDouble, &v, sizeof v) : get(kTagDouble, &v, sizeof v);
+}
+void BinarySaveObject::Int(int32_t& v) {
+    m_saving ? put(kTagInt, &v, sizeof v) : get(kTagInt, &v, sizeof v);
+}
 void BinarySaveObject::Bool(bool& v) {
     uint8_t b = v ? 1 : 0;
     if (m_saving) {

@@ -137,7 +137,8 @@ void Model::surveyPairs() {
             g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
             v2 = b.vel[p.end2];
             accel = ((b.force[p.end2] + b.fapp[p.end2]) * b.inv_mass[p.end2] -
-                     (b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1]).norm();
+                     (b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1])
+                        .norm();
         }
         const Vec2 vrel = v2 - b.vel[p.end1];
         const double m1 = b.mass[p.end1];

@@ -64,8 +64,8 @@ public:
     double u_ref_ = 0.0;  // overlap at which the normal force is zero [m]
     bool started_ = false;
     bool touching_ = false;
-    bool sliding_ = false;        // the slider slid at the last contact step
-    double last_engaged_ = 0.0;   // u_n - u_ref at the last contact step [m]
+    bool sliding_ = false;       // the slider slid at the last contact step
+    double last_engaged_ = 0.0;  // u_n - u_ref at the last contact step [m]
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off

@@ -40,11 +40,11 @@ public:
     double dp_sratio = 0.0;  // [-]
     double dp_mode = 0.0;    // 0..3
     // state (read-only)
-    double lin_fn = 0.0;     // linear normal force [N]
-    double lin_fs = 0.0;     // linear shear force [N]
-    double dp_fn = 0.0;      // normal dashpot force [N]
-    double dp_fs = 0.0;      // shear dashpot force [N]
-    double lin_slip = 0.0;   // 1 while sliding
+    double lin_fn = 0.0;    // linear normal force [N]
+    double lin_fs = 0.0;    // linear shear force [N]
+    double dp_fn = 0.0;     // normal dashpot force [N]
+    double dp_fs = 0.0;     // shear dashpot force [N]
+    double lin_slip = 0.0;  // 1 while sliding
     // per-contact derived values (not properties), cached so FDlaw needs no square root
     double mass_eff_ = 0.0, inv_mass_eff_ = 0.0;
     double cn_ = 0.0, cs_ = 0.0;  // dashpot coefficients [N s/m]
@@ -54,17 +54,18 @@ public:
     bool touching_ = false;
 
     static const PropTable<Linear>& Table() {
+        // clang-format off
         static const PropTable<Linear> t = {
             {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &Linear::kn, 0.0},
             {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Linear::ks, 0.0},
-            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &Linear::fric,
-             0.0},
+            {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
+             &Linear::fric, 0.0},
             {{"dp_nratio", "-", 0, 0.0, "normal critical damping ratio", nullptr},
              &Linear::dp_nratio, 0.0, 1.0, false, "(1 = critical)"},
             {{"dp_sratio", "-", 0, 0.0, "shear critical damping ratio", nullptr},
              &Linear::dp_sratio, 0.0, 1.0, false, "(1 = critical)"},
-            {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", kDpModes}, &Linear::dp_mode, 0.0,
-             3.0},
+            {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", kDpModes}, &Linear::dp_mode,
+             0.0, 3.0},
             {{"lin_fn", "N", kPropReadOnly | kPropState, 0.0, "linear normal force", nullptr},
              &Linear::lin_fn},
             {{"lin_fs", "N", kPropReadOnly | kPropState, 0.0, "linear shear force", nullptr},
@@ -76,6 +77,7 @@ public:
             {{"lin_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr},
              &Linear::lin_slip},
         };
+        // clang-format on
         return t;
     }
 
@@ -118,11 +120,11 @@ public:
             if (touching_) {
                 const double frac = closingFraction(last_overlap_, fd.u_n);
                 const bool normal_corner = !noTension() || cn_ <= 0.0;
-                const Corners k =
-                    linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd, frac,
-                                         normal_corner);
-                const double dn =
-                    normal_corner ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n) : 0.0;
+                const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
+                                                       frac, normal_corner);
+                const double dn = normal_corner
+                                      ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
+                                      : 0.0;
                 const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
                 closing_n = k.normal + dn;
                 closing_s = k.shear - ds;

@@ -104,7 +104,8 @@ TEST_CASE("an impact resolved in fewer than 10 steps gives one guard warning", "
     REQUIRE(log.texts.size() == 1);
     const std::string& w = log.texts.front();
     INFO(w);
-    CHECK(w.find("guard: 1 contact(s) had fewer than 10 steps per contact duration") != std::string::npos);
+    CHECK(w.find("guard: 1 contact(s) had fewer than 10 steps per contact duration") !=
+          std::string::npos);
     CHECK(w.find("contact ball 1 - wall 1 segment 1 (model 'linear')") != std::string::npos);
     CHECK(w.find("lasted " + std::to_string(loaded) + " steps") != std::string::npos);
     // A min_steps of 3 accepts it.
@@ -222,8 +223,7 @@ TEST_CASE("the default automatic step gives no guard findings", "[core][guard]")
 // the resolution check compares the step with each contact's own duration, not its life in steps
 // (an earlier version counted the life and reported "lasted 3 steps" at the resolved step).
 // Requirement: no resolution finding when every step met the resolution rule.
-TEST_CASE("a pour at the default step gives no under-resolution findings",
-          "[core][guard]") {
+TEST_CASE("a pour at the default step gives no under-resolution findings", "[core][guard]") {
     ModelDef def;
     def.gravity = Vec2(0.0, -9.81);
     Model m(def);

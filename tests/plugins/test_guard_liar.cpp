@@ -9,9 +9,10 @@
 // What the guard does with it (docs/models/power.md, "Guard", has the measured table):
 //  - the stiffness check catches every liar impact, whatever the phase of first touch: at the
 //    deepest overlap (where the rate is about zero) its force over overlap is the true stiffness,
-//    100 times the knest it reports (an error naming the contact and the model, or a warning). The resolution check does not,
-//    by design: it compares the step with the model's own duration estimate, which the liar
-//    also falsifies, and a contact that is merely short (grazing) is not under-resolved;
+//    100 times the knest it reports (an error naming the contact and the model, or a warning). The
+//    resolution check does not, by design: it compares the step with the model's own duration
+//    estimate, which the liar also falsifies, and a contact that is merely short (grazing) is not
+//    under-resolved;
 //  - the energy guard catches the energy the liar creates: its per-contact work is each step's
 //    force times the mean of the two half-step rates around it over the velocity window, which
 //    is exactly the kinetic energy the central-difference update gave the bodies (an earlier
@@ -137,8 +138,7 @@ TEST_CASE("liar: with Warn the guard warns, naming the model", "[liar]") {
     REQUIRE(!warnings.empty());
     bool stiffness = false;
     for (const auto& text : warnings)
-        stiffness |= text.find("were stiffer than their model reported") !=
-                         std::string::npos &&
+        stiffness |= text.find("were stiffer than their model reported") != std::string::npos &&
                      text.find("(model 'liar')") != std::string::npos;
     CHECK(stiffness);
 }

@@ -55,7 +55,7 @@
 #else
 #define TALUS_CXXABI "cxx11abi=na"
 #endif
-#define TALUS_BUILD_KEY                                                                         \
+#define TALUS_BUILD_KEY                                                                        \
     TALUS_COMPILER_FAMILY "|" TALUS_CXXABI "|ptr" TALUS_STR(__SIZEOF_POINTER__) "|" TALUS_STR( \
         __BYTE_ORDER__) "|abi" TALUS_STR(TALUS_ABI_MAJOR)
 
@@ -80,12 +80,12 @@ enum EndType : int32_t { kEndBall = 0, kEndWall = 1 };
 
 /// FdBlock::flags bits.
 enum FdFlags : uint32_t {
-    kFdFirstCall = 1u << 0,    ///< in: first FDlaw of this contact (it just became active)
-    kFdEnergyOn = 1u << 1,     ///< in: energy tracing is on; write FdBlock::energy
-    kFdSliding = 1u << 8,      ///< out: the contact slid this step (PFC bSliding)
-    kFdBonded = 1u << 9,       ///< out: a bond is present (reported by contact queries)
-    kFdBroken = 1u << 10,      ///< out: a bond broke this step (raises a bond_break event)
-    kFdKeep = 1u << 11,        ///< out: do not delete this contact even when separated
+    kFdFirstCall = 1u << 0,  ///< in: first FDlaw of this contact (it just became active)
+    kFdEnergyOn = 1u << 1,   ///< in: energy tracing is on; write FdBlock::energy
+    kFdSliding = 1u << 8,    ///< out: the contact slid this step (PFC bSliding)
+    kFdBonded = 1u << 9,     ///< out: a bond is present (reported by contact queries)
+    kFdBroken = 1u << 10,    ///< out: a bond broke this step (raises a bond_break event)
+    kFdKeep = 1u << 11,      ///< out: do not delete this contact even when separated
 };
 
 /// Bond-break modes written to FdBlock::break_mode together with kFdBroken.
@@ -115,7 +115,7 @@ struct FdBlock {
     /// (For a rolling disk on a wall this is 3/m: the tangential motion is three times as
     /// mobile as the normal one; a shear dashpot integrated implicitly needs it.)
     double inv_mass_eff_s;
-    double time;       ///< simulated time at this step [s]
+    double time;  ///< simulated time at this step [s]
 
     // --- in/out: contact forces (previous values on entry)
     double n_force;  ///< normal force, compression positive [N]
@@ -141,8 +141,8 @@ struct FdBlock {
 /// Properties of the two ends, handed to Clone and PreCycle. A property an end does not define
 /// is NaN ("not set"); models inherit as PFC does (springs in series, friction minimum).
 struct PropBlock {
-    uint32_t size;     ///< sizeof(PropBlock) as the host sees it
-    uint32_t version;  ///< TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR
+    uint32_t size;      ///< sizeof(PropBlock) as the host sees it
+    uint32_t version;   ///< TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR
     int32_t end2_type;  ///< EndType
     int32_t reserved0;
     double kn[2];      ///< normal stiffness defined on end 1 / end 2 [N/m], NaN if not set
@@ -164,11 +164,11 @@ enum PropFlags : uint32_t {
 
 /// Describes one property. Strings are owned by the plugin and live as long as the library.
 struct PropInfo {
-    const char* name;         ///< PFC name where PFC has one (kn, ks, fric, dp_nratio, ...)
-    const char* units;        ///< SI units, "-" if dimensionless
-    uint32_t flags;           ///< PropFlags
-    double default_value;     ///< value of a freshly constructed prototype
-    const char* description;  ///< one line
+    const char* name;               ///< PFC name where PFC has one (kn, ks, fric, dp_nratio, ...)
+    const char* units;              ///< SI units, "-" if dimensionless
+    uint32_t flags;                 ///< PropFlags
+    double default_value;           ///< value of a freshly constructed prototype
+    const char* description;        ///< one line
     const char* const* enum_names;  ///< for integer modes: names of 0, 1, ..., nullptr-ended
 };
 
@@ -266,9 +266,9 @@ struct PluginInfo {
 using TalusPluginInfoFn = const talus::PluginInfo* (*)();
 
 /// Fills the fixed fields of a PluginInfo the way the host expects them.
-#define TALUS_PLUGIN_INFO_INIT(version_text, count, create_fn, destroy_fn)                   \
-    talus::PluginInfo {                                                                       \
-        TALUS_ABI_MAJOR, TALUS_ABI_MINOR, TALUS_DIM, sizeof(talus::FdBlock),                  \
+#define TALUS_PLUGIN_INFO_INIT(version_text, count, create_fn, destroy_fn)                      \
+    talus::PluginInfo {                                                                         \
+        TALUS_ABI_MAJOR, TALUS_ABI_MINOR, TALUS_DIM, sizeof(talus::FdBlock),                    \
             sizeof(talus::PropBlock), sizeof(talus::PluginInfo), TALUS_BUILD_KEY, version_text, \
             count, create_fn, destroy_fn                                                        \
     }

@@ -33,11 +33,11 @@ public:
 };
 
 /// Internal invariant; a bug in Talus, not in the input.
-#define TALUS_ASSERT(cond, msg)                                                                \
-    do {                                                                                       \
-        if (!(cond))                                                                           \
-            throw ::talus::Error(std::string("internal error: ") + (msg) + " (" #cond ", " +   \
-                                 __FILE__ + ":" + std::to_string(__LINE__) + ")");             \
+#define TALUS_ASSERT(cond, msg)                                                              \
+    do {                                                                                     \
+        if (!(cond))                                                                         \
+            throw ::talus::Error(std::string("internal error: ") + (msg) + " (" #cond ", " + \
+                                 __FILE__ + ":" + std::to_string(__LINE__) + ")");           \
     } while (0)
 
 }  // namespace talus

@@ -9,10 +9,12 @@
 namespace talus {
 
 struct BallId {
-    uint32_t index = 0;       ///< 1-based; 0 = none
+    uint32_t index = 0;  ///< 1-based; 0 = none
     uint32_t generation = 0;
     bool valid() const { return index != 0; }
-    bool operator==(const BallId& o) const { return index == o.index && generation == o.generation; }
+    bool operator==(const BallId& o) const {
+        return index == o.index && generation == o.generation;
+    }
     bool operator!=(const BallId& o) const { return !(*this == o); }
 };
 
@@ -20,7 +22,9 @@ struct WallId {
     uint32_t index = 0;  ///< 1-based; 0 = none
     uint32_t generation = 0;
     bool valid() const { return index != 0; }
-    bool operator==(const WallId& o) const { return index == o.index && generation == o.generation; }
+    bool operator==(const WallId& o) const {
+        return index == o.index && generation == o.generation;
+    }
 };
 
 /// A contact is named by its ordered ends: end 1 is a ball (the lower id of two balls), end 2 a

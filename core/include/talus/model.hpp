@@ -45,14 +45,14 @@ struct ModelDef {
 enum Fixity : uint8_t { kFixX = 1, kFixY = 2, kFixSpin = 4 };
 
 struct BallDef {
-    Vec2 pos{0.0, 0.0};   ///< [m]
-    double radius = 0.0;  ///< [m], > 0
-    double density = 0.0; ///< [kg/m^3], > 0 (or set mass directly)
+    Vec2 pos{0.0, 0.0};        ///< [m]
+    double radius = 0.0;       ///< [m], > 0
+    double density = 0.0;      ///< [kg/m^3], > 0 (or set mass directly)
     double mass = kNotSet;     ///< [kg]; overrides density when set
     double inertia = kNotSet;  ///< [kg m^2]; default from the mass mode
-    Vec2 vel{0.0, 0.0};   ///< [m/s]
-    double spin = 0.0;    ///< [rad/s]
-    double angle = 0.0;   ///< [rad]
+    Vec2 vel{0.0, 0.0};        ///< [m/s]
+    double spin = 0.0;         ///< [rad/s]
+    double angle = 0.0;        ///< [rad]
     uint8_t fixity = 0;
     std::vector<std::string> groups;
     /// Inheritable contact properties (PFC2D 3.x ball properties); NaN = not set.
@@ -60,10 +60,10 @@ struct BallDef {
 };
 
 struct WallDef {
-    std::vector<Vec2> points;  ///< vertices of the chain, >= 2, consecutive points distinct
-    bool closed = false;       ///< join the last point to the first
-    Vec2 vel{0.0, 0.0};        ///< translational velocity [m/s]
-    double spin = 0.0;         ///< angular velocity about `center` [rad/s]
+    std::vector<Vec2> points;       ///< vertices of the chain, >= 2, consecutive points distinct
+    bool closed = false;            ///< join the last point to the first
+    Vec2 vel{0.0, 0.0};             ///< translational velocity [m/s]
+    double spin = 0.0;              ///< angular velocity about `center` [rad/s]
     Vec2 center{kNotSet, kNotSet};  ///< centre of rotation; default: centroid of the points
     std::vector<std::string> groups;
     double kn = kNotSet, ks = kNotSet, fric = kNotSet;
@@ -83,7 +83,7 @@ struct TimestepSettings {
     double safety = 0.8;     ///< stability rule: safety * min sqrt(m/k), PFC's customary factor
     double resolution = 30;  ///< resolution rule: steps per contact duration; 0 = off
     double max = std::numeric_limits<double>::infinity();  ///< [s]
-    double growth = 2.0;     ///< largest ratio between consecutive automatic steps
+    double growth = 2.0;  ///< largest ratio between consecutive automatic steps
 };
 
 /// Which rule set the last automatic step.
@@ -130,8 +130,8 @@ struct Event {
 struct ContactInfo {
     ContactKey key;
     BallId ball1;
-    BallId ball2;      ///< invalid for a ball-wall contact
-    WallId wall;       ///< valid for a ball-wall contact
+    BallId ball2;          ///< invalid for a ball-wall contact
+    WallId wall;           ///< valid for a ball-wall contact
     int32_t segment = -1;  ///< segment index within the wall
     bool active = false;   ///< has a model object (touching or within activity distance)
     Vec2 normal{0.0, 0.0};
@@ -179,7 +179,7 @@ public:
     double ballInertia(BallId id) const;
     double ballDensity(BallId id) const;
     void setBallDensity(BallId id, double rho);
-    Vec2 ballForce(BallId id) const;   ///< contact force of the last step [N]
+    Vec2 ballForce(BallId id) const;  ///< contact force of the last step [N]
     double ballMoment(BallId id) const;
     Vec2 ballAppliedForce(BallId id) const;
     void setBallAppliedForce(BallId id, const Vec2& f);
@@ -296,10 +296,10 @@ private:
     void runSteps(int64_t steps);
 
     // phases (one source file each)
-    void computeTimestep();    // timestep.cpp
-    void lawOfMotion();        // law_of_motion.cpp
+    void computeTimestep();  // timestep.cpp
+    void lawOfMotion();      // law_of_motion.cpp
     template <bool kGeneral>
-    void moveBalls();          // law_of_motion.cpp
+    void moveBalls();  // law_of_motion.cpp
     void reportNonFiniteBall() const;
     void moveWalls();          // law_of_motion.cpp
     void detectContacts();     // contact_detection.cpp
@@ -307,7 +307,7 @@ private:
     void bookkeeping();        // bookkeeping.cpp
 
     template <bool kAuto, bool kEnergy, bool kGuard>
-    void forceLoop();          // force_displacement.cpp
+    void forceLoop();  // force_displacement.cpp
     // time-step limits gathered per pair (timestep.cpp)
     void noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel, double accel,
                       const Vec2& normal);
@@ -362,7 +362,7 @@ private:
 
     // --- bodies
     std::unique_ptr<BallArrays> m_balls_ptr;
-    BallArrays* m_balls;  // = m_balls_ptr.get()
+    BallArrays* m_balls;                 // = m_balls_ptr.get()
     std::vector<uint32_t> m_slot_of;     // handle index - 1 -> slot (or kDead)
     std::vector<uint32_t> m_generation;  // handle index - 1 -> generation
     std::vector<uint32_t> m_free_handles;
@@ -376,7 +376,7 @@ private:
     std::unordered_map<uint64_t, uint32_t> m_pair_index;
     std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
     uint32_t m_rules_version = 1;
-    double m_max_activity = 0.0;  // largest activity distance of any rule [m]
+    double m_max_activity = 0.0;                    // largest activity distance of any rule [m]
     std::unique_ptr<Broadphase> m_broadphase;       // balls
     std::unique_ptr<Broadphase> m_wall_broadphase;  // wall segments
     double m_margin = 0.0;
@@ -385,7 +385,7 @@ private:
     // Bodies re-inserted this step: only their pairs can have stopped overlapping.
     std::vector<uint32_t> m_moved_balls, m_moved_segments;
     std::vector<uint8_t> m_ball_moved, m_segment_moved;
-    std::vector<uint32_t> m_to_remove;     // scratch for the force loop
+    std::vector<uint32_t> m_to_remove;  // scratch for the force loop
 
     // --- settings and state
     PluginRegistry& m_registry;
@@ -410,7 +410,7 @@ private:
     std::size_t m_fixed_balls = 0;  // balls with any fixity bit (they need the general loop)
     TimestepSettings m_last_settings;
     bool m_limits_stale = true;  // the scene changed outside a cycle: survey before the next step
-    double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
+    double m_step_cap = 0.0;     // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).

@@ -17,7 +17,7 @@ struct ModelFactory {
     std::string name;     ///< ContactModel::Name()
     std::string library;  ///< path of the shared library
     std::string plugin_version;
-    int32_t index = 0;    ///< index for PluginInfo::create_prototype
+    int32_t index = 0;  ///< index for PluginInfo::create_prototype
     const PluginInfo* info = nullptr;
     /// Read-only prototype for metadata (property names, defaults); never cloned.
     ContactModel* reference = nullptr;

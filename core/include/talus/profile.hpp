@@ -9,17 +9,19 @@ namespace talus {
 
 struct Profile {
     bool enabled = true;
-    double timestep = 0.0;            ///< [s] wall-clock
+    double timestep = 0.0;  ///< [s] wall-clock
     double motion = 0.0;
     double detection = 0.0;           ///< broadphase updates and new pairs
     double force_displacement = 0.0;  ///< narrowphase + FDlaw + force sums
     double bookkeeping = 0.0;
     int64_t cycles = 0;
-    int64_t proxy_moves = 0;     ///< broadphase re-insertions
+    int64_t proxy_moves = 0;  ///< broadphase re-insertions
     int64_t pairs_created = 0;
     int64_t contacts_created = 0;
     void reset() { *this = Profile{enabled}; }
-    double total() const { return timestep + motion + detection + force_displacement + bookkeeping; }
+    double total() const {
+        return timestep + motion + detection + force_displacement + bookkeeping;
+    }
     std::string report(std::size_t balls) const;
 };
 

@@ -57,9 +57,9 @@ inline Corners linearOnsetCorners(double kn, double ks, double fric, double shea
                                   bool sliding, const FdBlock& fd, double lead) {
     Corners c;
     c.normal = springOnsetCorrection(kn, fd.u_dot_n, fd.tdel, lead);
-    c.shear = sliding ? std::copysign(fric * c.normal, shear_force)
-                      : -std::copysign(springOnsetCorrection(ks, fd.u_dot_s, fd.tdel, lead),
-                                       fd.u_dot_s);
+    c.shear =
+        sliding ? std::copysign(fric * c.normal, shear_force)
+                : -std::copysign(springOnsetCorrection(ks, fd.u_dot_s, fd.tdel, lead), fd.u_dot_s);
     return c;
 }
 

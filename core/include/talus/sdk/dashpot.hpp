@@ -3,8 +3,8 @@
 // Viscous dashpot, integrated at the time level of the spring force.
 //
 // Why not the PFC form. PFC evaluates a dashpot on the relative velocity of the half step before
-// the force, F_d = c v^(n-1/2). That lags the spring force by half a step and makes the scheme first
-// order: an isolated linear impact with damping ratio 0.5 resolved in 30 steps misses the
+// the force, F_d = c v^(n-1/2). That lags the spring force by half a step and makes the scheme
+// first order: an isolated linear impact with damping ratio 0.5 resolved in 30 steps misses the
 // restitution by about 6% (../docs/physics/integration.md has the table). Two things fix it:
 //
 //  1. Implicit midpoint. Central differences apply the impulse F^n dt at step n. The dashpot force
@@ -81,7 +81,8 @@ inline double dashpotForceInv(double c, double inv_mass, double rate, double ela
 /// the rate at the force's time level, and that rate is unclipped / (c (lead + 1/2)) by
 /// construction of dashpotForce; `applied` may differ from `unclipped` when a no-tension limit
 /// cut the force.
-inline double dashpotEnergy(double c, double applied, double unclipped, double dt, double lead = 0.5) {
+inline double dashpotEnergy(double c, double applied, double unclipped, double dt,
+                            double lead = 0.5) {
     if (c <= 0.0) return 0.0;
     return applied * unclipped * dt / (c * (lead + 0.5));
 }

@@ -37,7 +37,7 @@ struct PropSpec {
     double D::*member;
     double lo = -std::numeric_limits<double>::infinity();
     double hi = std::numeric_limits<double>::infinity();
-    bool lo_open = false;  ///< true: value must be > lo (not >=)
+    bool lo_open = false;              ///< true: value must be > lo (not >=)
     const char* range_note = nullptr;  ///< extra words for the range error (a citation)
 };
 
