@@ -122,6 +122,8 @@ void releaseRef(lua_State* L, const LuaModel& lm, int ref);
 void readTimestepOptions(const Options& o, TimestepSettings& ts);
 /// Parses the options of m:guard{...} / impact{guard = {...}} into `g`.
 void readGuardOptions(const Options& o, GuardSettings& g);
+/// The option names readGuardOptions understands (for Options' unknown-name check).
+const std::vector<std::string>& guardOptionNames();
 /// Reads a contact-model property table {kn = 1e8, dp_mode = "no_tension"} for `model_name`.
 /// Enum properties accept their names; keys are applied in sorted order (deterministic).
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,

@@ -109,8 +109,7 @@ int w_impact(lua_State* L) {
         }
         lua_pop(L, 1);
         if (o.push("guard") != LUA_TNIL) {
-            const Options g(L, -1, "guard",
-                            {"energy", "energy_tolerance", "resolution", "min_steps"});
+            const Options g(L, -1, "guard", guardOptionNames());
             readGuardOptions(g, s.guard);
         }
         lua_pop(L, 1);

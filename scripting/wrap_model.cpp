@@ -506,12 +506,11 @@ int w_timestep(lua_State* L) {
 int w_guard(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "guard");
-        const Options o(L, 2, "guard", {"energy", "energy_tolerance", "resolution", "min_steps"},
-                        true);
+        const Options o(L, 2, "guard", guardOptionNames(), true);
         GuardSettings g = lm.model->guard();
         readGuardOptions(o, g);
         lm.model->guard() = g;
-        lua_createtable(L, 0, 4);
+        lua_createtable(L, 0, 5);
         lua_pushstring(L, guardName(g.energy));
         lua_setfield(L, -2, "energy");
         lua_pushnumber(L, g.energy_tolerance);
@@ -520,6 +519,8 @@ int w_guard(lua_State* L) {
         lua_setfield(L, -2, "resolution");
         lua_pushinteger(L, g.min_steps);
         lua_setfield(L, -2, "min_steps");
+        lua_pushstring(L, guardName(g.stiffness));
+        lua_setfield(L, -2, "stiffness");
         return 1;
     });
 }
@@ -910,11 +911,19 @@ void readTimestepOptions(const Options& o, TimestepSettings& ts) {
         throw ScriptError("timestep: 'growth' must be > 1 (got " + numberText(ts.growth) + ")");
 }
 
+const std::vector<std::string>& guardOptionNames() {
+    static const std::vector<std::string> names = {"energy", "energy_tolerance", "resolution",
+                                                   "min_steps", "stiffness"};
+    return names;
+}
+
 void readGuardOptions(const Options& o, GuardSettings& g) {
     const GuardAction actions[] = {GuardAction::Warn, GuardAction::Error, GuardAction::Off};
     if (o.has("energy")) g.energy = actions[o.choice("energy", 0, {"warn", "error", "off"})];
     if (o.has("resolution"))
         g.resolution = actions[o.choice("resolution", 0, {"warn", "error", "off"})];
+    if (o.has("stiffness"))
+        g.stiffness = actions[o.choice("stiffness", 0, {"warn", "error", "off"})];
     g.energy_tolerance = o.number("energy_tolerance", g.energy_tolerance);
     if (!(g.energy_tolerance >= 0.0))
         throw ScriptError("guard: 'energy_tolerance' must be >= 0 (got " +

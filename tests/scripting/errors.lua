@@ -30,6 +30,10 @@ l = T.line(); T.fails(function() m:timestep{ safety = 0 } end,
     { at(l), "timestep: 'safety' must be > 0 (got 0)" }, "timestep validation")
 l = T.line(); T.fails(function() m:guard{ energy = "loud" } end,
     { at(l), "guard: 'energy' must be one of \"warn\", \"error\", \"off\" (got \"loud\")" }, "enum")
+T.check(m:guard{ stiffness = "error" }.stiffness == "error", "guard{stiffness} is settable")
+l = T.line(); T.fails(function() m:guard{ stifness = "off" } end,
+    { at(l), "guard: unknown option 'stifness' (known: energy, energy_tolerance, min_steps, resolution, stiffness)" },
+    "misspelt guard option")
 l = T.line(); T.fails(function() m.cycle(10) end,
     { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")
 l = T.line(); T.fails(function() m:cycle(2.5) end,
