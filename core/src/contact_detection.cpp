@@ -330,8 +330,9 @@ void Model::resetPair(Pair& p) {
     p.rule->pool->release(p.model);
     p.model = nullptr;
     p.model = cloneFor(p);
-    p.active = p.sliding = p.bonded = false;
+    p.active = p.sliding = p.bonded = p.loading = false;
     p.steps = 0;
+    p.work = p.work_peak = 0.0;
     p.n_force = p.s_force = p.moment = 0.0;
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();

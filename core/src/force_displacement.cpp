@@ -24,6 +24,8 @@ namespace talus {
 namespace {
 
 constexpr std::size_t kPrefetchAhead = 4;
+/// Steps in contact the guard follows a contact for (docs/physics/guard.md).
+constexpr uint32_t kGuardWatch = 400;
 
 std::string num(double v) {
     char buf[48];
@@ -159,10 +161,6 @@ void Model::forceLoop() {
         if (!p.active) {
             first = true;
             activate(p, m_cold[i], g, vrel);
-        } else if constexpr (kGuard) {
-            // A contact that was pushing the bodies apart cannot reverse its normal within a step
-            // unless one body went through the other (a model exerting no force may let it).
-            if (p.n_force > 0.0 && g.normal.dot(m_cold[i].normal) < 0.0) reportPassThrough(p, g);
         }
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
@@ -238,34 +236,41 @@ void Model::forceLoop() {
                     bond_now += c.bond;
                 }
             }
-            if constexpr (kGuard) {
-                // Energy the contact took from the bodies: last step's force times the mean of
-                // the two half-step rates around it, over the velocity window -- exactly what the
-                // law of motion did with it (docs/physics/guard.md).
-                c.work += m_window * (fn_old * 0.5 * (c.rate_n + fd.u_dot_n) -
-                                      fs_old * 0.5 * (c.rate_s + fd.u_dot_s) -
-                                      m_old * 0.5 * (c.rate_t + fd.t_dot_rel));
-                c.work_peak = std::max(c.work_peak, c.work);
-                c.knest_max = std::max(c.knest_max, fd.knest);
-                c.dt_max = std::max(c.dt_max, dt);
-                if (first) {
-                    c.born_overlapped = g.overlap > std::max(fd.du_n, 0.0) * (1.0 + 1e-9) + 1e-15;
-                    c.approach_rate = std::max(fd.u_dot_n, 0.0);
-                }
-                // The secant stiffness at the deepest overlap, where the rate (and so a dashpot's
-                // force) is about zero, checks the stiffness the model reports.
-                if (g.overlap > c.overlap_max) {
-                    c.overlap_max = g.overlap;
-                    c.force_at_max = fd.n_force;
-                    c.rate_at_max = fd.u_dot_n;
-                }
-                c.rate_n = fd.u_dot_n;
-                c.rate_s = fd.u_dot_s;
-                c.rate_t = fd.t_dot_rel;
-                c.normal = g.normal;
-            }
         }
 
+        if constexpr (kGuard) {
+            // The guard follows a contact through its first kGuardWatch steps, which covers any
+            // resolved impact (30 to 150 steps); a contact that persists longer (a packing) is
+            // not followed further, and its energy check is skipped (docs/physics/guard.md).
+            if (p.steps < kGuardWatch) {
+                // Energy the contact took from the bodies: the impulse of each step's force
+                // times the mean of the half-step rates around it, which is what the law of
+                // motion did with it. The two halves are booked at the two FDlaw calls the force
+                // spans, each with the rate it sees: the previous force over this window, the
+                // new force over this step as the estimate of its window (exact for a constant
+                // step). So no rate is kept, and nothing outside the hot pair is touched.
+                const double power_old =
+                    fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
+                const double power_new =
+                    fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
+                p.work += 0.5 * (m_window * power_old + dt * power_new);
+                if (ends) p.work += 0.5 * dt * power_new;  // the rest of the last force's work
+                p.work_peak = std::max(p.work_peak, p.work);
+                // The deepest overlap is where the overlap stops growing: note the previous
+                // step's values there, once per turn (the stiffness and resolution checks).
+                const bool growing = first || g.overlap > p.overlap;
+                if (!growing && p.loading) noteDeepest(p, m_cold[i], fn_old, fd.u_dot_n);
+                p.loading = growing;
+            }
+            // A contact that was pushing the bodies apart cannot reverse its normal within a
+            // step unless one body went through the other (a model exerting no force may let
+            // it). One step back the centre line ran the other way if the bodies separated, in
+            // the current normal's frame, by more than the distance from the ball's centre to
+            // the other body's centre or wall line: -du_n > that distance.
+            if (!first && fn_old > 0.0 &&
+                -fd.du_n > (p.wall ? r1 : r1 + radius[p.end2]) - g.overlap)
+                reportPassThrough(p, g);
+        }
         p.n_force = fd.n_force;
         p.s_force = fd.s_force;
         p.moment = fd.moment;
@@ -301,7 +306,10 @@ void Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     p.active = true;
     ++m_profile.contacts_created;
     c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
-    c.normal = g.normal;
+    // For the guard: a contact born overlapping (placed so) gives back energy it never took.
+    const double approach = -vrel.dot(g.normal);
+    c.approach_rate = std::max(approach, 0.0);
+    c.born_overlapped = g.overlap > std::max(approach * m_dt, 0.0) * (1.0 + 1e-9) + 1e-15;
     if (m_contact_events) {
         Event ev;
         ev.kind = EventKind::ContactCreated;
@@ -311,6 +319,15 @@ void Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
         ev.model = p.rule->model_name;
         m_events.push_back(std::move(ev));
     }
+}
+
+void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_after) {
+    if (p.overlap <= c.overlap_max) return;
+    c.overlap_max = p.overlap;
+    c.force_at_max = force;
+    c.rate_at_max = rate_after;
+    c.knest_at_max = p.knest;
+    c.dt_at_max = m_dt;
 }
 
 void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
@@ -352,19 +369,16 @@ void Model::reportPassThrough(const Pair& p, const ContactGeometry& g) const {
 }
 
 void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
-    if (check_guard && p.steps > 0) {
-        // The force of this last step acts in the next law of motion; estimate its work with
-        // the current rates.
-        c.work += m_dt * (p.n_force * c.rate_n - p.s_force * c.rate_s - p.moment * c.rate_t);
+    if (check_guard && p.steps > 0 && p.steps <= kGuardWatch) {
         // A contact created overlapping (by placement) gives back energy it never took.
         // Reference: the larger of the energy the contact held at its peak and the kinetic
         // energy of the approach (a contact that only ever gave energy has no peak).
         const double reference =
-            std::max(c.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
+            std::max(p.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
         if (m_guard.energy != GuardAction::Off && !c.born_overlapped && reference > 0.0 &&
-            c.work < -m_guard.energy_tolerance * reference) {
+            p.work < -m_guard.energy_tolerance * reference) {
             const std::string what =
-                describePair(p) + " returned " + num(-c.work) + " J more than it took (reference " +
+                describePair(p) + " returned " + num(-p.work) + " J more than it took (reference " +
                 num(reference) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
                 "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
                 " s; the step (" + num(m_dt) +
@@ -380,10 +394,10 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
         // stiffness check's business.
         if (m_guard.resolution != GuardAction::Off && !p.bonded &&
-            c.duration < m_guard.min_steps * c.dt_max) {
-            const std::string what = describePair(p) + " had " + num(c.duration / c.dt_max) +
+            c.duration < m_guard.min_steps * c.dt_at_max) {
+            const std::string what = describePair(p) + " had " + num(c.duration / c.dt_at_max) +
                                      " steps per contact duration (" + num(c.duration) +
-                                     " s at dt = " + num(c.dt_max) + " s, t = " + num(m_time) +
+                                     " s at dt = " + num(c.dt_at_max) + " s, t = " + num(m_time) +
                                      " s); it lasted " + std::to_string(p.steps) + " steps";
             if (m_guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
@@ -394,12 +408,12 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
         // rate there (about zero for a resolved impact, not for a contact in a packing).
         const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
-        const double allowed = 2.0 * c.knest_max * c.overlap_max +
-                               2.0 * std::sqrt(p.mass_eff * c.knest_max) * std::fabs(c.rate_at_max);
+        const double allowed = 2.0 * c.knest_at_max * c.overlap_max +
+                               2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
         if (m_guard.stiffness != GuardAction::Off && !p.bonded && c.force_at_max > allowed) {
             const std::string what =
                 describePair(p) + ": at its deepest overlap its normal force was " + num(secant) +
-                " N/m of overlap while it reported knest up to " + num(c.knest_max) +
+                " N/m of overlap while it reported knest " + num(c.knest_at_max) +
                 " N/m; the time step follows knest, so the model must report its true tangent "
                 "stiffness (docs/plugin-abi.md, time-step contract)";
             if (m_guard.stiffness == GuardAction::Error)

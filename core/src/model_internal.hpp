@@ -74,7 +74,7 @@ struct Model::WallData {
 /// replaced by a fresh clone, so a new touch starts from a fresh state.
 ///
 /// The force loop streams through all pairs every step and is limited by memory traffic, so the
-/// data it needs at every step (104 bytes) is kept apart from the rest
+/// data it needs at every step (120 bytes) is kept apart from the rest
 /// (PairCold, same index), which only the time-step, guard and energy variants of the loop, the
 /// queries and the bookkeeping touch.
 struct Model::Pair {
@@ -84,7 +84,8 @@ struct Model::Pair {
     bool active = false;
     bool sliding = false;
     bool bonded = false;
-    uint32_t steps = 0;  // steps with positive overlap in this life
+    bool loading = false;  // guard: the overlap grew at the last step
+    uint32_t steps = 0;    // steps with positive overlap in this life
     Rule* rule = nullptr;
     ContactModel* model = nullptr;
     double mass_eff = 0.0;
@@ -93,25 +94,24 @@ struct Model::Pair {
     double n_force = 0.0, s_force = 0.0, moment = 0.0;
     double overlap = 0.0;  // at the last FDlaw
     double knest = 0.0, ksest = 0.0;
+    double work = 0.0, work_peak = 0.0;  // guard: energy the contact took in this life [J]
 };
 
 struct Model::PairCold {
-    uint64_t key = 0;
-    uint32_t rules_version = 0;
-    double krest = 0.0;
-    double duration = 0.0;               // expected contact duration from the model at touch [s]
-    double work = 0.0, work_peak = 0.0;  // energy taken by the contact in this life [J]
-    double rate_n = 0.0, rate_s = 0.0, rate_t = 0.0;  // half-step rates at the last FDlaw
-    double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
-    Vec2 normal{0.0, 0.0};            // at the last FDlaw (guard: pass-through check)
-    // guard
-    double knest_max = 0.0;        // largest reported normal stiffness in this life [N/m]
-    double dt_max = 0.0;           // largest step taken while in contact [s]
+    // Guard, written at touch and at the deepest overlap (when the overlap stops growing).
     double overlap_max = 0.0;      // deepest overlap in this life [m]
     double force_at_max = 0.0;     // normal force there [N]
-    double rate_at_max = 0.0;      // overlap rate there [m/s]
-    bool born_overlapped = false;  // first touched with more overlap than one step's approach
+    double rate_at_max = 0.0;      // overlap rate just after it [m/s]
+    double knest_at_max = 0.0;     // reported normal stiffness there [N/m]
+    double dt_at_max = 0.0;        // step taken there [s]
     double approach_rate = 0.0;    // u_dot_n at touch [m/s]
+    bool born_overlapped = false;  // first touched with more overlap than one step's approach
+    // The rest.
+    uint32_t rules_version = 0;
+    uint64_t key = 0;
+    double krest = 0.0;
+    double duration = 0.0;            // expected contact duration from the model at touch [s]
+    double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
 
 struct Model::BallArrays {

@@ -220,8 +220,7 @@ SettleResult settleDensePack(Model& model, const DensePack& pack, const DensePac
     // Settling is preparation, not a measurement: grazing impacts during the fall are short by
     // nature, and the guard would report each batch of them. Its settings come back after.
     const GuardSettings saved_guard = model.guard();
-    model.guard().energy = GuardAction::Off;
-    model.guard().resolution = GuardAction::Off;
+    model.guard() = GuardSettings::allOff();
     double peak = 0.0;
     while (model.time() - t0 < fall_cap) {
         model.cycle(s.check_every);

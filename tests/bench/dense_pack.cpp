@@ -140,15 +140,11 @@ talus::PackState settledState(const Options& o, const talus::DensePackDef& def) 
 void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     talus::Model model;
     const talus::DensePack pack = talus::buildDensePackFromState(model, st);
-    if (o.guard == "off") {
-        model.guard().energy = talus::GuardAction::Off;
-        model.guard().resolution = talus::GuardAction::Off;
-    } else if (o.guard == "on") {
-        model.guard().energy = talus::GuardAction::Warn;
-        model.guard().resolution = talus::GuardAction::Warn;
-    }
-    const bool guard_on = model.guard().energy != talus::GuardAction::Off ||
-                          model.guard().resolution != talus::GuardAction::Off;
+    if (o.guard == "off")
+        model.guard() = talus::GuardSettings::allOff();
+    else if (o.guard == "on")
+        model.guard() = talus::GuardSettings{};  // every check at its default (warn)
+    const bool guard_on = model.guard().anyOn();
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
     if (o.warmup > 0) model.cycle(o.warmup);

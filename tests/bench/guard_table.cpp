@@ -23,7 +23,7 @@ ImpactSetup impact(double lie, double gap) {
     s.density = 2600.0;
     s.normal_speed = 1.0;
     s.gap = gap;
-    s.guard.energy = s.guard.resolution = s.guard.stiffness = GuardAction::Off;
+    s.guard = GuardSettings::allOff();
     return s;
 }
 

@@ -243,3 +243,31 @@ TEST_CASE("a pour at the default step gives no under-resolution findings", "[cor
     report("pour of 100 balls at the default step: %zu guard warning(s)\n", log.texts.size());
     CHECK(!log.any("lasted fewer than"));
 }
+
+TEST_CASE("a ball driven through a soft wall in one step stops the run naming the contact",
+          "[core][guard]") {
+    // 60 m/s against a wall of kn = 1e3 N/m with a fixed 1 ms step: the ball moves 0.6 radii
+    // per step, so its centre crosses the wall line one step after touch while the contact still
+    // pushes. Without the check the normal would flip and the wall would pull the ball through.
+    auto m = makeModel(Vec2::Zero(), linearProps(1e3));
+    m->createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));
+    m->createBall(ballAt(Vec2(0.0, kR + 0.01), kR, kRho, Vec2(0.0, -60.0)));
+    m->timestep().automatic = false;
+    m->timestep().fixed = 1e-3;
+    m->setWarningHandler([](const std::string&) {});
+    std::string what;
+    try {
+        m->cycle(10);
+    } catch (const NumericalError& e) {
+        what = e.what();
+    }
+    using Catch::Matchers::Contains;
+    CHECK_THAT(what, Contains("passed through") && Contains("contact ball 1 - wall 1 segment 1") &&
+                         Contains("(model 'linear')"));
+    // At 0.2 m/s the deepest overlap is v sqrt(m/k) = 0.057 m < R: it bounces, no false alarm.
+    auto slow = makeModel(Vec2::Zero(), linearProps(1e3));
+    slow->createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));
+    slow->createBall(ballAt(Vec2(0.0, kR + 0.01), kR, kRho, Vec2(0.0, -0.2)));
+    slow->setWarningHandler([](const std::string&) {});
+    CHECK_NOTHROW(slow->solveTime(2.0));
+}

@@ -104,6 +104,17 @@ struct GuardSettings {
     /// A model whose forces change faster than its reported stiffness allows (the time step
     /// follows the reported stiffness, so an under-reporting model gets too large a step).
     GuardAction stiffness = GuardAction::Warn;
+
+    bool anyOn() const {
+        return energy != GuardAction::Off || resolution != GuardAction::Off ||
+               stiffness != GuardAction::Off;
+    }
+    /// Every check off (the non-finite checks always run).
+    static GuardSettings allOff() {
+        GuardSettings g;
+        g.energy = g.resolution = g.stiffness = GuardAction::Off;
+        return g;
+    }
 };
 
 /// Law-of-motion damping options.
@@ -341,6 +352,7 @@ private:
     void endContact(Pair& p, PairCold& c, bool check_guard);
     void activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
     void queueBreak(std::size_t index, const Vec2& point, int32_t mode);
+    void noteDeepest(const Pair& p, PairCold& c, double force, double rate_after);
     [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
     [[noreturn]] void findNonFiniteContact() const;
     [[noreturn]] void reportPassThrough(const Pair& p, const ContactGeometry& g) const;
