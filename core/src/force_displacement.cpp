@@ -267,7 +267,9 @@ void Model::forceLoop() {
             // it). One step back the centre line ran the other way if the bodies separated, in
             // the current normal's frame, by more than the distance from the ball's centre to
             // the other body's centre or wall line: -du_n > that distance.
-            if (!first && fn_old > 0.0 &&
+            // Checked at every step of an impact, and in a persistent contact once it overlaps
+            // by more than a tenth of the ball's radius.
+            if (!first && fn_old > 0.0 && (p.steps < kGuardWatch || g.overlap > 0.1 * r1) &&
                 -fd.du_n > (p.wall ? r1 : r1 + radius[p.end2]) - g.overlap)
                 reportPassThrough(p, g);
         }
