@@ -173,15 +173,11 @@ const char* nameOf(MassMode mode) { return mode == MassMode::Disk ? "disk" : "sp
 }  // namespace
 
 // The tangential spring is still loaded when the contact ends (V_s'/V_s = cos(phase) means a
-// spring force ~ sin(phase)), and the plugin drops it at the step boundary: the force of the last
-// contact step acts for a whole step although the contact ended a fraction of a step later. The
-// onset is weighted by the fraction of the step in contact (shear increment * onsetFraction), the
-// end is not (plugins/linear/linear.cpp, Linear::fdlaw, branch u_n <= 0: lin_fs = 0 with no
-// closing impulse; the normal dashpot has one, dashpotClosingForce). That makes the tangential
-// rebound first order in dt. Measured at the default step (30 steps per contact): up to 8e-2
-// off. These two tests state the second-order expectation and fail until that is fixed.
+// spring force ~ sin(phase)). The linear model pays the shear impulse owed for the part of the last
+// step the contact lasted (talus/sdk/corners.hpp); an earlier version dropped the spring at the step
+// boundary, which made the tangential rebound first order (8e-2 off at the default step).
 TEST_CASE("stick regime, mu -> infinity, no damping: slip reversal at the default step",
-          "[core][oblique][!mayfail]") {
+          "[core][oblique]") {
     for (MassMode mode : {MassMode::Disk, MassMode::Sphere}) {
         const double kappa = kappaOf(mode);
         Stats all;
@@ -199,11 +195,15 @@ TEST_CASE("stick regime, mu -> infinity, no damping: slip reversal at the defaul
 }
 
 TEST_CASE("stick regime: the slip-reversal error converges at second order",
-          "[core][oblique][!mayfail]") {
-    // Fixed steps at 15..240 steps per normal contact, random phases of touch and separation.
+          "[core][oblique]") {
+    // Fixed steps at 15..60 steps per normal contact, random phases of touch and separation.
+    // Beyond that the error meets a floor of about 1e-4 that does not depend on the step: the
+    // closed form takes the contact point at R, the engine at R - u/2 (the middle of the overlap),
+    // a finite-overlap difference of order u_max / R (measured 1.0e-4 disk, 1.2e-4 sphere at
+    // 240 steps); the order is fitted where the step error dominates, and the floor bounded.
     for (MassMode mode : {MassMode::Disk, MassMode::Sphere}) {
         std::vector<double> h, mean;
-        for (int n : {15, 30, 60, 120, 240}) {
+        for (int n : {15, 30, 60}) {
             const Stats st = stickError(mode, 0.5, n, 30, 21);
             h.push_back(1.0 / (n + 0.5));
             mean.push_back(st.mean());
@@ -214,6 +214,7 @@ TEST_CASE("stick regime: the slip-reversal error converges at second order",
         report("  fitted order %.2f\n", p);
         INFO(nameOf(mode) << " fitted order " << p);
         CHECK(p >= 1.8);
+        CHECK(stickError(mode, 0.5, 240, 30, 21).mean() < 2e-4);
     }
 }
 
