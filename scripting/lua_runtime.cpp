@@ -158,6 +158,38 @@ void* testUserdata(lua_State* L, int index, const char* tname) {
     return luaL_testudata(L, index, tname);
 }
 
+std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& bad_key_message) {
+    index = lua_absindex(L, index);
+    std::vector<std::string> keys;
+    lua_pushnil(L);
+    while (lua_next(L, index) != 0) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            lua_pop(L, 1);
+            throw ScriptError(bad_key_message);
+        }
+        keys.push_back(lua_tostring(L, -1));
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+void registerRefType(lua_State* L, const char* tname, const luaL_Reg* methods, lua_CFunction index,
+                     lua_CFunction newindex, lua_CFunction eq, lua_CFunction tostring) {
+    luaL_newmetatable(L, tname);
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_pushcclosure(L, index, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, newindex);
+    lua_setfield(L, -2, "__newindex");
+    lua_pushcfunction(L, eq);
+    lua_setfield(L, -2, "__eq");
+    lua_pushcfunction(L, tostring);
+    lua_setfield(L, -2, "__tostring");
+    lua_pop(L, 1);
+}
+
 // ------------------------------------------------------------------ Options
 
 Options::Options(lua_State* L, int index, std::string what, std::vector<std::string> known,

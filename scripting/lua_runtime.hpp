@@ -156,4 +156,25 @@ void requireTable(lua_State* L, int index, const std::string& what);
 /// Userdata of metatable `tname` at `index`, or nullptr (never raises).
 void* testUserdata(lua_State* L, int index, const char* tname);
 
+/// The string keys of the table at `index`, sorted (so that set{...} applies them in an order
+/// that does not depend on table iteration); a non-string key raises `bad_key_message`.
+std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& bad_key_message);
+
+/// Registers the metatable of a userdata type that holds a reference to a body or contact of a
+/// model: methods reached through __index (as its upvalue), __newindex, __eq, __tostring.
+void registerRefType(lua_State* L, const char* tname, const luaL_Reg* methods, lua_CFunction index,
+                     lua_CFunction newindex, lua_CFunction eq, lua_CFunction tostring);
+
+/// A new userdata of type `tname` holding a Ref, whose first user value keeps the model (at
+/// `model_index`) alive while the reference exists.
+template <class Ref>
+Ref* newRef(lua_State* L, int model_index, const char* tname) {
+    model_index = lua_absindex(L, model_index);
+    auto* ref = static_cast<Ref*>(lua_newuserdatauv(L, sizeof(Ref), 1));
+    luaL_setmetatable(L, tname);
+    lua_pushvalue(L, model_index);
+    lua_setiuservalue(L, -2, 1);
+    return ref;
+}
+
 }  // namespace talus::lua

@@ -268,16 +268,8 @@ int w_set(lua_State* L) {
     return catchexcept(L, [&] {
         BallRef& b = checkBall(L, 1, "set");
         requireTable(L, 2, "ball: set{...}");
-        // Sorted keys: the outcome does not depend on table iteration order.
-        std::vector<std::string> keys;
-        lua_pushnil(L);
-        while (lua_next(L, 2) != 0) {
-            lua_pop(L, 1);
-            if (lua_type(L, -1) != LUA_TSTRING)
-                throw ScriptError("ball: set{...} takes named fields (radius = 0.2, ...)");
-            keys.push_back(lua_tostring(L, -1));
-        }
-        std::sort(keys.begin(), keys.end());
+        const std::vector<std::string> keys =
+            sortedKeys(L, 2, "ball: set{...} takes named fields (radius = 0.2, ...)");
         for (const std::string& k : keys) {
             lua_pushstring(L, k.c_str());
             lua_rawget(L, 2);
@@ -342,27 +334,13 @@ BallRef* testBall(lua_State* L, int index) {
 
 void pushBall(lua_State* L, int model_index, BallId id) {
     model_index = lua_absindex(L, model_index);
-    auto* lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    auto* b = static_cast<BallRef*>(lua_newuserdatauv(L, sizeof(BallRef), 1));
-    b->lm = lm;
+    auto* b = newRef<BallRef>(L, model_index, kBallType);
+    b->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
     b->id = id;
-    luaL_setmetatable(L, kBallType);
-    lua_pushvalue(L, model_index);
-    lua_setiuservalue(L, -2, 1);
 }
 
 void openBall(lua_State* L) {
-    luaL_newmetatable(L, kBallType);
-    luaL_newlib(L, kBallMethods);
-    lua_pushcclosure(L, w_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, w_newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushcfunction(L, w_eq);
-    lua_setfield(L, -2, "__eq");
-    lua_pushcfunction(L, w_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
+    registerRefType(L, kBallType, kBallMethods, w_index, w_newindex, w_eq, w_tostring);
 }
 
 }  // namespace talus::lua

@@ -224,27 +224,13 @@ const luaL_Reg kContactMethods[] = {
 
 void pushContact(lua_State* L, int model_index, ContactKey key) {
     model_index = lua_absindex(L, model_index);
-    auto* lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    auto* c = static_cast<ContactRef*>(lua_newuserdatauv(L, sizeof(ContactRef), 1));
-    c->lm = lm;
+    auto* c = newRef<ContactRef>(L, model_index, kContactType);
+    c->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
     c->key = key;
-    luaL_setmetatable(L, kContactType);
-    lua_pushvalue(L, model_index);
-    lua_setiuservalue(L, -2, 1);
 }
 
 void openContact(lua_State* L) {
-    luaL_newmetatable(L, kContactType);
-    luaL_newlib(L, kContactMethods);
-    lua_pushcclosure(L, w_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, w_newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushcfunction(L, w_eq);
-    lua_setfield(L, -2, "__eq");
-    lua_pushcfunction(L, w_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
+    registerRefType(L, kContactType, kContactMethods, w_index, w_newindex, w_eq, w_tostring);
 }
 
 }  // namespace talus::lua

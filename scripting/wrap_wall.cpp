@@ -170,15 +170,8 @@ int w_set(lua_State* L) {
     return catchexcept(L, [&] {
         WallRef& w = checkWall(L, 1, "set");
         requireTable(L, 2, "wall: set{...}");
-        std::vector<std::string> keys;
-        lua_pushnil(L);
-        while (lua_next(L, 2) != 0) {
-            lua_pop(L, 1);
-            if (lua_type(L, -1) != LUA_TSTRING)
-                throw ScriptError("wall: set{...} takes named fields (vel = {1, 0}, ...)");
-            keys.push_back(lua_tostring(L, -1));
-        }
-        std::sort(keys.begin(), keys.end());
+        const std::vector<std::string> keys =
+            sortedKeys(L, 2, "wall: set{...} takes named fields (vel = {1, 0}, ...)");
         for (const std::string& k : keys) {
             lua_pushstring(L, k.c_str());
             lua_rawget(L, 2);
@@ -211,27 +204,13 @@ const luaL_Reg kWallMethods[] = {
 
 void pushWall(lua_State* L, int model_index, WallId id) {
     model_index = lua_absindex(L, model_index);
-    auto* lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    auto* w = static_cast<WallRef*>(lua_newuserdatauv(L, sizeof(WallRef), 1));
-    w->lm = lm;
+    auto* w = newRef<WallRef>(L, model_index, kWallType);
+    w->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
     w->id = id;
-    luaL_setmetatable(L, kWallType);
-    lua_pushvalue(L, model_index);
-    lua_setiuservalue(L, -2, 1);
 }
 
 void openWall(lua_State* L) {
-    luaL_newmetatable(L, kWallType);
-    luaL_newlib(L, kWallMethods);
-    lua_pushcclosure(L, w_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, w_newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushcfunction(L, w_eq);
-    lua_setfield(L, -2, "__eq");
-    lua_pushcfunction(L, w_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
+    registerRefType(L, kWallType, kWallMethods, w_index, w_newindex, w_eq, w_tostring);
 }
 
 }  // namespace talus::lua

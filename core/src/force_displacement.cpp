@@ -410,8 +410,9 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
         // rate there (about zero for a resolved impact, not for a contact in a packing).
         const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
-        const double allowed = 2.0 * c.knest_at_max * c.overlap_max +
-                               2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
+        const double allowed =
+            2.0 * c.knest_at_max * c.overlap_max +
+            2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
         if (m_guard.stiffness != GuardAction::Off && !p.bonded && c.force_at_max > allowed) {
             const std::string what =
                 describePair(p) + ": at its deepest overlap its normal force was " + num(secant) +

@@ -13,29 +13,11 @@
 
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
+#include "talus/splitmix.hpp"
 
 namespace talus {
 
 namespace {
-
-/// splitmix64 (Steele, Lea & Flood 2014): tiny, fast, and the same stream on every platform.
-class SplitMix64 {
-public:
-    explicit SplitMix64(uint64_t seed) : m_state(seed) {}
-    uint64_t next() {
-        uint64_t z = (m_state += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return z ^ (z >> 31);
-    }
-    /// Uniform in [0, 1) with 53 random bits.
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-    /// Uniform integer in [0, n); the modulo bias (n / 2^64) is far below anything measurable.
-    uint64_t below(uint64_t n) { return next() % n; }
-
-private:
-    uint64_t m_state;
-};
 
 /// Packing fraction a polydisperse dense random pack reaches in 2D (frictional disks settle
 /// between about 0.78 and 0.84); used only to estimate how far the lattice falls.

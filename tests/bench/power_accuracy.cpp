@@ -28,25 +28,11 @@
 #include "talus/errors.hpp"
 #include "talus/impact_rig.hpp"
 #include "talus/plugin_registry.hpp"
+#include "talus/splitmix.hpp"
 
 using namespace talus;
 
 namespace {
-
-class SplitMix64 {
-public:
-    explicit SplitMix64(uint64_t seed) : m_state(seed) {}
-    double uniform() {
-        uint64_t z = (m_state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        z ^= z >> 31;
-        return double(z >> 11) * 0x1.0p-53;
-    }
-
-private:
-    uint64_t m_state;
-};
 
 struct Rule {
     const char* name;

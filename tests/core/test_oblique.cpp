@@ -174,8 +174,8 @@ const char* nameOf(MassMode mode) { return mode == MassMode::Disk ? "disk" : "sp
 
 // The tangential spring is still loaded when the contact ends (V_s'/V_s = cos(phase) means a
 // spring force ~ sin(phase)). The linear model pays the shear impulse owed for the part of the last
-// step the contact lasted (talus/sdk/corners.hpp); an earlier version dropped the spring at the step
-// boundary, which made the tangential rebound first order (8e-2 off at the default step).
+// step the contact lasted (talus/sdk/corners.hpp); an earlier version dropped the spring at the
+// step boundary, which made the tangential rebound first order (8e-2 off at the default step).
 TEST_CASE("stick regime, mu -> infinity, no damping: slip reversal at the default step",
           "[core][oblique]") {
     for (MassMode mode : {MassMode::Disk, MassMode::Sphere}) {
@@ -194,8 +194,7 @@ TEST_CASE("stick regime, mu -> infinity, no damping: slip reversal at the defaul
     }
 }
 
-TEST_CASE("stick regime: the slip-reversal error converges at second order",
-          "[core][oblique]") {
+TEST_CASE("stick regime: the slip-reversal error converges at second order", "[core][oblique]") {
     // Fixed steps at 15..60 steps per normal contact, random phases of touch and separation.
     // Beyond that the error meets a floor of about 1e-4 that does not depend on the step: the
     // closed form takes the contact point at R, the engine at R - u/2 (the middle of the overlap),

@@ -23,6 +23,7 @@
 #include "talus/errors.hpp"
 #include "talus/impact_rig.hpp"
 #include "talus/model.hpp"
+#include "talus/splitmix.hpp"
 
 namespace talus::test {
 
@@ -52,24 +53,8 @@ report(const char* fmt, ...) {
 
 // ------------------------------------------------------------------ PRNG
 
-/// SplitMix64 (a fixed-seed generator of our own, so results never depend on the standard
-/// library's distributions).
-class Rng {
-public:
-    explicit Rng(uint64_t seed) : m_state(seed) {}
-    uint64_t next() {
-        uint64_t z = (m_state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    /// Uniform in [0, 1).
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-private:
-    uint64_t m_state;
-};
+/// The fixed-seed generator of the scenes (talus/splitmix.hpp).
+using Rng = SplitMix64;
 
 // ------------------------------------------------------------------ statistics
 

@@ -22,24 +22,12 @@
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/save_object.hpp"
+#include "talus/splitmix.hpp"
 
 namespace talus::lawtest {
 
-/// SplitMix64: fixed-seed, independent of the standard library's distributions.
-class Rng {
-public:
-    explicit Rng(uint64_t seed) : m_state(seed) {}
-    double uniform() {
-        uint64_t z = (m_state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-    }
-    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-private:
-    uint64_t m_state;
-};
+/// The fixed-seed generator of the scenes (talus/splitmix.hpp).
+using Rng = SplitMix64;
 
 struct Stats {
     double worst = 0.0, sum = 0.0;

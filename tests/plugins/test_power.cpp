@@ -22,6 +22,7 @@
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/save_object.hpp"
+#include "talus/splitmix.hpp"
 
 using namespace talus;
 using Catch::Matchers::Contains;
@@ -44,16 +45,11 @@ double closedFormE(double b, double v0, double vy) {
     return std::sqrt((1.0 + r) / (b + 1.0));
 }
 
-/// Fixed-seed phases of first touch (fractions of a step), from SplitMix64.
+/// Fixed-seed phases of first touch (fractions of a step).
 std::vector<double> phases(int n, uint64_t seed) {
+    SplitMix64 rng(seed);
     std::vector<double> out;
-    for (int i = 0; i < n; ++i) {
-        uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        z ^= z >> 31;
-        out.push_back(double(z >> 11) * 0x1.0p-53);
-    }
+    for (int i = 0; i < n; ++i) out.push_back(rng.uniform());
     return out;
 }
 
