@@ -160,6 +160,20 @@ void* testUserdata(lua_State* L, int index, const char* tname);
 /// that does not depend on table iteration); a non-string key raises `bad_key_message`.
 std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& bad_key_message);
 
+/// For each string key of the table at `table`, in sorted order, calls set(key, value_index):
+/// the body of an object's set{...} method. `what` names the call in errors.
+template <class SetField>
+void applyFields(lua_State* L, int table, const std::string& what, const std::string& bad_key,
+                 SetField set) {
+    requireTable(L, table, what);
+    for (const std::string& k : sortedKeys(L, table, bad_key)) {
+        lua_pushstring(L, k.c_str());
+        lua_rawget(L, table);
+        set(k, lua_gettop(L));
+        lua_pop(L, 1);
+    }
+}
+
 /// Registers the metatable of a userdata type that holds a reference to a body or contact of a
 /// model: methods reached through __index (as its upvalue), __newindex, __eq, __tostring.
 void registerRefType(lua_State* L, const char* tname, const luaL_Reg* methods, lua_CFunction index,

@@ -267,15 +267,8 @@ int w_newindex(lua_State* L) {
 int w_set(lua_State* L) {
     return catchexcept(L, [&] {
         BallRef& b = checkBall(L, 1, "set");
-        requireTable(L, 2, "ball: set{...}");
-        const std::vector<std::string> keys =
-            sortedKeys(L, 2, "ball: set{...} takes named fields (radius = 0.2, ...)");
-        for (const std::string& k : keys) {
-            lua_pushstring(L, k.c_str());
-            lua_rawget(L, 2);
-            setField(L, b, k, lua_gettop(L));
-            lua_pop(L, 1);
-        }
+        applyFields(L, 2, "ball: set{...}", "ball: set{...} takes named fields (radius = 0.2, ...)",
+                    [&](const std::string& key, int value) { setField(L, b, key, value); });
         return 0;
     });
 }

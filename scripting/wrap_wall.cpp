@@ -169,15 +169,8 @@ int w_newindex(lua_State* L) {
 int w_set(lua_State* L) {
     return catchexcept(L, [&] {
         WallRef& w = checkWall(L, 1, "set");
-        requireTable(L, 2, "wall: set{...}");
-        const std::vector<std::string> keys =
-            sortedKeys(L, 2, "wall: set{...} takes named fields (vel = {1, 0}, ...)");
-        for (const std::string& k : keys) {
-            lua_pushstring(L, k.c_str());
-            lua_rawget(L, 2);
-            setField(L, w, k, lua_gettop(L));
-            lua_pop(L, 1);
-        }
+        applyFields(L, 2, "wall: set{...}", "wall: set{...} takes named fields (vel = {1, 0}, ...)",
+                    [&](const std::string& key, int value) { setField(L, w, key, value); });
         return 0;
     });
 }
