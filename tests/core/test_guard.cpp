@@ -16,14 +16,6 @@ namespace {
 
 constexpr double kR = 0.05, kRho = 2600.0, kKn = 1e7;
 
-std::unique_ptr<Model> makeModel(const Vec2& g, const std::vector<PropValue>& props) {
-    ModelDef def;
-    def.gravity = g;
-    auto m = std::make_unique<Model>(def);
-    m->setDefaultContactModel("linear", props);
-    return m;
-}
-
 /// Ball above a floor moving down at v0 (no gravity); returns the ball id.
 BallId dropScene(Model& m, double gap, double v0) {
     m.createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,15 @@ inline double diskMass(double rho, double r) { return rho * M_PI * r * r; }
 inline double sphereMass(double rho, double r) { return rho * 4.0 / 3.0 * M_PI * r * r * r; }
 
 // ------------------------------------------------------------------ scenes
+
+/// A model with gravity `g` and the linear model with `props` as its default.
+inline std::unique_ptr<Model> makeModel(const Vec2& g, const std::vector<PropValue>& props) {
+    ModelDef def;
+    def.gravity = g;
+    auto m = std::make_unique<Model>(def);
+    m->setDefaultContactModel("linear", props);
+    return m;
+}
 
 inline std::vector<PropValue> linearProps(double kn, double ks = 0.0, double fric = 0.0,
                                           double dp_nratio = 0.0, double dp_sratio = 0.0,

@@ -21,14 +21,6 @@ namespace {
 
 constexpr double kR = 0.05, kRho = 2600.0, kKn = 1e7;
 
-std::unique_ptr<Model> makeModel(const Vec2& g, const std::vector<PropValue>& props) {
-    ModelDef def;
-    def.gravity = g;
-    auto m = std::make_unique<Model>(def);
-    m->setDefaultContactModel("linear", props);
-    return m;
-}
-
 double dashpotFactor(double beta) {
     const double f = std::sqrt(1.0 + beta * beta) - beta;
     return 1.0 / (f * f);

@@ -24,14 +24,6 @@ Vec2 dirDeg(double deg) {
     return Vec2(std::cos(a), std::sin(a));
 }
 
-std::unique_ptr<Model> makeModel(const Vec2& g, const std::vector<PropValue>& props) {
-    ModelDef def;
-    def.gravity = g;
-    auto m = std::make_unique<Model>(def);
-    m->setDefaultContactModel("linear", props);
-    return m;
-}
-
 }  // namespace
 
 TEST_CASE("end-point contact: radial normal, restitution 1", "[core][walls]") {
