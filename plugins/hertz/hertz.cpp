@@ -79,10 +79,14 @@ public:
     double window_end_ = 0.0;  // overlap at which the last step's dashpot window ended [m]
     double last_total_ = 0.0;  // the law's normal force at the last step (no corrections) [N]
     bool touching_ = false;
+    DashpotHistory history_;  // the rest of the model's push on the dashpots' rates
 
     static const PropTable<Hertz>& Table() {
         static const PropTable<Hertz> t = {
-            {{"hz_shear", "Pa", 0, 0.0, "shear modulus G", nullptr}, &Hertz::hz_shear, 0.0},
+            {{"hz_shear", "Pa", 0, 0.0, "shear modulus G", nullptr},
+             &Hertz::hz_shear,
+             0.0,
+             kStiffnessMax},
             // range [0, 0.5) checked in AcceptProp and PreCycle (the table's ranges are closed)
             {{"hz_poiss", "-", 0, 0.0, "Poisson ratio", nullptr}, &Hertz::hz_poiss},
             {{"hz_alpha", "-", 0, 1.5, "exponent of the normal force", nullptr},
@@ -266,6 +270,12 @@ public:
         // Forces of the last step, for the energy increments (zero before the first step).
         const double dp_fn_old = dp_fn, dp_fs_old = dp_fs, fs_old = hz_fs;
         const double strain_s_old = springEnergy(hz_fs, shearTangent(last_overlap_));
+        // Gravity, the other contacts and the rest, as seen in the rates (sdk/dashpot.hpp),
+        // with the effective mass both dashpots are solved with. Followed on every call,
+        // touching or not, dashpot or not (hz_e may set one later), so it is never stale.
+        const double inv_mass = mass_eff_ > 0.0 ? 1.0 / mass_eff_ : 0.0;
+        const DashpotLoad other = history_.observe(fd, dp_nratio > 0.0 ? inv_mass : 0.0,
+                                                   dp_sratio > 0.0 ? inv_mass : 0.0);
 
         if (u <= 0.0) {
             // Separated. The dashpot impulse owed between the end of the last step's window
@@ -320,7 +330,7 @@ public:
             const double cn = std::fabs(b - a) > 1e-12 * u
                                   ? (dashpotPotential(b) - dashpotPotential(a)) / (b - a)
                                   : dashpotCoefficient(dp_nratio, mass_eff_, kn_t);
-            dn = dashpotForce(cn, mass_eff_, fd.u_dot_n, hz_fn, dt, lead);
+            dn = dashpotForce(cn, mass_eff_, fd.u_dot_n, hz_fn, dt, lead, other.normal);
             window_end_ = b;
         }
         dp_fn = dn;
@@ -344,7 +354,7 @@ public:
         const double cs = dashpotCoefficient(dp_sratio, mass_eff_, kt);
         double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds = dashpotForce(cs, mass_eff_, fd.u_dot_s, -hz_fs, dt, lead);
+            ds = dashpotForce(cs, mass_eff_, fd.u_dot_s, -hz_fs, dt, lead, other.shear);
         dp_fs = -ds;
 
         fd.n_force = hz_fn + dp_fn;
@@ -388,10 +398,16 @@ public:
         so.Double(last_overlap_);
         so.Double(window_end_);
         so.Double(last_total_);
+        // Version 2 added the dashpots' history; data of version 1 restores without it (the
+        // next call then estimates nothing, as on a first touch).
+        if (so.IsSaving() || so.DataVersion() >= 2)
+            history_.saveRestore(so);
+        else
+            history_.reset();
         so.Bool(touching_);
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
     double KnEstimate() const override {
         return touching_ ? normalTangent(last_overlap_) * dashpotStiffnessFactor(dp_nratio) : 0.0;
     }

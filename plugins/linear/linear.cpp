@@ -33,12 +33,9 @@ public:
     static constexpr const char* kName = "linear";
 
     // properties (PFC names)
-    double kn = 0.0;         // [N/m]
-    double ks = 0.0;         // [N/m]
-    double fric = 0.0;       // [-]
-    double dp_nratio = 0.0;  // [-]
-    double dp_sratio = 0.0;  // [-]
-    double dp_mode = 0.0;    // 0..3
+    double kn = 0.0;    // [N/m]
+    double ks = 0.0;    // [N/m]
+    double fric = 0.0;  // [-]
     // state (read-only)
     double lin_fn = 0.0;    // linear normal force [N]
     double lin_fs = 0.0;    // linear shear force [N]
@@ -50,14 +47,20 @@ public:
     double cn_ = 0.0, cs_ = 0.0;  // dashpot coefficients [N s/m]
     double knest_ = 0.0, ksest_ = 0.0;
     bool no_tension_ = false, no_shear_dp_sliding_ = false;
-    double last_overlap_ = 0.0;
     bool touching_ = false;
+    double last_overlap_ = 0.0;
+    DashpotHistory history_;  // the rest of the model's push on the dashpots' rates
+    // Dashpot properties last: FDlaw reads only what setMass derives from them, and the force
+    // loop prefetches an object's first three cache lines (force_displacement.cpp).
+    double dp_nratio = 0.0;  // [-]
+    double dp_sratio = 0.0;  // [-]
+    double dp_mode = 0.0;    // 0..3
 
     static const PropTable<Linear>& Table() {
         // clang-format off
         static const PropTable<Linear> t = {
-            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &Linear::kn, 0.0},
-            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Linear::ks, 0.0},
+            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &Linear::kn, 0.0, kStiffnessMax},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Linear::ks, 0.0, kStiffnessMax},
             {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
              &Linear::fric, 0.0},
             {{"dp_nratio", "-", 0, 0.0, "normal critical damping ratio", nullptr},
@@ -98,6 +101,9 @@ public:
         ksest_ = ks * dashpotStiffnessFactor(dp_sratio);
         no_tension_ = dp_mode == 1.0 || dp_mode == 3.0;
         no_shear_dp_sliding_ = dp_mode >= 2.0;
+        // Without dashpots the history is not followed (fdlaw); it must not be stale when a
+        // dashpot is switched on later.
+        if (cn_ <= 0.0 && cs_ <= 0.0) history_.reset();
     }
 
     void onPropChanged() { setMass(mass_eff_); }
@@ -109,6 +115,12 @@ public:
         if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
         const double dt = fd.tdel;
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        // Gravity, the other contacts and the rest, as seen in the rates (sdk/dashpot.hpp);
+        // followed on every call, touching or not, so that it is current at the next touch.
+        const DashpotLoad other = cn_ > 0.0 || cs_ > 0.0
+                                      ? history_.observe(fd, cn_ > 0.0 ? inv_mass_eff_ : 0.0,
+                                                         cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0)
+                                      : DashpotLoad{};
 
         if (fd.u_n <= 0.0) {
             // Separated. Pay what the last contact step owed for the part of the step the
@@ -157,11 +169,13 @@ public:
         const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
         lin_slip = sr.sliding ? 1.0 : 0.0;
 
-        const double dn = dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead);
+        const double dn =
+            dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead, other.normal);
         dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
         double ds = 0.0;  // resisting the shear motion
         if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds = dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead);
+            ds =
+                dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead, other.shear);
         dp_fs = -ds;
 
         // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);
@@ -197,10 +211,16 @@ public:
         so.Double(lin_slip);
         so.Double(mass_eff_);
         so.Double(last_overlap_);
+        // Version 2 added the dashpots' history; data of version 1 restores without it (the
+        // next call then estimates nothing, as on a first touch).
+        if (so.IsSaving() || so.DataVersion() >= 2)
+            history_.saveRestore(so);
+        else
+            history_.reset();
         so.Bool(touching_);
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
     double KnEstimate() const override { return kn * dashpotStiffnessFactor(dp_nratio); }
     double KsEstimate() const override { return ks * dashpotStiffnessFactor(dp_sratio); }
     double ContactDuration(double mass_eff, double) const override {
