@@ -14,7 +14,11 @@
 //               impact starts at the resolved step;
 //   kinematic   no body may leave its broadphase fat box within a step (then no contact can form
 //               that the pairs above did not foresee);
+//   damping     at most 1/c with mass-proportional viscous damping c;
 //   growth      at most `growth` times the previous step; and `max`.
+// A step no rule limits (nothing moves, accelerates or touches) is idle: bounded by the step the
+// scene's pairs would need, never more than the previous one, and the step after it restarts
+// the integrator (computeTimestep).
 // Central differences integrate free flight under gravity exactly for any step sequence, so the
 // large steps between impacts cost no accuracy.
 // The stiffness and pair limits are gathered by the force loop of the previous cycle
@@ -31,6 +35,10 @@ namespace talus {
 
 namespace {
 
+/// Largest idle step [s]: nothing moves, so any step is exact, but simulated time should advance
+/// at a pace a user can follow (and the first step after the scene wakes up is bounded anyway).
+constexpr double kIdleStepCap = 1e-3;
+
 /// Largest dt with  a/2 dt^2 + b dt <= c  (a, b, c >= 0).
 double stepForDisplacement(double a, double b, double c) {
     if (c <= 0.0) return 0.0;
@@ -44,8 +52,57 @@ double stepForDisplacement(double a, double b, double c) {
 double contactDuration(const Model::Pair& p, double knest, double mass_eff, double approach) {
     double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
                                : std::numeric_limits<double>::infinity();
+    // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (Model::activate).
+    if (!(d > 0.0)) d = std::numeric_limits<double>::infinity();
     if (knest > 0.0) d = std::min(d, M_PI * std::sqrt(mass_eff / knest));
     return d;
+}
+
+/// Duration of the contact a pair not yet touching is about to make, closing at speed v0 with
+/// acceleration a. A nonlinear law's duration depends on the speed of the impact (Hertz:
+/// v^-1/5), and the speed the bodies will have in the contact includes what the acceleration
+/// adds over the contact's own time scale: D = dur(v0 + a D / pi), with dur the model's estimate
+/// (contactDuration). For a body released at rest (v0 = 0) this is the quasi-static time scale of
+/// the law under the load m a: for a linear spring a D / pi = a sqrt(m/k) is exactly the largest
+/// speed of a mass released at touch; for Hertz the fixed point's speed is within 3% of
+/// sqrt(1.2 a u_s), the largest speed of the oscillation about the static overlap u_s (the
+/// speed at touch, v0 ~ 0, would give an infinite duration and no limit at all: issue 6 item 2).
+/// The fixed point is found by one secant step on ln dur(d) against ln d, exact for any power-law
+/// duration (every shipped nonlinear law); the result min(D, dur(D)) is never above the fixed
+/// point for a duration that does not grow with the speed, whatever the secant's error.
+double approachDuration(const Model::Pair& p, double m_eff, double v0, double a, double start) {
+    const auto dur = [&](double d) {
+        return contactDuration(p, p.knest, m_eff, v0 + a * d / M_PI);
+    };
+    const double d0 = dur(0.0);
+    if (!(a > 0.0)) return d0;
+    // Start at the duration at v0 or, when that is infinite (at rest), at `start`: the secant
+    // step is exact for a power law from any start.
+    const double x0 = std::log(d0 < std::numeric_limits<double>::infinity() ? d0 : start);
+    const double d1 = dur(std::exp(x0));
+    if (!(d1 > 0.0) || !(d1 < std::numeric_limits<double>::infinity())) return d1;
+    const double x1 = std::log(d1);
+    double x = x1;
+    const double d2 = dur(d1);
+    if (x1 != x0 && d2 > 0.0 && d2 < std::numeric_limits<double>::infinity()) {
+        // ln dur is a line of slope s <= 0 in ln d through (x0, x1) and (x1, ln d2); its fixed
+        // point. s is clamped to <= 0 (round-off) so the division is by >= 1.
+        const double s = std::min(0.0, (std::log(d2) - x1) / (x1 - x0));
+        x = (x1 - s * x0) / (1.0 - s);
+    }
+    const double d = std::exp(x);
+    return std::min(d, dur(d));
+}
+
+/// The step a contact about to form will need: `safety` of its own time scale (sqrt(m/k) of its
+/// stiffness, and duration / pi, which also covers laws with no stiffness at touch), and
+/// duration / resolution. Infinite when the law gives neither (Hertz at rest, no load).
+double contactStepLimit(const Model::Pair& p, double m_min, double duration,
+                        const TimestepSettings& ts) {
+    double lim = ts.safety *
+                 std::min(std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300)), duration / M_PI);
+    if (ts.resolution > 0.0) lim = std::min(lim, duration / ts.resolution);
+    return lim;
 }
 
 double roomInside(const Box& fat, const Box& box) {
@@ -67,28 +124,16 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
     const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
     const double m_min = p.wall ? m1 : std::min(m1, m2);
-    // The impact's duration depends on its speed for nonlinear laws (Hertz: v^-1/5); the speed
-    // at touch includes what the acceleration adds within a step, so iterate step -> speed.
+    // The impact's duration at the speed the bodies will have in it (approachDuration); the
+    // relative acceleration's norm bounds its closing component.
     const double approach = std::max(0.0, -vrel.dot(normal));
-    const double n_res = m_timestep.resolution;
-    double dt = std::max(m_dt, 1e-9 * c.duration);
-    double duration = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        duration = contactDuration(p, p.knest, m_eff, approach + accel * dt);
-        dt = duration / (n_res > 0.0 ? n_res : M_PI);
-        if (!(dt < 1e300)) break;
-    }
-    // Stability of the contact about to form: `safety` of its own time scale duration/pi
-    // (= sqrt(m*/k) for a linear spring), which also covers laws with no stiffness at touch.
-    double lim = m_timestep.safety *
-                 std::min(std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300)), duration / M_PI);
-    if (n_res > 0.0) lim = std::min(lim, duration / n_res);
-    const double d = std::max(t_free, lim);
+    const double duration = approachDuration(p, m_eff, approach, accel, m_dt > 0.0 ? m_dt : 1e-3);
+    const double d = std::max(t_free, contactStepLimit(p, m_min, duration, m_timestep));
     if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = c.key;
 }
 
 void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
-                        double arm1_sq, double arm2_sq, double mass_eff, bool impact) {
+                        double arm1_sq, double arm2_sq, double mass_eff, bool /*unbonded*/) {
     auto& b = *m_balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
@@ -96,7 +141,11 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
         b.k_tran[p.end2] += kn + ks;
         b.k_rot[p.end2] += ks * arm2_sq + kr;
     }
-    if (!impact) return;  // a bond is not an impact: bonded contacts get the stability rule only
+    // Every active contact, bonded or not, gets the impact rules below (docs/models/cbond.md,
+    // "Time-step contract"): a contact bonded as it touches is an impact all the same (issue 6
+    // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
+    // quasi-static bonded specimen turns resolution off (`resolution = 0`); the last argument
+    // (the contact is not bonded) is no longer used.
     const double duration = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0));
     // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
     // large steps early in an impact: bound the step by `safety` of the impact's time scale.
@@ -157,8 +206,15 @@ void Model::surveyPairs() {
 
 void Model::computeTimestep() {
     const double inf = std::numeric_limits<double>::infinity();
-    m_dt_prev = m_dt;
+    // The previous step: the growth rule's base. After an idle step (nothing moved and nothing
+    // accelerated, see below) the half-step velocities are the velocities at this instant, so
+    // the integrator starts afresh as at the first cycle (window dt/2, law_of_motion.cpp): what
+    // appeared since (gravity, an applied force, a velocity) acts from now, not over half an
+    // idle step before it.
+    const double dt_last = m_dt;
+    m_dt_prev = m_dt_idle ? 0.0 : m_dt;
     if (!m_timestep.automatic) {
+        m_dt_idle = false;
         if (!(m_timestep.fixed > 0.0) || !std::isfinite(m_timestep.fixed))
             throw InputError("timestep: fixed step must be > 0 (got " +
                              std::to_string(m_timestep.fixed) + ")");
@@ -172,9 +228,13 @@ void Model::computeTimestep() {
     if (!(m_timestep.resolution >= 0.0)) throw InputError("timestep: resolution must be >= 0");
     if (!(m_timestep.growth > 1.0)) throw InputError("timestep: growth must be > 1");
     if (!(m_timestep.max > 0.0)) throw InputError("timestep: max must be > 0");
-    if (m_limits_stale) surveyPairs();
+    // The approach limits were gathered with the accelerations of the last force loop: a change
+    // of gravity (or of an applied force, setBallAppliedForce) since then needs a new survey.
+    const bool surveyed = m_limits_stale || m_gravity != m_limits_gravity;
+    if (surveyed) surveyPairs();
+    m_limits_gravity = m_gravity;
 
-    double dt = m_timestep.max;
+    double dt = inf;
     StepRule rule = StepRule::Max;
     StepWhere where;
     auto& b = *m_balls;
@@ -243,21 +303,62 @@ void Model::computeTimestep() {
         }
     }
 
-    if (m_dt_prev > 0.0 && dt > m_timestep.growth * m_dt_prev) {
+    bool idle = false;
+    if (!(dt < inf)) {
+        // Idle: no rule limits the step. No body moves or accelerates, no wall moves, nothing
+        // touches with a stiffness. Any step is exact then, but the step must stay on the
+        // scene's own time scales (issue 6 item 1: doubling by the growth rule reached 6e26 s,
+        // then t = inf). It is the smallest step the scene's pairs would need at their present
+        // closing speeds (the approach rule's limit), never more than the previous step, and
+        // kept while the scene stays idle; at most 1 ms (a lone body, or Hertz-type pairs that
+        // nothing presses, whose duration at zero closing speed is unbounded: an idle ng pack
+        // took 3.5e149 s steps from it).
+        idle = true;
+        dt = dt_last > 0.0 ? dt_last : inf;
+        rule = StepRule::Idle;
+        where = m_dt_rule == StepRule::Idle ? m_dt_where : StepWhere{};
+        if (surveyed || !m_dt_idle) {
+            for (std::size_t i = 0; i < m_pairs.size(); ++i) {
+                const Pair& p = m_pairs[i];
+                const double m1 = b.mass[p.end1];
+                const double m2 = p.wall ? 0.0 : b.mass[p.end2];
+                const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
+                const double m_min = p.wall ? m1 : std::min(m1, m2);
+                const double d = contactStepLimit(
+                    p, m_min, approachDuration(p, m_eff, 0.0, 0.0, 1.0), m_timestep);
+                if (d < dt) dt = d, where = StepWhere{StepWhere::Pair, 0, m_cold[i].key};
+            }
+        }
+        dt = std::min(dt, kIdleStepCap);
+    }
+    // Mass-proportional viscous damping has its own time scale 1/c: the implicit update keeps
+    // (1 - c w/2) / (1 + c w/2) of the velocity per step, which turns negative (the damping
+    // reverses the motion) past c w = 2. A ball creeping at nm/s in free flight otherwise takes
+    // 1e5 s steps from the kinematic rule (stress suite, seeds 74, 397, 401).
+    if (!idle && m_damping.viscous > 0.0 && 1.0 / m_damping.viscous < dt) {
+        dt = 1.0 / m_damping.viscous;
+        rule = StepRule::Damping;
+        where = StepWhere{};
+    }
+    if (m_timestep.max < dt) {
+        dt = m_timestep.max;
+        rule = StepRule::Max;
+        where = StepWhere{};
+    }
+    if (!idle && m_dt_prev > 0.0 && dt > m_timestep.growth * m_dt_prev) {
         dt = m_timestep.growth * m_dt_prev;
         rule = StepRule::Growth;
         where = StepWhere{};
     }
-    if (!(dt < inf)) {
-        // Nothing moves and nothing touches: any step is exact. Keep the previous one.
-        dt = m_dt_prev > 0.0 ? m_dt_prev : 1e-3;
-        rule = StepRule::Max;
-        where = StepWhere{};
-    }
     if (m_step_cap > 0.0 && m_step_cap < dt) dt = m_step_cap;
-    if (!(dt > 0.0))
-        throw NumericalError("timestep: the automatic step became zero (" +
+    if (!(dt > 0.0) || !(dt < inf))
+        throw NumericalError("timestep: the automatic step became " + std::to_string(dt) + " (" +
                              std::string(stepRuleName(rule)) + " rule)");
+    // The next step restarts the integrator only if this one was idle in rotation too (no
+    // moment: a spin changing under an applied moment keeps its half-step history).
+    if (idle)
+        for (std::size_t s = 0; s < n && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
+    m_dt_idle = idle;
     m_dt = dt;
     m_dt_rule = rule;
     m_dt_where = where;
