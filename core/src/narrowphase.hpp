@@ -13,6 +13,9 @@
 // from zero as the vertex enters the ball -- counting it only from when the centre passes over
 // the second face would switch on a force of k * overlap at once, which for a shallow valley is
 // nearly the ball's whole weight again (tests/core/test_walls.cpp measured +94% at 0.2 degrees).
+// A contact whose point runs over a convex vertex keeps its state: it moves to the pair of the
+// segment that now reports the ball (contact_detection.cpp, "wall vertices";
+// docs/physics/walls.md).
 #pragma once
 
 #include <cmath>

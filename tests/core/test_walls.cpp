@@ -127,9 +127,10 @@ struct Crossing {
     double x_end = 0.0;
 };
 
-std::unique_ptr<Model> chainScene(double kink_deg, double fric, double g, BallId& b, double x0) {
+std::unique_ptr<Model> chainScene(double kink_deg, double fric, double g, BallId& b, double x0,
+                                  double dp_sratio = 0.0) {
     const double r = 0.05, s = std::tan(kink_deg * M_PI / 180.0);
-    auto m = makeModel(Vec2(0.0, -g), linearProps(kKn, kKn, fric));
+    auto m = makeModel(Vec2(0.0, -g), linearProps(kKn, kKn, fric, 0.0, dp_sratio));
     // The ball starts pre-loaded (at its static overlap), so a contact that unloads later gives
     // back energy it never "took" and the energy guard says so; that is expected here.
     m->setWarningHandler([](const std::string&) {});
@@ -322,4 +323,231 @@ TEST_CASE("a rotating wall: exact kinematics and boundary work", "[core][walls]"
     CHECK(std::atan2(-ep.v_out.x(), ep.v_out.y()) == Approx(theta).margin(3e-3));
     CHECK(en.boundary > 0.0);
     CHECK(std::fabs(en.boundary - gained) < 1e-3 * gained);
+}
+
+// ------------------------------------------------------------------ convex vertices (issue 6.4)
+//
+// Pairs are keyed per (ball, segment); a contact whose point runs over a convex vertex of a
+// chain moves to the next segment's pair with its model object and host state
+// (contact_detection.cpp, "wall vertices"). Had it ended and restarted, every shipped model lost
+// 3-6% of the impact energy per crossing (power jumped from its unloading curve to the virgin
+// line, the shear spring restarted at zero, hysdamp forgot its history).
+
+namespace {
+
+struct Law {
+    const char* name;
+    std::vector<PropValue> props;
+};
+
+/// Every shipped model, with the properties of the reproducer (../shared/repro/crest-scan.lua).
+std::vector<Law> shippedLaws() {
+    return {{"power", {{"kn", 1e6}, {"exponent", 5.0}}},
+            {"linear", {{"kn", 1e6}, {"ks", 1e6}, {"fric", 0.5}}},
+            {"hysdamp", {{"kn_m", 1e6}, {"d", 0.5}}},
+            {"hertz", {{"hz_shear", 1e8}, {"hz_poiss", 0.3}, {"fric", 0.5}}},
+            {"cbond", {{"kn", 1e6}, {"ks", 1e6}, {"fric", 0.5}}},
+            {"ng", {{"ng_shear", 1e8}, {"ng_poiss", 0.3}, {"fric", 0.5}}}};
+}
+
+/// One oblique impact of a disk (r 0.1 m, 1000 kg/m^3, velocity (vx, -1) m/s, no gravity) on a
+/// wall, followed until the ball is free again.
+struct Impact {
+    double balance = 0.0;  ///< balance error / input at the end
+    Vec2 v_out{0.0, 0.0};
+    double spin_out = 0.0;
+    int handovers = 0;  ///< loaded steps at which the contact changed segment
+    /// Largest |second difference of the normal force| at a handover step, and at the other
+    /// steps of the contact; only steps with two loaded steps before and after them (so that
+    /// touch and separation, corners of every law, do not count) [N].
+    double dd_handover = 0.0, dd_elsewhere = 0.0;
+};
+
+Impact impactOn(const Law& law, const std::vector<Vec2>& points, double x0, double vx) {
+    ModelDef def;
+    def.gravity = Vec2::Zero();
+    Model m(def);
+    m.setDefaultContactModel(law.name, law.props);
+    m.createWall(wallOf(points));
+    const BallId b = m.createBall(ballAt(Vec2(x0, 0.105), 0.1, 1000.0, Vec2(vx, -1.0)));
+    m.setEnergyTracing(true);
+    Impact out;
+    std::vector<double> f;       // normal force of the contact, per loaded step
+    std::vector<bool> handover;  // ... and whether it changed segment at that step
+    int32_t seg = -1;
+    for (int i = 0; i < 3000; ++i) {
+        m.cycle(1);
+        const auto cs = m.contacts();
+        REQUIRE(cs.size() <= 1);  // one contact with a convex chain, never two
+        if (cs.empty()) {
+            if (!f.empty()) break;
+            continue;
+        }
+        if (!(cs[0].normal_force > 0.0)) continue;
+        handover.push_back(seg >= 0 && cs[0].segment != seg);
+        seg = cs[0].segment;
+        f.push_back(cs[0].normal_force);
+    }
+    REQUIRE(!f.empty());
+    for (std::size_t k = 2; k + 2 < f.size(); ++k) {
+        const double dd = std::fabs(f[k] - 2.0 * f[k - 1] + f[k - 2]);
+        double& worst = handover[k] ? out.dd_handover : out.dd_elsewhere;
+        worst = std::max(worst, dd);
+    }
+    for (bool h : handover) out.handovers += h;
+    m.cycle(5);  // energies are a snapshot one step behind
+    const EnergyTotals e = m.energies();
+    out.balance = e.balanceError() / e.input();
+    out.v_out = m.ballVel(b);
+    out.spin_out = m.ballSpin(b);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("a contact crossing the joint of a straight chain goes on as on one segment",
+          "[core][walls][vertex]") {
+    // Two collinear segments are one straight wall: a ball whose contact point runs over the
+    // joint during an impact must come out as from one segment, for every shipped model. The
+    // joint is handled as a convex vertex of zero angle (narrowphase.hpp), so the contact moves
+    // to the second segment's pair in mid-impact; with its state it computes the same forces
+    // from the same overlaps, and only round-off differs (bound 1e-9 relative on the velocity,
+    // spin and balance; measured ~1e-15). A contact restarted at the joint lost 3-6% of the
+    // energy (../shared/repro/crest-scan.lua). 21 starting points put the joint at every phase
+    // of the impact; both directions of travel, so that the second segment's pair comes after,
+    // then before, the first one in the pair list.
+    const std::vector<Vec2> joint = {Vec2(-1.0, 0.0), Vec2(0.0, 0.0), Vec2(1.0, 0.0)};
+    const std::vector<Vec2> plain = {Vec2(-1.0, 0.0), Vec2(1.0, 0.0)};
+    for (const Law& law : shippedLaws()) {
+        double worst_v = 0.0, worst_w = 0.0, worst_e = 0.0;
+        int handovers = 0;
+        for (int dir : {1, -1}) {
+            for (int k = 0; k <= 20; ++k) {
+                const double x0 = dir * (-0.08 + 0.004 * k);
+                const Impact c = impactOn(law, joint, x0, 3.0 * dir);
+                const Impact f = impactOn(law, plain, x0, 3.0 * dir);
+                handovers += c.handovers;
+                worst_v = std::max(worst_v, (c.v_out - f.v_out).norm() / f.v_out.norm());
+                worst_w = std::max(worst_w, std::fabs(c.spin_out - f.spin_out) /
+                                                std::max(std::fabs(f.spin_out), 1.0));
+                worst_e = std::max(worst_e, std::fabs(c.balance - f.balance));
+            }
+        }
+        report(
+            "straight joint %-8s: %d handovers; worst difference from one segment: velocity "
+            "%.2e, spin %.2e, balance %.2e\n",
+            law.name, handovers, worst_v, worst_w, worst_e);
+        INFO(law.name << ": velocity " << worst_v << " spin " << worst_w << " balance " << worst_e);
+        CHECK(handovers >= 5);  // the scan does cross the joint while loaded (hertz: 10)
+        CHECK(worst_v < 1e-9);
+        CHECK(worst_w < 1e-9);
+        CHECK(worst_e < 1e-9);
+    }
+}
+
+TEST_CASE("a contact crossing a convex vertex keeps its state: every shipped model",
+          "[core][walls][vertex]") {
+    // Crest scan (../shared/repro/crest-scan.lua): a roof with its crest at the origin, faces
+    // of slope 0.05, hit at (3, -1) m/s from 41 starting points, so that the contact point runs
+    // over the crest at every phase of the impact; both directions. Before the fix the worst
+    // balance error was 3-6% of the input (power 3.6%, linear 3.8%, hysdamp 6.0%, hertz 3.0%,
+    // cbond 3.8%, ng 3.2%). Over the vertex the normal turns at v_t / r = 30 rad/s, 1 degree per
+    // step, and the force of each step acts along the normal of its step: the books then close
+    // only to second order in that turn, whether or not the contact changes segment (impacts
+    // that turn over the vertex without a handover show it too: up to 1.6e-3 for hysdamp, whose
+    // books are exact on a flat wall). Bound: 0.5% of the input, ten times below the loss of
+    // one restarted contact; the flat-wall error is reported alongside (TALUS_TEST_REPORT=1).
+    //
+    // The normal force at a handover: its second difference is no larger than at the other
+    // steps of the same contact, up to a factor 2 (the turning normal alone gives 1.07 for
+    // linear); a power contact restarted on its virgin line jumps with ~10 times the contact's
+    // largest second difference (../shared/repro/power-saw.lua).
+    const std::vector<Vec2> roof = {Vec2(-1.0, -0.05), Vec2(0.0, 0.0), Vec2(1.0, -0.05)};
+    const std::vector<Vec2> flat = {Vec2(-1.0, -0.05), Vec2(1.0, 0.05)};
+    for (const Law& law : shippedLaws()) {
+        double crest = 0.0, plain = 0.0, dd_ratio = 0.0;
+        int handovers = 0;
+        for (int dir : {1, -1}) {
+            std::vector<Vec2> flat_dir = flat;  // the face the ball meets first, extended
+            for (Vec2& p : flat_dir) p.x() *= dir;
+            for (int k = 0; k <= 40; ++k) {
+                const double x0 = dir * (-0.12 + 0.003 * k);
+                const Impact c = impactOn(law, roof, x0, 3.0 * dir);
+                const Impact f = impactOn(law, flat_dir, x0, 3.0 * dir);
+                crest = std::max(crest, std::fabs(c.balance));
+                plain = std::max(plain, std::fabs(f.balance));
+                handovers += c.handovers;
+                if (c.dd_handover > 0.0)
+                    dd_ratio = std::max(dd_ratio, c.dd_handover / c.dd_elsewhere);
+            }
+        }
+        report(
+            "crest scan %-8s worst |balance|/input: crest %.3e, flat %.3e; %d handovers, "
+            "worst second difference of Fn at a handover / elsewhere %.3f\n",
+            law.name, crest, plain, handovers, dd_ratio);
+        INFO(law.name << ": crest " << crest << " flat " << plain << " dd ratio " << dd_ratio);
+        CHECK(handovers >= 5);  // the scan does cross the crest while loaded (hertz: 12)
+        CHECK(crest < 5e-3);
+        CHECK(dd_ratio < 2.0);
+    }
+}
+
+TEST_CASE("rolling slowly over a convex vertex with friction: the shear force is continuous",
+          "[core][walls][vertex]") {
+    // A disk rolls without slipping over the crest of a roof with 10-degree faces (linear, ks =
+    // kn, fric 0.5, shear dashpot 0.5 of critical so that the release transient dies out). A
+    // rolling disk on a face of slope a needs the friction m g sin(a) / 3 (uphill both before and
+    // after the crest); over the vertex the normal turns by 20 degrees and the shear force turns
+    // from one value to the other through zero. At the handover (the centre leaves the vertex
+    // region over the right face, where the vertex normal is that face's normal) the shear force
+    // in the local frame must go on as it was: its change in that step no larger than in any
+    // other step of the crossing (about 2 m g sin(a) / 3 spread over ~1000 steps). A spring
+    // restarted at zero would jump by the whole m g sin(a) / 3 = 11 N.
+    const double g = 9.81, kink = 10.0, r = 0.05;
+    BallId b;
+    // Touching the left face 4 mm before the crest.
+    auto m = chainScene(kink, 0.5, g, b, -0.004, 0.5);
+    const double s = std::tan(kink * M_PI / 180.0);
+    const Vec2 up = Vec2(1.0, s).normalized();  // along the left face, towards the crest
+    // Fast enough to climb the 1.5 mm to the top ((4/3) g h = 0.019 m^2/s^2 for a rolling
+    // disk): it passes the top at about 0.14 m/s, slowly enough to stay on the roof
+    // (v^2 / r = 0.4 m/s^2 << g).
+    const double v0 = 0.2;
+    m->setBallFixity(b, 0);
+    m->setBallVel(b, v0 * up);
+    m->setBallSpin(b, -v0 / r);
+    const double mass = m->ballMass(b);
+    const double f_roll = mass * g * std::sin(kink * M_PI / 180.0) / 3.0;
+    double fs_prev = 0.0, jump = 0.0, elsewhere = 0.0, fs_before = 0.0, fs_after = 0.0;
+    int32_t seg = -1;
+    int handovers = 0;
+    bool sliding = false;
+    const double t_settle = m->time() + 0.02;  // past the release transient (~ 5 shear periods)
+    while (m->ballPos(b).x() < 2.0 * r * std::sin(kink * M_PI / 180.0) && m->time() < 10.0) {
+        m->cycle(1);
+        const auto cs = m->contacts();
+        INFO("t " << m->time() << " pos " << m->ballPos(b).transpose() << " vel "
+                  << m->ballVel(b).transpose());
+        REQUIRE(cs.size() == 1);  // it stays on the roof
+        const double fs = cs[0].shear_force;
+        sliding = sliding || cs[0].sliding;
+        if (seg >= 0 && cs[0].segment != seg) {
+            ++handovers;
+            jump = std::max(jump, std::fabs(fs - fs_prev));
+            fs_before = fs_prev, fs_after = fs;
+        } else if (seg >= 0 && m->time() > t_settle) {
+            elsewhere = std::max(elsewhere, std::fabs(fs - fs_prev));
+        }
+        seg = cs[0].segment;
+        fs_prev = fs;
+    }
+    report(
+        "rolling over a 10-degree crest at ~0.1 m/s: shear force %.4g -> %.4g N at the handover "
+        "(rolling friction %.4g N), change %.3e N vs at most %.3e N per step elsewhere\n",
+        fs_before, fs_after, f_roll, jump, elsewhere);
+    REQUIRE(handovers == 1);
+    CHECK_FALSE(sliding);  // rolling: the test is about the spring, not Coulomb's limit
+    // The handover happens on the right face: the shear force is there near the rolling value.
+    CHECK(std::fabs(std::fabs(fs_after) - f_roll) < 0.2 * f_roll);
+    CHECK(jump <= elsewhere);
 }
