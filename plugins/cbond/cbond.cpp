@@ -20,10 +20,12 @@
 //
 // Energies: strain = F_n^2/(2 kn) + F_s^2/(2 ks) (bonded or not). On a break:
 //  - the strain reported on the breaking step is the value after the break (zero for a contact
-//    left without force: a tension break, or a shear break under tension), and what the springs
-//    held at the break minus what they still hold is reported as kEnergyReleased;
-//  - a contact left in compression whose shear force is scaled to the Coulomb limit has slipped:
-//    the drop (F_s^2 - F_s'^2)/(2 ks) is slip work.
+//    left without force: a tension break, or a shear break under tension). The trial forces of
+//    the breaking step were never applied: the bodies felt the last step's forces F_old and
+//    then none, so the energy released is F_old F_trial / (2k) per spring (what closes the
+//    leapfrog balance; zero for a bond made and broken in the same step), kEnergyReleased;
+//  - a contact left in compression whose shear force is scaled to the Coulomb limit F_s' has
+//    slipped: (F_trial - F_s') (F_old + F_s') / (2 ks) is slip work (trapezoidal, as the slider).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,6 +42,9 @@ using namespace talus;
 using namespace talus::sdk;
 
 const char* const kBondFlag[] = {"no", "yes", nullptr};
+
+/// a b / (2 k) [J]: with a = b the energy of a linear spring carrying that force.
+double crossEnergy(double a, double b, double k) { return k > 0.0 ? 0.5 * a * b / k : 0.0; }
 const char* const kStates[] = {"unbonded", "bonded", "broken_tension", "broken_shear", nullptr};
 enum CbState { kUnbonded = 0, kBonded = 1, kBrokenTension = 2, kBrokenShear = 3 };
 
@@ -71,8 +76,8 @@ public:
     // clang-format off
     static const PropTable<CBond>& Table() {
         static const PropTable<CBond> t = {
-            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &CBond::kn, 0.0},
-            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &CBond::ks, 0.0},
+            {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &CBond::kn, 0.0, kStiffnessMax},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &CBond::ks, 0.0, kStiffnessMax},
             {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
              &CBond::fric, 0.0},
             {{"cb_tenf", "N", 0, 0.0, "bond tensile strength (force; inf: unbreakable)", nullptr},
@@ -138,6 +143,8 @@ public:
 
         if (bonded == 1.0) {
             touching_ = true;
+            // The forces of the last step: what the springs held and the bodies felt.
+            const double fn_old = cb_fn, fs_old = cb_fs;
             cb_fn = kn * (u - u_ref_);
             cb_fs -= ks * du_s;  // no slip while bonded
             const bool tension = cb_fn < 0.0 && -cb_fn >= cb_tenf;
@@ -150,13 +157,22 @@ public:
                 if (cb_fn <= 0.0) {
                     // Nothing holds the ends together any more: both forces go (PFC rule for
                     // tension; a shear break under tension leaves no compression either).
-                    released = springEnergy(cb_fn, kn) + springEnergy(cb_fs, ks);
+                    // The trial forces were never applied, so their energy was never stored:
+                    // the bodies felt F_old up to this step and nothing from it on. Released
+                    // is what closes the leapfrog balance (docs/models/cbond.md, Energies):
+                    // F_old^2/2k minus the work F_old/2 du the spring still took over the
+                    // first half of this step, = F_old F_trial / 2k; zero for a bond made and
+                    // broken in the same step (F_old = 0).
+                    released = crossEnergy(fn_old, cb_fn, kn) + crossEnergy(fs_old, cb_fs, ks);
                     cb_fn = 0.0;
                     cb_fs = 0.0;
                 } else if (std::fabs(cb_fs) > fric * cb_fn) {
                     // Shear break in compression beyond friction: slip to the Coulomb limit.
+                    // The slider's work over the step, trapezoidal as the SDK's slider
+                    // (shear_spring.hpp): mean force (F_old + F') / 2 times the slip
+                    // (F_trial - F') / ks.
                     const double limited = std::copysign(fric * cb_fn, cb_fs);
-                    slip_work = springEnergy(cb_fs, ks) - springEnergy(limited, ks);
+                    slip_work = std::max(0.0, crossEnergy(cb_fs - limited, fs_old + limited, ks));
                     cb_fs = limited;
                 }
             }
@@ -180,7 +196,14 @@ public:
                 corner = linearClosingCorners(kn, ks, fric, cb_fs, sliding_, fd,
                                               closingFraction(last_engaged_, u - u_ref_), true);
             cb_fn = 0.0;
-            slip_work = springEnergy(cb_fs, ks);  // the slider lets go as F_n vanishes
+            // The slider lets go as F_n vanishes: the shear spring's energy at the last contact
+            // step, less the work its force still did on the bodies after that step (F_old for
+            // the half step left of its window, then the corner impulse, over this step's
+            // du_s; the bodies gain F_s du_s). Booking all of F_old^2/2ks as slip counted that
+            // work twice: a contact unloading in shear as it separates created energy (issue
+            // 6: 1% of a sliding impact, cbond-energy.lua).
+            slip_work =
+                std::max(0.0, springEnergy(cb_fs, ks) - (0.5 * cb_fs + corner.shear) * du_s);
             cb_fs = 0.0;
             touching_ = false;
             sliding_ = false;
