@@ -53,7 +53,14 @@ struct History {
     /// Writes one row at the model's current state. Throws on a failing column function.
     void writeRow(LuaModel& lm);
     /// Removes the hook and closes the file (deferred to the end of the row when writing).
+    /// Throws ScriptError naming the file when the last buffered rows cannot be written.
     void close(LuaModel& lm);
+    /// Hands the buffered rows to the system; throws ScriptError naming the file on failure.
+    void flush(LuaModel& lm);
+    /// Closes without throwing (garbage collection, exit); a failure is printed to stderr.
+    void closeQuietly(LuaModel& lm);
+    /// After a failed write, flush or close: closes the file and throws naming it.
+    [[noreturn]] void fail(LuaModel& lm, const char* what, int err);
 };
 
 /// The Lua side of a model. Lives inside the model userdata (placement new; __gc destroys it).

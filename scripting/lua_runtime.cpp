@@ -84,7 +84,10 @@ std::string joinNames(std::initializer_list<const char*> names) {
 double toNumber(lua_State* L, int index, const std::string& what) {
     if (lua_type(L, index) != LUA_TNUMBER)
         throw ScriptError(what + " must be a number (got " + typeName(L, index) + ")");
-    return lua_tonumber(L, index);
+    const double v = lua_tonumber(L, index);
+    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    if (std::isnan(v)) throw ScriptError(what + " must be a number (got nan)");
+    return v;
 }
 
 long long toInteger(lua_State* L, int index, const std::string& what) {
@@ -111,6 +114,9 @@ Vec2 toVec(lua_State* L, int index, const std::string& what) {
         if (!ok)
             throw ScriptError(what + " must be a vector {x, y} of two numbers (component " +
                               std::to_string(k + 1) + " is not a number)");
+        if (std::isnan(c[k]))
+            throw ScriptError(what + " must be a vector {x, y} of two numbers (component " +
+                              std::to_string(k + 1) + " is nan)");
     }
     if (lua_rawlen(L, index) > 2)
         throw ScriptError(what + " must be a vector {x, y} (got " +
@@ -257,6 +263,8 @@ double Options::number(const char* key, double fallback) const {
     const std::string got = ok ? "" : typeName(m_L, -1);
     lua_pop(m_L, 1);
     if (!ok) throw ScriptError(field(key) + " must be a number (got " + got + ")");
+    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    if (std::isnan(v)) throw ScriptError(field(key) + " must be a number (got nan)");
     return v;
 }
 

@@ -198,7 +198,8 @@ int w_history(lua_State* L) {
         std::string header;
         for (std::size_t i = 0; i < h->columns.size(); ++i)
             header += (i ? "," : "") + csvCell(h->columns[i].name);
-        std::fprintf(h->file, "%s\n", header.c_str());
+        if (std::fprintf(h->file, "%s\n", header.c_str()) < 0)
+            h->fail(lm, "writing the header", errno);
 
         History* hp = h.get();
         LuaModel* lmp = &lm;
@@ -207,10 +208,10 @@ int w_history(lua_State* L) {
             ActiveThread active(lm, L);
             hp->writeRow(lm);
         } catch (...) {
-            hp->close(lm);
+            hp->closeQuietly(lm);
             throw;
         }
-        std::fflush(hp->file);
+        hp->flush(lm);
         hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
 
         auto* ref = static_cast<HistoryRef*>(lua_newuserdatauv(L, sizeof(HistoryRef), 1));
@@ -242,7 +243,7 @@ int w_h_close(lua_State* L) {
 int w_h_flush(lua_State* L) {
     return catchexcept(L, [&] {
         HistoryRef& h = checkHistory(L, 1, "flush");
-        if (h.history->open()) std::fflush(h.history->file);
+        if (h.history->open()) h.history->flush(*h.lm);
         return 0;
     });
 }
@@ -337,15 +338,37 @@ void History::writeRow(LuaModel& lm) {
         }
     } catch (...) {
         writing = false;
-        if (close_pending) close(lm);
+        if (close_pending) closeQuietly(lm);
         throw;
     }
     writing = false;
     if (open()) {
-        std::fprintf(file, "%s\n", row.c_str());
+        // A full disk or a closed pipe shows here (or at the next flush, for buffered rows):
+        // stop the run rather than report rows that never reach the file (issue 6, item 11).
+        if (std::fprintf(file, "%s\n", row.c_str()) < 0 || std::ferror(file))
+            fail(lm, "writing a row", errno);
         ++rows;
     }
     if (close_pending) close(lm);
+}
+
+void History::flush(LuaModel& lm) {
+    if (!open()) return;
+    if (std::fflush(file) != 0 || std::ferror(file)) fail(lm, "flushing", errno);
+}
+
+void History::fail(LuaModel& lm, const char* what, int err) {
+    const std::string msg = "history '" + path + "': " + what + " failed (" +
+                            std::strerror(err != 0 ? err : EIO) + "); " + std::to_string(rows) +
+                            " rows were given to it and the file is incomplete";
+    // Close without further reports: this error is the one that counts.
+    writing = false;
+    close_pending = false;
+    lm.removeHook(hook);
+    hook = 0;
+    if (file) std::fclose(file);
+    file = nullptr;
+    throw ScriptError(msg);
 }
 
 void History::close(LuaModel& lm) {
@@ -356,8 +379,26 @@ void History::close(LuaModel& lm) {
     close_pending = false;
     lm.removeHook(hook);
     hook = 0;
-    if (file) std::fclose(file);
+    if (!file) return;
+    // fclose writes what is still buffered: its failure loses rows too.
+    const bool bad = std::ferror(file) != 0;
+    errno = 0;
+    const int rc = std::fclose(file);
     file = nullptr;
+    if (rc != 0 || bad) {
+        const int err = errno;
+        throw ScriptError("history '" + path + "': closing failed (" +
+                          std::strerror(err != 0 ? err : EIO) + "); " + std::to_string(rows) +
+                          " rows were given to it and the file is incomplete");
+    }
+}
+
+void History::closeQuietly(LuaModel& lm) {
+    try {
+        close(lm);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "talus: error: %s\n", e.what());
+    }
 }
 
 void addHistoryMethods(lua_State* L, int methods_index) {

@@ -510,7 +510,7 @@ int w_guard(lua_State* L) {
         GuardSettings g = lm.model->guard();
         readGuardOptions(o, g);
         lm.model->guard() = g;
-        lua_createtable(L, 0, 5);
+        lua_createtable(L, 0, 8);
         lua_pushstring(L, guardName(g.energy));
         lua_setfield(L, -2, "energy");
         lua_pushnumber(L, g.energy_tolerance);
@@ -521,6 +521,12 @@ int w_guard(lua_State* L) {
         lua_setfield(L, -2, "min_steps");
         lua_pushstring(L, guardName(g.stiffness));
         lua_setfield(L, -2, "stiffness");
+        lua_pushstring(L, guardName(g.balance));
+        lua_setfield(L, -2, "balance");
+        lua_pushnumber(L, g.balance_tolerance);
+        lua_setfield(L, -2, "balance_tolerance");
+        lua_pushinteger(L, g.balance_every);
+        lua_setfield(L, -2, "balance_every");
         return 1;
     });
 }
@@ -528,18 +534,25 @@ int w_guard(lua_State* L) {
 int w_damping(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "damping");
-        const Options o(L, 2, "damping", {"local", "viscous"}, true);
+        // `damp` is PFC's name for local damping; `local` (a Lua keyword, so only ['local'] =)
+        // is still accepted for old scripts (issue 6, item 13).
+        const Options o(L, 2, "damping", {"damp", "local", "viscous"}, true);
         DampingSettings d = lm.model->damping();
-        d.local = o.number("local", d.local);
+        if (o.has("damp") && o.has("local"))
+            throw ScriptError("damping: give 'damp' or its old name 'local', not both");
+        const char* local_key = o.has("local") ? "local" : "damp";
+        d.local = o.number(local_key, d.local);
         d.viscous = o.number("viscous", d.viscous);
         if (!(d.local >= 0.0 && d.local < 1.0))
-            throw ScriptError("damping: 'local' must be in [0, 1) (got " + numberText(d.local) +
-                              ")");
+            throw ScriptError(std::string("damping: '") + local_key + "' must be in [0, 1) (got " +
+                              numberText(d.local) + ")");
         if (!(d.viscous >= 0.0) || !std::isfinite(d.viscous))
             throw ScriptError("damping: 'viscous' must be >= 0 [1/s] (got " +
                               numberText(d.viscous) + ")");
         lm.model->damping() = d;
-        lua_createtable(L, 0, 2);
+        lua_createtable(L, 0, 3);
+        lua_pushnumber(L, d.local);
+        lua_setfield(L, -2, "damp");
         lua_pushnumber(L, d.local);
         lua_setfield(L, -2, "local");
         lua_pushnumber(L, d.viscous);
@@ -586,7 +599,10 @@ void runModel(lua_State* L, LuaModel& lm, const Run& step) {
     } catch (...) {
         --lm.running;
         lm.finishRun();
-        lm.flushHistories();
+        try {
+            lm.flushHistories();
+        } catch (const std::exception&) {  // the run's own error comes first
+        }
         throw;
     }
     --lm.running;
@@ -808,8 +824,7 @@ void LuaModel::closeHistories() {
         if (h->open()) {
             if (model && h->hook) model->removeCycleHook(h->hook);
             h->hook = 0;
-            std::fclose(h->file);
-            h->file = nullptr;
+            h->closeQuietly(*this);  // no throwing here (__gc); a failed close goes to stderr
         }
 }
 
@@ -833,7 +848,7 @@ void LuaModel::finishRun() {
 
 void LuaModel::flushHistories() {
     for (auto& h : histories)
-        if (h->open()) std::fflush(h->file);
+        if (h->open()) h->flush(*this);  // a failed write stops with the file's name
 }
 
 LuaModel& checkModel(lua_State* L, int index, const char* fn) {
@@ -912,8 +927,9 @@ void readTimestepOptions(const Options& o, TimestepSettings& ts) {
 }
 
 const std::vector<std::string>& guardOptionNames() {
-    static const std::vector<std::string> names = {"energy", "energy_tolerance", "resolution",
-                                                   "min_steps", "stiffness"};
+    static const std::vector<std::string> names = {
+        "energy",  "energy_tolerance",  "resolution",    "min_steps",
+        "stiffness", "balance", "balance_tolerance", "balance_every"};
     return names;
 }
 
@@ -928,6 +944,16 @@ void readGuardOptions(const Options& o, GuardSettings& g) {
     if (!(g.energy_tolerance >= 0.0))
         throw ScriptError("guard: 'energy_tolerance' must be >= 0 (got " +
                           numberText(g.energy_tolerance) + ")");
+    if (o.has("balance")) g.balance = actions[o.choice("balance", 0, {"warn", "error", "off"})];
+    g.balance_tolerance = o.number("balance_tolerance", g.balance_tolerance);
+    if (!(g.balance_tolerance >= 0.0) || !std::isfinite(g.balance_tolerance))
+        throw ScriptError("guard: 'balance_tolerance' must be a finite number >= 0 (got " +
+                          numberText(g.balance_tolerance) + ")");
+    const long long window = o.integer("balance_every", g.balance_every);
+    if (window < 1)
+        throw ScriptError("guard: 'balance_every' must be >= 1 step (got " +
+                          std::to_string(window) + ")");
+    g.balance_every = window;
     const long long steps = o.integer("min_steps", g.min_steps);
     if (steps < 0 || steps > std::numeric_limits<int>::max())
         throw ScriptError("guard: 'min_steps' must be >= 0 (got " + std::to_string(steps) + ")");
@@ -1006,19 +1032,24 @@ const std::vector<EnergyItem>& energyItems() {
         {"plastic", &EnergyTotals::plastic},
         {"damping", &EnergyTotals::damping},
         {"released", &EnergyTotals::released},
+        {"deleted", &EnergyTotals::deleted},
         {"initial_kinetic", &EnergyTotals::initial_kinetic},
+        {"initial_strain", &EnergyTotals::initial_strain},
+        {"placement", &EnergyTotals::placement},
     };
     return items;
 }
 
 void pushEnergies(lua_State* L, const EnergyTotals& e) {
-    lua_createtable(L, 0, 12);
+    lua_createtable(L, 0, 14);
     for (const EnergyItem& item : energyItems()) {
         lua_pushnumber(L, e.*(item.member));
         lua_setfield(L, -2, item.name);
     }
     lua_pushnumber(L, e.balanceError());
     lua_setfield(L, -2, "balance_error");
+    lua_pushnumber(L, e.input());
+    lua_setfield(L, -2, "input");
 }
 
 void openModel(lua_State* L) {

@@ -5,10 +5,16 @@
 #include "talus/plugin_registry.hpp"
 
 #include <dlfcn.h>
+#include <elf.h>
+#include <fcntl.h>
+#include <link.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -42,6 +48,111 @@ std::string canonical(const std::string& path) {
     std::string s(r);
     std::free(r);
     return s;
+}
+
+// ---------------------------------------------------------------------------- ELF pre-check
+// dlopen maps a library's segments straight from the file: a segment that reaches past the end
+// of a truncated file is mapped all the same, and the loader's first read of it (relocation,
+// the dynamic section) kills the process with SIGBUS instead of returning an error. So the host
+// reads the headers itself (with pread, never mmap) and refuses a file whose header, program
+// headers, section header table or any segment's file range does not lie inside the file.
+// The loader's own checks (machine, dependencies, symbols) stay dlopen's: they fail cleanly.
+
+using Ehdr = ElfW(Ehdr);
+using Phdr = ElfW(Phdr);
+using Shdr = ElfW(Shdr);
+#if __SIZEOF_POINTER__ == 8
+constexpr unsigned char kHostElfClass = ELFCLASS64;
+#else
+constexpr unsigned char kHostElfClass = ELFCLASS32;
+#endif
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr unsigned char kHostElfData = ELFDATA2LSB;
+#else
+constexpr unsigned char kHostElfData = ELFDATA2MSB;
+#endif
+
+/// True when [offset, offset + count * entry) lies inside a file of `size` bytes (no overflow).
+bool inside(uint64_t offset, uint64_t count, uint64_t entry, uint64_t size) {
+    if (offset > size) return false;
+    if (entry != 0 && count > (size - offset) / entry) return false;
+    return true;
+}
+
+/// Reads `n` bytes at `offset`; false on a short read.
+bool readAt(int fd, void* buf, std::size_t n, uint64_t offset) {
+    auto* p = static_cast<char*>(buf);
+    while (n > 0) {
+        const ssize_t got = ::pread(fd, p, n, static_cast<off_t>(offset));
+        if (got <= 0) return false;
+        p += got, n -= static_cast<std::size_t>(got), offset += static_cast<uint64_t>(got);
+    }
+    return true;
+}
+
+/// Empty if `path` looks like a complete shared object of this host's ELF class, else why not.
+std::string elfProblem(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::string("cannot open it: ") + std::strerror(errno);
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return std::string("cannot stat it: ") + std::strerror(errno);
+    const auto size = static_cast<uint64_t>(st.st_size);
+    const std::string of_size = " (the file has " + std::to_string(size) + " bytes";
+    unsigned char ident[EI_NIDENT] = {};
+    if (size < EI_NIDENT || !readAt(fd, ident, EI_NIDENT, 0) ||
+        std::memcmp(ident, ELFMAG, SELFMAG) != 0)
+        return "not an ELF file (no ELF magic number" + of_size + ")";
+    if (ident[EI_CLASS] != kHostElfClass)
+        return std::string("ELF class ") + (ident[EI_CLASS] == ELFCLASS32 ? "32-bit" : "64-bit") +
+               " does not match this " + std::to_string(8 * sizeof(void*)) + "-bit Talus";
+    if (ident[EI_DATA] != kHostElfData) return "ELF byte order does not match this Talus";
+    Ehdr eh{};
+    if (size < sizeof eh || !readAt(fd, &eh, sizeof eh, 0))
+        return "truncated ELF file: the ELF header needs " + std::to_string(sizeof eh) + " bytes" +
+               of_size + ")";
+    if (eh.e_type != ET_DYN)
+        return "not a shared library (ELF type " + std::to_string(eh.e_type) + ")";
+    if (eh.e_ehsize < sizeof eh)
+        return "corrupt ELF header (e_ehsize " + std::to_string(eh.e_ehsize) + ")";
+    if (eh.e_phnum == 0 || eh.e_phentsize != sizeof(Phdr))
+        return "corrupt ELF header (" + std::to_string(eh.e_phnum) + " program headers of " +
+               std::to_string(eh.e_phentsize) + " bytes)";
+    if (!inside(eh.e_phoff, eh.e_phnum, sizeof(Phdr), size))
+        return "truncated ELF file: its program headers end at byte " +
+               std::to_string(eh.e_phoff + uint64_t(eh.e_phnum) * sizeof(Phdr)) + of_size + ")";
+    if (eh.e_shoff != 0) {
+        // e_shnum == 0 with a table means more than 0xff00 sections, counted in entry 0.
+        const uint64_t shnum = eh.e_shnum != 0 ? eh.e_shnum : 1;
+        if (eh.e_shentsize != sizeof(Shdr))
+            return "corrupt ELF header (section headers of " + std::to_string(eh.e_shentsize) +
+                   " bytes)";
+        if (!inside(eh.e_shoff, shnum, sizeof(Shdr), size))
+            return "truncated ELF file: its section header table ends at byte " +
+                   std::to_string(eh.e_shoff + shnum * sizeof(Shdr)) + of_size + ")";
+    }
+    std::vector<Phdr> ph(eh.e_phnum);
+    if (!readAt(fd, ph.data(), ph.size() * sizeof(Phdr), eh.e_phoff))
+        return "cannot read its program headers";
+    bool any_load = false;
+    for (std::size_t i = 0; i < ph.size(); ++i) {
+        const Phdr& h = ph[i];
+        if (h.p_type == PT_NULL) continue;
+        any_load |= h.p_type == PT_LOAD;
+        if (!inside(h.p_offset, h.p_filesz, 1, size))
+            return "truncated ELF file: segment " + std::to_string(i) +
+                   (h.p_type == PT_LOAD ? " (PT_LOAD)" : "") + " spans bytes " +
+                   std::to_string(h.p_offset) + " to " +
+                   std::to_string(uint64_t(h.p_offset) + h.p_filesz) + of_size + ")";
+        if (h.p_type == PT_LOAD && h.p_filesz > h.p_memsz)
+            return "corrupt ELF file: segment " + std::to_string(i) +
+                   " holds more bytes in the file than in memory";
+    }
+    if (!any_load) return "corrupt ELF file: no loadable segment";
+    return {};
 }
 
 }  // namespace
@@ -94,6 +205,9 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
     for (const auto& lib : m_libraries)
         if (lib->path == path) return {};  // already loaded
 
+    // A damaged file must be refused before dlopen maps it (see elfProblem).
+    const std::string elf = elfProblem(path);
+    if (!elf.empty()) throw PluginError("load_plugin: cannot load '" + path + "': " + elf);
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char* why = ::dlerror();

@@ -2,6 +2,7 @@
 #include "props.hpp"
 
 #include <cctype>
+#include <cmath>
 
 #include "talus/errors.hpp"
 
@@ -30,6 +31,18 @@ std::string knownProps(const ContactModel& m) {
     return out;
 }
 
+std::string propValueProblem(const ContactModel& model, int32_t index, double value) {
+    if (std::isnan(value)) return "must be a number (got nan)";
+    // A stiffness or modulus of +-inf makes every force and the step non-finite (the plugin's
+    // range check may allow it: `power`'s transition force is legitimately inf).
+    const PropInfo* info = model.PropInfoAt(index);
+    const std::string units = info && info->units ? info->units : "";
+    if (std::isinf(value) && (units == "N/m" || units == "Pa" || units == "N m/rad"))
+        return std::string("must be finite (got ") + (value > 0 ? "inf" : "-inf") + " " + units +
+               ")";
+    return {};
+}
+
 void applyProps(ContactModel& model, const std::vector<PropValue>& props,
                 const std::string& where) {
     for (const auto& pv : props) {
@@ -37,6 +50,10 @@ void applyProps(ContactModel& model, const std::vector<PropValue>& props,
         if (idx < 0)
             throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
                              model.Name() + "' (known: " + knownProps(model) + ")");
+        // NaN is no value (the PropBlock uses it for "not set"); a plugin's own range check may
+        // not catch it, since every comparison with NaN is false (issue 6, item 12).
+        if (const std::string why = propValueProblem(model, idx, pv.value); !why.empty())
+            throw InputError(where + ": " + model.Name() + ": '" + pv.name + "' " + why);
         int32_t status;
         try {
             status = model.AcceptProp(idx, pv.value);

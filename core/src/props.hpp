@@ -15,6 +15,9 @@ int32_t propIndex(const ContactModel& m, const std::string& name);
 /// "kn, ks, fric, ..." for error messages.
 std::string knownProps(const ContactModel& m);
 /// Sets each property by name; throws InputError naming `where`, the model and the property.
+/// Why `value` is no valid input for property `index` (NaN; an infinite stiffness or modulus),
+/// or empty; the model's own AcceptProp checks its range afterwards.
+std::string propValueProblem(const ContactModel& model, int32_t index, double value);
 void applyProps(ContactModel& model, const std::vector<PropValue>& props, const std::string& where);
 /// A PropBlock with nothing inherited.
 PropBlock emptyPropBlock();

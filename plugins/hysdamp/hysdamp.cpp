@@ -80,7 +80,8 @@ public:
             {{"kn_m", "N/m", kPropInheritable, 0.0, "mean normal stiffness (k_load + k_unload)/2",
               nullptr},
              &HysDamp::kn_m,
-             0.0},
+             0.0,
+             kStiffnessMax},
             // The range depends on `tension`; the combination is checked in PreCycle.
             {{"d", "-", 0, 1.0, "ratio k_load / k_unload", nullptr},
              &HysDamp::d,
@@ -89,7 +90,10 @@ public:
              false,
              "(Shimizu-Cundall hysteretic damping, seed digest section 4: 0.05 <= d <= 1 without "
              "tension, 0.4 <= d <= 1 with tension) "},
-            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &HysDamp::ks, 0.0},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr},
+             &HysDamp::ks,
+             0.0,
+             kStiffnessMax},
             {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
              &HysDamp::fric,
              0.0},

@@ -55,7 +55,10 @@ public:
 
     static const PropTable<Ng>& Table() {
         static const PropTable<Ng> t = {
-            {{"ng_shear", "Pa", 0, 0.0, "shear modulus G", nullptr}, &Ng::ng_shear, 0.0},
+            {{"ng_shear", "Pa", 0, 0.0, "shear modulus G", nullptr},
+             &Ng::ng_shear,
+             0.0,
+             kStiffnessMax},
             // range [0, 0.5) checked in AcceptProp and PreCycle (the table's ranges are closed)
             {{"ng_poiss", "-", 0, 0.0, "Poisson ratio", nullptr}, &Ng::ng_poiss},
             {{"ng_form", "-", kPropInteger, 0.0, "use of k_n: 0 tangent, 1 secant", kForms},
@@ -145,6 +148,19 @@ public:
         const double strain_n = 0.4 * ng_fn * u;  // int F du = (2/5) F u for F ~ u^(3/2)
 
         const double frac = first ? onsetFraction(u, fd.du_n) : 1.0;
+        // While the overlap shrinks, k_s falls with the contact radius. Holding the shear force
+        // (the thesis' incremental spring) raises the stored energy F_s^2 / 2k_s with no work:
+        // the law created energy in every load cycle of a sticking contact, booked as negative
+        // slip (-2% of the throughput for a ball rolling on a floor, fric = 1; issue 6, item
+        // 10). Thornton's unloading rule scales the force with the contact radius, F_s *=
+        // k_s(u) / k_s(u_old) (Thornton, Cummins & Cleary 2011, Powder Technol. 210, 189): the
+        // stored energy falls by k_s/k_s_old instead, what the annulus leaving contact lets go,
+        // and the slip increment (1 - rho)/2 (rho F^2/k_s - F du_s), rho = k_s/k_s_old, is >= 0
+        // up to its second-order cross term. `hertz` does the same.
+        if (!first && u < last_overlap_) {
+            const double ks_old = shearStiffness(last_overlap_);
+            if (ks_old > 0.0) ng_fs *= ks / ks_old;
+        }
         const ShearResult sr = updateShearSpring(ng_fs, ks, fd.du_s * frac, fric * ng_fn);
         (void)sr.slip_work;  // booked below from the stored energy (k_s varies)
         ng_slip = sr.sliding ? 1.0 : 0.0;

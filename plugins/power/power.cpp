@@ -108,8 +108,8 @@ public:
     static const PropTable<Power>& Table() {
         static const PropTable<Power> t = {
             {{"kn", "N/m", kPropInheritable, 0.0, "loading (elastic) normal stiffness", nullptr},
-             &Power::kn, 0.0},
-            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Power::ks, 0.0},
+             &Power::kn, 0.0, kStiffnessMax},
+            {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &Power::ks, 0.0, kStiffnessMax},
             {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr},
              &Power::fric, 0.0},
             {{"transition", "N", 0, kInf, "transition force T (inf: elastic-power model)", nullptr},

@@ -31,8 +31,13 @@ l = T.line(); T.fails(function() m:timestep{ safety = 0 } end,
 l = T.line(); T.fails(function() m:guard{ energy = "loud" } end,
     { at(l), "guard: 'energy' must be one of \"warn\", \"error\", \"off\" (got \"loud\")" }, "enum")
 T.check(m:guard{ stiffness = "error" }.stiffness == "error", "guard{stiffness} is settable")
+T.check(m:guard{ balance = "error", balance_tolerance = 0.02 }.balance_tolerance == 0.02, "guard{balance} is settable")
+l = T.line(); T.fails(function() m:guard{ balance_tolerance = 0 / 0 } end,
+    { at(l), "guard: 'balance_tolerance' must be a number (got nan)" }, "NaN balance tolerance")
+l = T.line(); T.fails(function() m:guard{ balance_every = 0 } end,
+    { at(l), "guard: 'balance_every' must be >= 1 step (got 0)" }, "empty balance window")
 l = T.line(); T.fails(function() m:guard{ stifness = "off" } end,
-    { at(l), "guard: unknown option 'stifness' (known: energy, energy_tolerance, min_steps, resolution, stiffness)" },
+    { at(l), "guard: unknown option 'stifness' (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, min_steps, resolution, stiffness)" },
     "misspelt guard option")
 l = T.line(); T.fails(function() m.cycle(10) end,
     { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")

@@ -4,6 +4,8 @@
 // (docs/plugin-abi.md, "What the host refuses"). Each refusal must name the file and, where two
 // builds disagree, both values, so that the user knows which side to rebuild. Every test uses a
 // registry of its own, so nothing here touches PluginRegistry::global().
+#include <elf.h>
+#include <link.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -11,7 +13,9 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -369,4 +373,106 @@ TEST_CASE("a well-formed test plugin exposes its prototype and metadata", "[abi]
     CHECK(p.get() != f.reference);
     CHECK(p->AcceptProp(0, -1.0) != 0);
     CHECK_THAT(std::string(p->LastError()), Contains("'kn' must be >= 0"));
+}
+
+// ----------------------------------------------------------------------- damaged libraries
+// A library cut short (an interrupted copy, a full disk) used to kill the host with SIGBUS inside
+// dlopen, which maps segments past the end of the file (issue 6, item 10). The host now reads the
+// ELF headers first; every cut of a real plugin must be a PluginError naming the file. If the
+// check misses a case, this test dies with SIGBUS instead of failing politely.
+
+namespace {
+
+std::string readAll(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Byte offsets at which the segments and the section header table of an ELF image end: a cut
+/// one byte short of each is the most treacherous truncation.
+std::vector<std::size_t> elfBoundaries(const std::string& image) {
+    std::vector<std::size_t> ends;
+    ElfW(Ehdr) eh{};
+    REQUIRE(image.size() >= sizeof eh);
+    std::memcpy(&eh, image.data(), sizeof eh);
+    for (std::size_t i = 0; i < eh.e_phnum; ++i) {
+        ElfW(Phdr) ph{};
+        REQUIRE(eh.e_phoff + (i + 1) * sizeof ph <= image.size());
+        std::memcpy(&ph, image.data() + eh.e_phoff + i * sizeof ph, sizeof ph);
+        if (ph.p_filesz > 0) ends.push_back(ph.p_offset + ph.p_filesz);
+    }
+    ends.push_back(eh.e_phoff + eh.e_phnum * sizeof(ElfW(Phdr)));
+    ends.push_back(eh.e_shoff + eh.e_shnum * sizeof(ElfW(Shdr)));
+    return ends;
+}
+
+}  // namespace
+
+TEST_CASE("a truncated plugin library is refused before dlopen, never a crash",
+          "[abi][loading][elf]") {
+    const std::string image = readAll(LINEAR_PLUGIN);
+    REQUIRE(image.size() > 20480);  // the cuts below must all be real truncations
+    TempDir dir;
+    // The whole copy loads: the check refuses no sound library.
+    {
+        const std::string whole = dir.write("libtalus_whole.so", image);
+        PluginRegistry reg;
+        CHECK(reg.load(whole) == std::vector<std::string>{"linear"});
+    }
+    std::vector<std::size_t> cuts = {0,
+                                     4,
+                                     16,
+                                     63,
+                                     64,
+                                     100,
+                                     1024,
+                                     2048,
+                                     4096,
+                                     8192,
+                                     12288,
+                                     16384,
+                                     20480,
+                                     image.size() / 2,
+                                     image.size() - 1};
+    for (std::size_t end : elfBoundaries(image))
+        if (end >= 1 && end <= image.size()) cuts.push_back(end - 1);
+    for (std::size_t cut : cuts) {
+        if (cut >= image.size()) continue;
+        INFO("library cut to " << cut << " of " << image.size() << " bytes");
+        const std::string path =
+            dir.write("libtalus_cut" + std::to_string(cut) + ".so", image.substr(0, cut));
+        const std::string msg = refusalOf(path);
+        CHECK_THAT(msg, Contains("cannot load '" + path + "'"));
+        CHECK_THAT(msg, Contains("ELF"));
+        CHECK_THAT(msg, Contains(std::to_string(cut) + " bytes"));
+    }
+}
+
+TEST_CASE("an ELF file of another class or type is refused with the reason",
+          "[abi][loading][elf]") {
+    std::string image = readAll(LINEAR_PLUGIN);
+    REQUIRE(image.size() > 64);
+    TempDir dir;
+    SECTION("32-bit class") {
+        image[EI_CLASS] = ELFCLASS32;
+        CHECK_THAT(refusalOf(dir.write("libtalus_c32.so", image)), Contains("32-bit"));
+    }
+    SECTION("an executable, not a shared library") {
+        ElfW(Ehdr) eh{};
+        std::memcpy(&eh, image.data(), sizeof eh);
+        eh.e_type = ET_EXEC;
+        std::memcpy(&image[0], &eh, sizeof eh);
+        CHECK_THAT(refusalOf(dir.write("libtalus_exec.so", image)),
+                   Contains("not a shared library"));
+    }
+    SECTION("a segment beyond the end of the file") {
+        ElfW(Ehdr) eh{};
+        std::memcpy(&eh, image.data(), sizeof eh);
+        ElfW(Phdr) ph{};
+        std::memcpy(&ph, image.data() + eh.e_phoff, sizeof ph);
+        ph.p_filesz = image.size() + 4096;  // a header claiming more than the file holds
+        ph.p_memsz = std::max<decltype(ph.p_memsz)>(ph.p_memsz, ph.p_filesz);
+        std::memcpy(&image[eh.e_phoff], &ph, sizeof ph);
+        CHECK_THAT(refusalOf(dir.write("libtalus_seg.so", image)), Contains("segment 0"));
+    }
 }

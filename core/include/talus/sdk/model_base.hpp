@@ -45,6 +45,10 @@ template <class D>
 using PropTable = std::vector<PropSpec<D>>;
 
 constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+/// Upper bound for stiffnesses [N/m] and elastic moduli [Pa]: ten million times diamond's
+/// modulus, far above any rock, and low enough that forces and energies (k u^2 / 2) of any
+/// overlap a time step resolves stay finite in double precision (stress suite: 1e300 overflowed).
+constexpr double kStiffnessMax = 1e20;
 inline bool isSet(double v) { return !std::isnan(v); }
 
 /// PFC inheritance of a stiffness: springs in series when both ends define it, the one value
@@ -212,7 +216,12 @@ private:
             }
             std::snprintf(buf, sizeof buf, "%s: '%s' must be one of %s (got %g)", Derived::kName,
                           p.info.name, names.c_str(), v);
-        } else if (p.hi == std::numeric_limits<double>::infinity()) {
+        } else if (p.hi == kStiffnessMax && v > p.hi) {
+            std::snprintf(buf, sizeof buf,
+                          "%s: '%s' must be <= %g %s (a stiffness beyond any material; forces and "
+                          "energies would overflow) (got %g)",
+                          Derived::kName, p.info.name, p.hi, p.info.units, v);
+        } else if (p.hi == std::numeric_limits<double>::infinity() || p.hi == kStiffnessMax) {
             std::snprintf(buf, sizeof buf, "%s: '%s' must be %s %g%s%s (got %g)", Derived::kName,
                           p.info.name, op, p.lo, p.range_note ? " " : "",
                           p.range_note ? p.range_note : "", v);
