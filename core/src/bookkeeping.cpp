@@ -5,6 +5,7 @@
 // callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
 // Also: energy tracing switches and the profile report.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -14,6 +15,7 @@
 namespace talus {
 
 void Model::bookkeeping() {
+    if (m_energy_on && m_guard.balance != GuardAction::Off) checkBalance();
     if (!m_events.empty()) {
         // Swap out first: a handler may cycle the model or queue events of its own.
         std::vector<Event> events;
@@ -55,7 +57,92 @@ void Model::removeCycleHook(int handle) {
         }
 }
 
+namespace {
+
+std::string num(double v) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+}  // namespace
+
+void Model::checkBalance() {
+    // Each contact is checked by the guard on its own; this check watches the whole model, so
+    // that many small errors that add up, and work outside contacts (damping, fixities, walls),
+    // cannot go unseen. Reference: the throughput, the larger of the energy put in and the peak
+    // mechanical energy, so that a scene that turns its input over many times (a ball bouncing
+    // on a vibrating floor) is judged against what it moved, not what it holds now.
+    const EnergyTotals& e = m_energy;  // snapshot at the last whole step
+    m_balance.peak = std::max(m_balance.peak, e.kinetic + e.strain + e.bond);
+    if (m_step % m_guard.balance_every != 0) return;
+    const double throughput = std::max(e.input(), m_balance.peak);
+    const double error = e.balanceError();
+    const double allowed = m_guard.balance_tolerance * throughput;
+    if (std::fabs(error) <= allowed) {
+        m_balance.open = e;
+        m_balance.open_step = m_step;
+        m_balance.reported = 0.0;
+        return;
+    }
+    if (std::fabs(error - m_balance.reported) <= allowed) return;
+    m_balance.reported = error;
+
+    // Name the window and the items that moved most in it.
+    struct Item {
+        const char* name;
+        double change;
+    };
+    const EnergyTotals& o = m_balance.open;
+    Item items[] = {{"kinetic", e.kinetic - o.kinetic},
+                    {"strain", e.strain - o.strain},
+                    {"bond", e.bond - o.bond},
+                    {"body", e.body - o.body},
+                    {"boundary", e.boundary - o.boundary},
+                    {"slip", e.slip - o.slip},
+                    {"dashpot", e.dashpot - o.dashpot},
+                    {"plastic", e.plastic - o.plastic},
+                    {"damping", e.damping - o.damping},
+                    {"released", e.released - o.released},
+                    {"placement", e.placement - o.placement}};
+    std::stable_sort(std::begin(items), std::end(items), [](const Item& a, const Item& b) {
+        return std::fabs(a.change) > std::fabs(b.change);
+    });
+    std::string moved;
+    for (int k = 0; k < 3; ++k)
+        moved += std::string(k ? ", " : "") + items[k].name + " " +
+                 (items[k].change >= 0.0 ? "+" : "") + num(items[k].change) + " J";
+    const std::string what =
+        "energy balance: " + num(std::fabs(error)) + " J " + (error < 0.0 ? "created" : "lost") +
+        " (balance_error " + num(error) + " J, " + num(100.0 * std::fabs(error) / throughput) +
+        "% of the throughput " + num(throughput) + " J, tolerance " +
+        num(100.0 * m_guard.balance_tolerance) + "%) at step " + std::to_string(m_step) +
+        " (t = " + num(m_time) + " s); in steps " + std::to_string(m_balance.open_step) + "-" +
+        std::to_string(m_step) + " the items that moved most: " + moved;
+    if (m_guard.balance == GuardAction::Error) throw NumericalError(what);
+    if (m_balance.findings++ == 0) m_balance.first = what;
+    m_balance.last = what;
+}
+
 void Model::flushWarnings() {
+    if (m_placed > 0) {
+        warn(std::to_string(m_placed) +
+             " contact(s) started overlapping (bodies created or moved into each other), holding "
+             "energy no traced work put in (" +
+             num(m_placed_energy) +
+             " J in all, booked as the energy item 'placement' when tracing is on); first: " +
+             m_placed_first);
+        m_placed = 0;
+        m_placed_energy = 0.0;
+    }
+    if (m_balance.findings > 0) {
+        warn("guard: " + m_balance.first +
+             (m_balance.findings > 1
+                  ? "; it grew further " + std::to_string(m_balance.findings - 1) +
+                        " time(s), last: " + m_balance.last
+                  : std::string()));
+        m_balance.findings = 0;
+    }
     if (m_underresolved > 0) {
         warn("guard: " + std::to_string(m_underresolved) + " contact(s) had fewer than " +
              std::to_string(m_guard.min_steps) +
@@ -87,6 +174,12 @@ void Model::setEnergyTracing(bool on) {
             ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
         m_energy_acc.initial_kinetic = ke;
         m_energy_acc.kinetic = ke;
+        m_dashpot_pending = 0.0;
+        m_strain_baseline_pending = false;
+        for (const Pair& p : m_pairs) m_strain_baseline_pending |= p.active;
+        m_balance = BalanceWatch{};
+        m_balance.open = m_energy_acc;
+        m_balance.open_step = m_step;
         // Models report stored energy only while tracing is on; until the next step it is not
         // known.
         m_energy_acc.strain = 0.0;

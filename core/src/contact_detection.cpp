@@ -9,6 +9,7 @@
 // in the force loop (force_displacement.cpp), which is where the pair's data is hot anyway.
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <unordered_map>
 
@@ -51,9 +52,39 @@ bool Model::segmentGeometry(uint32_t seg, const Vec2& c, double r, ContactGeomet
     return ballSegmentGeometry(c, r, m_vertices[sg.a], m_vertices[sg.b], before, after, g);
 }
 
+int32_t Model::wallHolder(uint32_t seg, const Vec2& c, double r) const {
+    // A segment gives up a ball only beyond one of its ends, at a convex vertex
+    // (narrowphase.hpp), so the holder lies that way along the chain; a fast ball or short
+    // segments may put it more than one segment away. The walk cannot turn back (the segment
+    // beyond a convex vertex gives the ball back only on this side of it, where this one holds
+    // it), and a closed chain is walked at most once round.
+    const uint32_t n = m_walls[m_segments[seg].wall].segment_count;
+    ContactGeometry g;
+    int32_t cur = static_cast<int32_t>(seg);
+    for (uint32_t k = 0; k < n; ++k) {
+        const Segment& sg = m_segments[static_cast<uint32_t>(cur)];
+        const Vec2 ab = m_vertices[sg.b] - m_vertices[sg.a];
+        const double t = (c - m_vertices[sg.a]).dot(ab) / ab.squaredNorm();
+        cur = t <= 0.0 ? sg.prev : (t >= 1.0 ? sg.next : -1);
+        if (cur < 0) return -1;
+        if (segmentGeometry(static_cast<uint32_t>(cur), c, r, g)) return cur;
+    }
+    return -1;
+}
+
 void Model::setBroadphaseMargin(double margin) {
-    if (!(margin >= 0.0) || !std::isfinite(margin))
-        throw InputError("broadphase: margin must be >= 0 (got " + std::to_string(margin) + ")");
+    // The float broadphase tree works in units of margin / 0.1: a subnormal margin (1e-320)
+    // made them infinite and no contact was ever found (issue 6, item 12). Below 1e-9 m the
+    // margin is under a double's resolution of coordinates of 1e7 m, and the kinematic rule
+    // (no body leaves its fat box in a step) stalls the step. 0 = automatic.
+    if (!(margin >= 0.0) || !std::isfinite(margin) || (margin > 0.0 && margin < 1e-9) ||
+        margin > 1e9) {
+        char got[32];
+        std::snprintf(got, sizeof got, "%g", margin);
+        throw InputError(
+            std::string("broadphase: margin must be 0 (automatic) or in [1e-9, 1e9] m (got ") +
+            got + ")");
+    }
     m_margin = margin;
     if (m_broadphase_ready) {
         // Rebuild with the new margin; existing pairs are kept (makePair finds them), and pairs
@@ -295,6 +326,9 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
 
 void Model::removePair(std::size_t i) {
     Pair& p = m_pairs[i];
+    // A contact removed while active (its ball deleted) ends with what it stores: released,
+    // not dropped (the next step's strain sum no longer holds it).
+    if (p.active && m_energy_on) m_energy_acc.released += m_cold[i].strain + m_cold[i].bond;
     if (p.model) {
         p.model->Destroy();
         p.rule->pool->release(p.model);
@@ -342,6 +376,90 @@ void Model::resetPair(Pair& p) {
     c = PairCold{};
     c.key = key;
     c.rules_version = version;
+}
+
+// ------------------------------------------------------------------------ wall vertices
+//
+// Pairs are keyed per (ball, segment), but a contact with a wall chain is one contact however
+// many segments its point runs over: when the point crosses a convex vertex, the contact moves
+// to the pair of the segment that holds it now, with its model object (the loading history of
+// power, hysdamp's hysteresis, the shear spring, a bond) and its host state (forces, overlap,
+// the guard's work and step count, duration, stored energies). In the vertex region the normal
+// points from the centre to the vertex, which at the boundary of the next face region is that
+// face's normal: the normal is continuous across the handover, so the shear force is kept as it
+// is in the local frame (n, t = perp(n)), as it would be on a curved surface. Both pairs have the
+// same ends' properties and the same rule (a rule depends on the groups, the same for every
+// segment of a wall), so the model object fits either pair. docs/physics/walls.md.
+
+void Model::swapPairState(std::size_t i, std::size_t j) {
+    // Everything but the identity (which segment, the key) changes places.
+    std::swap(m_pairs[i], m_pairs[j]);
+    std::swap(m_pairs[i].end2, m_pairs[j].end2);
+    std::swap(m_cold[i], m_cold[j]);
+    std::swap(m_cold[i].key, m_cold[j].key);
+}
+
+bool Model::handOverWallContact(std::size_t i) {
+    // Slot i holds an active wall contact whose segment gave the ball up. After the handover,
+    // slot i holds the holder's pair with the contact and the old segment's pair, inactive,
+    // takes the holder's former slot: the force loop processes slot i again, so the contact gets
+    // its FDlaw this step whether the holder's pair came before or after it in the loop (or is
+    // created here, at the end of the list).
+    const uint32_t s1 = m_pairs[i].end1;
+    const int32_t h = wallHolder(m_pairs[i].end2, m_balls->pos[s1], m_balls->radius[s1]);
+    if (h < 0) return false;
+    const uint64_t key = (uint64_t(m_balls->handle[s1]) << 32) | (kWallBit | uint32_t(h));
+    auto it = m_pair_index.find(key);
+    if (it == m_pair_index.end()) {
+        if (!makePair(s1, static_cast<uint32_t>(h), true)) return false;
+        it = m_pair_index.find(key);
+    }
+    const std::size_t q = it->second;
+    // An active holder already has a contact of its own (never so at a vertex of one chain,
+    // where the rule above gives every point to one segment): do not merge two contacts.
+    if (m_pairs[q].active) return false;
+    std::swap(m_pairs[i].end2, m_pairs[q].end2);
+    std::swap(m_cold[i].key, m_cold[q].key);
+    m_pair_index[m_cold[i].key] = static_cast<uint32_t>(i);
+    m_pair_index[m_cold[q].key] = static_cast<uint32_t>(q);
+    // Slot q may have been marked for removal this step (the holder's pair, far from the ball
+    // then); it now holds the old segment's pair, which a later step will check again.
+    m_to_remove.erase(std::remove(m_to_remove.begin(), m_to_remove.end(), uint32_t(q)),
+                      m_to_remove.end());
+    return true;
+}
+
+bool Model::adoptWallContact(std::size_t i) {
+    // Slot i: an inactive wall pair that now touches. If the ball's contact with this chain is
+    // still held by the pair of a segment that gave it up (visited later in this step's loop),
+    // this pair takes it over instead of starting a fresh contact. Walk the chain both ways over
+    // existing, inactive pairs of this ball.
+    const Pair& p = m_pairs[i];
+    const uint32_t s1 = p.end1, seg = p.end2;
+    const uint64_t hi = uint64_t(m_balls->handle[s1]) << 32;
+    const uint32_t n = m_walls[m_segments[seg].wall].segment_count;
+    for (int dir = 0; dir < 2; ++dir) {
+        int32_t cur = static_cast<int32_t>(seg);
+        for (uint32_t k = 0; k + 1 < n; ++k) {
+            const Segment& sg = m_segments[static_cast<uint32_t>(cur)];
+            cur = dir == 0 ? sg.prev : sg.next;
+            if (cur < 0 || uint32_t(cur) == seg) break;
+            const auto it = m_pair_index.find(hi | kWallBit | uint32_t(cur));
+            if (it == m_pair_index.end()) break;
+            const std::size_t j = it->second;
+            if (!m_pairs[j].active) continue;
+            // A segment that still holds the ball has a contact of its own (the other face of
+            // a valley): leave it.
+            ContactGeometry g;
+            if (segmentGeometry(uint32_t(cur), m_balls->pos[s1], m_balls->radius[s1], g) ||
+                wallHolder(uint32_t(cur), m_balls->pos[s1], m_balls->radius[s1]) !=
+                    static_cast<int32_t>(seg))
+                break;
+            swapPairState(i, j);
+            return true;
+        }
+    }
+    return false;
 }
 
 // ------------------------------------------------------------------------ memory order

@@ -10,6 +10,7 @@
 // Frame: n from end 1 to end 2, t = perp(n); the model's forces act on end 2, end 1 gets the
 // opposite; torques are (contact point - centre) x force, plus the model's moment.
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -27,10 +28,50 @@ constexpr std::size_t kPrefetchAhead = 4;
 /// Steps in contact the guard follows a contact for (docs/physics/guard.md).
 constexpr uint32_t kGuardWatch = 400;
 
+/// What a contact held one step ago, from what it holds now, what it dissipated in the step and
+/// the work the bodies did on it (its force over the step's displacement, trapezoidal: exact for
+/// a linear spring). Used once, when tracing starts with loaded contacts.
+double storedBefore(const FdBlock& fd, double fn_old, double fs_old, double m_old) {
+    const double work = 0.5 * ((fn_old + fd.n_force) * fd.du_n - (fs_old + fd.s_force) * fd.du_s -
+                               (m_old + fd.moment) * fd.dtheta);
+    return fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain] + fd.energy[kEnergySlip] +
+           fd.energy[kEnergyDashpot] + fd.energy[kEnergyPlastic] + fd.energy[kEnergyReleased] -
+           work;
+}
+
 std::string num(double v) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
+}
+
+/// Why the energy partitions of one FDlaw break the ABI's contract (docs/plugin-abi.md,
+/// "Energies"), or empty. Every partition must be finite. Dissipation (slip, dashpot, plastic)
+/// cannot be negative in total, but a single step's increment may be: the shipped models book
+/// the trapezoidal work of the leapfrog's forces minus the change of the stored energy, so the
+/// quadrature error of the time integration (O(dt^2), either sign; measured up to 0.5% of the
+/// step's energy scale for `power` and `hysdamp` at 30 steps per impact) and the settling of the
+/// last half step at separation land in these items, which keeps the balance closed. So the
+/// check is on the run's total of each kind (`totals`, before this step): it may not fall below
+/// zero by more than 1% (the guard's default energy tolerance) of the energy scale `scale`
+/// (stored energies before and after, |F| |du| of every component, and the total itself).
+/// The rare path: called only when an increment is < 0 or a sum is not finite.
+std::string energyContractViolation(const FdBlock& fd, double scale, const double* totals) {
+    static const char* const names[kEnergyCount] = {"strain",  "slip",        "dashpot",
+                                                    "plastic", "bond_strain", "released"};
+    for (int k = 0; k < kEnergyCount; ++k)
+        if (!std::isfinite(fd.energy[k]))
+            return std::string("energy partition '") + names[k] + "' is " + num(fd.energy[k]);
+    for (int k : {kEnergySlip, kEnergyDashpot, kEnergyPlastic}) {
+        const double total = totals[k];
+        // (1e-300 J: an absolute floor, so that subnormal round-off is not a breach)
+        if (total + fd.energy[k] < -0.01 * (scale + std::fabs(total)) - 1e-300)
+            return std::string("negative ") + names[k] + " energy increment " + num(fd.energy[k]) +
+                   " J takes the run's total " + names[k] + " dissipation to " +
+                   num(total + fd.energy[k]) +
+                   " J (dissipation is >= 0; the step's energy scale is " + num(scale) + " J)";
+    }
+    return {};
 }
 
 }  // namespace
@@ -71,6 +112,7 @@ void Model::forceLoop() {
     fd.tdel = dt;
     fd.time = m_time;
     double strain_now = 0.0, bond_now = 0.0;
+    double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
     double finite_check = 0.0;
     m_to_remove.clear();
     const Vec2* pos = b.pos.data();
@@ -101,6 +143,7 @@ void Model::forceLoop() {
         ContactGeometry g;
         Vec2 v2c, x2;
         double spin2;
+        double shear_mid = 0.0;  // ball-ball: the shear rate's half-step correction (below)
 
         if (!p.wall) {
             const uint32_t s2 = p.end2;
@@ -127,11 +170,41 @@ void Model::forceLoop() {
             g.point = x1 + (r1 - 0.5 * g.overlap) * g.normal;
             v2c = vel[s2] + spinCross(spin[s2], g.point - x2);
             spin2 = spin[s2];
+            // The shear rate at the half step. The centre line's sweep dv . t, seen from the new
+            // normal, is |d_old| sin(dphi) / dt (the chord of the step), while the spin terms
+            // use the new arms, which sum to |d_new|. When the distance changes as the line
+            // turns (a rotating bonded cluster breathing under its centripetal load), the
+            // difference (|d_old| - |d_new|) dphi / dt feeds the normal motion into the shear
+            // spring: a one-sided coupling that does net work over each oscillation and pumps
+            // energy in at a rate O(dt) (issue 6: a spinning bonded ring of three balls blew
+            // up). Both at the half step, mean length (|d_old| + |d_new|) / 2 and mean arms,
+            // cancel it to second order: u_dot_s += -(q/2) (dv.t / |d_old| + (w1 + w2) / 2)
+            // with q = |d_old| - |d_new| (docs/plugin-abi.md, u_dot_s).
+            const Vec2 dv = vel[s2] - vel[s1];
+            const double dist_old = (d - dv * dt).norm();
+            if (dist_old > 0.0) {
+                const double q = dist_old - dist;
+                shear_mid =
+                    -0.5 * q * (dv.dot(perp(g.normal)) / dist_old + 0.5 * (spin[s1] + spin[s2]));
+            }
         } else {
             const Segment& sg = m_segments[p.end2];
             if (!segmentGeometry(p.end2, x1, r1, g)) {
                 // The ball is in a neighbouring segment's region: that segment holds the contact.
-                if (p.active) endContact(p, m_cold[i], false);
+                if (p.active) {
+                    // The contact crossed a convex vertex and moves, state and all, to the
+                    // holder's pair, which now sits in slot i: process slot i again (p, sg may
+                    // dangle, a pair may have been created).
+                    if (handOverWallContact(i)) {
+                        --i;  // wraps at 0; the loop's ++i restores it
+                        continue;
+                    }
+                    // No pair can take it (no holder, or one with a contact of its own): the
+                    // contact ends here, and what it still stores is released.
+                    if constexpr (kEnergy)
+                        m_energy_acc.released += m_cold[i].strain + m_cold[i].bond;
+                    endContact(p, m_cold[i], kGuard);
+                }
                 if ((m_ball_moved[s1] | m_segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
                     m_to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
@@ -158,15 +231,12 @@ void Model::forceLoop() {
         const Vec2 vrel = v2c - v1c;
         const Vec2 t = perp(g.normal);
         bool first = false;
-        if (!p.active) {
-            first = true;
-            activate(p, m_cold[i], g, vrel);
-        }
+        if (!p.active) first = activate(p, m_cold[i], g, vrel);
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
-        fd.u_dot_s = vrel.dot(t);
+        fd.u_dot_s = vrel.dot(t) + shear_mid;
         fd.t_dot_rel = spin2 - spin[s1];
         fd.du_n = fd.u_dot_n * dt;
         fd.du_s = fd.u_dot_s * dt;
@@ -193,6 +263,7 @@ void Model::forceLoop() {
             fd.error = "unknown exception";
         }
         if (fd.status != 0) reportFailedLaw(p, fd);
+        if (first && m_cold[i].born_overlapped) notePlacement(p, m_cold[i], g.overlap, fd, kEnergy);
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
         finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
 
@@ -221,14 +292,51 @@ void Model::forceLoop() {
                             (fd.flags & kFdBonded) == 0);
             }
             if constexpr (kEnergy) {
+                // The plugin's partitions against the ABI's contract (rare path when broken).
+                // Only with finite kinematics: a state already non-finite is the engine's
+                // to report (findNonFiniteContact, the law of motion), not the plugin's fault.
+                if (std::isfinite(fd.u_n + fd.du_n + fd.du_s + fd.dtheta) &&
+                    (!std::isfinite(fd.energy[0] + fd.energy[1] + fd.energy[2] + fd.energy[3] +
+                                    fd.energy[4] + fd.energy[5]) ||
+                     fd.energy[kEnergySlip] < 0.0 || fd.energy[kEnergyDashpot] < 0.0 ||
+                     fd.energy[kEnergyPlastic] < 0.0)) {
+                    const double scale =
+                        std::fabs(c.strain) + std::fabs(c.bond) +
+                        std::fabs(fd.energy[kEnergyStrain]) +
+                        std::fabs(fd.energy[kEnergyBondStrain]) +
+                        (std::fabs(fn_old) + std::fabs(fd.n_force)) * std::fabs(fd.du_n) +
+                        (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
+                        (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
+                    const double totals[kEnergyCount] = {
+                        0.0, m_energy_acc.slip, m_energy_acc.dashpot, m_energy_acc.plastic, 0.0,
+                        0.0};
+                    const std::string why = energyContractViolation(fd, scale, totals);
+                    if (!why.empty()) {
+                        const std::string what = "contact model '" + p.rule->model_name +
+                                                 "' at step " + std::to_string(m_step) + " on " +
+                                                 describePair(p) + ": " + why;
+                        // NaN stops the run. A negative total warns once per rule: contacts
+                        // born overlapping and the half-step settling at separation make it
+                        // happen in sound runs (docs/plugin-abi.md, "Energies").
+                        if (why.compare(0, 9, "negative ") != 0) throw PluginError(what);
+                        if (!p.rule->warned_negative_dissipation) {
+                            p.rule->warned_negative_dissipation = true;
+                            warn(what + " (warned once per contact_model rule)");
+                        }
+                    }
+                }
                 m_energy_acc.slip += fd.energy[kEnergySlip];
-                m_energy_acc.dashpot += fd.energy[kEnergyDashpot];
+                // The dashpot impulse spans the velocity window around this step: booked at
+                // the next energy snapshot, half before it (law_of_motion.cpp).
+                m_dashpot_pending += fd.energy[kEnergyDashpot];
                 m_energy_acc.plastic += fd.energy[kEnergyPlastic];
                 // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the
                 // model says how much), and so does the end of a contact that is still loaded.
                 m_energy_acc.released += fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
+                if (m_strain_baseline_pending && !first)
+                    held_before += storedBefore(fd, fn_old, fs_old, m_old);
                 if (ends) {
                     m_energy_acc.released += c.strain + c.bond;
                 } else {
@@ -298,16 +406,57 @@ void Model::forceLoop() {
     if constexpr (kEnergy) {
         m_energy_acc.strain = strain_now;
         m_energy_acc.bond = bond_now;
+        if (m_strain_baseline_pending) {
+            // Tracing was switched on with loaded contacts: what they hold was put in before
+            // the books opened (bookkeeping.cpp, setEnergyTracing).
+            m_energy_acc.initial_strain = held_before;
+            m_strain_baseline_pending = false;
+        }
     }
 }
 
 // The rare paths of the loop, kept out of it so that its body stays small.
 
-void Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+    // A wall pair may be taking over the ball's contact from a neighbouring segment's pair
+    // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
+    if (p.wall && adoptWallContact(pairIndex(p))) return false;
     if (c.rules_version != m_rules_version) refreshRule(p);
     p.active = true;
     ++m_profile.contacts_created;
     c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    // The resolution rule and the guard divide by it: NaN, zero or negative would silently
+    // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
+    if (!(c.duration > 0.0))
+        throw PluginError("contact model '" + p.rule->model_name + "' at step " +
+                          std::to_string(m_step) + " on " + describePair(p) +
+                          ": ContactDuration(mass_eff " + num(p.mass_eff) + " kg, approach " +
+                          num(std::max(0.0, -vrel.dot(g.normal))) + " m/s) returned " +
+                          num(c.duration) + " s (must be > 0, +inf for no force)");
+    // A rule whose contacts have no stiffness at all (m:contact_model("linear") with no kn:
+    // the bodies pass through each other) is worth one warning per rule: no tangent stiffness
+    // at touch and no finite duration even at 1 m/s means the model exerts no normal force.
+    if (!p.rule->warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
+        !(p.model->ContactDuration(p.mass_eff, 1.0) < HUGE_VAL)) {
+        p.rule->warned_no_stiffness = true;
+        std::string zero;
+        for (int32_t k = 0; k < p.model->PropCount(); ++k) {
+            const PropInfo* info = p.model->PropInfoAt(k);
+            if (!info || (info->flags & (kPropReadOnly | kPropState))) continue;
+            const std::string units = info->units ? info->units : "";
+            // zero, or subnormal (1e-320 Pa: a stiffness that ends up zero in every product)
+            const double v = p.model->ReturnProp(k);
+            if ((units == "N/m" || units == "Pa") && std::fabs(v) < DBL_MIN)
+                zero += std::string(zero.empty() ? "" : ", ") + info->name + " = " + num(v);
+        }
+        // Only a model with a stiffness property at 0 is warned about: a model made to exert no
+        // force (the template's `null`) has none.
+        if (!zero.empty())
+            warn("contact model '" + p.rule->model_name + "' has no normal stiffness on " +
+                 describePair(p) + " (" + zero + ")" +
+                 ": the bodies will pass through each other; set the stiffness in "
+                 "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
+    }
     // For the guard: a contact born overlapping (placed so) gives back energy it never took.
     const double approach = -vrel.dot(g.normal);
     c.approach_rate = std::max(approach, 0.0);
@@ -320,6 +469,35 @@ void Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
         ev.contact = ContactKey{c.key};
         ev.model = p.rule->model_name;
         m_events.push_back(std::move(ev));
+    }
+    return true;
+}
+
+void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
+                          bool energy) {
+    // The model's stored energy at its first call includes what the approach within this step
+    // put in; the rest was there before the step. Stored energy grows about as the overlap
+    // squared (exactly so for a linear spring), so the part that was placed is the fraction
+    // ((overlap - approach dt) / overlap)^2 of it. Without tracing, the linear estimate
+    // knest overlap^2 / 2 names the size in the warning.
+    const double before = std::max(overlap - c.approach_rate * m_dt, 0.0);
+    const double share = overlap > 0.0 ? (before / overlap) * (before / overlap) : 0.0;
+    const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
+                                 : 0.5 * fd.knest * overlap * overlap;
+    const double placed = share * stored;
+    if (energy) m_energy_acc.placement += placed;
+    // Below a thousandth of the radius it is not a placement but geometry: two balls sliding
+    // past each other close their gap by a little more than the normal rate times the step (the
+    // centre line turns), ~1e-9 m in a settling pack. Booked, not reported.
+    const auto& b = *m_balls;
+    const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
+    if (overlap < 1e-3 * r) return;
+    m_placed_energy += placed;
+    if (m_placed++ == 0) {
+        m_placed_first = describePair(p) + " at step " + std::to_string(m_step) + ": overlap " +
+                         num(overlap) + " m (" + num(100.0 * overlap / r) +
+                         "% of the smaller radius), stored energy " + num(placed) + " J" +
+                         (energy ? "" : " (estimated from knest)");
     }
 }
 

@@ -87,7 +87,7 @@ void Model::moveBalls() {
     const double gain = w / (1.0 + 0.5 * c * w);
     const bool energy = m_energy_on;
     const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
-    double kinetic = 0.0, body = 0.0, damping = 0.0;
+    double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
     for (std::size_t s = 0; s < n; ++s) {
         const Vec2 v_old = vel[s];
         const double w_old = spin[s];
@@ -107,10 +107,12 @@ void Model::moveBalls() {
         const double ang = (mom + md) * inv_inertia[s];
         Vec2 v = keep * v_old + gain * acc;
         double om = keep * w_old + gain * ang;
+        // Damping coefficients per degree of freedom: a fixed component is driven, not damped.
+        double cx = c, cy = c, cw = c;
         if (fix) {
-            if (fix & kFixX) v.x() = v_old.x();
-            if (fix & kFixY) v.y() = v_old.y();
-            if (fix & kFixSpin) om = w_old;
+            if (fix & kFixX) v.x() = v_old.x(), fd.x() = 0.0, cx = 0.0;
+            if (fix & kFixY) v.y() = v_old.y(), fd.y() = 0.0, cy = 0.0;
+            if (fix & kFixSpin) om = w_old, md = 0.0, cw = 0.0;
         }
         vel[s] = v;
         spin[s] = om;
@@ -118,16 +120,31 @@ void Model::moveBalls() {
         angle[s] += om * dt;
         if (energy) {
             const double m = b.mass[s];
+            const double inertia = b.inertia[s];
             const Vec2 v_now = v_old + (v - v_old) * lead;
             const double om_now = w_old + (om - w_old) * lead;
-            kinetic += 0.5 * (m * v_now.squaredNorm() + b.inertia[s] * om_now * om_now);
+            kinetic += 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
             body += ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
-            // Work of the damping impulses on the half-step kinetic energy.
+            // Work of the damping impulses on the half-step kinetic energy; viscous damping acts
+            // on translation and spin alike (F = -c m v, M = -c I w).
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
-            Vec2 dmp = fd;
-            if (c > 0.0) dmp -= c * m * v_mid;
-            damping -= w * (dmp.dot(v_mid) + md * om_mid);
+            const Vec2 dmp = fd - m * Vec2(cx * v_mid.x(), cy * v_mid.y());
+            const double mdmp = md - cw * inertia * om_mid;
+            damping -= w * (dmp.dot(v_mid) + mdmp * om_mid);
+            if (fix) {
+                // A fixed component moves at its set velocity whatever acts on it: the fixity
+                // supplies the reaction R = -(everything else), and R's work goes into
+                // `boundary`, like a wall's (docs/physics/energy.md). R acts as an impulse R w
+                // at the rate v, split at the snapshot like the damping impulse below (the
+                // trapezoidal rule: second order, as the rest of the balance).
+                const Vec2 load = f + m * g;
+                double react = 0.0;
+                if (fix & kFixX) react -= load.x() * v.x();
+                if (fix & kFixY) react -= load.y() * v.y();
+                if (fix & kFixSpin) react -= mom * om;
+                driven += react * w;
+            }
         }
     }
     bool finite = true;
@@ -135,13 +152,21 @@ void Model::moveBalls() {
         finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
     if (!finite) reportNonFiniteBall();
     if (energy) {
-        // The damping impulse spans the window around t: its first part, before t, belongs in
-        // the snapshot at t, the rest after it.
+        // Impulses applied now span the window around t: the damping, the fixities' reactions
+        // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
+        // holds the share of their effect before t, so the snapshot holds the same share of
+        // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
+        // the books half a step's dissipation ahead during an impact.)
         m_energy_acc.damping += damping * lead;
+        m_energy_acc.boundary += driven * lead;
+        m_energy_acc.dashpot += m_dashpot_pending * lead;
         m_energy = m_energy_acc;
         m_energy.kinetic = kinetic;
         m_energy_acc.body += body;
+        m_energy_acc.boundary += driven * (1.0 - lead);
         m_energy_acc.damping += damping * (1.0 - lead);
+        m_energy_acc.dashpot += m_dashpot_pending * (1.0 - lead);
+        m_dashpot_pending = 0.0;
     }
 }
 
@@ -161,9 +186,20 @@ void Model::moveWalls() {
     for (std::size_t i = 0; i < m_walls.size(); ++i) {
         WallData& w = m_walls[i];
         if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
-        if (m_energy_on)
+        if (m_energy_on) {
             // Work done on the balls: minus the force they exert on the wall times its motion.
-            m_energy_acc.boundary -= (w.force.dot(w.vel) + w.moment * w.spin) * dt;
+            // That force is the last force loop's, whose impulse the law of motion has just
+            // applied over the window w = (dt_prev + dt)/2 around the snapshot's time t; so its
+            // work is over w too, and the part before t belongs in the snapshot, as for the
+            // damping impulse. Booking it over the coming dt, after the snapshot, left it a step
+            // late and short by (w - dt) while the step shrank: a wall whose contacts formed in
+            // a long step created energy (issue 6, item 7: -217 J, 2.5% of the boundary work).
+            const double win = m_window;
+            const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
+            const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
+            m_energy_acc.boundary += work;
+            m_energy.boundary += work * lead;
+        }
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);
         for (uint32_t k = 0; k < w.vertex_count; ++k) {

@@ -36,6 +36,59 @@ std::string fmt(double v) {
 
 std::string vecText(const Vec2& v) { return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ")"; }
 
+// Input ranges (issue 6, item 12). Every value a script gives, and every value derived from it
+// (mass, inertia), must be finite and usable: a radius of 1e300 gave an infinite mass, a wall at
+// 1e200 m broke the broadphase (its tree stores float coordinates) and failed later blaming the
+// model. Coordinates beyond 1e9 m are refused: there a double resolves 1e-7 m, coarser than the
+// overlaps of a stiff contact, and the float broadphase tree (scale 0.1 / margin, margin >=
+// 1e-9 m, contact_detection.cpp) stays far from float overflow (3.4e38).
+constexpr double kMaxCoordinate = 1e9;  // [m]
+constexpr double kMinRadius = 1e-12;    // [m]
+
+bool inRange(const Vec2& v) {
+    return std::fabs(v.x()) <= kMaxCoordinate && std::fabs(v.y()) <= kMaxCoordinate;
+}
+
+/// Throws unless a coordinate is finite and within +-kMaxCoordinate; `what` names the option.
+void requireCoordinate(const std::string& what, const Vec2& v) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
+        throw InputError(what + " must be finite (got " + vecText(v) + ")");
+    if (!inRange(v))
+        throw InputError(what + " " + vecText(v) + " is out of range: coordinates must be within " +
+                         fmt(kMaxCoordinate) + " m of the origin");
+}
+
+void requireRadius(double r) {
+    if (!(r > 0.0) || !std::isfinite(r))
+        throw InputError("ball: radius must be > 0 (got " + fmt(r) + ")");
+    if (r < kMinRadius || r > kMaxCoordinate)
+        throw InputError("ball: radius " + fmt(r) + " m is out of range [" + fmt(kMinRadius) +
+                         ", " + fmt(kMaxCoordinate) + "] m");
+}
+
+/// The kinetic energy a velocity or spin gives must be finite: vel or spin = 1e300 made the
+/// energy totals infinite and balance_error -inf.
+void requireFiniteEnergy(double mass, double inertia, const Vec2& vel, double spin) {
+    if (!std::isfinite(0.5 * mass * vel.squaredNorm()))
+        throw InputError("ball: vel " + vecText(vel) + " gives a ball of " + fmt(mass) +
+                         " kg an infinite kinetic energy");
+    if (!std::isfinite(0.5 * inertia * spin * spin))
+        throw InputError("ball: spin " + fmt(spin) + " gives a ball of inertia " + fmt(inertia) +
+                         " kg m^2 an infinite kinetic energy");
+}
+
+/// Mass and inertia of a disk or sphere; throws when either (or its inverse) is not a finite
+/// positive number (a huge radius or density overflows, a tiny one underflows).
+void requireUsableMass(double mass, double inertia, const std::string& from) {
+    auto usable = [](double v) { return v > 0.0 && std::isfinite(v) && std::isfinite(1.0 / v); };
+    if (!usable(mass))
+        throw InputError("ball: " + from + " give a mass of " + fmt(mass) +
+                         " kg, which is not a usable positive number");
+    if (!usable(inertia))
+        throw InputError("ball: " + from + " give a moment of inertia of " + fmt(inertia) +
+                         " kg m^2, which is not a usable positive number");
+}
+
 using Clock = std::chrono::steady_clock;
 
 }  // namespace
@@ -56,6 +109,10 @@ const char* stepRuleName(StepRule r) {
             return "max";
         case StepRule::Growth:
             return "growth";
+        case StepRule::Idle:
+            return "idle";
+        case StepRule::Damping:
+            return "damping";
     }
     return "?";
 }
@@ -203,8 +260,7 @@ void Model::updateMass(uint32_t s) {
 BallId Model::createBall(const BallDef& d) {
     m_limits_stale = true;
     auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
-    if (!(d.radius > 0.0) || !std::isfinite(d.radius))
-        throw InputError("ball: radius must be > 0 (got " + fmt(d.radius) + ")");
+    requireRadius(d.radius);
     const bool has_mass = !std::isnan(d.mass);
     if (has_mass && !(d.mass > 0.0 && std::isfinite(d.mass)))
         throw InputError("ball: mass must be > 0 (got " + fmt(d.mass) + ")");
@@ -212,13 +268,26 @@ BallId Model::createBall(const BallDef& d) {
         throw InputError("ball: density must be > 0 (got " + fmt(d.density) + ")");
     if (!std::isnan(d.inertia) && !(d.inertia > 0.0 && std::isfinite(d.inertia)))
         throw InputError("ball: inertia must be > 0 (got " + fmt(d.inertia) + ")");
-    if (!finite2(d.pos)) throw InputError("ball: pos must be finite");
+    requireCoordinate("ball: pos", d.pos);
     if (!finite2(d.vel)) throw InputError("ball: vel must be finite");
     if (!std::isfinite(d.spin) || !std::isfinite(d.angle))
         throw InputError("ball: spin and angle must be finite");
     for (double v : {d.kn, d.ks, d.fric})
         if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
             throw InputError("ball: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
+    {
+        // The derived values, before anything is stored.
+        const double r = d.radius;
+        const bool disk = m_mass_mode == MassMode::Disk;
+        const double volume = disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
+        const double mass = has_mass ? d.mass : d.density * volume;
+        const double inertia =
+            !std::isnan(d.inertia) ? d.inertia : (disk ? 0.5 : 0.4) * mass * r * r;
+        requireUsableMass(mass, inertia,
+                          has_mass ? "mass " + fmt(d.mass) + " and radius " + fmt(r)
+                                   : "density " + fmt(d.density) + " and radius " + fmt(r));
+        requireFiniteEnergy(mass, inertia, d.vel, d.spin);
+    }
 
     auto& b = *m_balls;
     const uint32_t s = static_cast<uint32_t>(b.size());
@@ -273,6 +342,20 @@ BallId Model::createBall(const BallDef& d) {
 void Model::deleteBall(BallId id) {
     m_limits_stale = true;
     const uint32_t s = slotOf(id);
+    if (m_energy_on) {
+        // The ball leaves the books with its kinetic energy at the present whole step, taken as
+        // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
+        // plus half a step of the acceleration of the last force loop. Its contacts' stored
+        // energy goes to `released` (removePair).
+        const auto& b = *m_balls;
+        const double half = 0.5 * m_dt;
+        const Vec2 v = b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity) * half;
+        const double w = b.spin[s] + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * half;
+        const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
+                             (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
+        const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
+        m_energy_acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+    }
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_pairs.size(); i-- > 0;) {
         const Pair& p = m_pairs[i];
@@ -325,25 +408,35 @@ static void requireFinite(const char* what, const Vec2& v) {
 
 void Model::setBallPos(BallId id, const Vec2& p) {
     m_limits_stale = true;
-    requireFinite("pos", p);
+    requireCoordinate("ball: pos", p);
     const uint32_t s = slotOf(id);
     m_balls->pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
     m_limits_stale = true;
     requireFinite("vel", v);
-    m_balls->vel[slotOf(id)] = v;
+    const uint32_t s = slotOf(id);
+    requireFiniteEnergy(m_balls->mass[s], 0.0, v, 0.0);
+    m_balls->vel[s] = v;
 }
 void Model::setBallSpin(BallId id, double w) {
     m_limits_stale = true;
     if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
-    m_balls->spin[slotOf(id)] = w;
+    const uint32_t s = slotOf(id);
+    requireFiniteEnergy(0.0, m_balls->inertia[s], Vec2::Zero(), w);
+    m_balls->spin[s] = w;
 }
 void Model::setBallRadius(BallId id, double r) {
     m_limits_stale = true;
-    if (!(r > 0.0) || !std::isfinite(r))
-        throw InputError("ball: radius must be > 0 (got " + fmt(r) + ")");
+    requireRadius(r);
     const uint32_t s = slotOf(id);
+    if (m_balls->density[s] > 0.0) {
+        const double rho = m_balls->density[s];
+        const double mass =
+            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
+        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
+                          "density " + fmt(rho) + " and radius " + fmt(r));
+    }
     m_balls->radius[s] = r;
     if (m_balls->density[s] > 0.0) updateMass(s);
     refreshPairMasses(s);
@@ -353,16 +446,26 @@ void Model::setBallDensity(BallId id, double rho) {
     if (!(rho > 0.0) || !std::isfinite(rho))
         throw InputError("ball: density must be > 0 (got " + fmt(rho) + ")");
     const uint32_t s = slotOf(id);
+    {
+        const double r = m_balls->radius[s];
+        const double mass =
+            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
+        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
+                          "density " + fmt(rho) + " and radius " + fmt(r));
+    }
     m_balls->density[s] = rho;
     updateMass(s);
     refreshPairMasses(s);
 }
 void Model::setBallAppliedForce(BallId id, const Vec2& f) {
-    requireFinite("applied force", f);
-    m_balls->fapp[slotOf(id)] = f;
+    requireFinite("fapp (applied force)", f);
+    Vec2& fapp = m_balls->fapp[slotOf(id)];
+    if (fapp != f) m_limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
+    fapp = f;
 }
 void Model::setBallAppliedMoment(BallId id, double m) {
-    if (!std::isfinite(m)) throw InputError("ball: applied moment must be finite");
+    if (!std::isfinite(m))
+        throw InputError("ball: mapp (applied moment) must be finite (got " + fmt(m) + ")");
     m_balls->mapp[slotOf(id)] = m;
 }
 void Model::setBallFixity(BallId id, uint8_t f) {
@@ -416,6 +519,7 @@ WallId Model::createWall(const WallDef& d) {
         const Vec2& p = d.points[i];
         if (!std::isfinite(p.x()) || !std::isfinite(p.y()))
             throw InputError("wall: point " + std::to_string(i + 1) + " is not finite");
+        requireCoordinate("wall: point " + std::to_string(i + 1), p);
         const std::size_t j = (i + 1) % n;
         if ((i + 1 < n || d.closed) && (d.points[j] - p).norm() <= 0.0)
             throw InputError("wall: points " + std::to_string(i + 1) + " and " +
@@ -423,6 +527,8 @@ WallId Model::createWall(const WallDef& d) {
     }
     if (!std::isfinite(d.vel.x()) || !std::isfinite(d.vel.y()) || !std::isfinite(d.spin))
         throw InputError("wall: vel and spin must be finite");
+    if (!std::isnan(d.center.x()) || !std::isnan(d.center.y()))
+        requireCoordinate("wall: center", d.center);
     for (double v : {d.kn, d.ks, d.fric})
         if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
             throw InputError("wall: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
@@ -502,7 +608,10 @@ void Model::setWallSpin(WallId id, double w) {
     wallOf(id).spin = w;
 }
 Vec2 Model::wallCenter(WallId id) const { return wallOf(id).center; }
-void Model::setWallCenter(WallId id, const Vec2& c) { wallOf(id).center = c; }
+void Model::setWallCenter(WallId id, const Vec2& c) {
+    requireCoordinate("wall: center", c);
+    wallOf(id).center = c;
+}
 Vec2 Model::wallForce(WallId id) const { return wallOf(id).force; }
 
 double Model::wallContactProp(WallId id, const std::string& name) const {
@@ -704,15 +813,24 @@ void Model::setContactProp(ContactKey key, const std::string& name, double value
     if (idx < 0)
         throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
                          "' (known: " + knownProps(*p->model) + ")");
+    if (const std::string why = propValueProblem(*p->model, idx, value); !why.empty())
+        throw InputError(std::string("contact: ") + p->model->Name() + ": '" + name + "' " + why);
     if (p->model->AcceptProp(idx, value) != 0)
         throw InputError(std::string("contact: ") + p->model->LastError());
+    // A stiffness set to zero on a live contact: the bodies may pass through each other.
+    const PropInfo* info = p->model->PropInfoAt(idx);
+    const std::string units = info && info->units ? info->units : "";
+    if (value == 0.0 && (units == "N/m" || units == "Pa"))
+        warn("contact " + describePair(*p) + ": property '" + name + "' of model '" +
+             p->model->Name() + "' set to 0: the contact may let the bodies pass through");
 }
 
 void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
     Pair* p = pairByKey(key);
     if (!p) throw InputError("contact no longer exists");
     if (!std::isfinite(normal_force) || !std::isfinite(shear_force))
-        throw InputError("contact: forces must be finite");
+        throw InputError("contact: normal_force and shear_force must be finite (got " +
+                         fmt(normal_force) + ", " + fmt(shear_force) + ")");
     p->n_force = normal_force;
     p->s_force = shear_force;
 }
@@ -779,6 +897,16 @@ void Model::cycle(int64_t steps) {
 void Model::solveTime(double duration) {
     if (!(duration >= 0.0) || !std::isfinite(duration))
         throw InputError("solve: time must be >= 0 (got " + fmt(duration) + ")");
+    // A duration no run can reach is refused rather than cycled for ever with no sign of life
+    // (issue 6, item 12): beyond 1e9 s (32 years), and beyond 1e12 steps at a fixed step.
+    if (duration > 1e9)
+        throw InputError("solve: time " + fmt(duration) +
+                         " s cannot be reached in a sane number of steps (at most 1e9 s per "
+                         "solve; call solve repeatedly for longer runs)");
+    if (!m_timestep.automatic && m_timestep.fixed > 0.0 && duration / m_timestep.fixed > 1e12)
+        throw InputError("solve: time " + fmt(duration) + " s needs " +
+                         fmt(duration / m_timestep.fixed) + " steps of the fixed step " +
+                         fmt(m_timestep.fixed) + " s (more than 1e12)");
     prepareRun();
     const double end = m_time + duration;
     try {

@@ -42,6 +42,8 @@ struct Model::Rule {
     int order = 0;        // later rules win ties
     double activity = 0.0;
     std::unique_ptr<ObjectPool> pool;
+    bool warned_no_stiffness = false;          // Model::activate warns once per rule
+    bool warned_negative_dissipation = false;  // the force loop warns once per rule
 };
 
 struct Model::Segment {
@@ -71,7 +73,9 @@ struct Model::WallData {
 /// A broadphase candidate pair. Every pair owns a model object (cloned from its rule's
 /// prototype, with the ends' properties) so that its stiffness and expected contact duration
 /// are known before touch; the pair is a *contact* while `active`. On separation the object is
-/// replaced by a fresh clone, so a new touch starts from a fresh state.
+/// replaced by a fresh clone, so a new touch starts from a fresh state. A wall contact that runs
+/// over a convex vertex of its chain moves, object and state, to the next segment's pair
+/// (contact_detection.cpp, "wall vertices").
 ///
 /// The force loop streams through all pairs every step and is limited by memory traffic, so the
 /// data it needs at every step (120 bytes) is kept apart from the rest

@@ -47,7 +47,9 @@ struct Options {
     int64_t sort_interval = 1000;
     uint64_t seed = 1;
     double aspect = 4.0;
-    std::string guard;  // "" = engine default
+    std::string guard;           // "" = engine default
+    std::string energy = "off";  // energy tracing during the timed run
+    std::string balance = "on";  // the run-level balance check (while tracing)
     bool profile = true;
     bool settle_only = false;
 };
@@ -56,7 +58,8 @@ struct Options {
     std::fprintf(stderr,
                  "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
                  "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
-                 "[--seed S] [--aspect A] [--guard on|off] [--no-profile] [--settle-only]\n",
+                 "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--balance on|off] "
+                 "[--no-profile] [--settle-only]\n",
                  why);
     std::exit(2);
 }
@@ -84,6 +87,10 @@ Options parse(int argc, char** argv) {
             o.aspect = std::atof(value().c_str());
         else if (a == "--guard")
             o.guard = value();
+        else if (a == "--energy")
+            o.energy = value();
+        else if (a == "--balance")
+            o.balance = value();
         else if (a == "--no-profile")
             o.profile = false;
         else if (a == "--settle-only")
@@ -100,6 +107,8 @@ Options parse(int argc, char** argv) {
     if (o.n < 1 || o.steps < 1) usage("N and STEPS must be >= 1");
     if (o.mode != "sorted" && o.mode != "unsorted" && o.mode != "both") usage("bad mode");
     if (!o.guard.empty() && o.guard != "on" && o.guard != "off") usage("--guard on|off");
+    if ((o.energy != "on" && o.energy != "off") || (o.balance != "on" && o.balance != "off"))
+        usage("--energy on|off, --balance on|off");
     if (o.warmup < 0 || o.sort_interval < 1) usage("bad --warmup or --sort-interval");
     return o;
 }
@@ -145,9 +154,11 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     else if (o.guard == "on")
         model.guard() = talus::GuardSettings{};  // every check at its default (warn)
     const bool guard_on = model.guard().anyOn();
+    if (o.balance == "off") model.guard().balance = talus::GuardAction::Off;
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
     if (o.warmup > 0) model.cycle(o.warmup);
+    model.setEnergyTracing(o.energy == "on");
     model.profile().reset();
     const double ke_start = talus::meanKineticEnergy(model);
 
@@ -188,17 +199,18 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
     std::printf(
         "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
+        "energy=%s balance=%s "
         "profile=%d wall_s=%.6f cpu_s=%.6f ns_per_particle_step=%.4f contacts_per_particle=%.5f "
         "ball_contacts_per_particle=%.5f wall_contacts=%zu pairs_per_particle=%.5f "
         "t_timestep=%.6f t_motion=%.6f t_detection=%.6f t_force=%.6f t_bookkeeping=%.6f "
         "proxy_moves=%lld pairs_created=%lld contacts_created=%lld ke_start=%.4g ke_end=%.4g\n",
         o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
         sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
-        guard_on ? "on" : "off", o.profile ? 1 : 0, wall, cpu, ns, double(active) / n,
-        double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep, p.motion,
-        p.detection, p.force_displacement, p.bookkeeping, static_cast<long long>(p.proxy_moves),
-        static_cast<long long>(p.pairs_created), static_cast<long long>(p.contacts_created),
-        ke_start, ke_end);
+        guard_on ? "on" : "off", o.energy.c_str(), o.balance.c_str(), o.profile ? 1 : 0, wall, cpu,
+        ns, double(active) / n, double(active - wall_contacts) / n, wall_contacts,
+        double(pairs) / n, p.timestep, p.motion, p.detection, p.force_displacement, p.bookkeeping,
+        static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
+        static_cast<long long>(p.contacts_created), ke_start, ke_end);
     std::fflush(stdout);
 }
 

@@ -16,12 +16,27 @@ struct EnergyTotals {
     double plastic = 0.0;   ///< accumulated plastic work [J]
     double damping = 0.0;   ///< accumulated local and viscous (law-of-motion) damping work [J]
     double released = 0.0;  ///< strain/bond energy of contacts deleted while loaded [J]
+    double deleted = 0.0;   ///< kinetic energy of balls deleted while tracing [J]
     double initial_kinetic = 0.0;  ///< kinetic energy when tracing was switched on [J]
+    /// Strain and bond energy the contacts held when tracing was switched on: what their models
+    /// report at the first step after, less the work the bodies did on them in that step plus
+    /// what they dissipated in it [J].
+    double initial_strain = 0.0;
+    /// Strain energy of contacts that started overlapping (bodies created or moved into each
+    /// other): energy no traced work put in, booked as an input when such a contact forms [J].
+    double placement = 0.0;
+
+    /// Energy put in so far: the initial kinetic and strain energy, the placement energy and the
+    /// positive parts of the body and boundary work [J].
+    double input() const {
+        return initial_kinetic + initial_strain + placement + (body > 0.0 ? body : 0.0) +
+               (boundary > 0.0 ? boundary : 0.0);
+    }
 
     /// Energy in minus energy accounted for; zero up to discretisation error.
     double balanceError() const {
-        return initial_kinetic + body + boundary -
-               (kinetic + strain + bond + slip + dashpot + plastic + damping + released);
+        return initial_kinetic + initial_strain + placement + body + boundary -
+               (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted);
     }
 };
 

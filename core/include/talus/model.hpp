@@ -87,7 +87,17 @@ struct TimestepSettings {
 };
 
 /// Which rule set the last automatic step.
-enum class StepRule { Fixed, Stability, Resolution, Approach, Kinematic, Max, Growth };
+enum class StepRule {
+    Fixed,
+    Stability,
+    Resolution,
+    Approach,
+    Kinematic,
+    Max,
+    Growth,
+    Idle,
+    Damping
+};
 const char* stepRuleName(StepRule r);
 
 /// What the stability guard does with a finding.
@@ -104,6 +114,12 @@ struct GuardSettings {
     /// A model whose forces change faster than its reported stiffness allows (the time step
     /// follows the reported stiffness, so an under-reporting model gets too large a step).
     GuardAction stiffness = GuardAction::Warn;
+    /// Run-level energy balance (only while energy tracing is on): |balance_error| against
+    /// `balance_tolerance` times the throughput, the larger of the energy put in and the peak
+    /// mechanical energy (docs/physics/guard.md), every `balance_every` steps.
+    GuardAction balance = GuardAction::Warn;
+    double balance_tolerance = 0.01;
+    int64_t balance_every = 10;
 
     bool anyOn() const {
         return energy != GuardAction::Off || resolution != GuardAction::Off ||
@@ -112,7 +128,7 @@ struct GuardSettings {
     /// Every check off (the non-finite checks always run).
     static GuardSettings allOff() {
         GuardSettings g;
-        g.energy = g.resolution = g.stiffness = GuardAction::Off;
+        g.energy = g.resolution = g.stiffness = g.balance = GuardAction::Off;
         return g;
     }
 };
@@ -338,6 +354,8 @@ private:
     Box ballBox(uint32_t slot) const;
     /// Ball against wall segment `seg` with the chain's shared-vertex rule (narrowphase.hpp).
     bool segmentGeometry(uint32_t seg, const Vec2& centre, double radius, ContactGeometry& g) const;
+    /// The segment of seg's chain that holds a ball seg gives up (-1: none).
+    int32_t wallHolder(uint32_t seg, const Vec2& centre, double radius) const;
     Box segmentBox(uint32_t seg) const;
     void addPairsForBall(uint32_t slot);
     void addPairsForSegment(uint32_t seg);
@@ -350,7 +368,10 @@ private:
     void refreshRule(Pair& p);
     void resetPair(Pair& p);
     void endContact(Pair& p, PairCold& c, bool check_guard);
-    void activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
+    bool activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
+    bool handOverWallContact(std::size_t index);
+    bool adoptWallContact(std::size_t index);
+    void swapPairState(std::size_t i, std::size_t j);
     void queueBreak(std::size_t index, const Vec2& point, int32_t mode);
     void noteDeepest(const Pair& p, PairCold& c, double force, double rate_after);
     [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
@@ -368,6 +389,9 @@ private:
     void repackContactObjects();
     void compactDeleted();
     void flushWarnings();
+    void checkBalance();  // bookkeeping.cpp: the run-level energy check
+    void notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
+                       bool energy);
     [[noreturn]] void throwNonFinite(const std::string& what) const;
     std::string describePair(const Pair& p) const;
     std::string describeBall(uint32_t slot) const;
@@ -422,7 +446,9 @@ private:
     std::size_t m_fixed_balls = 0;  // balls with any fixity bit (they need the general loop)
     TimestepSettings m_last_settings;
     bool m_limits_stale = true;  // the scene changed outside a cycle: survey before the next step
-    double m_step_cap = 0.0;     // solveTime: upper bound for the next step (0 = none)
+    Vec2 m_limits_gravity{0.0, 0.0};  // gravity the step limits were gathered with
+    bool m_dt_idle = false;   // the last automatic step was idle: nothing moved or accelerated
+    double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).
@@ -437,6 +463,12 @@ private:
     bool m_energy_on = false;
     EnergyTotals m_energy_acc;
     EnergyTotals m_energy;  // snapshot at the last whole step (law_of_motion.cpp)
+    // Contact dashpot work of the last force loop, split at the next snapshot like the damping
+    // impulse (its impulse spans the window around the force's time level).
+    double m_dashpot_pending = 0.0;
+    // Tracing was switched on while contacts were loaded: the next force loop books what they
+    // hold as initial_strain.
+    bool m_strain_baseline_pending = false;
 
     // --- guard counters (aggregated warnings)
     int64_t m_underresolved = 0;
@@ -445,6 +477,20 @@ private:
     std::string m_energy_gain_first;
     int64_t m_stiffness_lies = 0;
     std::string m_stiffness_lies_first;
+    int64_t m_placed = 0;  // contacts that started overlapping, since the last report
+    double m_placed_energy = 0.0;
+    std::string m_placed_first;
+    // Run-level balance check: the snapshot at the last check that passed (the window a finding
+    // names opens there), the peak mechanical energy, and the error last reported (a finding is
+    // reported again only when it grows by another tolerance).
+    struct BalanceWatch {
+        EnergyTotals open;
+        int64_t open_step = 0;
+        double peak = 0.0;
+        double reported = 0.0;
+        int64_t findings = 0;
+        std::string first, last;
+    } m_balance;
 
     // --- hooks and events
     struct Hook {
