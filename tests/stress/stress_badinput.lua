@@ -260,18 +260,7 @@ local function cases(out_dir)
 end
 
 --- The state after acceptance: nil when everything is finite, else a description.
-local function nonFinite(m)
-    if not finite(m:time()) then return "time " .. tostring(m:time()) end
-    for b in m:balls() do
-        local p, v = b.pos, b.vel
-        if not (finite(p[1]) and finite(p[2]) and finite(v[1]) and finite(v[2]) and finite(b.spin)) then
-            return string.format("ball %d pos (%g, %g) vel (%g, %g) spin %g", b.id, p[1], p[2], v[1], v[2], b.spin)
-        end
-    end
-    local ok, e = pcall(m.energies, m)
-    if ok then for k, x in pairs(e) do if not finite(x) then return "energy " .. k .. " " .. tostring(x) end end end
-    return nil
-end
+local nonFinite = require("stress_check").firstNonFinite
 
 --- Runs 0.3 s of simulated time (at most 3000 steps, in chunks of 100).
 local function runOn(env)

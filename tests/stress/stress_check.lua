@@ -211,4 +211,6 @@ function check.describe(S)
         S.rule and ("+" .. S.rule.model) or "", #S.balls, table.concat(f, ","))
 end
 
+check.firstNonFinite = firstNonFinite
+
 return check
