@@ -928,8 +928,8 @@ void readTimestepOptions(const Options& o, TimestepSettings& ts) {
 
 const std::vector<std::string>& guardOptionNames() {
     static const std::vector<std::string> names = {
-        "energy",  "energy_tolerance",  "resolution",    "min_steps",
-        "stiffness", "balance", "balance_tolerance", "balance_every"};
+        "energy",    "energy_tolerance", "resolution",        "min_steps",
+        "stiffness", "balance",          "balance_tolerance", "balance_every"};
     return names;
 }
 

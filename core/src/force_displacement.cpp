@@ -300,30 +300,7 @@ void Model::forceLoop() {
                                     fd.energy[4] + fd.energy[5]) ||
                      fd.energy[kEnergySlip] < 0.0 || fd.energy[kEnergyDashpot] < 0.0 ||
                      fd.energy[kEnergyPlastic] < 0.0)) {
-                    const double scale =
-                        std::fabs(c.strain) + std::fabs(c.bond) +
-                        std::fabs(fd.energy[kEnergyStrain]) +
-                        std::fabs(fd.energy[kEnergyBondStrain]) +
-                        (std::fabs(fn_old) + std::fabs(fd.n_force)) * std::fabs(fd.du_n) +
-                        (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
-                        (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
-                    const double totals[kEnergyCount] = {
-                        0.0, m_energy_acc.slip, m_energy_acc.dashpot, m_energy_acc.plastic, 0.0,
-                        0.0};
-                    const std::string why = energyContractViolation(fd, scale, totals);
-                    if (!why.empty()) {
-                        const std::string what = "contact model '" + p.rule->model_name +
-                                                 "' at step " + std::to_string(m_step) + " on " +
-                                                 describePair(p) + ": " + why;
-                        // NaN stops the run. A negative total warns once per rule: contacts
-                        // born overlapping and the half-step settling at separation make it
-                        // happen in sound runs (docs/plugin-abi.md, "Energies").
-                        if (why.compare(0, 9, "negative ") != 0) throw PluginError(what);
-                        if (!p.rule->warned_negative_dissipation) {
-                            p.rule->warned_negative_dissipation = true;
-                            warn(what + " (warned once per contact_model rule)");
-                        }
-                    }
+                    checkEnergyContract(p, c, fd, fn_old, fs_old, m_old);
                 }
                 m_energy_acc.slip += fd.energy[kEnergySlip];
                 // The dashpot impulse spans the velocity window around this step: booked at
@@ -471,6 +448,31 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
         m_events.push_back(std::move(ev));
     }
     return true;
+}
+
+void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock& fd, double fn_old,
+                                double fs_old, double m_old) {
+    const double scale = std::fabs(c.strain) + std::fabs(c.bond) +
+                         std::fabs(fd.energy[kEnergyStrain]) +
+                         std::fabs(fd.energy[kEnergyBondStrain]) +
+                         (std::fabs(fn_old) + std::fabs(fd.n_force)) * std::fabs(fd.du_n) +
+                         (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
+                         (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
+    const double totals[kEnergyCount] = {
+        0.0, m_energy_acc.slip, m_energy_acc.dashpot, m_energy_acc.plastic, 0.0, 0.0};
+    const std::string why = energyContractViolation(fd, scale, totals);
+    if (!why.empty()) {
+        const std::string what = "contact model '" + p.rule->model_name + "' at step " +
+                                 std::to_string(m_step) + " on " + describePair(p) + ": " + why;
+        // NaN stops the run. A negative total warns once per rule: contacts
+        // born overlapping and the half-step settling at separation make it
+        // happen in sound runs (docs/plugin-abi.md, "Energies").
+        if (why.compare(0, 9, "negative ") != 0) throw PluginError(what);
+        if (!p.rule->warned_negative_dissipation) {
+            p.rule->warned_negative_dissipation = true;
+            warn(what + " (warned once per contact_model rule)");
+        }
+    }
 }
 
 void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,

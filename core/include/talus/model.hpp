@@ -390,6 +390,8 @@ private:
     void compactDeleted();
     void flushWarnings();
     void checkBalance();  // bookkeeping.cpp: the run-level energy check
+    void checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock& fd, double fn_old,
+                             double fs_old, double m_old);
     void notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
                        bool energy);
     [[noreturn]] void throwNonFinite(const std::string& what) const;
