@@ -435,9 +435,26 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
                  "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
     }
     // For the guard: a contact born overlapping (placed so) gives back energy it never took.
+    // How much of the overlap the last step's motion made. Positions at the previous step are
+    // x - v dt exactly (the half-step velocity moved them), so for two balls the overlap then
+    // is known exactly; for a wall, the normal closing plus the turn of the line from the
+    // vertex or the face, (v_t dt)^2 / (2 r). (The contact-point velocity would add the spins,
+    // which turn the balls but do not close the gap.) More overlap than that was there before.
+    const auto& b = *m_balls;
     const double approach = -vrel.dot(g.normal);
     c.approach_rate = std::max(approach, 0.0);
-    c.born_overlapped = g.overlap > std::max(approach * m_dt, 0.0) * (1.0 + 1e-9) + 1e-15;
+    if (!p.wall) {
+        const Vec2 d = b.pos[p.end2] - b.pos[p.end1];
+        const Vec2 step = (b.vel[p.end2] - b.vel[p.end1]) * m_dt;
+        const double rsum = b.radius[p.end1] + b.radius[p.end2];
+        c.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
+    } else {
+        const WallData& w = m_walls[m_segments[p.end2].wall];
+        const Vec2 step = (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * m_dt;
+        const double slide = step.dot(perp(g.normal));
+        c.closure = std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
+    }
+    c.born_overlapped = g.overlap > c.closure * (1.0 + 1e-9) + 1e-15;
     if (m_contact_events) {
         Event ev;
         ev.kind = EventKind::ContactCreated;
@@ -477,20 +494,19 @@ void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock&
 
 void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
                           bool energy) {
-    // The model's stored energy at its first call includes what the approach within this step
-    // put in; the rest was there before the step. Stored energy grows about as the overlap
-    // squared (exactly so for a linear spring), so the part that was placed is the fraction
+    // The model's stored energy at its first call includes what the closure within this step
+    // put in (activate); the rest was there before the step. Stored energy grows about as the
+    // overlap squared (exactly so for a linear spring), so the part that was placed is the fraction
     // ((overlap - approach dt) / overlap)^2 of it. Without tracing, the linear estimate
     // knest overlap^2 / 2 names the size in the warning.
-    const double before = std::max(overlap - c.approach_rate * m_dt, 0.0);
+    const double before = std::max(overlap - c.closure, 0.0);
     const double share = overlap > 0.0 ? (before / overlap) * (before / overlap) : 0.0;
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
     if (energy) m_energy_acc.placement += placed;
-    // Below a thousandth of the radius it is not a placement but geometry: two balls sliding
-    // past each other close their gap by a little more than the normal rate times the step (the
-    // centre line turns), ~1e-9 m in a settling pack. Booked, not reported.
+    // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
+    // formed by a spin-driven slide, rounding). Booked, not reported.
     const auto& b = *m_balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
     if (overlap < 1e-3 * r) return;

@@ -109,6 +109,7 @@ struct Model::PairCold {
     double knest_at_max = 0.0;     // reported normal stiffness there [N/m]
     double dt_at_max = 0.0;        // step taken there [s]
     double approach_rate = 0.0;    // u_dot_n at touch [m/s]
+    double closure = 0.0;          // overlap the step's motion could create at touch [m]
     bool born_overlapped = false;  // first touched with more overlap than one step's approach
     // The rest.
     uint32_t rules_version = 0;
