@@ -59,11 +59,7 @@ void Model::removeCycleHook(int handle) {
 
 namespace {
 
-std::string num(double v) {
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%.4g", v);
-    return buf;
-}
+std::string num(double v) { return messageNumber(v, 4); }
 
 }  // namespace
 

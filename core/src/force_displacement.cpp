@@ -39,11 +39,7 @@ double storedBefore(const FdBlock& fd, double fn_old, double fs_old, double m_ol
            work;
 }
 
-std::string num(double v) {
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
+std::string num(double v) { return messageNumber(v); }
 
 /// Why the energy partitions of one FDlaw break the ABI's contract (docs/plugin-abi.md,
 /// "Energies"), or empty. Every partition must be finite. Dissipation (slip, dashpot, plastic)

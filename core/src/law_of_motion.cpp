@@ -34,7 +34,7 @@ inline double localDamping(double alpha, double force, double vel) {
     return -alpha * std::fabs(force) * (vel > 0.0 ? 1.0 : -1.0);
 }
 
-std::string text(double v) { return std::to_string(v); }
+std::string text(double v) { return messageNumber(v); }
 
 }  // namespace
 

@@ -117,6 +117,12 @@ const char* stepRuleName(StepRule r) {
     return "?";
 }
 
+std::string messageNumber(double v, int digits) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
 // ------------------------------------------------------------------------ small containers
 
 ObjectPool::ObjectPool(std::size_t block_size) {

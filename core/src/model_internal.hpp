@@ -14,6 +14,9 @@
 namespace talus {
 
 constexpr uint32_t kDeadSlot = 0xffffffffu;
+
+/// A number for a message: `digits` significant digits (printf %g).
+std::string messageNumber(double v, int digits = 6);
 constexpr uint32_t kWallBit = 0x80000000u;  // in ContactKey: end 2 is a wall segment
 
 /// Fixed-size blocks for per-contact model objects (one pool per rule), so that a contact's
