@@ -284,8 +284,7 @@ void Model::forceLoop() {
             if constexpr (kAuto) {
                 c.krest = fd.krest;
                 noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
-                            p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff,
-                            (fd.flags & kFdBonded) == 0);
+                            p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff);
             }
             if constexpr (kEnergy) {
                 // The plugin's partitions against the ABI's contract (rare path when broken).

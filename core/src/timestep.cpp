@@ -133,7 +133,7 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
 }
 
 void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
-                        double arm1_sq, double arm2_sq, double mass_eff, bool /*unbonded*/) {
+                        double arm1_sq, double arm2_sq, double mass_eff) {
     auto& b = *m_balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
@@ -196,7 +196,7 @@ void Model::surveyPairs() {
             if (!p.active)
                 cold.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
             noteContact(p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
-                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff, !p.bonded);
+                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
         } else {
             noteApproach(p, cold, -g.overlap, vrel, accel, g.normal);
         }

@@ -210,25 +210,21 @@ local function cases(out_dir)
     add("cycle", "cycle", function(env, v) return attempt(env.m.cycle, env.m, v) end, nvals)
     add("on_cycle", "every", function(env, v) return attempt(env.m.on_cycle, env.m, function() end, v) end, nvals)
 
-    -- Ball and wall fields: every writable one, by assignment.
-    local probe_ball = probe:ball{ pos = { 0, 0 }, radius = 1, density = 1 }
-    _, err = pcall(setField, probe_ball, "zz__stress", 1)
-    for _, f in ipairs(namesFrom(err, "writable")) do
-        add("ball field", f, function(env, v)
-            local ok, e = pcall(setField, env.b, f, v)
-            return ok, e, SET_LINE
-        end)
+    -- Ball and wall fields: every writable one (named by the error for an unknown field), by
+    -- assignment to the scene's object `key` (env.b or env.w).
+    local function addFields(what, probe_object, key)
+        local _, unknown = pcall(setField, probe_object, "zz__stress", 1)
+        for _, f in ipairs(namesFrom(unknown, "writable")) do
+            add(what, f, function(env, v)
+                local ok, e = pcall(setField, env[key], f, v)
+                return ok, e, SET_LINE
+            end)
+        end
     end
+    addFields("ball field", probe:ball{ pos = { 0, 0 }, radius = 1, density = 1 }, "b")
     -- Writing the dropped ball's position moves it off its drop (onto or into the floor).
     for _, c in ipairs(list) do if c.what == "ball field" and c.opt == "pos" then c.moves_ball = true end end
-    local probe_wall = probe:wall{ points = { { 0, 0 }, { 1, 0 } } }
-    _, err = pcall(setField, probe_wall, "zz__stress", 1)
-    for _, f in ipairs(namesFrom(err, "writable")) do
-        add("wall field", f, function(env, v)
-            local ok, e = pcall(setField, env.w, f, v)
-            return ok, e, SET_LINE
-        end)
-    end
+    addFields("wall field", probe:wall{ points = { { 0, 0 }, { 1, 0 } } }, "w")
 
     -- Contact writes: c.normal_force, c.shear_force, c:set_prop(name, v) on the floor contact.
     local function floorContact(env)

@@ -339,7 +339,7 @@ private:
     void noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel, double accel,
                       const Vec2& normal);
     void noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
-                     double arm1_sq, double arm2_sq, double mass_eff, bool impact);
+                     double arm1_sq, double arm2_sq, double mass_eff);
     void surveyPairs();
 
     // helpers
