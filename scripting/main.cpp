@@ -33,7 +33,7 @@ const char* const kUsage =
     "  --traceback   on error, also print the Lua stack traceback\n"
     "\n"
     "Modules are searched in the script's directory, in TALUS_LUA_PATH (directories separated\n"
-    "by ':'), and in the Talus scripts directory (plot_csv). Contact-model plugins are searched\n"
+    "by ':'), and in the Talus scripts directory. Contact-model plugins are searched\n"
     "in TALUS_PLUGIN_PATH, then in the build and install plugin directories.\n"
     "Documentation: docs/getting-started.md and docs/lua-api.md.\n";
 
@@ -53,7 +53,7 @@ std::string directoryOf(const std::string& path) {
 }
 
 /// Puts the script's directory, TALUS_LUA_PATH and the Talus script directories in front of
-/// package.path, so `require("plot_csv")` works from any directory.
+/// package.path, so `require` finds modules shipped in scripts/ from any directory.
 void setPackagePath(lua_State* L, const std::string& script) {
     std::string prefix = directoryOf(script) + "/?.lua;";
     if (const char* env = std::getenv("TALUS_LUA_PATH")) {

@@ -4,7 +4,9 @@
 # Works as root on a fresh machine, or through sudo.
 set -euo pipefail
 
-packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2)
+# python3-matplotlib: scripts/plot_history.py, the plotting tool (and its test).
+packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2
+          python3 python3-matplotlib)
 if [[ "${TALUS_WITH_LAMMPS:-0}" == 1 ]]; then packages+=(lammps); fi
 
 missing=()

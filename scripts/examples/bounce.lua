@@ -5,8 +5,8 @@
 --   talus run scripts/examples/bounce.lua [outdir]
 --
 -- Writes <outdir>/bounce_history.csv (height of the ball's lowest point, vertical velocity and
--- the energies) and <outdir>/bounce_energy.svg, and prints the restitution of every bounce
--- against the closed form of accuracy-reference 1.1:
+-- the energies; plot it with scripts/plot_history.py), and prints the restitution of every
+-- bounce against the closed form of accuracy-reference 1.1:
 --     e = exp(-pi beta / sqrt(1 - beta^2)),  beta = dp_nratio
 -- (the dashpot acts until the overlap is back to zero: dp_mode "full"). beta is chosen for
 -- e = 0.53, "clean hard bedrock" in rockfall-inputs B3b.
@@ -16,10 +16,6 @@
 -- where the overlap is zero follows exactly from one step's position and velocity. Gravity
 -- also acts *during* the contact; the ODE m u'' + c u' + k u = m g is solved exactly below,
 -- so the numerical error is separated from that (small, physical) effect.
-
-local here = (arg and arg[0] or ""):match("^(.*)/[^/]*$") or "."
-package.path = here .. "/../?.lua;" .. package.path
-local plot_csv = require("plot_csv")
 
 local outdir = arg[1] or "out"
 talus.mkdir(outdir)
@@ -130,9 +126,5 @@ local e = m:energies()
 print(string.format("energy balance error %.3g J (of %.4g J put in by gravity)", e.balance_error,
     e.body))
 
-plot_csv.plot{
-    input = outdir .. "/bounce_history.csv", output = outdir .. "/bounce_energy.svg", x = "time",
-    y = { "kinetic", "strain", "dashpot", "body", "balance_error" },
-    title = "Ball dropped on a wall: energies", xlabel = "time [s]", ylabel = "energy [J]",
-}
-print(string.format("wrote %s/bounce_history.csv and %s/bounce_energy.svg", outdir, outdir))
+-- Plot with: python3 scripts/plot_history.py out/bounce_history.csv -o out/bounce_energy.png
+print(string.format("wrote %s/bounce_history.csv", outdir))

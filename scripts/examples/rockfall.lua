@@ -5,10 +5,11 @@
 --   talus run scripts/examples/rockfall.lua [outdir] [--kn=1e8] [--rn=0.35] [--tan_beta=0.30]
 --                                           [--no-rolling]
 --
--- Writes <outdir>/rockfall_history.csv (time, x, y, vx, vy, spin and the energies), plots it
--- into <outdir>/rockfall_energy.svg and <outdir>/rockfall_path.svg (with plot_csv, as a module),
--- and prints a summary: run-out, impacts, bounce height, final position, energy balance, which
--- time-step rule governed, and the run-out against the empirical shadow-angle bound.
+-- Writes <outdir>/rockfall_history.csv (time, x, y, vx, vy, spin and the energies) and
+-- <outdir>/rockfall_slope.csv (the slope profile, x and y; scripts/plot_history.py plots both,
+-- see the end of this file), and prints a summary: run-out, impacts, bounce height, final
+-- position, energy balance, which time-step rule governed, and the run-out against the
+-- empirical shadow-angle bound.
 --
 -- Inputs (docs/getting-started.md discusses them):
 --   rock      disk (unit thickness, PFC2D), R = 0.5 m, density 2600 kg/m^3, m = 2042 kg,
@@ -30,10 +31,6 @@
 -- With these inputs the rock glances off the first cliff face, lands at its toe and stays on
 -- the first bench (benches catch rocks). --tan_beta=0.05 lets it roll down to the bottom flat;
 -- --no-rolling lets it roll off the end of the profile, which the shadow-angle check flags.
-
-local here = (arg and arg[0] or ""):match("^(.*)/[^/]*$") or "."
-package.path = here .. "/../?.lua;" .. package.path  -- plot_csv (talus run also finds it)
-local plot_csv = require("plot_csv")
 
 -- ------------------------------------------------------------------ arguments
 
@@ -212,21 +209,16 @@ print(string.format("  reach angle from the crest %.1f deg; the 27.5 deg shadow 
     reach >= 27.5 and "run-out within the empirical bound"
         or "run-out BEYOND the empirical bound (suspect: check rolling resistance and Rn)"))
 
--- ------------------------------------------------------------------ plots
+-- ------------------------------------------------------------------ files for plots
 
-local data = plot_csv.read(outdir .. "/rockfall_history.csv")
-plot_csv.plot{
-    data = data, output = outdir .. "/rockfall_energy.svg", x = "time",
-    y = { "kinetic", "body", "slip", "dashpot", "balance_error" },
-    title = "Rockfall on the thesis B slope: energies", xlabel = "time [s]", ylabel = "energy [J]",
-}
-local px, py = {}, {}
-for k, p in ipairs(profile) do px[k], py[k] = p[1], p[2] end
-plot_csv.plot{
-    data = data, output = outdir .. "/rockfall_path.svg", x = "x", y = { "y" },
-    title = "Rockfall on the thesis B slope: path of the rock centre", xlabel = "x [m]",
-    ylabel = "y [m]", equal = true, width = 1000,
-    extra = { { name = "slope", x = px, y = py, color = "#555555" } },
-}
-print(string.format("  wrote %s/rockfall_history.csv, %s/rockfall_energy.svg, %s/rockfall_path.svg",
-    outdir, outdir, outdir))
+-- The profile as a CSV with the history's x and y column names, so that one plot_history.py
+-- command overlays the path of the rock on the slope. scripts/run_rockfall.sh draws both plots:
+--   python3 scripts/plot_history.py out/rockfall_history.csv -o out/rockfall_history.png
+--   python3 scripts/plot_history.py out/rockfall_history.csv out/rockfall_slope.csv \
+--       -o out/rockfall_path.png --x x --columns y --equal
+local slope_file = outdir .. "/rockfall_slope.csv"
+local f = assert(io.open(slope_file, "w"))
+f:write("x,y\n")
+for _, p in ipairs(profile) do f:write(string.format("%.12g,%.12g\n", p[1], p[2])) end
+assert(f:close())
+print(string.format("  wrote %s/rockfall_history.csv and %s", outdir, slope_file))

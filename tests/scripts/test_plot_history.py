@@ -1,0 +1,170 @@
+# SPDX-License-Identifier: MIT
+"""Tests of scripts/plot_history.py (ctest plot.history).
+
+    python3 tests/scripts/test_plot_history.py OUTDIR [TALUS]
+
+Checks the series the tool selects (default energy columns, literal group-style names, units,
+NaN gaps) on a hand-written CSV, the files it writes (PNG and PDF magic bytes, identical bytes on
+a second run), its errors (exit status 2, file and column named on stderr), and, given the talus
+binary, a history written by talus itself: the columns read back must satisfy the energy
+balance identity, which a mix-up of columns would break.
+"""
+
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOOL = os.path.join(HERE, "..", "..", "scripts", "plot_history.py")
+sys.path.insert(0, os.path.dirname(TOOL))
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import plot_history  # noqa: E402
+
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print(f"FAIL: {what}")
+
+
+def same(a, b):
+    """Equal lists of floats, NaN equal to NaN (gaps in the same places)."""
+    return len(a) == len(b) and all((math.isnan(x) and math.isnan(y)) or x == y
+                                    for x, y in zip(a, b))
+
+
+def run(*args):
+    return subprocess.run([sys.executable, TOOL, *args], capture_output=True, text=True)
+
+
+nan = math.nan
+out = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else ".")
+os.makedirs(out, exist_ok=True)
+talus = sys.argv[2] if len(sys.argv) > 2 else None
+
+# ------------------------------------------------------------------ selection and values
+csv_path = os.path.join(out, "plot_input.csv")
+with open(csv_path, "w") as f:
+    # The header as talus writes it (names only, RFC 4180 quotes), with future group-wise
+    # columns and a user column that carries its unit.
+    f.write('time,step,height [m],kinetic,slip,balance_error,kinetic@rock,"kinetic[rock]",'
+            'empty\n')
+    f.write("0,0,1,0,0,0,0,0,\n")
+    f.write("0.1,10,0.9,2,,1e-9,1,2,\n")
+    f.write("0.2,20,nan,nan,0.5,-2e-9,1,2,\n")
+    f.write("\n")  # a blank line is skipped, not a row
+    f.write("0.3,30,0.7,4,inf,0,1,2,\n")
+    f.write("0.4,40,0.6,5,1,,1,2,\n")
+
+s = plot_history.load_series([csv_path])
+check([x.column for x in s] == ["kinetic", "slip", "balance_error", "kinetic@rock",
+                                 "kinetic[rock]"],
+      f"default columns are the energies, group forms included: {[x.column for x in s]}")
+check(all(x.unit == "J" and x.x_unit == "s" and x.x_column == "time" for x in s),
+      "units: energies in J against time in s")
+check(same(s[0].x, [0, 0.1, 0.2, 0.3, 0.4]), f"x is time: {s[0].x}")
+check(same(s[0].y, [0, 2, nan, 4, 5]), f"kinetic with a NaN gap: {s[0].y}")
+check(same(s[1].y, [0, nan, 0.5, nan, 1]), f"blank and inf cells are gaps: {s[1].y}")
+check(same(s[2].y, [0, 1e-9, -2e-9, 0, nan]), f"balance_error: {s[2].y}")
+
+s = plot_history.load_series([csv_path], ["kinetic[rock]", "height"], x="step")
+check([x.column for x in s] == ["kinetic[rock]", "height [m]"], "literal and unit-less names")
+check(s[1].unit == "m" and s[0].unit == "J" and s[0].x_column == "step", "units from the header")
+check(same(s[1].x, [0, 10, 20, 30, 40]) and same(s[1].y, [1, 0.9, nan, 0.7, 0.6]),
+      f"height against step: {s[1].y}")
+check(plot_history._split_columns("kinetic,height [m],kinetic[a,b]") ==
+      ["kinetic", "height [m]", "kinetic[a,b]"], "--columns splits outside brackets only")
+
+# Two files overlaid: legends name file and column.
+csv2 = os.path.join(out, "plot_input2.csv")
+with open(csv2, "w") as f:
+    f.write("time,kinetic\n0,1\n1,2\n")
+s = plot_history.load_series([csv_path, csv2], ["kinetic"])
+check([x.label for x in s] == ["plot_input.csv: kinetic", "plot_input2.csv: kinetic"],
+      f"overlay legends: {[x.label for x in s]}")
+
+# ------------------------------------------------------------------ output files
+png, pdf = os.path.join(out, "plot_output.png"), os.path.join(out, "plot_output.pdf")
+for path in (png, pdf):
+    if os.path.exists(path):
+        os.remove(path)
+r = run(csv_path, "-o", png, "--title", "test plot")
+check(r.returncode == 0, f"PNG run: {r.stderr}")
+with open(png, "rb") as f:
+    png_bytes = f.read()
+check(png_bytes.startswith(b"\x89PNG\r\n\x1a\n"), "a PNG file")
+r = run(csv_path, csv2, "-o", os.path.join(out, "plot_overlay.png"), "--columns", "kinetic")
+check(r.returncode == 0 and "2 series" in r.stdout, f"two files overlaid: {r.stdout} {r.stderr}")
+r = run(csv_path, "-o", pdf, "--columns", "kinetic,balance_error", "--logy")
+check(r.returncode == 0, f"PDF run: {r.stderr}")
+check("symlog" in r.stderr, "--logy with values <= 0 says it uses symlog")
+with open(pdf, "rb") as f:
+    pdf_bytes = f.read()
+check(pdf_bytes.startswith(b"%PDF-") and b"%%EOF" in pdf_bytes[-32:], "a complete PDF file")
+check(b"CreationDate" not in pdf_bytes, "no date in the PDF")
+r = run(csv_path, "-o", png, "--title", "test plot")
+with open(png, "rb") as f:
+    check(f.read() == png_bytes, "the same PNG bytes on a second run")
+r = run(csv_path, "-o", pdf, "--columns", "kinetic,balance_error", "--logy")
+with open(pdf, "rb") as f:
+    check(f.read() == pdf_bytes, "the same PDF bytes on a second run")
+
+# ------------------------------------------------------------------ errors
+r = run(csv_path, "-o", png, "--columns", "kinetic,nope")
+check(r.returncode == 2 and "'nope'" in r.stderr and "plot_input.csv" in r.stderr,
+      f"unknown column: exit 2 naming file and column: {r.returncode} {r.stderr!r}")
+r = run(os.path.join(out, "no_such.csv"), "-o", png)
+check(r.returncode == 2 and "no_such.csv" in r.stderr, f"missing file: {r.stderr!r}")
+r = run(csv_path, "-o", png, "--columns", "empty")
+check(r.returncode == 2 and "'empty'" in r.stderr and "no numeric data" in r.stderr,
+      f"column with no numeric data: {r.stderr!r}")
+nonenergy = os.path.join(out, "plot_noenergy.csv")
+with open(nonenergy, "w") as f:
+    f.write("time,x\n0,1\n")
+r = run(nonenergy, "-o", png)
+check(r.returncode == 2 and "no energy column" in r.stderr, f"no energy column: {r.stderr!r}")
+r = run(csv_path, "-o", os.path.join(out, "plot.jpg"))
+check(r.returncode == 2 and ".jpg" in r.stderr, f"unknown output type: {r.stderr!r}")
+
+# ------------------------------------------------------------------ a history written by talus
+if talus:
+    script = os.path.join(out, "plot_drop.lua")
+    hist = os.path.join(out, "plot_drop.csv")
+    with open(script, "w") as f:
+        f.write(f"""
+local m = talus.model{{ gravity = {{0, -9.81}} }}
+m:contact_model("linear", {{ kn = 1e6, ks = 1e6, fric = 0.5, dp_nratio = 0.2 }})
+m:wall{{ points = {{{{-1, 0}}, {{1, 0}}}} }}
+local b = m:ball{{ pos = {{0, 0.2}}, radius = 0.05, density = 2600 }}
+m:energy{{ on = true }}
+m:history{{ file = "{hist}", every = 5, columns = {{ "time", "step",
+    {{"y", function() return b.pos[2] end}}, "kinetic", "body", "strain", "dashpot",
+    "balance_error" }} }}
+m:solve{{ time = 0.6 }}
+""")
+    r = subprocess.run([talus, "run", script], capture_output=True, text=True)
+    check(r.returncode == 0, f"talus wrote the history: {r.stderr}")
+    s = plot_history.load_series([hist])
+    cols = {x.column: x.y for x in s}
+    check(list(cols) == ["kinetic", "body", "strain", "dashpot", "balance_error"],
+          f"default columns of a talus history: {list(cols)}")
+    # balance_error = body - (kinetic + strain + dashpot) for a ball dropped from rest on a
+    # wall (no slip, no damping, no boundary work; docs/lua-api.md "Energies"). The CSV holds 12
+    # significant digits, so the identity holds to ~1e-11 of the largest term; 1e-9 leaves room.
+    scale = max(abs(v) for v in cols["body"])
+    worst = max(abs(cols["body"][i] - cols["kinetic"][i] - cols["strain"][i]
+                    - cols["dashpot"][i] - cols["balance_error"][i])
+                for i in range(len(cols["body"])))
+    check(scale > 0 and worst <= 1e-9 * scale,
+          f"energy identity on the columns read back: {worst:.3g} J of {scale:.3g} J")
+    check(max(cols["dashpot"]) > 0, "the ball bounced (dashpot energy > 0)")
+    r = run(hist, "-o", os.path.join(out, "plot_drop.png"))
+    check(r.returncode == 0, f"talus history plotted: {r.stderr}")
+
+if failures:
+    print(f"{len(failures)} check(s) failed")
+    sys.exit(1)
+print("plot_history: all checks passed")
