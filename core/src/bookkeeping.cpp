@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
@@ -164,7 +166,7 @@ void Model::flushWarnings() {
 void Model::setEnergyTracing(bool on) {
     if (on && !m_energy_on) {
         m_energy_acc = EnergyTotals{};
-        const auto& b = *m_balls;
+        const auto& b = m_bodies->balls;
         double ke = 0.0;
         for (std::size_t s = 0; s < b.size(); ++s)
             ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
@@ -172,14 +174,14 @@ void Model::setEnergyTracing(bool on) {
         m_energy_acc.kinetic = ke;
         m_dashpot_pending = 0.0;
         m_strain_baseline_pending = false;
-        for (const Pair& p : m_pairs) m_strain_baseline_pending |= p.active;
+        for (const Pair& p : m_contacts->pairs) m_strain_baseline_pending |= p.active;
         m_balance = BalanceWatch{};
         m_balance.open = m_energy_acc;
         m_balance.open_step = m_step;
         // Models report stored energy only while tracing is on; until the next step it is not
         // known.
         m_energy_acc.strain = 0.0;
-        for (auto& c : m_cold) c.strain = c.bond = 0.0;
+        for (auto& c : m_contacts->cold) c.strain = c.bond = 0.0;
         m_energy = m_energy_acc;
     }
     m_energy_on = on;

@@ -23,6 +23,8 @@
 #include <cmath>
 #include <string>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
@@ -50,7 +52,7 @@ void Model::lawOfMotion() {
 
 template <bool kGeneral>
 void Model::moveBalls() {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const std::size_t n = b.size();
     const double dt = m_dt;
     const double w = m_window;
@@ -171,7 +173,7 @@ void Model::moveBalls() {
 }
 
 void Model::reportNonFiniteBall() const {
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     for (std::size_t s = 0; s < b.size(); ++s) {
         const Vec2& v = b.vel[s];
         if (std::isfinite(v.x() + v.y() + b.spin[s] + b.pos[s].x() + b.pos[s].y())) continue;
@@ -183,8 +185,8 @@ void Model::reportNonFiniteBall() const {
 
 void Model::moveWalls() {
     const double dt = m_dt;
-    for (std::size_t i = 0; i < m_walls.size(); ++i) {
-        WallData& w = m_walls[i];
+    for (std::size_t i = 0; i < m_bodies->walls.size(); ++i) {
+        WallData& w = m_bodies->walls[i];
         if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
         if (m_energy_on) {
             // Work done on the balls: minus the force they exert on the wall times its motion.
@@ -203,7 +205,7 @@ void Model::moveWalls() {
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);
         for (uint32_t k = 0; k < w.vertex_count; ++k) {
-            Vec2& p = m_vertices[w.first_vertex + k];
+            Vec2& p = m_bodies->vertices[w.first_vertex + k];
             const Vec2 r = p - w.center;
             p = w.center + Vec2(ca * r.x() - sa * r.y(), sa * r.x() + ca * r.y()) + shift;
         }

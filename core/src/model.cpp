@@ -13,7 +13,9 @@
 #include <iostream>
 #include <sstream>
 
+#include "body_store.hpp"
 #include "broadphase.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "props.hpp"
@@ -33,8 +35,6 @@ std::string fmt(double v) {
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
 }
-
-std::string vecText(const Vec2& v) { return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ")"; }
 
 // Input ranges (issue 6, item 12). Every value a script gives, and every value derived from it
 // (mass, inertia), must be finite and usable: a radius of 1e300 gave an infinite mass, a wall at
@@ -117,6 +117,8 @@ const char* stepRuleName(StepRule r) {
     return "?";
 }
 
+std::string vecText(const Vec2& v) { return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ")"; }
+
 std::string messageNumber(double v, int digits) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%.*g", digits, v);
@@ -125,64 +127,11 @@ std::string messageNumber(double v, int digits) {
 
 // ------------------------------------------------------------------------ small containers
 
-ObjectPool::ObjectPool(std::size_t block_size) {
-    const std::size_t a = alignof(std::max_align_t);
-    m_block = (block_size + a - 1) / a * a;
-}
-
-void* ObjectPool::allocate() {
-    if (m_free.empty()) {
-        constexpr std::size_t kPerChunk = 256;
-        m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
-        unsigned char* base = m_chunks.back().get();
-        for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);
-    }
-    void* p = m_free.back();
-    m_free.pop_back();
-    return p;
-}
-
-void ObjectPool::release(void* p) { m_free.push_back(p); }
-
-void Model::BallArrays::resize(std::size_t n) {
-    pos.resize(n), vel.resize(n), force.resize(n), fapp.resize(n);
-    angle.resize(n), spin.resize(n), moment.resize(n), mapp.resize(n);
-    radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n), inv_inertia.resize(n),
-        density.resize(n);
-    fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
-    kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
-}
-
-void Model::BallArrays::move(std::size_t to, std::size_t from) {
-    pos[to] = pos[from], vel[to] = vel[from], force[to] = force[from], fapp[to] = fapp[from];
-    angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from],
-    mapp[to] = mapp[from];
-    radius[to] = radius[from], mass[to] = mass[from], inv_mass[to] = inv_mass[from];
-    inertia[to] = inertia[from], inv_inertia[to] = inv_inertia[from], density[to] = density[from];
-    fixity[to] = fixity[from], handle[to] = handle[from], proxy[to] = proxy[from];
-    fat[to] = fat[from], groups[to] = groups[from];
-    kn[to] = kn[from], ks[to] = ks[from], fric[to] = fric[from];
-    k_tran[to] = k_tran[from], k_rot[to] = k_rot[from];
-}
-
-void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
-    auto apply = [&](auto& v) {
-        auto old = v;
-        for (std::size_t i = 0; i < new_to_old.size(); ++i) v[i] = old[new_to_old[i]];
-    };
-    apply(pos), apply(vel), apply(force), apply(fapp), apply(angle), apply(spin), apply(moment);
-    apply(mapp), apply(radius), apply(mass), apply(inv_mass), apply(inertia), apply(inv_inertia);
-    apply(density), apply(fixity), apply(handle), apply(proxy), apply(fat), apply(groups);
-    apply(kn), apply(ks), apply(fric), apply(k_tran), apply(k_rot);
-}
-
 // ------------------------------------------------------------------------ construction
 
 Model::Model(const ModelDef& def, PluginRegistry& registry)
-    : m_balls_ptr(std::make_unique<BallArrays>()),
-      m_balls(m_balls_ptr.get()),
-      m_broadphase(std::make_unique<Broadphase>()),
-      m_wall_broadphase(std::make_unique<Broadphase>()),
+    : m_bodies(std::make_unique<BodyStore>()),
+      m_contacts(std::make_unique<ContactStore>()),
       m_registry(registry),
       m_gravity(def.gravity),
       m_mass_mode(def.mass_mode) {
@@ -191,14 +140,14 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
     // Rule 0 is the default; until set it is "none" (no contacts are created).
     auto none = std::make_unique<Rule>();
     none->model_name = "";
-    m_rules.push_back(std::move(none));
+    m_contacts->rules.push_back(std::move(none));
     m_fd_template.size = sizeof(FdBlock);
     m_fd_template.version = TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR;
     m_warning_handler = [](const std::string& w) { std::cerr << "warning: " << w << "\n"; };
 }
 
 Model::~Model() {
-    for (auto& p : m_pairs) {
+    for (auto& p : m_contacts->pairs) {
         if (p.model) {
             p.model->Destroy();
             p.rule->pool->release(p.model);
@@ -216,32 +165,21 @@ int Model::groupIndex(const std::string& name, bool create) {
     return static_cast<int>(m_group_names.size() - 1);
 }
 
+const Model::BallArrays& Model::balls() const { return m_bodies->balls; }
+double Model::broadphaseMargin() const { return m_contacts->margin; }
+
 // ------------------------------------------------------------------------ balls
 
-std::size_t Model::ballCount() const { return m_balls->size(); }
+uint32_t Model::slotOf(BallId id) const { return m_bodies->slotOf(id); }
+bool Model::isAlive(BallId id) const { return m_bodies->isAlive(id); }
+std::string Model::describeBall(uint32_t slot) const { return m_bodies->describeBall(slot); }
 
-uint32_t Model::slotOf(BallId id) const {
-    if (id.index == 0 || id.index > m_slot_of.size())
-        throw InputError("ball id " + std::to_string(id.index) + " does not exist");
-    const uint32_t slot = m_slot_of[id.index - 1];
-    if (slot == kDeadSlot || m_generation[id.index - 1] != id.generation)
-        throw InputError("ball " + std::to_string(id.index) + " was deleted (stale id)");
-    return slot;
-}
-
-bool Model::isAlive(BallId id) const {
-    return id.index != 0 && id.index <= m_slot_of.size() && m_slot_of[id.index - 1] != kDeadSlot &&
-           m_generation[id.index - 1] == id.generation;
-}
-
-std::string Model::describeBall(uint32_t slot) const {
-    return "ball " + std::to_string(m_balls->handle[slot]) + " at " + vecText(m_balls->pos[slot]);
-}
+std::size_t Model::ballCount() const { return m_bodies->balls.size(); }
 
 void Model::refreshPairMasses(uint32_t s) {
     // Pairs cache their effective mass (force_displacement.cpp); a mass change is rare.
-    const auto& b = *m_balls;
-    for (auto& p : m_pairs)
+    const auto& b = m_bodies->balls;
+    for (auto& p : m_contacts->pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s))
             p.mass_eff = p.wall
                              ? b.mass[p.end1]
@@ -250,7 +188,7 @@ void Model::refreshPairMasses(uint32_t s) {
 }
 
 void Model::updateMass(uint32_t s) {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const double r = b.radius[s];
     if (m_mass_mode == MassMode::Disk) {
         b.mass[s] = b.density[s] * M_PI * r * r;  // unit thickness
@@ -295,7 +233,7 @@ BallId Model::createBall(const BallDef& d) {
         requireFiniteEnergy(mass, inertia, d.vel, d.spin);
     }
 
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const uint32_t s = static_cast<uint32_t>(b.size());
     b.resize(s + 1);
     b.pos[s] = d.pos;
@@ -330,19 +268,19 @@ BallId Model::createBall(const BallDef& d) {
     b.k_tran[s] = b.k_rot[s] = 0.0;
 
     uint32_t h;
-    if (!m_free_handles.empty()) {
-        h = m_free_handles.back();
-        m_free_handles.pop_back();
-        m_generation[h - 1] += 1;
+    if (!m_bodies->free_handles.empty()) {
+        h = m_bodies->free_handles.back();
+        m_bodies->free_handles.pop_back();
+        m_bodies->generation[h - 1] += 1;
     } else {
-        m_slot_of.push_back(kDeadSlot);
-        m_generation.push_back(1);
-        h = static_cast<uint32_t>(m_slot_of.size());
+        m_bodies->slot_of.push_back(kDeadSlot);
+        m_bodies->generation.push_back(1);
+        h = static_cast<uint32_t>(m_bodies->slot_of.size());
     }
-    m_slot_of[h - 1] = s;
+    m_bodies->slot_of[h - 1] = s;
     b.handle[s] = h;
-    if (m_broadphase_ready) insertBall(s);
-    return BallId{h, m_generation[h - 1]};
+    if (m_contacts->broadphase_ready) insertBall(s);
+    return BallId{h, m_bodies->generation[h - 1]};
 }
 
 void Model::deleteBall(BallId id) {
@@ -353,7 +291,7 @@ void Model::deleteBall(BallId id) {
         // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
         // plus half a step of the acceleration of the last force loop. Its contacts' stored
         // energy goes to `released` (removePair).
-        const auto& b = *m_balls;
+        const auto& b = m_bodies->balls;
         const double half = 0.5 * m_dt;
         const Vec2 v = b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity) * half;
         const double w = b.spin[s] + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * half;
@@ -363,49 +301,50 @@ void Model::deleteBall(BallId id) {
         m_energy_acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
     }
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
-    for (std::size_t i = m_pairs.size(); i-- > 0;) {
-        const Pair& p = m_pairs[i];
+    for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
+        const Pair& p = m_contacts->pairs[i];
         if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(i);
     }
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     if (b.fixity[s]) --m_fixed_balls;
-    if (b.proxy[s] >= 0) m_broadphase->destroy(b.proxy[s]);
+    if (b.proxy[s] >= 0) m_contacts->broadphase->destroy(b.proxy[s]);
     const uint32_t last = static_cast<uint32_t>(b.size() - 1);
     if (s != last) {
         b.move(s, last);
-        m_slot_of[b.handle[s] - 1] = s;
-        for (auto& p : m_pairs) {
+        m_bodies->slot_of[b.handle[s] - 1] = s;
+        for (auto& p : m_contacts->pairs) {
             if (p.end1 == last) p.end1 = s;
             if (!p.wall && p.end2 == last) p.end2 = s;
         }
     }
     b.resize(last);
-    if (m_ball_moved.size() > last) m_ball_moved.resize(last);
-    m_slot_of[id.index - 1] = kDeadSlot;
-    m_free_handles.push_back(id.index);
+    if (m_contacts->ball_moved.size() > last) m_contacts->ball_moved.resize(last);
+    m_bodies->slot_of[id.index - 1] = kDeadSlot;
+    m_bodies->free_handles.push_back(id.index);
 }
 
 std::vector<BallId> Model::ballIds() const {
     std::vector<BallId> ids;
-    ids.reserve(m_balls->size());
-    for (uint32_t h = 1; h <= m_slot_of.size(); ++h)
-        if (m_slot_of[h - 1] != kDeadSlot) ids.push_back(BallId{h, m_generation[h - 1]});
+    ids.reserve(m_bodies->balls.size());
+    for (uint32_t h = 1; h <= m_bodies->slot_of.size(); ++h)
+        if (m_bodies->slot_of[h - 1] != kDeadSlot)
+            ids.push_back(BallId{h, m_bodies->generation[h - 1]});
     return ids;
 }
 
-Vec2 Model::ballPos(BallId id) const { return m_balls->pos[slotOf(id)]; }
-Vec2 Model::ballVel(BallId id) const { return m_balls->vel[slotOf(id)]; }
-double Model::ballSpin(BallId id) const { return m_balls->spin[slotOf(id)]; }
-double Model::ballAngle(BallId id) const { return m_balls->angle[slotOf(id)]; }
-double Model::ballRadius(BallId id) const { return m_balls->radius[slotOf(id)]; }
-double Model::ballMass(BallId id) const { return m_balls->mass[slotOf(id)]; }
-double Model::ballInertia(BallId id) const { return m_balls->inertia[slotOf(id)]; }
-double Model::ballDensity(BallId id) const { return m_balls->density[slotOf(id)]; }
-Vec2 Model::ballForce(BallId id) const { return m_balls->force[slotOf(id)]; }
-double Model::ballMoment(BallId id) const { return m_balls->moment[slotOf(id)]; }
-Vec2 Model::ballAppliedForce(BallId id) const { return m_balls->fapp[slotOf(id)]; }
-double Model::ballAppliedMoment(BallId id) const { return m_balls->mapp[slotOf(id)]; }
-uint8_t Model::ballFixity(BallId id) const { return m_balls->fixity[slotOf(id)]; }
+Vec2 Model::ballPos(BallId id) const { return m_bodies->balls.pos[slotOf(id)]; }
+Vec2 Model::ballVel(BallId id) const { return m_bodies->balls.vel[slotOf(id)]; }
+double Model::ballSpin(BallId id) const { return m_bodies->balls.spin[slotOf(id)]; }
+double Model::ballAngle(BallId id) const { return m_bodies->balls.angle[slotOf(id)]; }
+double Model::ballRadius(BallId id) const { return m_bodies->balls.radius[slotOf(id)]; }
+double Model::ballMass(BallId id) const { return m_bodies->balls.mass[slotOf(id)]; }
+double Model::ballInertia(BallId id) const { return m_bodies->balls.inertia[slotOf(id)]; }
+double Model::ballDensity(BallId id) const { return m_bodies->balls.density[slotOf(id)]; }
+Vec2 Model::ballForce(BallId id) const { return m_bodies->balls.force[slotOf(id)]; }
+double Model::ballMoment(BallId id) const { return m_bodies->balls.moment[slotOf(id)]; }
+Vec2 Model::ballAppliedForce(BallId id) const { return m_bodies->balls.fapp[slotOf(id)]; }
+double Model::ballAppliedMoment(BallId id) const { return m_bodies->balls.mapp[slotOf(id)]; }
+uint8_t Model::ballFixity(BallId id) const { return m_bodies->balls.fixity[slotOf(id)]; }
 
 static void requireFinite(const char* what, const Vec2& v) {
     if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
@@ -416,35 +355,35 @@ void Model::setBallPos(BallId id, const Vec2& p) {
     m_limits_stale = true;
     requireCoordinate("ball: pos", p);
     const uint32_t s = slotOf(id);
-    m_balls->pos[s] = p;
+    m_bodies->balls.pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
     m_limits_stale = true;
     requireFinite("vel", v);
     const uint32_t s = slotOf(id);
-    requireFiniteEnergy(m_balls->mass[s], 0.0, v, 0.0);
-    m_balls->vel[s] = v;
+    requireFiniteEnergy(m_bodies->balls.mass[s], 0.0, v, 0.0);
+    m_bodies->balls.vel[s] = v;
 }
 void Model::setBallSpin(BallId id, double w) {
     m_limits_stale = true;
     if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
     const uint32_t s = slotOf(id);
-    requireFiniteEnergy(0.0, m_balls->inertia[s], Vec2::Zero(), w);
-    m_balls->spin[s] = w;
+    requireFiniteEnergy(0.0, m_bodies->balls.inertia[s], Vec2::Zero(), w);
+    m_bodies->balls.spin[s] = w;
 }
 void Model::setBallRadius(BallId id, double r) {
     m_limits_stale = true;
     requireRadius(r);
     const uint32_t s = slotOf(id);
-    if (m_balls->density[s] > 0.0) {
-        const double rho = m_balls->density[s];
+    if (m_bodies->balls.density[s] > 0.0) {
+        const double rho = m_bodies->balls.density[s];
         const double mass =
             rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
         requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + fmt(rho) + " and radius " + fmt(r));
     }
-    m_balls->radius[s] = r;
-    if (m_balls->density[s] > 0.0) updateMass(s);
+    m_bodies->balls.radius[s] = r;
+    if (m_bodies->balls.density[s] > 0.0) updateMass(s);
     refreshPairMasses(s);
 }
 void Model::setBallDensity(BallId id, double rho) {
@@ -453,29 +392,29 @@ void Model::setBallDensity(BallId id, double rho) {
         throw InputError("ball: density must be > 0 (got " + fmt(rho) + ")");
     const uint32_t s = slotOf(id);
     {
-        const double r = m_balls->radius[s];
+        const double r = m_bodies->balls.radius[s];
         const double mass =
             rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
         requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + fmt(rho) + " and radius " + fmt(r));
     }
-    m_balls->density[s] = rho;
+    m_bodies->balls.density[s] = rho;
     updateMass(s);
     refreshPairMasses(s);
 }
 void Model::setBallAppliedForce(BallId id, const Vec2& f) {
     requireFinite("fapp (applied force)", f);
-    Vec2& fapp = m_balls->fapp[slotOf(id)];
+    Vec2& fapp = m_bodies->balls.fapp[slotOf(id)];
     if (fapp != f) m_limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
     fapp = f;
 }
 void Model::setBallAppliedMoment(BallId id, double m) {
     if (!std::isfinite(m))
         throw InputError("ball: mapp (applied moment) must be finite (got " + fmt(m) + ")");
-    m_balls->mapp[slotOf(id)] = m;
+    m_bodies->balls.mapp[slotOf(id)] = m;
 }
 void Model::setBallFixity(BallId id, uint8_t f) {
-    uint8_t& cur = m_balls->fixity[slotOf(id)];
+    uint8_t& cur = m_bodies->balls.fixity[slotOf(id)];
     m_fixed_balls += (f != 0) - (cur != 0);
     cur = f;
 }
@@ -492,26 +431,26 @@ static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
 }
 
 double Model::ballContactProp(BallId id, const std::string& name) const {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     return inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball");
 }
 void Model::setBallContactProp(BallId id, const std::string& name, double v) {
     if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
         throw InputError("ball: " + name + " must be >= 0 (got " + fmt(v) + ")");
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball") = v;
 }
 
 std::vector<std::string> Model::ballGroups(BallId id) const {
     std::vector<std::string> out;
-    const uint64_t g = m_balls->groups[slotOf(id)];
+    const uint64_t g = m_bodies->balls.groups[slotOf(id)];
     for (std::size_t i = 0; i < m_group_names.size(); ++i)
         if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
     return out;
 }
 void Model::addBallGroup(BallId id, const std::string& group) {
     const uint32_t s = slotOf(id);
-    m_balls->groups[s] |= uint64_t(1) << groupIndex(group, true);
+    m_bodies->balls.groups[s] |= uint64_t(1) << groupIndex(group, true);
 }
 
 // ------------------------------------------------------------------------ walls
@@ -541,11 +480,11 @@ WallId Model::createWall(const WallDef& d) {
 
     WallData w;
     w.closed = d.closed;
-    w.first_vertex = static_cast<uint32_t>(m_vertices.size());
+    w.first_vertex = static_cast<uint32_t>(m_bodies->vertices.size());
     w.vertex_count = static_cast<uint32_t>(n);
     Vec2 centroid = Vec2::Zero();
     for (const auto& p : d.points) {
-        m_vertices.push_back(p);
+        m_bodies->vertices.push_back(p);
         centroid += p;
     }
     centroid /= static_cast<double>(n);
@@ -554,9 +493,9 @@ WallId Model::createWall(const WallDef& d) {
     w.spin = d.spin;
     for (const auto& g : d.groups) w.groups |= uint64_t(1) << groupIndex(g, true);
     w.kn = d.kn, w.ks = d.ks, w.fric = d.fric;
-    const uint32_t wall_index = static_cast<uint32_t>(m_walls.size());
+    const uint32_t wall_index = static_cast<uint32_t>(m_bodies->walls.size());
     const std::size_t nseg = d.closed ? n : n - 1;
-    w.first_segment = static_cast<uint32_t>(m_segments.size());
+    w.first_segment = static_cast<uint32_t>(m_bodies->segments.size());
     w.segment_count = static_cast<uint32_t>(nseg);
     for (std::size_t i = 0; i < nseg; ++i) {
         Segment s;
@@ -567,38 +506,31 @@ WallId Model::createWall(const WallDef& d) {
         const int32_t k = static_cast<int32_t>(i), ns = static_cast<int32_t>(nseg);
         s.prev = (i > 0) ? first + k - 1 : (d.closed ? first + ns - 1 : -1);
         s.next = (i + 1 < nseg) ? first + k + 1 : (d.closed ? first : -1);
-        m_segments.push_back(s);
+        m_bodies->segments.push_back(s);
     }
-    m_walls.push_back(w);
-    if (m_broadphase_ready)
+    m_bodies->walls.push_back(w);
+    if (m_contacts->broadphase_ready)
         for (uint32_t i = 0; i < nseg; ++i) insertSegment(w.first_segment + i);
-    return WallId{wall_index + 1, m_walls.back().generation};
+    return WallId{wall_index + 1, m_bodies->walls.back().generation};
 }
 
-std::size_t Model::wallCount() const { return m_walls.size(); }
+std::size_t Model::wallCount() const { return m_bodies->walls.size(); }
+
+const Model::WallData& Model::wallOf(WallId id) const { return m_bodies->wallOf(id); }
+Model::WallData& Model::wallOf(WallId id) { return m_bodies->wallOf(id); }
 
 std::vector<WallId> Model::wallIds() const {
     std::vector<WallId> ids;
-    for (std::size_t i = 0; i < m_walls.size(); ++i)
-        if (m_walls[i].alive)
-            ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_walls[i].generation});
+    for (std::size_t i = 0; i < m_bodies->walls.size(); ++i)
+        if (m_bodies->walls[i].alive)
+            ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_bodies->walls[i].generation});
     return ids;
-}
-
-const Model::WallData& Model::wallOf(WallId id) const {
-    if (id.index == 0 || id.index > m_walls.size() || !m_walls[id.index - 1].alive ||
-        m_walls[id.index - 1].generation != id.generation)
-        throw InputError("wall id " + std::to_string(id.index) + " does not exist");
-    return m_walls[id.index - 1];
-}
-Model::WallData& Model::wallOf(WallId id) {
-    return const_cast<WallData&>(static_cast<const Model*>(this)->wallOf(id));
 }
 
 std::vector<Vec2> Model::wallPoints(WallId id) const {
     const WallData& w = wallOf(id);
-    return std::vector<Vec2>(m_vertices.begin() + w.first_vertex,
-                             m_vertices.begin() + w.first_vertex + w.vertex_count);
+    return std::vector<Vec2>(m_bodies->vertices.begin() + w.first_vertex,
+                             m_bodies->vertices.begin() + w.first_vertex + w.vertex_count);
 }
 Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
 void Model::setWallVel(WallId id, const Vec2& v) {
@@ -667,31 +599,32 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
     rule->group_b = group_b.empty() ? -1 : groupIndex(group_b, true);
     rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
-    rule->order = static_cast<int>(m_rules.size());
+    rule->order = static_cast<int>(m_contacts->rules.size());
     rule->activity = rule->prototype->ActivityDistance();
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     if (rule->specificity == 0) {
         // A new default replaces the old one for future contacts; the old rule stays alive
         // (existing contacts hold objects from its pool) but is no longer matched.
-        m_rules.push_back(std::move(m_rules[0]));
-        m_rules[0] = std::move(rule);
+        m_contacts->rules.push_back(std::move(m_contacts->rules[0]));
+        m_contacts->rules[0] = std::move(rule);
     } else {
-        m_rules.push_back(std::move(rule));
+        m_contacts->rules.push_back(std::move(rule));
     }
     // Pairs that are not in contact pick the new rules up when they touch.
-    ++m_rules_version;
+    ++m_contacts->rules_version;
     m_limits_stale = true;
-    m_max_activity = 0.0;
-    for (const auto& r : m_rules)
-        if (r->prototype) m_max_activity = std::max(m_max_activity, r->activity);
+    m_contacts->max_activity = 0.0;
+    for (const auto& r : m_contacts->rules)
+        if (r->prototype)
+            m_contacts->max_activity = std::max(m_contacts->max_activity, r->activity);
 }
 
 const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
-    const Rule* best = m_rules[0].get();
+    const Rule* best = m_contacts->rules[0].get();
     int best_spec = -1, best_order = -1;
     auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
-    for (std::size_t i = 1; i < m_rules.size(); ++i) {
-        const Rule& r = *m_rules[i];
+    for (std::size_t i = 1; i < m_contacts->rules.size(); ++i) {
+        const Rule& r = *m_contacts->rules[i];
         if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
         const bool match =
             (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
@@ -707,21 +640,12 @@ const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
 
 // ------------------------------------------------------------------------ contacts (queries)
 
-Model::Pair* Model::pairByKey(ContactKey key) {
-    auto it = m_pair_index.find(key.value);
-    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
-}
-const Model::Pair* Model::pairByKey(ContactKey key) const {
-    auto it = m_pair_index.find(key.value);
-    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
-}
-
-std::size_t Model::pairIndex(const Pair& p) const {
-    return static_cast<std::size_t>(&p - m_pairs.data());
-}
+Model::Pair* Model::pairByKey(ContactKey key) { return m_contacts->pairByKey(key); }
+const Model::Pair* Model::pairByKey(ContactKey key) const { return m_contacts->pairByKey(key); }
+std::size_t Model::pairIndex(const Pair& p) const { return m_contacts->pairIndex(p); }
 
 bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const {
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     const Vec2& x1 = b.pos[p.end1];
     ContactGeometry g;
     if (p.wall) {
@@ -740,18 +664,18 @@ bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& poi
 }
 
 ContactInfo Model::infoOf(std::size_t index) const {
-    const Pair& p = m_pairs[index];
+    const Pair& p = m_contacts->pairs[index];
     ContactInfo c;
-    c.key = ContactKey{m_cold[index].key};
-    const uint32_t h1 = m_balls->handle[p.end1];
-    c.ball1 = BallId{h1, m_generation[h1 - 1]};
+    c.key = ContactKey{m_contacts->cold[index].key};
+    const uint32_t h1 = m_bodies->balls.handle[p.end1];
+    c.ball1 = BallId{h1, m_bodies->generation[h1 - 1]};
     if (p.wall) {
-        const Segment& s = m_segments[p.end2];
-        c.wall = WallId{s.wall + 1, m_walls[s.wall].generation};
-        c.segment = static_cast<int32_t>(p.end2 - m_walls[s.wall].first_segment);
+        const Segment& s = m_bodies->segments[p.end2];
+        c.wall = WallId{s.wall + 1, m_bodies->walls[s.wall].generation};
+        c.segment = static_cast<int32_t>(p.end2 - m_bodies->walls[s.wall].first_segment);
     } else {
-        const uint32_t h2 = m_balls->handle[p.end2];
-        c.ball2 = BallId{h2, m_generation[h2 - 1]};
+        const uint32_t h2 = m_bodies->balls.handle[p.end2];
+        c.ball2 = BallId{h2, m_bodies->generation[h2 - 1]};
     }
     c.active = p.active;
     pairGeometry(p, c.normal, c.overlap, c.point);
@@ -765,13 +689,13 @@ ContactInfo Model::infoOf(std::size_t index) const {
 }
 
 std::string Model::describePair(const Pair& p) const {
-    std::string s = "contact ball " + std::to_string(m_balls->handle[p.end1]) + " - ";
+    std::string s = "contact ball " + std::to_string(m_bodies->balls.handle[p.end1]) + " - ";
     if (p.wall) {
-        const Segment& seg = m_segments[p.end2];
+        const Segment& seg = m_bodies->segments[p.end2];
         s += "wall " + std::to_string(seg.wall + 1) + " segment " +
-             std::to_string(p.end2 - m_walls[seg.wall].first_segment + 1);
+             std::to_string(p.end2 - m_bodies->walls[seg.wall].first_segment + 1);
     } else {
-        s += "ball " + std::to_string(m_balls->handle[p.end2]);
+        s += "ball " + std::to_string(m_bodies->balls.handle[p.end2]);
     }
     s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
     Vec2 n, point;
@@ -781,16 +705,16 @@ std::string Model::describePair(const Pair& p) const {
 }
 
 std::size_t Model::contactCount(bool active_only) const {
-    if (!active_only) return m_pairs.size();
+    if (!active_only) return m_contacts->pairs.size();
     std::size_t n = 0;
-    for (const auto& p : m_pairs) n += p.active;
+    for (const auto& p : m_contacts->pairs) n += p.active;
     return n;
 }
 
 std::vector<ContactInfo> Model::contacts(bool active_only) const {
     std::vector<ContactInfo> out;
-    for (std::size_t i = 0; i < m_pairs.size(); ++i)
-        if (m_pairs[i].active || !active_only) out.push_back(infoOf(i));
+    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i)
+        if (m_contacts->pairs[i].active || !active_only) out.push_back(infoOf(i));
     return out;
 }
 
@@ -844,19 +768,20 @@ void Model::setContactForce(ContactKey key, double normal_force, double shear_fo
 // ------------------------------------------------------------------------ the cycle
 
 void Model::prepareRun() {
-    if (!m_broadphase_ready) initBroadphase();
+    if (!m_contacts->broadphase_ready) initBroadphase();
     const TimestepSettings& t = m_timestep;
     if (t.automatic != m_last_settings.automatic || t.safety != m_last_settings.safety ||
         t.resolution != m_last_settings.resolution)
         m_limits_stale = true;
     m_last_settings = t;
-    for (auto& r : m_rules)
+    for (auto& r : m_contacts->rules)
         if (r->prototype) {
             PropBlock pb = emptyPropBlock();
             if (const char* err = r->prototype->PreCycle(pb))
                 throw InputError("contact model '" + r->model_name + "': " + err);
         }
-    if (!m_rules[0]->prototype && m_rules.size() == 1 && ballCount() > 0 && !m_warned_no_model) {
+    if (!m_contacts->rules[0]->prototype && m_contacts->rules.size() == 1 && ballCount() > 0 &&
+        !m_warned_no_model) {
         m_warned_no_model = true;
         warn("no contact model is set (contact_model{...}): bodies will pass through each other");
     }

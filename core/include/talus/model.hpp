@@ -26,6 +26,8 @@
 namespace talus {
 
 class Broadphase;
+struct BodyStore;        // core/src/body_store.hpp
+struct ContactStore;     // core/src/contact_store.hpp
 struct ContactGeometry;  // narrowphase.hpp
 
 constexpr double kNotSet = std::numeric_limits<double>::quiet_NaN();
@@ -276,7 +278,7 @@ public:
     /// Broadphase margin [m] (half the extra room of each fat box). 0 = automatic: 5% of the
     /// mean ball radius, fixed at the first cycle.
     void setBroadphaseMargin(double margin);
-    double broadphaseMargin() const { return m_margin; }
+    double broadphaseMargin() const;
 
     // ------------------------------------------------------------------ energy
     void setEnergyTracing(bool on);
@@ -316,7 +318,7 @@ public:
     struct Rule;
 
     /// Direct read access for scene builders and diagnostics.
-    const BallArrays& balls() const { return *m_balls; }
+    const BallArrays& balls() const;
 
 private:
     void prepareRun();
@@ -398,32 +400,10 @@ private:
     std::string describePair(const Pair& p) const;
     std::string describeBall(uint32_t slot) const;
 
-    // --- bodies
-    std::unique_ptr<BallArrays> m_balls_ptr;
-    BallArrays* m_balls;                 // = m_balls_ptr.get()
-    std::vector<uint32_t> m_slot_of;     // handle index - 1 -> slot (or kDead)
-    std::vector<uint32_t> m_generation;  // handle index - 1 -> generation
-    std::vector<uint32_t> m_free_handles;
-    std::vector<WallData> m_walls;
-    std::vector<Segment> m_segments;
-    std::vector<Vec2> m_vertices;
-
-    // --- contacts (pairs = broadphase candidates; active pairs carry a model object)
-    std::vector<Pair> m_pairs;
-    std::vector<PairCold> m_cold;  // same index as m_pairs
-    std::unordered_map<uint64_t, uint32_t> m_pair_index;
-    std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
-    uint32_t m_rules_version = 1;
-    double m_max_activity = 0.0;                    // largest activity distance of any rule [m]
-    std::unique_ptr<Broadphase> m_broadphase;       // balls
-    std::unique_ptr<Broadphase> m_wall_broadphase;  // wall segments
-    double m_margin = 0.0;
-    bool m_broadphase_ready = false;
-    std::vector<int32_t> m_query;  // scratch for the broadphase
-    // Bodies re-inserted this step: only their pairs can have stopped overlapping.
-    std::vector<uint32_t> m_moved_balls, m_moved_segments;
-    std::vector<uint8_t> m_ball_moved, m_segment_moved;
-    std::vector<uint32_t> m_to_remove;  // scratch for the force loop
+    // --- the two stores (core/src/body_store.hpp, core/src/contact_store.hpp): all bodies, all
+    // pairs/rules/broadphase. Phases take references to their arrays before their loops.
+    std::unique_ptr<BodyStore> m_bodies;
+    std::unique_ptr<ContactStore> m_contacts;
 
     // --- settings and state
     PluginRegistry& m_registry;
