@@ -81,12 +81,12 @@ void Model::forceDisplacement() {
                        m_guard.stiffness != GuardAction::Off;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (automatic) {
-        if (m_energy_on)
+        if (m_books.on)
             guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
         else
             guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
     } else {
-        if (m_energy_on)
+        if (m_books.on)
             guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
         else
             guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
@@ -208,7 +208,7 @@ void Model::forceLoop() {
                     }
                     // No pair can take it (no holder, or one with a contact of its own): the
                     // contact ends here, and what it still stores is released.
-                    if constexpr (kEnergy) m_energy_acc.released += cold[i].strain + cold[i].bond;
+                    if constexpr (kEnergy) m_books.acc.released += cold[i].strain + cold[i].bond;
                     endContact(p, cold[i], kGuard);
                 }
                 if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
@@ -307,20 +307,20 @@ void Model::forceLoop() {
                      fd.energy[kEnergyPlastic] < 0.0)) {
                     checkEnergyContract(p, c, fd, fn_old, fs_old, m_old);
                 }
-                m_energy_acc.slip += fd.energy[kEnergySlip];
+                m_books.acc.slip += fd.energy[kEnergySlip];
                 // The dashpot impulse spans the velocity window around this step: booked at
                 // the next energy snapshot, half before it (law_of_motion.cpp).
-                m_dashpot_pending += fd.energy[kEnergyDashpot];
-                m_energy_acc.plastic += fd.energy[kEnergyPlastic];
+                m_books.dashpot_pending += fd.energy[kEnergyDashpot];
+                m_books.acc.plastic += fd.energy[kEnergyPlastic];
                 // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the
                 // model says how much), and so does the end of a contact that is still loaded.
-                m_energy_acc.released += fd.energy[kEnergyReleased];
+                m_books.acc.released += fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
-                if (m_strain_baseline_pending && !first)
+                if (m_books.strain_baseline_pending && !first)
                     held_before += storedBefore(fd, fn_old, fs_old, m_old);
                 if (ends) {
-                    m_energy_acc.released += c.strain + c.bond;
+                    m_books.acc.released += c.strain + c.bond;
                 } else {
                     strain_now += c.strain;
                     bond_now += c.bond;
@@ -386,13 +386,13 @@ void Model::forceLoop() {
     for (auto it = to_remove.rbegin(); it != to_remove.rend(); ++it) removePair(*it);
     clearMovedFlags();
     if constexpr (kEnergy) {
-        m_energy_acc.strain = strain_now;
-        m_energy_acc.bond = bond_now;
-        if (m_strain_baseline_pending) {
+        m_books.acc.strain = strain_now;
+        m_books.acc.bond = bond_now;
+        if (m_books.strain_baseline_pending) {
             // Tracing was switched on with loaded contacts: what they hold was put in before
             // the books opened (bookkeeping.cpp, setEnergyTracing).
-            m_energy_acc.initial_strain = held_before;
-            m_strain_baseline_pending = false;
+            m_books.acc.initial_strain = held_before;
+            m_books.strain_baseline_pending = false;
         }
     }
 }
@@ -481,7 +481,7 @@ void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock&
                          (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
                          (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
     const double totals[kEnergyCount] = {
-        0.0, m_energy_acc.slip, m_energy_acc.dashpot, m_energy_acc.plastic, 0.0, 0.0};
+        0.0, m_books.acc.slip, m_books.acc.dashpot, m_books.acc.plastic, 0.0, 0.0};
     const std::string why = energyContractViolation(fd, scale, totals);
     if (!why.empty()) {
         const std::string what = "contact model '" + p.rule->model_name + "' at step " +
@@ -509,18 +509,18 @@ void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, cons
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
-    if (energy) m_energy_acc.placement += placed;
+    if (energy) m_books.acc.placement += placed;
     // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
     // formed by a spin-driven slide, rounding). Booked, not reported.
     const auto& b = m_bodies->balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
     if (overlap < 1e-3 * r) return;
-    m_placed_energy += placed;
-    if (m_placed++ == 0) {
-        m_placed_first = describePair(p) + " at step " + std::to_string(m_step) + ": overlap " +
-                         num(overlap) + " m (" + num(100.0 * overlap / r) +
-                         "% of the smaller radius), stored energy " + num(placed) + " J" +
-                         (energy ? "" : " (estimated from knest)");
+    m_guard_state.placed_energy += placed;
+    if (m_guard_state.placed++ == 0) {
+        m_guard_state.placed_first =
+            describePair(p) + " at step " + std::to_string(m_step) + ": overlap " + num(overlap) +
+            " m (" + num(100.0 * overlap / r) + "% of the smaller radius), stored energy " +
+            num(placed) + " J" + (energy ? "" : " (estimated from knest)");
     }
 }
 
@@ -590,7 +590,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                 num(p.knest) + " N/m)";
             if (m_guard.energy == GuardAction::Error)
                 throw NumericalError("energy created: " + what);
-            if (m_energy_gain++ == 0) m_energy_gain_first = what;
+            if (m_guard_state.energy_gain++ == 0) m_guard_state.energy_gain_first = what;
         }
         // Under-resolved: a step taken during the contact was too large for the impact's own
         // duration (the model's estimate at touch). A contact that is short for other reasons
@@ -605,7 +605,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
             if (m_guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
                                      std::to_string(m_guard.min_steps) + " steps are needed");
-            if (m_underresolved++ == 0) m_underresolved_first = what;
+            if (m_guard_state.underresolved++ == 0) m_guard_state.underresolved_first = what;
         }
         // At the deepest overlap the force may be up to twice the reported stiffness times the
         // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
@@ -622,7 +622,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                 "stiffness (docs/plugin-abi.md, time-step contract)";
             if (m_guard.stiffness == GuardAction::Error)
                 throw NumericalError("stiffness under-reported: " + what);
-            if (m_stiffness_lies++ == 0) m_stiffness_lies_first = what;
+            if (m_guard_state.stiffness_lies++ == 0) m_guard_state.stiffness_lies_first = what;
         }
     }
     resetPair(p);

@@ -203,7 +203,7 @@ BallId Model::createBall(const BallDef& d) {
 void Model::deleteBall(BallId id) {
     m_limits_stale = true;
     const uint32_t s = slotOf(id);
-    if (m_energy_on) {
+    if (m_books.on) {
         // The ball leaves the books with its kinetic energy at the present whole step, taken as
         // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
         // plus half a step of the acceleration of the last force loop. Its contacts' stored
@@ -215,7 +215,7 @@ void Model::deleteBall(BallId id) {
         const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
                              (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
         const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
-        m_energy_acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+        m_books.acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
     }
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {

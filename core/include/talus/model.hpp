@@ -282,7 +282,7 @@ public:
 
     // ------------------------------------------------------------------ energy
     void setEnergyTracing(bool on);
-    bool energyTracing() const { return m_energy_on; }
+    bool energyTracing() const { return m_books.on; }
     /// Whole-model energies (docs/physics/energy.md); kinetic and strain are current values.
     EnergyTotals energies() const;
 
@@ -441,38 +441,46 @@ private:
         uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
     } m_limits;
 
-    // --- energy: running sums, and the snapshot at the last whole step (energy.md)
-    bool m_energy_on = false;
-    EnergyTotals m_energy_acc;
-    EnergyTotals m_energy;  // snapshot at the last whole step (law_of_motion.cpp)
-    // Contact dashpot work of the last force loop, split at the next snapshot like the damping
-    // impulse (its impulse spans the window around the force's time level).
-    double m_dashpot_pending = 0.0;
-    // Tracing was switched on while contacts were loaded: the next force loop books what they
-    // hold as initial_strain.
-    bool m_strain_baseline_pending = false;
+    // --- energy books (docs/physics/energy.md). Every energy sum of the model is accumulated
+    // in this one struct: body, damping, boundary and kinetic by the law of motion
+    // (law_of_motion.cpp), the contact items by the force loop (force_displacement.cpp), the
+    // snapshot and the balance check by the bookkeeping (bookkeeping.cpp). Per-group books
+    // belong next to `acc`.
+    struct EnergyBooks {
+        bool on = false;
+        EnergyTotals acc;       // running sums
+        EnergyTotals snapshot;  // at the last whole step (law_of_motion.cpp)
+        // Contact dashpot work of the last force loop, split at the next snapshot like the
+        // damping impulse (its impulse spans the window around the force's time level).
+        double dashpot_pending = 0.0;
+        // Tracing was switched on while contacts were loaded: the next force loop books what
+        // they hold as initial_strain.
+        bool strain_baseline_pending = false;
+    } m_books;
 
-    // --- guard counters (aggregated warnings)
-    int64_t m_underresolved = 0;
-    std::string m_underresolved_first;
-    int64_t m_energy_gain = 0;
-    std::string m_energy_gain_first;
-    int64_t m_stiffness_lies = 0;
-    std::string m_stiffness_lies_first;
-    int64_t m_placed = 0;  // contacts that started overlapping, since the last report
-    double m_placed_energy = 0.0;
-    std::string m_placed_first;
-    // Run-level balance check: the snapshot at the last check that passed (the window a finding
-    // names opens there), the peak mechanical energy, and the error last reported (a finding is
-    // reported again only when it grows by another tolerance).
-    struct BalanceWatch {
-        EnergyTotals open;
-        int64_t open_step = 0;
-        double peak = 0.0;
-        double reported = 0.0;
-        int64_t findings = 0;
-        std::string first, last;
-    } m_balance;
+    // --- guard state: findings aggregated into one warning per kind (bookkeeping.cpp reports).
+    struct GuardState {
+        int64_t underresolved = 0;
+        std::string underresolved_first;
+        int64_t energy_gain = 0;
+        std::string energy_gain_first;
+        int64_t stiffness_lies = 0;
+        std::string stiffness_lies_first;
+        int64_t placed = 0;  // contacts that started overlapping, since the last report
+        double placed_energy = 0.0;
+        std::string placed_first;
+        // Run-level balance check: the snapshot at the last check that passed (the window a
+        // finding names opens there), the peak mechanical energy, and the error last reported (a
+        // finding is reported again only when it grows by another tolerance).
+        struct BalanceWatch {
+            EnergyTotals open;
+            int64_t open_step = 0;
+            double peak = 0.0;
+            double reported = 0.0;
+            int64_t findings = 0;
+            std::string first, last;
+        } balance;
+    } m_guard_state;
 
     // --- hooks and events
     struct Hook {
