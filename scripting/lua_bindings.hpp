@@ -166,6 +166,15 @@ void openBall(lua_State* L);     // wrap_ball.cpp
 void openWall(lua_State* L);     // wrap_wall.cpp
 void openContact(lua_State* L);  // wrap_contact.cpp
 void openHistory(lua_State* L);  // wrap_history.cpp
+/// The model's methods, one table per wrap_<thing>.cpp; openModel registers them all and the
+/// unknown-method error lists their names.
+extern const luaL_Reg kModelBodyMethods[];     // wrap_bodies.cpp: ball, wall, iterators, counts
+extern const luaL_Reg kContactModelMethods[];  // wrap_contact_model.cpp
+extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
+extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
+extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
+/// Lower-case copy of `s` (names compared without case).
+std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.
 void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
 /// talus.impact and talus.drive, added to the module table at the top of the stack.

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
-// talus.model{...} and the model's methods: bodies, contact models, settings, running,
-// energy, callbacks and profile. Histories are in wrap_history.cpp.
+// talus.model{...} and the model's methods that drive it: creation, damping, broadphase and
+// gravity settings, running, callbacks and profile; the shared helpers (model userdata, refs).
+// The other methods are one file per thing: wrap_bodies.cpp (ball, wall, iterators, counts),
+// wrap_contact_model.cpp, wrap_timestep.cpp, wrap_guard.cpp, wrap_energy.cpp, and
+// wrap_history.cpp (histories).
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -19,11 +22,6 @@ namespace {
 
 // Registry key of the weak table LuaModel* -> model userdata (see pushModel).
 const char kModelsKey = 0;
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 void pushUserValueTable(lua_State* L, const LuaModel& lm) {
     pushModel(L, lm);
@@ -166,370 +164,7 @@ int w_tostring(lua_State* L) {
     });
 }
 
-// ------------------------------------------------------------------ contact models
-
-int w_contact_model(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "contact_model");
-        if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("contact_model: argument 1 must be the model name (got " +
-                              typeName(L, 2) + ")");
-        const std::string name = lua_tostring(L, 2);
-        std::vector<PropValue> props;
-        if (!lua_isnoneornil(L, 3)) props = readProps(L, 3, name, "contact_model");
-        const Options o(L, 4, "contact_model", {"groups"}, true);
-        const std::vector<std::string> groups = o.strings("groups");
-        if (groups.size() > 2)
-            throw ScriptError("contact_model: 'groups' names one or two groups (got " +
-                              std::to_string(groups.size()) + ")");
-        if (groups.empty() && o.has("groups"))
-            throw ScriptError(
-                "contact_model: 'groups' is empty (omit it to set the default model)");
-        if (groups.empty())
-            lm.model->setDefaultContactModel(name, props);
-        else
-            lm.model->addContactModelRule(name, props, groups[0],
-                                          groups.size() > 1 ? groups[1] : std::string());
-        return 0;
-    });
-}
-
-// ------------------------------------------------------------------ bodies
-
-std::vector<std::string> groupsOption(const Options& o) {
-    if (o.has("group") && o.has("groups"))
-        throw ScriptError(o.what() + ": give 'group' or 'groups', not both");
-    return o.has("group") ? o.strings("group") : o.strings("groups");
-}
-
-double optionalProp(const Options& o, const char* key) { return o.number(key, kNotSet); }
-
-int w_ball(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "ball");
-        const Options o(L, 2, "ball",
-                        {"pos", "radius", "density", "mass", "inertia", "vel", "spin", "angle",
-                         "group", "groups", "fix", "kn", "ks", "fric"});
-        BallDef d;
-        if (!o.has("pos")) throw ScriptError("ball: 'pos' is required");
-        if (!o.has("radius")) throw ScriptError("ball: 'radius' is required");
-        d.pos = o.vec("pos", d.pos);
-        d.radius = o.number("radius", 0.0);
-        if (o.has("density") && o.has("mass"))
-            throw ScriptError("ball: give 'density' or 'mass', not both");
-        if (!o.has("density") && !o.has("mass"))
-            throw ScriptError("ball: 'density' or 'mass' is required");
-        d.density = o.number("density", 0.0);
-        d.mass = o.number("mass", kNotSet);
-        d.inertia = o.number("inertia", kNotSet);
-        d.vel = o.vec("vel", d.vel);
-        d.spin = o.number("spin", 0.0);
-        d.angle = o.number("angle", 0.0);
-        d.groups = groupsOption(o);
-        if (o.has("fix")) {
-            if (o.push("fix") == LUA_TBOOLEAN) {
-                d.fixity = lua_toboolean(L, -1) ? (kFixX | kFixY | kFixSpin) : 0;
-                lua_pop(L, 1);
-            } else {
-                lua_pop(L, 1);
-                for (const std::string& f : o.strings("fix")) {
-                    if (f == "x")
-                        d.fixity |= kFixX;
-                    else if (f == "y")
-                        d.fixity |= kFixY;
-                    else if (f == "spin")
-                        d.fixity |= kFixSpin;
-                    else
-                        throw ScriptError(
-                            "ball: 'fix' entries must be one of \"x\", \"y\", "
-                            "\"spin\" (got \"" +
-                            f + "\")");
-                }
-            }
-        }
-        d.kn = optionalProp(o, "kn");
-        d.ks = optionalProp(o, "ks");
-        d.fric = optionalProp(o, "fric");
-        const BallId id = lm.model->createBall(d);
-        pushBall(L, 1, id);
-        return 1;
-    });
-}
-
-int w_wall(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "wall");
-        const Options o(
-            L, 2, "wall",
-            {"points", "closed", "vel", "spin", "center", "group", "groups", "kn", "ks", "fric"});
-        WallDef d;
-        if (o.push("points") != LUA_TTABLE) {
-            const std::string got = typeName(L, -1);
-            lua_pop(L, 1);
-            throw ScriptError("wall: 'points' must be a list of vectors {{x, y}, ...} (got " + got +
-                              ")");
-        }
-        const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
-        for (lua_Integer i = 1; i <= n; ++i) {
-            lua_rawgeti(L, -1, i);
-            try {
-                d.points.push_back(toVec(L, -1, "wall: point " + std::to_string(i)));
-            } catch (...) {
-                lua_pop(L, 2);
-                throw;
-            }
-            lua_pop(L, 1);
-        }
-        lua_pop(L, 1);
-        d.closed = o.boolean("closed", false);
-        d.vel = o.vec("vel", d.vel);
-        d.spin = o.number("spin", 0.0);
-        d.center = o.vec("center", d.center);
-        d.groups = groupsOption(o);
-        d.kn = optionalProp(o, "kn");
-        d.ks = optionalProp(o, "ks");
-        d.fric = optionalProp(o, "fric");
-        const WallId id = lm.model->createWall(d);
-        pushWall(L, 1, id);
-        return 1;
-    });
-}
-
-// ------------------------------------------------------------------ iterators
-
-lua_Integer packBall(BallId id) {
-    return static_cast<lua_Integer>((uint64_t(id.index) << 32) | id.generation);
-}
-BallId unpackBall(lua_Integer v) {
-    const auto u = static_cast<uint64_t>(v);
-    return BallId{static_cast<uint32_t>(u >> 32), static_cast<uint32_t>(u & 0xffffffffu)};
-}
-
-/// Iterator state in upvalues: 1 = model userdata, 2 = list of packed ids, 3 = position.
-template <class Push>
-int iterate(lua_State* L, const Push& pushItem) {
-    return catchexcept(L, [&] {
-        auto* lm = static_cast<LuaModel*>(lua_touserdata(L, lua_upvalueindex(1)));
-        if (!lm || !lm->model) throw ScriptError("iterator: the model was closed");
-        lua_Integer pos = lua_tointeger(L, lua_upvalueindex(3));
-        const auto n = static_cast<lua_Integer>(lua_rawlen(L, lua_upvalueindex(2)));
-        while (pos < n) {
-            ++pos;
-            lua_rawgeti(L, lua_upvalueindex(2), pos);
-            const lua_Integer v = lua_tointeger(L, -1);
-            lua_pop(L, 1);
-            if (pushItem(*lm, v)) {
-                lua_pushinteger(L, pos);
-                lua_replace(L, lua_upvalueindex(3));
-                return 1;
-            }
-        }
-        lua_pushinteger(L, pos);
-        lua_replace(L, lua_upvalueindex(3));
-        return 0;
-    });
-}
-
-int ballIterator(lua_State* L) {
-    return iterate(L, [&](LuaModel& lm, lua_Integer v) {
-        const BallId id = unpackBall(v);
-        if (!lm.model->isAlive(id)) return false;  // deleted during the loop
-        pushBall(L, lua_upvalueindex(1), id);
-        return true;
-    });
-}
-
-int wallIterator(lua_State* L) {
-    return iterate(L, [&](LuaModel&, lua_Integer v) {
-        pushWall(L, lua_upvalueindex(1),
-                 WallId{static_cast<uint32_t>(static_cast<uint64_t>(v) >> 32),
-                        static_cast<uint32_t>(static_cast<uint64_t>(v) & 0xffffffffu)});
-        return true;
-    });
-}
-
-int contactIterator(lua_State* L) {
-    return iterate(L, [&](LuaModel& lm, lua_Integer v) {
-        ContactInfo info;
-        if (!lm.model->findContact(ContactKey{static_cast<uint64_t>(v)}, info)) return false;
-        pushContact(L, lua_upvalueindex(1), ContactKey{static_cast<uint64_t>(v)});
-        return true;
-    });
-}
-
-/// Pushes the iterator closure over `ids` (already packed) for the model at index 1.
-void pushIterator(lua_State* L, lua_CFunction fn, const std::vector<lua_Integer>& ids) {
-    lua_pushvalue(L, 1);
-    lua_createtable(L, static_cast<int>(ids.size()), 0);
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-        lua_pushinteger(L, ids[i]);
-        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-    }
-    lua_pushinteger(L, 0);
-    lua_pushcclosure(L, fn, 3);
-}
-
-int w_balls(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "balls");
-        const Options o(L, 2, "balls", {"group"}, true);
-        const std::string group = o.string("group", "");
-        Model& m = *lm.model;
-        if (!group.empty() && m.groupIndex(group, false) < 0)
-            throw ScriptError(
-                "balls: no group named '" + group + "' (groups: " +
-                (m.groupNames().empty() ? std::string("none") : joinNames(m.groupNames())) + ")");
-        std::vector<lua_Integer> ids;
-        for (const BallId id : m.ballIds()) {
-            if (!group.empty()) {
-                const auto g = m.ballGroups(id);
-                if (std::find(g.begin(), g.end(), group) == g.end()) continue;
-            }
-            ids.push_back(packBall(id));
-        }
-        pushIterator(L, ballIterator, ids);
-        return 1;
-    });
-}
-
-int w_walls(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "walls");
-        std::vector<lua_Integer> ids;
-        for (const WallId id : lm.model->wallIds())
-            ids.push_back(static_cast<lua_Integer>((uint64_t(id.index) << 32) | id.generation));
-        pushIterator(L, wallIterator, ids);
-        return 1;
-    });
-}
-
-int w_contacts(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "contacts");
-        const Options o(L, 2, "contacts", {"model", "active", "ball"}, true);
-        const std::string model = lower(o.string("model", ""));
-        const bool active = o.boolean("active", true);
-        BallId ball;
-        if (o.has("ball")) {
-            o.push("ball");
-            BallRef* b = testBall(L, -1);
-            lua_pop(L, 1);
-            if (!b) throw ScriptError("contacts: 'ball' must be a ball");
-            ball = b->id;
-        }
-        std::vector<lua_Integer> keys;
-        for (const ContactInfo& c : lm.model->contacts(active)) {
-            if (!model.empty() && lower(c.model) != model) continue;
-            if (ball.valid() && c.ball1 != ball && c.ball2 != ball) continue;
-            keys.push_back(static_cast<lua_Integer>(c.key.value));
-        }
-        pushIterator(L, contactIterator, keys);
-        return 1;
-    });
-}
-
-int w_ball_count(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "ball_count");
-        lua_pushinteger(L, static_cast<lua_Integer>(lm.model->ballCount()));
-        return 1;
-    });
-}
-
-int w_wall_count(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "wall_count");
-        lua_pushinteger(L, static_cast<lua_Integer>(lm.model->wallCount()));
-        return 1;
-    });
-}
-
-int w_contact_count(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "contact_count");
-        const Options o(L, 2, "contact_count", {"active"}, true);
-        lua_pushinteger(
-            L, static_cast<lua_Integer>(lm.model->contactCount(o.boolean("active", true))));
-        return 1;
-    });
-}
-
 // ------------------------------------------------------------------ settings
-
-const char* guardName(GuardAction a) {
-    switch (a) {
-        case GuardAction::Off:
-            return "off";
-        case GuardAction::Warn:
-            return "warn";
-        case GuardAction::Error:
-            return "error";
-    }
-    return "?";
-}
-
-int w_timestep(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "timestep");
-        const Options o(L, 2, "timestep",
-                        {"safety", "resolution", "fixed", "max", "growth", "auto"}, true);
-        TimestepSettings ts = lm.model->timestep();
-        readTimestepOptions(o, ts);
-        lm.model->timestep() = ts;
-        Model& m = *lm.model;
-        lua_createtable(L, 0, 9);
-        lua_pushboolean(L, ts.automatic);
-        lua_setfield(L, -2, "auto");
-        if (ts.automatic)
-            lua_pushboolean(L, false);
-        else
-            lua_pushnumber(L, ts.fixed);
-        lua_setfield(L, -2, "fixed");
-        lua_pushnumber(L, ts.safety);
-        lua_setfield(L, -2, "safety");
-        lua_pushnumber(L, ts.resolution);
-        lua_setfield(L, -2, "resolution");
-        lua_pushnumber(L, ts.max);
-        lua_setfield(L, -2, "max");
-        lua_pushnumber(L, ts.growth);
-        lua_setfield(L, -2, "growth");
-        lua_pushnumber(L, m.lastTimestep());
-        lua_setfield(L, -2, "dt");
-        lua_pushstring(L, stepRuleName(m.lastStepRule()));
-        lua_setfield(L, -2, "rule");
-        lua_pushstring(L, m.lastStepReason().c_str());
-        lua_setfield(L, -2, "reason");
-        return 1;
-    });
-}
-
-int w_guard(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "guard");
-        const Options o(L, 2, "guard", guardOptionNames(), true);
-        GuardSettings g = lm.model->guard();
-        readGuardOptions(o, g);
-        lm.model->guard() = g;
-        lua_createtable(L, 0, 8);
-        lua_pushstring(L, guardName(g.energy));
-        lua_setfield(L, -2, "energy");
-        lua_pushnumber(L, g.energy_tolerance);
-        lua_setfield(L, -2, "energy_tolerance");
-        lua_pushstring(L, guardName(g.resolution));
-        lua_setfield(L, -2, "resolution");
-        lua_pushinteger(L, g.min_steps);
-        lua_setfield(L, -2, "min_steps");
-        lua_pushstring(L, guardName(g.stiffness));
-        lua_setfield(L, -2, "stiffness");
-        lua_pushstring(L, guardName(g.balance));
-        lua_setfield(L, -2, "balance");
-        lua_pushnumber(L, g.balance_tolerance);
-        lua_setfield(L, -2, "balance_tolerance");
-        lua_pushinteger(L, g.balance_every);
-        lua_setfield(L, -2, "balance_every");
-        return 1;
-    });
-}
 
 int w_damping(lua_State* L) {
     return catchexcept(L, [&] {
@@ -657,30 +292,6 @@ int w_dt(lua_State* L) {
     });
 }
 
-// ------------------------------------------------------------------ energy
-
-int w_energy(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "energy");
-        const Options o(L, 2, "energy", {"on"}, true);
-        if (o.has("on")) lm.model->setEnergyTracing(o.boolean("on", false));
-        lua_pushboolean(L, lm.model->energyTracing());
-        return 1;
-    });
-}
-
-int w_energies(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "energies");
-        if (!lua_isnoneornil(L, 2))
-            throw ScriptError(
-                "energies: group-wise energies are not available yet (the engine "
-                "traces whole-model energies only); call m:energies()");
-        pushEnergies(L, lm.model->energies());
-        return 1;
-    });
-}
-
 // ------------------------------------------------------------------ callbacks
 
 int w_on_cycle(lua_State* L) {
@@ -759,42 +370,30 @@ int w_profile(lua_State* L) {
     });
 }
 
+/// Methods of this file: creation, settings that are one call (damping, broadphase, gravity),
+/// running, callbacks and profile.
 const luaL_Reg kModelMethods[] = {
-    {"contact_model", w_contact_model},
-    {"ball", w_ball},
-    {"wall", w_wall},
-    {"balls", w_balls},
-    {"walls", w_walls},
-    {"contacts", w_contacts},
-    {"ball_count", w_ball_count},
-    {"wall_count", w_wall_count},
-    {"contact_count", w_contact_count},
-    {"timestep", w_timestep},
-    {"guard", w_guard},
-    {"damping", w_damping},
-    {"broadphase", w_broadphase},
-    {"gravity", w_gravity},
-    {"cycle", w_cycle},
-    {"solve", w_solve},
-    {"time", w_time},
-    {"step", w_step},
-    {"dt", w_dt},
-    {"energy", w_energy},
-    {"energies", w_energies},
-    {"on_cycle", w_on_cycle},
-    {"remove_on_cycle", w_remove_on_cycle},
-    {"on_event", w_on_event},
-    {"on_warning", w_on_warning},
-    {"profile", w_profile},
-    {nullptr, nullptr},
+    {"damping", w_damping},   {"broadphase", w_broadphase},
+    {"gravity", w_gravity},   {"cycle", w_cycle},
+    {"solve", w_solve},       {"time", w_time},
+    {"step", w_step},         {"dt", w_dt},
+    {"on_cycle", w_on_cycle}, {"remove_on_cycle", w_remove_on_cycle},
+    {"on_event", w_on_event}, {"on_warning", w_on_warning},
+    {"profile", w_profile},   {nullptr, nullptr},
 };
+
+/// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
+const luaL_Reg* const kModelMethodTables[] = {kModelMethods,        kModelBodyMethods,
+                                              kContactModelMethods, kTimestepMethods,
+                                              kGuardMethods,        kEnergyMethods};
 
 int w_index_unknown(lua_State* L) {
     // __index of the method table's metatable: an unknown method name is an error that lists
     // the known ones (m:cylce(10) would otherwise say "attempt to call a nil value").
     return catchexcept(L, [&]() -> int {
         std::vector<std::string> names;
-        for (const luaL_Reg* r = kModelMethods; r->name; ++r) names.push_back(r->name);
+        for (const luaL_Reg* table : kModelMethodTables)
+            for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
         names.push_back("history");
         names.push_back("close_history");
         std::sort(names.begin(), names.end());
@@ -807,6 +406,11 @@ int w_index_unknown(lua_State* L) {
 }  // namespace
 
 // ------------------------------------------------------------------ shared with other files
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
 
 LuaModel::~LuaModel() { close(); }
 
@@ -890,168 +494,6 @@ void releaseRef(lua_State* L, const LuaModel& lm, int ref) {
     lua_pop(L, 1);
 }
 
-void readTimestepOptions(const Options& o, TimestepSettings& ts) {
-    lua_State* L = o.state();
-    if (o.has("fixed")) {
-        const int t = o.push("fixed");
-        const bool is_false = t == LUA_TBOOLEAN && !lua_toboolean(L, -1);
-        lua_pop(L, 1);
-        if (is_false) {
-            ts.automatic = true;
-        } else {
-            const double dt = o.number("fixed", 0.0);
-            if (!(dt > 0.0) || !std::isfinite(dt))
-                throw ScriptError("timestep: 'fixed' must be > 0 [s] (got " + numberText(dt) + ")");
-            ts.fixed = dt;
-            ts.automatic = false;
-        }
-    }
-    if (o.has("auto")) {
-        ts.automatic = o.boolean("auto", true);
-        if (!ts.automatic && !(ts.fixed > 0.0))
-            throw ScriptError("timestep: auto = false needs a 'fixed' step");
-    }
-    ts.safety = o.number("safety", ts.safety);
-    ts.resolution = o.number("resolution", ts.resolution);
-    ts.max = o.number("max", ts.max);
-    ts.growth = o.number("growth", ts.growth);
-    if (!(ts.safety > 0.0) || !std::isfinite(ts.safety))
-        throw ScriptError("timestep: 'safety' must be > 0 (got " + numberText(ts.safety) + ")");
-    if (!(ts.resolution >= 0.0) || !std::isfinite(ts.resolution))
-        throw ScriptError("timestep: 'resolution' must be >= 0 steps per contact (got " +
-                          numberText(ts.resolution) + ")");
-    if (!(ts.max > 0.0))
-        throw ScriptError("timestep: 'max' must be > 0 [s] (got " + numberText(ts.max) + ")");
-    if (!(ts.growth > 1.0))
-        throw ScriptError("timestep: 'growth' must be > 1 (got " + numberText(ts.growth) + ")");
-}
-
-const std::vector<std::string>& guardOptionNames() {
-    static const std::vector<std::string> names = {
-        "energy",    "energy_tolerance", "resolution",        "min_steps",
-        "stiffness", "balance",          "balance_tolerance", "balance_every"};
-    return names;
-}
-
-void readGuardOptions(const Options& o, GuardSettings& g) {
-    const GuardAction actions[] = {GuardAction::Warn, GuardAction::Error, GuardAction::Off};
-    if (o.has("energy")) g.energy = actions[o.choice("energy", 0, {"warn", "error", "off"})];
-    if (o.has("resolution"))
-        g.resolution = actions[o.choice("resolution", 0, {"warn", "error", "off"})];
-    if (o.has("stiffness"))
-        g.stiffness = actions[o.choice("stiffness", 0, {"warn", "error", "off"})];
-    g.energy_tolerance = o.number("energy_tolerance", g.energy_tolerance);
-    if (!(g.energy_tolerance >= 0.0))
-        throw ScriptError("guard: 'energy_tolerance' must be >= 0 (got " +
-                          numberText(g.energy_tolerance) + ")");
-    if (o.has("balance")) g.balance = actions[o.choice("balance", 0, {"warn", "error", "off"})];
-    g.balance_tolerance = o.number("balance_tolerance", g.balance_tolerance);
-    if (!(g.balance_tolerance >= 0.0) || !std::isfinite(g.balance_tolerance))
-        throw ScriptError("guard: 'balance_tolerance' must be a finite number >= 0 (got " +
-                          numberText(g.balance_tolerance) + ")");
-    const long long window = o.integer("balance_every", g.balance_every);
-    if (window < 1)
-        throw ScriptError("guard: 'balance_every' must be >= 1 step (got " +
-                          std::to_string(window) + ")");
-    g.balance_every = window;
-    const long long steps = o.integer("min_steps", g.min_steps);
-    if (steps < 0 || steps > std::numeric_limits<int>::max())
-        throw ScriptError("guard: 'min_steps' must be >= 0 (got " + std::to_string(steps) + ")");
-    g.min_steps = static_cast<int>(steps);
-}
-
-std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
-                                 const std::string& what) {
-    index = lua_absindex(L, index);
-    requireTable(L, index, what + ": properties");
-    const ContactModel* meta = PluginRegistry::global().find(model_name).reference;
-    std::vector<PropValue> props;
-    lua_pushnil(L);
-    while (lua_next(L, index) != 0) {
-        if (lua_type(L, -2) != LUA_TSTRING) {
-            lua_pop(L, 2);
-            throw ScriptError(what + ": properties must be named (kn = 1e8, ...)");
-        }
-        PropValue pv;
-        pv.name = lua_tostring(L, -2);
-        const int t = lua_type(L, -1);
-        std::string text;
-        if (t == LUA_TNUMBER)
-            pv.value = lua_tonumber(L, -1);
-        else if (t == LUA_TBOOLEAN)
-            pv.value = lua_toboolean(L, -1) ? 1.0 : 0.0;
-        else if (t == LUA_TSTRING)
-            text = lua_tostring(L, -1);
-        const std::string got = typeName(L, -1);
-        lua_pop(L, 1);
-        if (t != LUA_TNUMBER && t != LUA_TBOOLEAN && t != LUA_TSTRING) {
-            lua_pop(L, 1);
-            throw ScriptError(what + ": property '" + pv.name + "' must be a number (got " + got +
-                              ")");
-        }
-        if (t == LUA_TSTRING) {
-            // Integer modes may be given by name: dp_mode = "no_tension".
-            const PropInfo* info = nullptr;
-            for (int32_t i = 0; meta && i < meta->PropCount(); ++i) {
-                const PropInfo* pi = meta->PropInfoAt(i);
-                if (pi && lower(pi->name) == lower(pv.name)) info = pi;
-            }
-            if (!info || !info->enum_names) {
-                lua_pop(L, 1);
-                throw ScriptError(what + ": property '" + pv.name + "' must be a number (got \"" +
-                                  text + "\")");
-            }
-            std::vector<std::string> names;
-            bool found = false;
-            for (int i = 0; info->enum_names[i]; ++i) {
-                names.push_back(std::string("\"") + info->enum_names[i] + "\"");
-                if (text == info->enum_names[i]) pv.value = i, found = true;
-            }
-            if (!found) {
-                lua_pop(L, 1);
-                throw ScriptError(what + ": property '" + pv.name + "' must be one of " +
-                                  joinNames(names) + " (got \"" + text + "\")");
-            }
-        }
-        props.push_back(pv);
-    }
-    std::sort(props.begin(), props.end(),
-              [](const PropValue& a, const PropValue& b) { return a.name < b.name; });
-    return props;
-}
-
-const std::vector<EnergyItem>& energyItems() {
-    static const std::vector<EnergyItem> items = {
-        {"body", &EnergyTotals::body},
-        {"boundary", &EnergyTotals::boundary},
-        {"kinetic", &EnergyTotals::kinetic},
-        {"strain", &EnergyTotals::strain},
-        {"bond", &EnergyTotals::bond},
-        {"slip", &EnergyTotals::slip},
-        {"dashpot", &EnergyTotals::dashpot},
-        {"plastic", &EnergyTotals::plastic},
-        {"damping", &EnergyTotals::damping},
-        {"released", &EnergyTotals::released},
-        {"deleted", &EnergyTotals::deleted},
-        {"initial_kinetic", &EnergyTotals::initial_kinetic},
-        {"initial_strain", &EnergyTotals::initial_strain},
-        {"placement", &EnergyTotals::placement},
-    };
-    return items;
-}
-
-void pushEnergies(lua_State* L, const EnergyTotals& e) {
-    lua_createtable(L, 0, 14);
-    for (const EnergyItem& item : energyItems()) {
-        lua_pushnumber(L, e.*(item.member));
-        lua_setfield(L, -2, item.name);
-    }
-    lua_pushnumber(L, e.balanceError());
-    lua_setfield(L, -2, "balance_error");
-    lua_pushnumber(L, e.input());
-    lua_setfield(L, -2, "input");
-}
-
 void openModel(lua_State* L) {
     // Weak-valued table LuaModel* -> userdata: callbacks find their model without keeping it alive.
     lua_newtable(L);
@@ -1066,7 +508,8 @@ void openModel(lua_State* L) {
     lua_setfield(L, -2, "__gc");
     lua_pushcfunction(L, w_tostring);
     lua_setfield(L, -2, "__tostring");
-    luaL_newlib(L, kModelMethods);
+    lua_newtable(L);
+    for (const luaL_Reg* table : kModelMethodTables) luaL_setfuncs(L, table, 0);
     addHistoryMethods(L, lua_gettop(L));
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);

@@ -9,13 +9,15 @@
 #include <cstdio>
 #include <sstream>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
 
 void Model::bookkeeping() {
-    if (m_energy_on && m_guard.balance != GuardAction::Off) checkBalance();
+    if (m_books.on && m_guard.balance != GuardAction::Off) checkBalance();
     if (!m_events.empty()) {
         // Swap out first: a handler may cycle the model or queue events of its own.
         std::vector<Event> events;
@@ -69,27 +71,28 @@ void Model::checkBalance() {
     // cannot go unseen. Reference: the throughput, the larger of the energy put in and the peak
     // mechanical energy, so that a scene that turns its input over many times (a ball bouncing
     // on a vibrating floor) is judged against what it moved, not what it holds now.
-    const EnergyTotals& e = m_energy;  // snapshot at the last whole step
-    m_balance.peak = std::max(m_balance.peak, e.kinetic + e.strain + e.bond);
+    const EnergyTotals& e = m_books.snapshot;  // snapshot at the last whole step
+    m_guard_state.balance.peak =
+        std::max(m_guard_state.balance.peak, e.kinetic + e.strain + e.bond);
     if (m_step % m_guard.balance_every != 0) return;
-    const double throughput = std::max(e.input(), m_balance.peak);
+    const double throughput = std::max(e.input(), m_guard_state.balance.peak);
     const double error = e.balanceError();
     const double allowed = m_guard.balance_tolerance * throughput;
     if (std::fabs(error) <= allowed) {
-        m_balance.open = e;
-        m_balance.open_step = m_step;
-        m_balance.reported = 0.0;
+        m_guard_state.balance.open = e;
+        m_guard_state.balance.open_step = m_step;
+        m_guard_state.balance.reported = 0.0;
         return;
     }
-    if (std::fabs(error - m_balance.reported) <= allowed) return;
-    m_balance.reported = error;
+    if (std::fabs(error - m_guard_state.balance.reported) <= allowed) return;
+    m_guard_state.balance.reported = error;
 
     // Name the window and the items that moved most in it.
     struct Item {
         const char* name;
         double change;
     };
-    const EnergyTotals& o = m_balance.open;
+    const EnergyTotals& o = m_guard_state.balance.open;
     Item items[] = {{"kinetic", e.kinetic - o.kinetic},
                     {"strain", e.strain - o.strain},
                     {"bond", e.bond - o.bond},
@@ -108,87 +111,89 @@ void Model::checkBalance() {
     for (int k = 0; k < 3; ++k)
         moved += std::string(k ? ", " : "") + items[k].name + " " +
                  (items[k].change >= 0.0 ? "+" : "") + num(items[k].change) + " J";
-    const std::string what =
-        "energy balance: " + num(std::fabs(error)) + " J " + (error < 0.0 ? "created" : "lost") +
-        " (balance_error " + num(error) + " J, " + num(100.0 * std::fabs(error) / throughput) +
-        "% of the throughput " + num(throughput) + " J, tolerance " +
-        num(100.0 * m_guard.balance_tolerance) + "%) at step " + std::to_string(m_step) +
-        " (t = " + num(m_time) + " s); in steps " + std::to_string(m_balance.open_step) + "-" +
-        std::to_string(m_step) + " the items that moved most: " + moved;
+    const std::string what = "energy balance: " + num(std::fabs(error)) + " J " +
+                             (error < 0.0 ? "created" : "lost") + " (balance_error " + num(error) +
+                             " J, " + num(100.0 * std::fabs(error) / throughput) +
+                             "% of the throughput " + num(throughput) + " J, tolerance " +
+                             num(100.0 * m_guard.balance_tolerance) + "%) at step " +
+                             std::to_string(m_step) + " (t = " + num(m_time) + " s); in steps " +
+                             std::to_string(m_guard_state.balance.open_step) + "-" +
+                             std::to_string(m_step) + " the items that moved most: " + moved;
     if (m_guard.balance == GuardAction::Error) throw NumericalError(what);
-    if (m_balance.findings++ == 0) m_balance.first = what;
-    m_balance.last = what;
+    if (m_guard_state.balance.findings++ == 0) m_guard_state.balance.first = what;
+    m_guard_state.balance.last = what;
 }
 
 void Model::flushWarnings() {
-    if (m_placed > 0) {
-        warn(std::to_string(m_placed) +
+    if (m_guard_state.placed > 0) {
+        warn(std::to_string(m_guard_state.placed) +
              " contact(s) started overlapping (bodies created or moved into each other), holding "
              "energy no traced work put in (" +
-             num(m_placed_energy) +
+             num(m_guard_state.placed_energy) +
              " J in all, booked as the energy item 'placement' when tracing is on); first: " +
-             m_placed_first);
-        m_placed = 0;
-        m_placed_energy = 0.0;
+             m_guard_state.placed_first);
+        m_guard_state.placed = 0;
+        m_guard_state.placed_energy = 0.0;
     }
-    if (m_balance.findings > 0) {
-        warn("guard: " + m_balance.first +
-             (m_balance.findings > 1
-                  ? "; it grew further " + std::to_string(m_balance.findings - 1) +
-                        " time(s), last: " + m_balance.last
+    if (m_guard_state.balance.findings > 0) {
+        warn("guard: " + m_guard_state.balance.first +
+             (m_guard_state.balance.findings > 1
+                  ? "; it grew further " + std::to_string(m_guard_state.balance.findings - 1) +
+                        " time(s), last: " + m_guard_state.balance.last
                   : std::string()));
-        m_balance.findings = 0;
+        m_guard_state.balance.findings = 0;
     }
-    if (m_underresolved > 0) {
-        warn("guard: " + std::to_string(m_underresolved) + " contact(s) had fewer than " +
-             std::to_string(m_guard.min_steps) +
+    if (m_guard_state.underresolved > 0) {
+        warn("guard: " + std::to_string(m_guard_state.underresolved) +
+             " contact(s) had fewer than " + std::to_string(m_guard.min_steps) +
              " steps per contact duration, so their restitution and peak force are not "
              "resolved (thesis A asks for 10-20 steps per impact); first: " +
-             m_underresolved_first +
+             m_guard_state.underresolved_first +
              ". Use the automatic step with its resolution rule, or a smaller fixed step.");
-        m_underresolved = 0;
+        m_guard_state.underresolved = 0;
     }
-    if (m_stiffness_lies > 0) {
-        warn(
-            "guard: " + std::to_string(m_stiffness_lies) +
-            " contact(s) were stiffer than their model reported; first: " + m_stiffness_lies_first);
-        m_stiffness_lies = 0;
+    if (m_guard_state.stiffness_lies > 0) {
+        warn("guard: " + std::to_string(m_guard_state.stiffness_lies) +
+             " contact(s) were stiffer than their model reported; first: " +
+             m_guard_state.stiffness_lies_first);
+        m_guard_state.stiffness_lies = 0;
     }
-    if (m_energy_gain > 0) {
-        warn("guard: " + std::to_string(m_energy_gain) +
-             " contact(s) gave back more energy than they took; first: " + m_energy_gain_first);
-        m_energy_gain = 0;
+    if (m_guard_state.energy_gain > 0) {
+        warn("guard: " + std::to_string(m_guard_state.energy_gain) +
+             " contact(s) gave back more energy than they took; first: " +
+             m_guard_state.energy_gain_first);
+        m_guard_state.energy_gain = 0;
     }
 }
 
 void Model::setEnergyTracing(bool on) {
-    if (on && !m_energy_on) {
-        m_energy_acc = EnergyTotals{};
-        const auto& b = *m_balls;
+    if (on && !m_books.on) {
+        m_books.acc = EnergyTotals{};
+        const auto& b = m_bodies->balls;
         double ke = 0.0;
         for (std::size_t s = 0; s < b.size(); ++s)
             ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
-        m_energy_acc.initial_kinetic = ke;
-        m_energy_acc.kinetic = ke;
-        m_dashpot_pending = 0.0;
-        m_strain_baseline_pending = false;
-        for (const Pair& p : m_pairs) m_strain_baseline_pending |= p.active;
-        m_balance = BalanceWatch{};
-        m_balance.open = m_energy_acc;
-        m_balance.open_step = m_step;
+        m_books.acc.initial_kinetic = ke;
+        m_books.acc.kinetic = ke;
+        m_books.dashpot_pending = 0.0;
+        m_books.strain_baseline_pending = false;
+        for (const Pair& p : m_contacts->pairs) m_books.strain_baseline_pending |= p.active;
+        m_guard_state.balance = GuardState::BalanceWatch{};
+        m_guard_state.balance.open = m_books.acc;
+        m_guard_state.balance.open_step = m_step;
         // Models report stored energy only while tracing is on; until the next step it is not
         // known.
-        m_energy_acc.strain = 0.0;
-        for (auto& c : m_cold) c.strain = c.bond = 0.0;
-        m_energy = m_energy_acc;
+        m_books.acc.strain = 0.0;
+        for (auto& c : m_contacts->cold) c.strain = c.bond = 0.0;
+        m_books.snapshot = m_books.acc;
     }
-    m_energy_on = on;
+    m_books.on = on;
 }
 
 EnergyTotals Model::energies() const {
-    if (!m_energy_on)
+    if (!m_books.on)
         throw InputError("energies: energy tracing is off (call energy{on = true} first)");
-    return m_energy;
+    return m_books.snapshot;
 }
 
 std::string Profile::report(std::size_t balls) const {

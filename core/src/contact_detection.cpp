@@ -13,7 +13,9 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "body_store.hpp"
 #include "broadphase.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "talus/errors.hpp"
@@ -32,24 +34,26 @@ Box grow(const Box& b, double d) {
 }  // namespace
 
 Box Model::ballBox(uint32_t s) const {
-    const double r = m_balls->radius[s] + 0.5 * m_max_activity;
-    const Vec2& p = m_balls->pos[s];
+    const double r = m_bodies->balls.radius[s] + 0.5 * m_contacts->max_activity;
+    const Vec2& p = m_bodies->balls.pos[s];
     return Box{Vec2(p.x() - r, p.y() - r), Vec2(p.x() + r, p.y() + r)};
 }
 
 Box Model::segmentBox(uint32_t seg) const {
-    const Vec2& a = m_vertices[m_segments[seg].a];
-    const Vec2& b = m_vertices[m_segments[seg].b];
-    const double h = 0.5 * m_max_activity;
+    const Vec2& a = m_bodies->vertices[m_bodies->segments[seg].a];
+    const Vec2& b = m_bodies->vertices[m_bodies->segments[seg].b];
+    const double h = 0.5 * m_contacts->max_activity;
     return Box{Vec2(std::min(a.x(), b.x()) - h, std::min(a.y(), b.y()) - h),
                Vec2(std::max(a.x(), b.x()) + h, std::max(a.y(), b.y()) + h)};
 }
 
 bool Model::segmentGeometry(uint32_t seg, const Vec2& c, double r, ContactGeometry& g) const {
-    const Segment& sg = m_segments[seg];
-    const Vec2* before = sg.prev >= 0 ? &m_vertices[m_segments[sg.prev].a] : nullptr;
-    const Vec2* after = sg.next >= 0 ? &m_vertices[m_segments[sg.next].b] : nullptr;
-    return ballSegmentGeometry(c, r, m_vertices[sg.a], m_vertices[sg.b], before, after, g);
+    const Segment& sg = m_bodies->segments[seg];
+    const Vec2* before =
+        sg.prev >= 0 ? &m_bodies->vertices[m_bodies->segments[sg.prev].a] : nullptr;
+    const Vec2* after = sg.next >= 0 ? &m_bodies->vertices[m_bodies->segments[sg.next].b] : nullptr;
+    return ballSegmentGeometry(c, r, m_bodies->vertices[sg.a], m_bodies->vertices[sg.b], before,
+                               after, g);
 }
 
 int32_t Model::wallHolder(uint32_t seg, const Vec2& c, double r) const {
@@ -58,13 +62,13 @@ int32_t Model::wallHolder(uint32_t seg, const Vec2& c, double r) const {
     // segments may put it more than one segment away. The walk cannot turn back (the segment
     // beyond a convex vertex gives the ball back only on this side of it, where this one holds
     // it), and a closed chain is walked at most once round.
-    const uint32_t n = m_walls[m_segments[seg].wall].segment_count;
+    const uint32_t n = m_bodies->walls[m_bodies->segments[seg].wall].segment_count;
     ContactGeometry g;
     int32_t cur = static_cast<int32_t>(seg);
     for (uint32_t k = 0; k < n; ++k) {
-        const Segment& sg = m_segments[static_cast<uint32_t>(cur)];
-        const Vec2 ab = m_vertices[sg.b] - m_vertices[sg.a];
-        const double t = (c - m_vertices[sg.a]).dot(ab) / ab.squaredNorm();
+        const Segment& sg = m_bodies->segments[static_cast<uint32_t>(cur)];
+        const Vec2 ab = m_bodies->vertices[sg.b] - m_bodies->vertices[sg.a];
+        const double t = (c - m_bodies->vertices[sg.a]).dot(ab) / ab.squaredNorm();
         cur = t <= 0.0 ? sg.prev : (t >= 1.0 ? sg.next : -1);
         if (cur < 0) return -1;
         if (segmentGeometry(static_cast<uint32_t>(cur), c, r, g)) return cur;
@@ -85,153 +89,161 @@ void Model::setBroadphaseMargin(double margin) {
             std::string("broadphase: margin must be 0 (automatic) or in [1e-9, 1e9] m (got ") +
             got + ")");
     }
-    m_margin = margin;
-    if (m_broadphase_ready) {
+    m_contacts->margin = margin;
+    if (m_contacts->broadphase_ready) {
         // Rebuild with the new margin; existing pairs are kept (makePair finds them), and pairs
         // whose fat boxes no longer overlap are dropped at the next step.
-        m_broadphase_ready = false;
+        m_contacts->broadphase_ready = false;
         initBroadphase();
-        std::fill(m_ball_moved.begin(), m_ball_moved.end(), 1);
-        std::fill(m_segment_moved.begin(), m_segment_moved.end(), 1);
-        for (uint32_t s = 0; s < m_ball_moved.size(); ++s) m_moved_balls.push_back(s);
-        for (uint32_t g = 0; g < m_segment_moved.size(); ++g) m_moved_segments.push_back(g);
+        std::fill(m_contacts->ball_moved.begin(), m_contacts->ball_moved.end(), 1);
+        std::fill(m_contacts->segment_moved.begin(), m_contacts->segment_moved.end(), 1);
+        for (uint32_t s = 0; s < m_contacts->ball_moved.size(); ++s)
+            m_contacts->moved_balls.push_back(s);
+        for (uint32_t g = 0; g < m_contacts->segment_moved.size(); ++g)
+            m_contacts->moved_segments.push_back(g);
     }
 }
 
 void Model::initBroadphase() {
-    auto& b = *m_balls;
-    if (!(m_margin > 0.0)) {
+    auto& b = m_bodies->balls;
+    if (!(m_contacts->margin > 0.0)) {
         double mean = 0.0;
         for (double r : b.radius) mean += r;
         mean = b.size() ? mean / static_cast<double>(b.size()) : 0.0;
         if (mean <= 0.0) {
             // Only walls: take 1% of the walls' extent.
             Box all{Vec2(1e300, 1e300), Vec2(-1e300, -1e300)};
-            for (const Vec2& v : m_vertices)
+            for (const Vec2& v : m_bodies->vertices)
                 all.lo = all.lo.cwiseMin(v), all.hi = all.hi.cwiseMax(v);
-            mean = m_vertices.empty() ? 1.0 : std::max(0.01 * (all.hi - all.lo).norm(), 1e-6);
+            mean =
+                m_bodies->vertices.empty() ? 1.0 : std::max(0.01 * (all.hi - all.lo).norm(), 1e-6);
         }
-        m_margin = 0.05 * mean;
+        m_contacts->margin = 0.05 * mean;
     }
-    m_broadphase->reset(m_margin);
-    m_wall_broadphase->reset(m_margin);
-    m_broadphase_ready = true;
-    for (std::size_t i = 0; i < m_segments.size(); ++i) {
-        m_segments[i].proxy = -1;
-        if (!m_walls[m_segments[i].wall].alive) continue;
+    m_contacts->broadphase->reset(m_contacts->margin);
+    m_contacts->wall_broadphase->reset(m_contacts->margin);
+    m_contacts->broadphase_ready = true;
+    for (std::size_t i = 0; i < m_bodies->segments.size(); ++i) {
+        m_bodies->segments[i].proxy = -1;
+        if (!m_bodies->walls[m_bodies->segments[i].wall].alive) continue;
         const auto seg = static_cast<uint32_t>(i);
-        m_segments[i].proxy = m_wall_broadphase->create(grow(segmentBox(seg), m_margin), seg);
-        m_segments[i].fat = m_wall_broadphase->fatBox(m_segments[i].proxy);
+        m_bodies->segments[i].proxy =
+            m_contacts->wall_broadphase->create(grow(segmentBox(seg), m_contacts->margin), seg);
+        m_bodies->segments[i].fat =
+            m_contacts->wall_broadphase->fatBox(m_bodies->segments[i].proxy);
     }
     for (std::size_t s = 0; s < b.size(); ++s) {
-        b.proxy[s] =
-            m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
-        b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
+        b.proxy[s] = m_contacts->broadphase->create(
+            grow(ballBox(static_cast<uint32_t>(s)), m_contacts->margin), b.handle[s]);
+        b.fat[s] = m_contacts->broadphase->fatBox(b.proxy[s]);
     }
     for (std::size_t s = 0; s < b.size(); ++s) addPairsForBall(static_cast<uint32_t>(s));
-    m_ball_moved.assign(b.size(), 0);
-    m_segment_moved.assign(m_segments.size(), 0);
+    m_contacts->ball_moved.assign(b.size(), 0);
+    m_contacts->segment_moved.assign(m_bodies->segments.size(), 0);
 }
 
 void Model::rebuildBallTree() {
     // The tree's quality depends on the order of insertion; after the balls were sorted along a
     // Morton curve, inserting them in that order gives a spatially coherent tree (a query costs
     // about ten times less than in a tree built in random order, docs/benchmarks.md).
-    auto& b = *m_balls;
-    m_broadphase->reset(m_margin);
+    auto& b = m_bodies->balls;
+    m_contacts->broadphase->reset(m_contacts->margin);
     for (std::size_t s = 0; s < b.size(); ++s) {
-        b.proxy[s] =
-            m_broadphase->create(grow(ballBox(static_cast<uint32_t>(s)), m_margin), b.handle[s]);
-        b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
+        b.proxy[s] = m_contacts->broadphase->create(
+            grow(ballBox(static_cast<uint32_t>(s)), m_contacts->margin), b.handle[s]);
+        b.fat[s] = m_contacts->broadphase->fatBox(b.proxy[s]);
     }
 }
 
 void Model::insertBall(uint32_t s) {
-    auto& b = *m_balls;
-    b.proxy[s] = m_broadphase->create(grow(ballBox(s), m_margin), b.handle[s]);
-    b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
-    m_ball_moved.resize(b.size(), 0);
+    auto& b = m_bodies->balls;
+    b.proxy[s] = m_contacts->broadphase->create(grow(ballBox(s), m_contacts->margin), b.handle[s]);
+    b.fat[s] = m_contacts->broadphase->fatBox(b.proxy[s]);
+    m_contacts->ball_moved.resize(b.size(), 0);
     addPairsForBall(s);
 }
 
 void Model::insertSegment(uint32_t seg) {
-    Segment& sg = m_segments[seg];
-    sg.proxy = m_wall_broadphase->create(grow(segmentBox(seg), m_margin), seg);
-    sg.fat = m_wall_broadphase->fatBox(sg.proxy);
-    m_segment_moved.resize(m_segments.size(), 0);
+    Segment& sg = m_bodies->segments[seg];
+    sg.proxy = m_contacts->wall_broadphase->create(grow(segmentBox(seg), m_contacts->margin), seg);
+    sg.fat = m_contacts->wall_broadphase->fatBox(sg.proxy);
+    m_contacts->segment_moved.resize(m_bodies->segments.size(), 0);
     addPairsForSegment(seg);
 }
 
 void Model::addPairsForBall(uint32_t s) {
     // Balls and wall segments live in two trees: the segments of a box span the whole model and
     // would make every query of the ball tree descend into them.
-    const Box& fat = m_balls->fat[s];
-    m_query.clear();
-    m_broadphase->query(fat, m_query);
-    for (int32_t other : m_query) {
-        const uint32_t handle = m_broadphase->user(other);
-        const uint32_t o = m_slot_of[handle - 1];
+    const Box& fat = m_bodies->balls.fat[s];
+    m_contacts->query.clear();
+    m_contacts->broadphase->query(fat, m_contacts->query);
+    for (int32_t other : m_contacts->query) {
+        const uint32_t handle = m_contacts->broadphase->user(other);
+        const uint32_t o = m_bodies->slot_of[handle - 1];
         if (o != s) makePair(s, o, false);
     }
-    m_query.clear();
-    m_wall_broadphase->query(fat, m_query);
-    for (int32_t other : m_query) makePair(s, m_wall_broadphase->user(other), true);
+    m_contacts->query.clear();
+    m_contacts->wall_broadphase->query(fat, m_contacts->query);
+    for (int32_t other : m_contacts->query)
+        makePair(s, m_contacts->wall_broadphase->user(other), true);
 }
 
 void Model::addPairsForSegment(uint32_t seg) {
-    m_query.clear();
-    m_broadphase->query(m_segments[seg].fat, m_query);
-    for (int32_t other : m_query) makePair(m_slot_of[m_broadphase->user(other) - 1], seg, true);
+    m_contacts->query.clear();
+    m_contacts->broadphase->query(m_bodies->segments[seg].fat, m_contacts->query);
+    for (int32_t other : m_contacts->query)
+        makePair(m_bodies->slot_of[m_contacts->broadphase->user(other) - 1], seg, true);
 }
 
 void Model::detectContacts() {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     if (m_sort_every > 0 && m_step % m_sort_every == 0) {
         sortBalls();
         rebuildBallTree();
     }
-    m_moved_balls.clear();
-    m_moved_segments.clear();
+    m_contacts->moved_balls.clear();
+    m_contacts->moved_segments.clear();
     for (std::size_t s = 0; s < b.size(); ++s) {
-        const Box want = grow(ballBox(static_cast<uint32_t>(s)), m_margin);
+        const Box want = grow(ballBox(static_cast<uint32_t>(s)), m_contacts->margin);
         if (b.fat[s].contains(want)) continue;
-        if (m_broadphase->move(b.proxy[s], want)) {
-            b.fat[s] = m_broadphase->fatBox(b.proxy[s]);
-            m_moved_balls.push_back(static_cast<uint32_t>(s));
-            m_ball_moved[s] = 1;
+        if (m_contacts->broadphase->move(b.proxy[s], want)) {
+            b.fat[s] = m_contacts->broadphase->fatBox(b.proxy[s]);
+            m_contacts->moved_balls.push_back(static_cast<uint32_t>(s));
+            m_contacts->ball_moved[s] = 1;
         }
     }
-    for (std::size_t w = 0; w < m_walls.size(); ++w) {
-        const WallData& wd = m_walls[w];
+    for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
+        const WallData& wd = m_bodies->walls[w];
         if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0)) continue;
         for (uint32_t k = 0; k < wd.segment_count; ++k) {
             const uint32_t seg = wd.first_segment + k;
-            Segment& sg = m_segments[seg];
-            const Box want = grow(segmentBox(seg), m_margin);
+            Segment& sg = m_bodies->segments[seg];
+            const Box want = grow(segmentBox(seg), m_contacts->margin);
             if (sg.fat.contains(want)) continue;
-            if (m_wall_broadphase->move(sg.proxy, want)) {
-                sg.fat = m_wall_broadphase->fatBox(sg.proxy);
-                m_moved_segments.push_back(seg);
-                m_segment_moved[seg] = 1;
+            if (m_contacts->wall_broadphase->move(sg.proxy, want)) {
+                sg.fat = m_contacts->wall_broadphase->fatBox(sg.proxy);
+                m_contacts->moved_segments.push_back(seg);
+                m_contacts->segment_moved[seg] = 1;
             }
         }
     }
-    m_profile.proxy_moves += static_cast<int64_t>(m_moved_balls.size() + m_moved_segments.size());
-    for (uint32_t s : m_moved_balls) addPairsForBall(s);
-    for (uint32_t seg : m_moved_segments) addPairsForSegment(seg);
+    m_profile.proxy_moves +=
+        static_cast<int64_t>(m_contacts->moved_balls.size() + m_contacts->moved_segments.size());
+    for (uint32_t s : m_contacts->moved_balls) addPairsForBall(s);
+    for (uint32_t seg : m_contacts->moved_segments) addPairsForSegment(seg);
 }
 
 void Model::clearMovedFlags() {
-    for (uint32_t s : m_moved_balls) m_ball_moved[s] = 0;
-    for (uint32_t seg : m_moved_segments) m_segment_moved[seg] = 0;
-    m_moved_balls.clear();
-    m_moved_segments.clear();
+    for (uint32_t s : m_contacts->moved_balls) m_contacts->ball_moved[s] = 0;
+    for (uint32_t seg : m_contacts->moved_segments) m_contacts->segment_moved[seg] = 0;
+    m_contacts->moved_balls.clear();
+    m_contacts->moved_segments.clear();
 }
 
 // ------------------------------------------------------------------------ pairs
 
 PropBlock Model::propBlockFor(const Pair& p) const {
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     PropBlock pb{};
     pb.size = sizeof(PropBlock);
     pb.version = m_fd_template.version;
@@ -239,7 +251,7 @@ PropBlock Model::propBlockFor(const Pair& p) const {
     pb.radius[0] = b.radius[p.end1];
     pb.mass[0] = b.mass[p.end1];
     if (p.wall) {
-        const WallData& w = m_walls[m_segments[p.end2].wall];
+        const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
         pb.end2_type = kEndWall;
         pb.kn[1] = w.kn, pb.ks[1] = w.ks, pb.fric[1] = w.fric;
         pb.radius[1] = 0.0;
@@ -256,7 +268,7 @@ PropBlock Model::propBlockFor(const Pair& p) const {
 
 double Model::tangentialInverseMass(const Pair& p) const {
     // Contact points at the rims: r = R (the overlap's share is negligible for this use).
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     const double r1 = b.radius[p.end1];
     double inv = b.inv_mass[p.end1] + r1 * r1 * b.inv_inertia[p.end1];
     if (!p.wall) {
@@ -288,7 +300,7 @@ ContactModel* Model::cloneFor(Pair& p) {
 }
 
 bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     Pair p;
     PairCold cold;
     if (other_is_segment) {
@@ -304,12 +316,13 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
         p.end2 = c;
         cold.key = (uint64_t(b.handle[a]) << 32) | b.handle[c];
     }
-    if (m_pair_index.count(cold.key)) return false;
-    const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
+    if (m_contacts->key_index.count(cold.key)) return false;
+    const uint64_t g2 =
+        p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].groups : b.groups[p.end2];
     const Rule& rule = ruleFor(b.groups[p.end1], g2);
     if (!rule.prototype) return false;  // no contact model: bodies pass through
     p.rule = const_cast<Rule*>(&rule);
-    cold.rules_version = m_rules_version;
+    cold.rules_version = m_contacts->rules_version;
     p.activity = rule.activity;
     const double m1 = b.mass[p.end1];
     p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
@@ -317,38 +330,40 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
     p.model = cloneFor(p);
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
-    m_pair_index.emplace(cold.key, static_cast<uint32_t>(m_pairs.size()));
-    m_pairs.push_back(p);
-    m_cold.push_back(cold);
+    m_contacts->key_index.emplace(cold.key, static_cast<uint32_t>(m_contacts->pairs.size()));
+    m_contacts->pairs.push_back(p);
+    m_contacts->cold.push_back(cold);
     ++m_profile.pairs_created;
     return true;
 }
 
 void Model::removePair(std::size_t i) {
-    Pair& p = m_pairs[i];
+    Pair& p = m_contacts->pairs[i];
     // A contact removed while active (its ball deleted) ends with what it stores: released,
     // not dropped (the next step's strain sum no longer holds it).
-    if (p.active && m_energy_on) m_energy_acc.released += m_cold[i].strain + m_cold[i].bond;
+    if (p.active && m_books.on)
+        m_books.acc.released += m_contacts->cold[i].strain + m_contacts->cold[i].bond;
     if (p.model) {
         p.model->Destroy();
         p.rule->pool->release(p.model);
         p.model = nullptr;
     }
-    m_pair_index.erase(m_cold[i].key);
-    const std::size_t last = m_pairs.size() - 1;
+    m_contacts->key_index.erase(m_contacts->cold[i].key);
+    const std::size_t last = m_contacts->pairs.size() - 1;
     if (i != last) {
-        m_pairs[i] = m_pairs[last];
-        m_cold[i] = m_cold[last];
-        m_pair_index[m_cold[i].key] = static_cast<uint32_t>(i);
+        m_contacts->pairs[i] = m_contacts->pairs[last];
+        m_contacts->cold[i] = m_contacts->cold[last];
+        m_contacts->key_index[m_contacts->cold[i].key] = static_cast<uint32_t>(i);
     }
-    m_pairs.pop_back();
-    m_cold.pop_back();
+    m_contacts->pairs.pop_back();
+    m_contacts->cold.pop_back();
 }
 
 void Model::refreshRule(Pair& p) {
-    m_cold[pairIndex(p)].rules_version = m_rules_version;
-    const auto& b = *m_balls;
-    const uint64_t g2 = p.wall ? m_walls[m_segments[p.end2].wall].groups : b.groups[p.end2];
+    m_contacts->cold[pairIndex(p)].rules_version = m_contacts->rules_version;
+    const auto& b = m_bodies->balls;
+    const uint64_t g2 =
+        p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].groups : b.groups[p.end2];
     Rule* rule = const_cast<Rule*>(&ruleFor(b.groups[p.end1], g2));
     if (rule == p.rule || !rule->prototype) return;
     p.model->Destroy();
@@ -370,7 +385,7 @@ void Model::resetPair(Pair& p) {
     p.n_force = p.s_force = p.moment = 0.0;
     p.knest = p.model->KnEstimate();
     p.ksest = p.model->KsEstimate();
-    PairCold& c = m_cold[pairIndex(p)];
+    PairCold& c = m_contacts->cold[pairIndex(p)];
     const uint64_t key = c.key;
     const uint32_t version = c.rules_version;
     c = PairCold{};
@@ -391,13 +406,7 @@ void Model::resetPair(Pair& p) {
 // same ends' properties and the same rule (a rule depends on the groups, the same for every
 // segment of a wall), so the model object fits either pair. docs/physics/walls.md.
 
-void Model::swapPairState(std::size_t i, std::size_t j) {
-    // Everything but the identity (which segment, the key) changes places.
-    std::swap(m_pairs[i], m_pairs[j]);
-    std::swap(m_pairs[i].end2, m_pairs[j].end2);
-    std::swap(m_cold[i], m_cold[j]);
-    std::swap(m_cold[i].key, m_cold[j].key);
-}
+void Model::swapPairState(std::size_t i, std::size_t j) { m_contacts->swapState(i, j); }
 
 bool Model::handOverWallContact(std::size_t i) {
     // Slot i holds an active wall contact whose segment gave the ball up. After the handover,
@@ -405,27 +414,29 @@ bool Model::handOverWallContact(std::size_t i) {
     // takes the holder's former slot: the force loop processes slot i again, so the contact gets
     // its FDlaw this step whether the holder's pair came before or after it in the loop (or is
     // created here, at the end of the list).
-    const uint32_t s1 = m_pairs[i].end1;
-    const int32_t h = wallHolder(m_pairs[i].end2, m_balls->pos[s1], m_balls->radius[s1]);
+    const uint32_t s1 = m_contacts->pairs[i].end1;
+    const int32_t h =
+        wallHolder(m_contacts->pairs[i].end2, m_bodies->balls.pos[s1], m_bodies->balls.radius[s1]);
     if (h < 0) return false;
-    const uint64_t key = (uint64_t(m_balls->handle[s1]) << 32) | (kWallBit | uint32_t(h));
-    auto it = m_pair_index.find(key);
-    if (it == m_pair_index.end()) {
+    const uint64_t key = (uint64_t(m_bodies->balls.handle[s1]) << 32) | (kWallBit | uint32_t(h));
+    auto it = m_contacts->key_index.find(key);
+    if (it == m_contacts->key_index.end()) {
         if (!makePair(s1, static_cast<uint32_t>(h), true)) return false;
-        it = m_pair_index.find(key);
+        it = m_contacts->key_index.find(key);
     }
     const std::size_t q = it->second;
     // An active holder already has a contact of its own (never so at a vertex of one chain,
     // where the rule above gives every point to one segment): do not merge two contacts.
-    if (m_pairs[q].active) return false;
-    std::swap(m_pairs[i].end2, m_pairs[q].end2);
-    std::swap(m_cold[i].key, m_cold[q].key);
-    m_pair_index[m_cold[i].key] = static_cast<uint32_t>(i);
-    m_pair_index[m_cold[q].key] = static_cast<uint32_t>(q);
+    if (m_contacts->pairs[q].active) return false;
+    std::swap(m_contacts->pairs[i].end2, m_contacts->pairs[q].end2);
+    std::swap(m_contacts->cold[i].key, m_contacts->cold[q].key);
+    m_contacts->key_index[m_contacts->cold[i].key] = static_cast<uint32_t>(i);
+    m_contacts->key_index[m_contacts->cold[q].key] = static_cast<uint32_t>(q);
     // Slot q may have been marked for removal this step (the holder's pair, far from the ball
     // then); it now holds the old segment's pair, which a later step will check again.
-    m_to_remove.erase(std::remove(m_to_remove.begin(), m_to_remove.end(), uint32_t(q)),
-                      m_to_remove.end());
+    m_contacts->to_remove.erase(
+        std::remove(m_contacts->to_remove.begin(), m_contacts->to_remove.end(), uint32_t(q)),
+        m_contacts->to_remove.end());
     return true;
 }
 
@@ -434,25 +445,26 @@ bool Model::adoptWallContact(std::size_t i) {
     // still held by the pair of a segment that gave it up (visited later in this step's loop),
     // this pair takes it over instead of starting a fresh contact. Walk the chain both ways over
     // existing, inactive pairs of this ball.
-    const Pair& p = m_pairs[i];
+    const Pair& p = m_contacts->pairs[i];
     const uint32_t s1 = p.end1, seg = p.end2;
-    const uint64_t hi = uint64_t(m_balls->handle[s1]) << 32;
-    const uint32_t n = m_walls[m_segments[seg].wall].segment_count;
+    const uint64_t hi = uint64_t(m_bodies->balls.handle[s1]) << 32;
+    const uint32_t n = m_bodies->walls[m_bodies->segments[seg].wall].segment_count;
     for (int dir = 0; dir < 2; ++dir) {
         int32_t cur = static_cast<int32_t>(seg);
         for (uint32_t k = 0; k + 1 < n; ++k) {
-            const Segment& sg = m_segments[static_cast<uint32_t>(cur)];
+            const Segment& sg = m_bodies->segments[static_cast<uint32_t>(cur)];
             cur = dir == 0 ? sg.prev : sg.next;
             if (cur < 0 || uint32_t(cur) == seg) break;
-            const auto it = m_pair_index.find(hi | kWallBit | uint32_t(cur));
-            if (it == m_pair_index.end()) break;
+            const auto it = m_contacts->key_index.find(hi | kWallBit | uint32_t(cur));
+            if (it == m_contacts->key_index.end()) break;
             const std::size_t j = it->second;
-            if (!m_pairs[j].active) continue;
+            if (!m_contacts->pairs[j].active) continue;
             // A segment that still holds the ball has a contact of its own (the other face of
             // a valley): leave it.
             ContactGeometry g;
-            if (segmentGeometry(uint32_t(cur), m_balls->pos[s1], m_balls->radius[s1], g) ||
-                wallHolder(uint32_t(cur), m_balls->pos[s1], m_balls->radius[s1]) !=
+            if (segmentGeometry(uint32_t(cur), m_bodies->balls.pos[s1], m_bodies->balls.radius[s1],
+                                g) ||
+                wallHolder(uint32_t(cur), m_bodies->balls.pos[s1], m_bodies->balls.radius[s1]) !=
                     static_cast<int32_t>(seg))
                 break;
             swapPairState(i, j);
@@ -465,7 +477,7 @@ bool Model::adoptWallContact(std::size_t i) {
 // ------------------------------------------------------------------------ memory order
 
 void Model::sortBalls() {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const std::size_t n = b.size();
     if (n < 2) return;
     Box all{b.pos[0], b.pos[0]};
@@ -499,27 +511,29 @@ void Model::sortBalls() {
     b.permute(order);
     std::vector<uint32_t> new_of(n);
     for (std::size_t i = 0; i < n; ++i) new_of[order[i]] = static_cast<uint32_t>(i);
-    for (std::size_t s = 0; s < n; ++s) m_slot_of[b.handle[s] - 1] = static_cast<uint32_t>(s);
-    for (auto& p : m_pairs) {
+    for (std::size_t s = 0; s < n; ++s)
+        m_bodies->slot_of[b.handle[s] - 1] = static_cast<uint32_t>(s);
+    for (auto& p : m_contacts->pairs) {
         p.end1 = new_of[p.end1];
         if (!p.wall) p.end2 = new_of[p.end2];
     }
     // Pairs in the order of their first end, so the force loop walks memory forward.
-    std::vector<uint32_t> porder(m_pairs.size());
+    std::vector<uint32_t> porder(m_contacts->pairs.size());
     std::iota(porder.begin(), porder.end(), 0u);
     std::sort(porder.begin(), porder.end(), [&](uint32_t x, uint32_t y) {
-        const Pair &px = m_pairs[x], &py = m_pairs[y];
-        return px.end1 != py.end1 ? px.end1 < py.end1 : m_cold[x].key < m_cold[y].key;
+        const Pair &px = m_contacts->pairs[x], &py = m_contacts->pairs[y];
+        return px.end1 != py.end1 ? px.end1 < py.end1
+                                  : m_contacts->cold[x].key < m_contacts->cold[y].key;
     });
-    std::vector<Pair> pairs(m_pairs.size());
-    std::vector<PairCold> cold(m_cold.size());
+    std::vector<Pair> pairs(m_contacts->pairs.size());
+    std::vector<PairCold> cold(m_contacts->cold.size());
     for (std::size_t i = 0; i < porder.size(); ++i) {
-        pairs[i] = m_pairs[porder[i]];
-        cold[i] = m_cold[porder[i]];
-        m_pair_index[cold[i].key] = static_cast<uint32_t>(i);
+        pairs[i] = m_contacts->pairs[porder[i]];
+        cold[i] = m_contacts->cold[porder[i]];
+        m_contacts->key_index[cold[i].key] = static_cast<uint32_t>(i);
     }
-    m_pairs.swap(pairs);
-    m_cold.swap(cold);
+    m_contacts->pairs.swap(pairs);
+    m_contacts->cold.swap(cold);
     repackContactObjects();
 }
 
@@ -527,20 +541,20 @@ void Model::repackContactObjects() {
     // Contact objects are placed as pairs appear, so after a while the force loop, which walks
     // the pairs in memory order, jumps around the pools. Move every object into a fresh pool in
     // the pairs' order (ContactModel::MoveTo) and drop the old pools.
-    std::vector<std::unique_ptr<ObjectPool>> fresh(m_rules.size());
+    std::vector<std::unique_ptr<ObjectPool>> fresh(m_contacts->rules.size());
     std::unordered_map<const Rule*, std::size_t> slot;
-    for (std::size_t r = 0; r < m_rules.size(); ++r) {
-        slot[m_rules[r].get()] = r;
-        if (m_rules[r]->pool)
-            fresh[r] = std::make_unique<ObjectPool>(m_rules[r]->pool->blockSize());
+    for (std::size_t r = 0; r < m_contacts->rules.size(); ++r) {
+        slot[m_contacts->rules[r].get()] = r;
+        if (m_contacts->rules[r]->pool)
+            fresh[r] = std::make_unique<ObjectPool>(m_contacts->rules[r]->pool->blockSize());
     }
-    for (auto& p : m_pairs) {
+    for (auto& p : m_contacts->pairs) {
         if (!p.model) continue;
         ObjectPool& pool = *fresh[slot[p.rule]];
         p.model = p.model->MoveTo(pool.allocate());
     }
-    for (std::size_t r = 0; r < m_rules.size(); ++r)
-        if (fresh[r]) m_rules[r]->pool = std::move(fresh[r]);
+    for (std::size_t r = 0; r < m_contacts->rules.size(); ++r)
+        if (fresh[r]) m_contacts->rules[r]->pool = std::move(fresh[r]);
 }
 
 }  // namespace talus

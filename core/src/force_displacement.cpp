@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "talus/errors.hpp"
@@ -79,12 +81,12 @@ void Model::forceDisplacement() {
                        m_guard.stiffness != GuardAction::Off;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (automatic) {
-        if (m_energy_on)
+        if (m_books.on)
             guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
         else
             guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
     } else {
-        if (m_energy_on)
+        if (m_books.on)
             guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
         else
             guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
@@ -93,10 +95,19 @@ void Model::forceDisplacement() {
 
 template <bool kAuto, bool kEnergy, bool kGuard>
 void Model::forceLoop() {
-    auto& b = *m_balls;
+    // References to the stores' arrays, taken once: the loop body reads them as it read the
+    // members they were before the stores existed (no extra load per pair).
+    auto& b = m_bodies->balls;
+    auto& walls = m_bodies->walls;
+    const auto& segments = m_bodies->segments;
+    auto& pairs = m_contacts->pairs;
+    auto& cold = m_contacts->cold;
+    const auto& ball_moved = m_contacts->ball_moved;
+    const auto& segment_moved = m_contacts->segment_moved;
+    auto& to_remove = m_contacts->to_remove;
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
     std::fill(b.moment.begin(), b.moment.end(), 0.0);
-    for (auto& w : m_walls) w.force.setZero(), w.moment = 0.0;
+    for (auto& w : walls) w.force.setZero(), w.moment = 0.0;
     if constexpr (kAuto) {
         std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
         std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
@@ -110,7 +121,7 @@ void Model::forceLoop() {
     double strain_now = 0.0, bond_now = 0.0;
     double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
     double finite_check = 0.0;
-    m_to_remove.clear();
+    to_remove.clear();
     const Vec2* pos = b.pos.data();
     const Vec2* vel = b.vel.data();
     const double* radius = b.radius.data();
@@ -118,14 +129,14 @@ void Model::forceLoop() {
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
 
-    const std::size_t npairs = m_pairs.size();
+    const std::size_t npairs = pairs.size();
     for (std::size_t i = 0; i < npairs; ++i) {
-        Pair& p = m_pairs[i];
+        Pair& p = pairs[i];
         // The contact objects live apart from the pairs, which only point to them: ask for the
         // first three cache lines of the object a few pairs ahead (the shipped models' objects
         // are 88 to 184 bytes).
         if (i + kPrefetchAhead < npairs) {
-            const Pair& ahead = m_pairs[i + kPrefetchAhead];
+            const Pair& ahead = pairs[i + kPrefetchAhead];
             if (ahead.active) {
                 const char* obj = reinterpret_cast<const char*>(ahead.model);
                 __builtin_prefetch(obj);
@@ -153,11 +164,11 @@ void Model::forceLoop() {
                     const double dist = std::sqrt(dist2);
                     const Vec2 arel = (force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
                                       (force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-                    noteApproach(p, m_cold[i], dist - rsum, vel[s2] - vel[s1], arel.norm(),
+                    noteApproach(p, cold[i], dist - rsum, vel[s2] - vel[s1], arel.norm(),
                                  dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
                 }
-                if ((m_ball_moved[s1] | m_ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
-                    m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((ball_moved[s1] | ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
+                    to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
             const double dist = std::sqrt(dist2);
@@ -184,7 +195,7 @@ void Model::forceLoop() {
                     -0.5 * q * (dv.dot(perp(g.normal)) / dist_old + 0.5 * (spin[s1] + spin[s2]));
             }
         } else {
-            const Segment& sg = m_segments[p.end2];
+            const Segment& sg = segments[p.end2];
             if (!segmentGeometry(p.end2, x1, r1, g)) {
                 // The ball is in a neighbouring segment's region: that segment holds the contact.
                 if (p.active) {
@@ -197,25 +208,24 @@ void Model::forceLoop() {
                     }
                     // No pair can take it (no holder, or one with a contact of its own): the
                     // contact ends here, and what it still stores is released.
-                    if constexpr (kEnergy)
-                        m_energy_acc.released += m_cold[i].strain + m_cold[i].bond;
-                    endContact(p, m_cold[i], kGuard);
+                    if constexpr (kEnergy) m_books.acc.released += cold[i].strain + cold[i].bond;
+                    endContact(p, cold[i], kGuard);
                 }
-                if ((m_ball_moved[s1] | m_segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
-                    m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
+                    to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
-            const WallData& wall = m_walls[sg.wall];
+            const WallData& wall = walls[sg.wall];
             x2 = wall.center;
             v2c = wall.vel + spinCross(wall.spin, g.point - x2);
             spin2 = wall.spin;
             if (!p.active && g.overlap <= -p.activity) {
                 if constexpr (kAuto) {
                     const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-                    noteApproach(p, m_cold[i], -g.overlap, v2c - vel[s1], a1.norm(), g.normal);
+                    noteApproach(p, cold[i], -g.overlap, v2c - vel[s1], a1.norm(), g.normal);
                 }
-                if ((m_ball_moved[s1] | m_segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
-                    m_to_remove.push_back(static_cast<uint32_t>(i));
+                if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
+                    to_remove.push_back(static_cast<uint32_t>(i));
                 continue;
             }
         }
@@ -227,7 +237,7 @@ void Model::forceLoop() {
         const Vec2 vrel = v2c - v1c;
         const Vec2 t = perp(g.normal);
         bool first = false;
-        if (!p.active) first = activate(p, m_cold[i], g, vrel);
+        if (!p.active) first = activate(p, cold[i], g, vrel);
         fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
         fd.u_n = g.overlap;
@@ -259,7 +269,7 @@ void Model::forceLoop() {
             fd.error = "unknown exception";
         }
         if (fd.status != 0) reportFailedLaw(p, fd);
-        if (first && m_cold[i].born_overlapped) notePlacement(p, m_cold[i], g.overlap, fd, kEnergy);
+        if (first && cold[i].born_overlapped) notePlacement(p, cold[i], g.overlap, fd, kEnergy);
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
         finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
 
@@ -271,7 +281,7 @@ void Model::forceLoop() {
             force[p.end2] += f;
             moment[p.end2] += cross(g.point - x2, f) + fd.moment;
         } else {
-            WallData& w = m_walls[m_segments[p.end2].wall];
+            WallData& w = walls[segments[p.end2].wall];
             w.force += f;
             w.moment += cross(g.point - w.center, f) + fd.moment;
         }
@@ -280,7 +290,7 @@ void Model::forceLoop() {
         const bool ends =
             g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete();
         if constexpr (kAuto || kEnergy || kGuard) {
-            PairCold& c = m_cold[i];
+            PairCold& c = cold[i];
             if constexpr (kAuto) {
                 c.krest = fd.krest;
                 noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
@@ -297,20 +307,20 @@ void Model::forceLoop() {
                      fd.energy[kEnergyPlastic] < 0.0)) {
                     checkEnergyContract(p, c, fd, fn_old, fs_old, m_old);
                 }
-                m_energy_acc.slip += fd.energy[kEnergySlip];
+                m_books.acc.slip += fd.energy[kEnergySlip];
                 // The dashpot impulse spans the velocity window around this step: booked at
                 // the next energy snapshot, half before it (law_of_motion.cpp).
-                m_dashpot_pending += fd.energy[kEnergyDashpot];
-                m_energy_acc.plastic += fd.energy[kEnergyPlastic];
+                m_books.dashpot_pending += fd.energy[kEnergyDashpot];
+                m_books.acc.plastic += fd.energy[kEnergyPlastic];
                 // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the
                 // model says how much), and so does the end of a contact that is still loaded.
-                m_energy_acc.released += fd.energy[kEnergyReleased];
+                m_books.acc.released += fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
-                if (m_strain_baseline_pending && !first)
+                if (m_books.strain_baseline_pending && !first)
                     held_before += storedBefore(fd, fn_old, fs_old, m_old);
                 if (ends) {
-                    m_energy_acc.released += c.strain + c.bond;
+                    m_books.acc.released += c.strain + c.bond;
                 } else {
                     strain_now += c.strain;
                     bond_now += c.bond;
@@ -339,7 +349,7 @@ void Model::forceLoop() {
                 // The deepest overlap is where the overlap stops growing: note the previous
                 // step's values there, once per turn (the stiffness and resolution checks).
                 const bool growing = first || g.overlap > p.overlap;
-                if (!growing && p.loading) noteDeepest(p, m_cold[i], fn_old, fd.u_dot_n);
+                if (!growing && p.loading) noteDeepest(p, cold[i], fn_old, fd.u_dot_n);
                 p.loading = growing;
             }
             // A contact that was pushing the bodies apart cannot reverse its normal within a
@@ -364,25 +374,25 @@ void Model::forceLoop() {
         p.steps += g.overlap > 0.0;
         if (fd.flags & kFdBroken) queueBreak(i, g.point, fd.break_mode);
         if (ends) {
-            endContact(p, m_cold[i], kGuard);
+            endContact(p, cold[i], kGuard);
             // Its ends may have moved apart while it was a contact (inactive pairs are checked
             // only when an end is re-inserted).
-            const Box& fat2 = p.wall ? m_segments[p.end2].fat : b.fat[p.end2];
-            if (!b.fat[s1].overlaps(fat2)) m_to_remove.push_back(static_cast<uint32_t>(i));
+            const Box& fat2 = p.wall ? segments[p.end2].fat : b.fat[p.end2];
+            if (!b.fat[s1].overlaps(fat2)) to_remove.push_back(static_cast<uint32_t>(i));
         }
     }
 
     if (!std::isfinite(finite_check)) findNonFiniteContact();
-    for (auto it = m_to_remove.rbegin(); it != m_to_remove.rend(); ++it) removePair(*it);
+    for (auto it = to_remove.rbegin(); it != to_remove.rend(); ++it) removePair(*it);
     clearMovedFlags();
     if constexpr (kEnergy) {
-        m_energy_acc.strain = strain_now;
-        m_energy_acc.bond = bond_now;
-        if (m_strain_baseline_pending) {
+        m_books.acc.strain = strain_now;
+        m_books.acc.bond = bond_now;
+        if (m_books.strain_baseline_pending) {
             // Tracing was switched on with loaded contacts: what they hold was put in before
             // the books opened (bookkeeping.cpp, setEnergyTracing).
-            m_energy_acc.initial_strain = held_before;
-            m_strain_baseline_pending = false;
+            m_books.acc.initial_strain = held_before;
+            m_books.strain_baseline_pending = false;
         }
     }
 }
@@ -393,7 +403,7 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     // A wall pair may be taking over the ball's contact from a neighbouring segment's pair
     // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
     if (p.wall && adoptWallContact(pairIndex(p))) return false;
-    if (c.rules_version != m_rules_version) refreshRule(p);
+    if (c.rules_version != m_contacts->rules_version) refreshRule(p);
     p.active = true;
     ++m_profile.contacts_created;
     c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
@@ -435,7 +445,7 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     // is known exactly; for a wall, the normal closing plus the turn of the line from the
     // vertex or the face, (v_t dt)^2 / (2 r). (The contact-point velocity would add the spins,
     // which turn the balls but do not close the gap.) More overlap than that was there before.
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     const double approach = -vrel.dot(g.normal);
     c.approach_rate = std::max(approach, 0.0);
     if (!p.wall) {
@@ -444,7 +454,7 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
         const double rsum = b.radius[p.end1] + b.radius[p.end2];
         c.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
     } else {
-        const WallData& w = m_walls[m_segments[p.end2].wall];
+        const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
         const Vec2 step = (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * m_dt;
         const double slide = step.dot(perp(g.normal));
         c.closure = std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
@@ -471,7 +481,7 @@ void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock&
                          (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
                          (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
     const double totals[kEnergyCount] = {
-        0.0, m_energy_acc.slip, m_energy_acc.dashpot, m_energy_acc.plastic, 0.0, 0.0};
+        0.0, m_books.acc.slip, m_books.acc.dashpot, m_books.acc.plastic, 0.0, 0.0};
     const std::string why = energyContractViolation(fd, scale, totals);
     if (!why.empty()) {
         const std::string what = "contact model '" + p.rule->model_name + "' at step " +
@@ -499,18 +509,18 @@ void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, cons
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
-    if (energy) m_energy_acc.placement += placed;
+    if (energy) m_books.acc.placement += placed;
     // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
     // formed by a spin-driven slide, rounding). Booked, not reported.
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
     if (overlap < 1e-3 * r) return;
-    m_placed_energy += placed;
-    if (m_placed++ == 0) {
-        m_placed_first = describePair(p) + " at step " + std::to_string(m_step) + ": overlap " +
-                         num(overlap) + " m (" + num(100.0 * overlap / r) +
-                         "% of the smaller radius), stored energy " + num(placed) + " J" +
-                         (energy ? "" : " (estimated from knest)");
+    m_guard_state.placed_energy += placed;
+    if (m_guard_state.placed++ == 0) {
+        m_guard_state.placed_first =
+            describePair(p) + " at step " + std::to_string(m_step) + ": overlap " + num(overlap) +
+            " m (" + num(100.0 * overlap / r) + "% of the smaller radius), stored energy " +
+            num(placed) + " J" + (energy ? "" : " (estimated from knest)");
     }
 }
 
@@ -528,9 +538,9 @@ void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
     ev.kind = EventKind::BondBreak;
     ev.time = m_time;
     ev.pos = point;
-    ev.contact = ContactKey{m_cold[i].key};
+    ev.contact = ContactKey{m_contacts->cold[i].key};
     ev.mode = mode;
-    ev.model = m_pairs[i].rule->model_name;
+    ev.model = m_contacts->pairs[i].rule->model_name;
     m_events.push_back(std::move(ev));
 }
 
@@ -543,7 +553,7 @@ void Model::reportFailedLaw(const Pair& p, const FdBlock& fd) const {
 void Model::findNonFiniteContact() const {
     // The force loop only sums the models' outputs; find the first contact that made the sum
     // non-finite (its stored values are this step's).
-    for (const Pair& p : m_pairs)
+    for (const Pair& p : m_contacts->pairs)
         if (p.active && !std::isfinite(p.n_force + p.s_force + p.moment + p.knest + p.ksest))
             throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(p.n_force) +
                            ", shear force " + num(p.s_force) + ", moment " + num(p.moment) +
@@ -580,7 +590,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                 num(p.knest) + " N/m)";
             if (m_guard.energy == GuardAction::Error)
                 throw NumericalError("energy created: " + what);
-            if (m_energy_gain++ == 0) m_energy_gain_first = what;
+            if (m_guard_state.energy_gain++ == 0) m_guard_state.energy_gain_first = what;
         }
         // Under-resolved: a step taken during the contact was too large for the impact's own
         // duration (the model's estimate at touch). A contact that is short for other reasons
@@ -595,7 +605,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
             if (m_guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
                                      std::to_string(m_guard.min_steps) + " steps are needed");
-            if (m_underresolved++ == 0) m_underresolved_first = what;
+            if (m_guard_state.underresolved++ == 0) m_guard_state.underresolved_first = what;
         }
         // At the deepest overlap the force may be up to twice the reported stiffness times the
         // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
@@ -612,7 +622,7 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
                 "stiffness (docs/plugin-abi.md, time-step contract)";
             if (m_guard.stiffness == GuardAction::Error)
                 throw NumericalError("stiffness under-reported: " + what);
-            if (m_stiffness_lies++ == 0) m_stiffness_lies_first = what;
+            if (m_guard_state.stiffness_lies++ == 0) m_guard_state.stiffness_lies_first = what;
         }
     }
     resetPair(p);

@@ -23,6 +23,8 @@
 #include <cmath>
 #include <string>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
@@ -41,7 +43,7 @@ std::string text(double v) { return messageNumber(v); }
 void Model::lawOfMotion() {
     m_window = m_first_cycle ? 0.5 * m_dt : 0.5 * (m_dt_prev + m_dt);
     const bool general =
-        m_energy_on || m_damping.local > 0.0 || m_damping.viscous > 0.0 || m_fixed_balls > 0;
+        m_books.on || m_damping.local > 0.0 || m_damping.viscous > 0.0 || m_fixed_balls > 0;
     general ? moveBalls<true>() : moveBalls<false>();
     m_first_cycle = false;
     m_time += m_dt;
@@ -50,7 +52,7 @@ void Model::lawOfMotion() {
 
 template <bool kGeneral>
 void Model::moveBalls() {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const std::size_t n = b.size();
     const double dt = m_dt;
     const double w = m_window;
@@ -85,7 +87,7 @@ void Model::moveBalls() {
     const double c = m_damping.viscous;
     const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
     const double gain = w / (1.0 + 0.5 * c * w);
-    const bool energy = m_energy_on;
+    const bool energy = m_books.on;
     const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
     for (std::size_t s = 0; s < n; ++s) {
@@ -157,21 +159,21 @@ void Model::moveBalls() {
         // holds the share of their effect before t, so the snapshot holds the same share of
         // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
         // the books half a step's dissipation ahead during an impact.)
-        m_energy_acc.damping += damping * lead;
-        m_energy_acc.boundary += driven * lead;
-        m_energy_acc.dashpot += m_dashpot_pending * lead;
-        m_energy = m_energy_acc;
-        m_energy.kinetic = kinetic;
-        m_energy_acc.body += body;
-        m_energy_acc.boundary += driven * (1.0 - lead);
-        m_energy_acc.damping += damping * (1.0 - lead);
-        m_energy_acc.dashpot += m_dashpot_pending * (1.0 - lead);
-        m_dashpot_pending = 0.0;
+        m_books.acc.damping += damping * lead;
+        m_books.acc.boundary += driven * lead;
+        m_books.acc.dashpot += m_books.dashpot_pending * lead;
+        m_books.snapshot = m_books.acc;
+        m_books.snapshot.kinetic = kinetic;
+        m_books.acc.body += body;
+        m_books.acc.boundary += driven * (1.0 - lead);
+        m_books.acc.damping += damping * (1.0 - lead);
+        m_books.acc.dashpot += m_books.dashpot_pending * (1.0 - lead);
+        m_books.dashpot_pending = 0.0;
     }
 }
 
 void Model::reportNonFiniteBall() const {
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     for (std::size_t s = 0; s < b.size(); ++s) {
         const Vec2& v = b.vel[s];
         if (std::isfinite(v.x() + v.y() + b.spin[s] + b.pos[s].x() + b.pos[s].y())) continue;
@@ -183,10 +185,10 @@ void Model::reportNonFiniteBall() const {
 
 void Model::moveWalls() {
     const double dt = m_dt;
-    for (std::size_t i = 0; i < m_walls.size(); ++i) {
-        WallData& w = m_walls[i];
+    for (std::size_t i = 0; i < m_bodies->walls.size(); ++i) {
+        WallData& w = m_bodies->walls[i];
         if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
-        if (m_energy_on) {
+        if (m_books.on) {
             // Work done on the balls: minus the force they exert on the wall times its motion.
             // That force is the last force loop's, whose impulse the law of motion has just
             // applied over the window w = (dt_prev + dt)/2 around the snapshot's time t; so its
@@ -197,13 +199,13 @@ void Model::moveWalls() {
             const double win = m_window;
             const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
             const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
-            m_energy_acc.boundary += work;
-            m_energy.boundary += work * lead;
+            m_books.acc.boundary += work;
+            m_books.snapshot.boundary += work * lead;
         }
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);
         for (uint32_t k = 0; k < w.vertex_count; ++k) {
-            Vec2& p = m_vertices[w.first_vertex + k];
+            Vec2& p = m_bodies->vertices[w.first_vertex + k];
             const Vec2 r = p - w.center;
             p = w.center + Vec2(ca * r.x() - sa * r.y(), sa * r.x() + ca * r.y()) + shift;
         }

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 //
-// Model: bodies, contact-model rules, queries, and the cycle driver. The phases themselves are in
-// timestep.cpp, law_of_motion.cpp, contact_detection.cpp, force_displacement.cpp and
+// Model, the facade: construction, group names, the cycle driver (cycle, solveTime) and
+// warnings. What it faces is split by file (docs/architecture.md, "where things are"):
+//   model_bodies.cpp    the ball and wall API (create, delete, read and set state)
+//   model_contacts.cpp  contact-model rules and the contact queries
+// The data lives in the two stores (body_store.hpp, contact_store.hpp); the phases of a cycle
+// are in timestep.cpp, law_of_motion.cpp, contact_detection.cpp, force_displacement.cpp and
 // bookkeeping.cpp.
 #include "talus/model.hpp"
 
@@ -13,7 +17,9 @@
 #include <iostream>
 #include <sstream>
 
+#include "body_store.hpp"
 #include "broadphase.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "props.hpp"
@@ -22,75 +28,7 @@
 namespace talus {
 
 namespace {
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::string fmt(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
-
-std::string vecText(const Vec2& v) { return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ")"; }
-
-// Input ranges (issue 6, item 12). Every value a script gives, and every value derived from it
-// (mass, inertia), must be finite and usable: a radius of 1e300 gave an infinite mass, a wall at
-// 1e200 m broke the broadphase (its tree stores float coordinates) and failed later blaming the
-// model. Coordinates beyond 1e9 m are refused: there a double resolves 1e-7 m, coarser than the
-// overlaps of a stiff contact, and the float broadphase tree (scale 0.1 / margin, margin >=
-// 1e-9 m, contact_detection.cpp) stays far from float overflow (3.4e38).
-constexpr double kMaxCoordinate = 1e9;  // [m]
-constexpr double kMinRadius = 1e-12;    // [m]
-
-bool inRange(const Vec2& v) {
-    return std::fabs(v.x()) <= kMaxCoordinate && std::fabs(v.y()) <= kMaxCoordinate;
-}
-
-/// Throws unless a coordinate is finite and within +-kMaxCoordinate; `what` names the option.
-void requireCoordinate(const std::string& what, const Vec2& v) {
-    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
-        throw InputError(what + " must be finite (got " + vecText(v) + ")");
-    if (!inRange(v))
-        throw InputError(what + " " + vecText(v) + " is out of range: coordinates must be within " +
-                         fmt(kMaxCoordinate) + " m of the origin");
-}
-
-void requireRadius(double r) {
-    if (!(r > 0.0) || !std::isfinite(r))
-        throw InputError("ball: radius must be > 0 (got " + fmt(r) + ")");
-    if (r < kMinRadius || r > kMaxCoordinate)
-        throw InputError("ball: radius " + fmt(r) + " m is out of range [" + fmt(kMinRadius) +
-                         ", " + fmt(kMaxCoordinate) + "] m");
-}
-
-/// The kinetic energy a velocity or spin gives must be finite: vel or spin = 1e300 made the
-/// energy totals infinite and balance_error -inf.
-void requireFiniteEnergy(double mass, double inertia, const Vec2& vel, double spin) {
-    if (!std::isfinite(0.5 * mass * vel.squaredNorm()))
-        throw InputError("ball: vel " + vecText(vel) + " gives a ball of " + fmt(mass) +
-                         " kg an infinite kinetic energy");
-    if (!std::isfinite(0.5 * inertia * spin * spin))
-        throw InputError("ball: spin " + fmt(spin) + " gives a ball of inertia " + fmt(inertia) +
-                         " kg m^2 an infinite kinetic energy");
-}
-
-/// Mass and inertia of a disk or sphere; throws when either (or its inverse) is not a finite
-/// positive number (a huge radius or density overflows, a tiny one underflows).
-void requireUsableMass(double mass, double inertia, const std::string& from) {
-    auto usable = [](double v) { return v > 0.0 && std::isfinite(v) && std::isfinite(1.0 / v); };
-    if (!usable(mass))
-        throw InputError("ball: " + from + " give a mass of " + fmt(mass) +
-                         " kg, which is not a usable positive number");
-    if (!usable(inertia))
-        throw InputError("ball: " + from + " give a moment of inertia of " + fmt(inertia) +
-                         " kg m^2, which is not a usable positive number");
-}
-
 using Clock = std::chrono::steady_clock;
-
 }  // namespace
 
 const char* stepRuleName(StepRule r) {
@@ -117,72 +55,21 @@ const char* stepRuleName(StepRule r) {
     return "?";
 }
 
+std::string vecText(const Vec2& v) {
+    return "(" + messageNumber(v.x()) + ", " + messageNumber(v.y()) + ")";
+}
+
 std::string messageNumber(double v, int digits) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%.*g", digits, v);
     return buf;
 }
 
-// ------------------------------------------------------------------------ small containers
-
-ObjectPool::ObjectPool(std::size_t block_size) {
-    const std::size_t a = alignof(std::max_align_t);
-    m_block = (block_size + a - 1) / a * a;
-}
-
-void* ObjectPool::allocate() {
-    if (m_free.empty()) {
-        constexpr std::size_t kPerChunk = 256;
-        m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
-        unsigned char* base = m_chunks.back().get();
-        for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);
-    }
-    void* p = m_free.back();
-    m_free.pop_back();
-    return p;
-}
-
-void ObjectPool::release(void* p) { m_free.push_back(p); }
-
-void Model::BallArrays::resize(std::size_t n) {
-    pos.resize(n), vel.resize(n), force.resize(n), fapp.resize(n);
-    angle.resize(n), spin.resize(n), moment.resize(n), mapp.resize(n);
-    radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n), inv_inertia.resize(n),
-        density.resize(n);
-    fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
-    kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
-}
-
-void Model::BallArrays::move(std::size_t to, std::size_t from) {
-    pos[to] = pos[from], vel[to] = vel[from], force[to] = force[from], fapp[to] = fapp[from];
-    angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from],
-    mapp[to] = mapp[from];
-    radius[to] = radius[from], mass[to] = mass[from], inv_mass[to] = inv_mass[from];
-    inertia[to] = inertia[from], inv_inertia[to] = inv_inertia[from], density[to] = density[from];
-    fixity[to] = fixity[from], handle[to] = handle[from], proxy[to] = proxy[from];
-    fat[to] = fat[from], groups[to] = groups[from];
-    kn[to] = kn[from], ks[to] = ks[from], fric[to] = fric[from];
-    k_tran[to] = k_tran[from], k_rot[to] = k_rot[from];
-}
-
-void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
-    auto apply = [&](auto& v) {
-        auto old = v;
-        for (std::size_t i = 0; i < new_to_old.size(); ++i) v[i] = old[new_to_old[i]];
-    };
-    apply(pos), apply(vel), apply(force), apply(fapp), apply(angle), apply(spin), apply(moment);
-    apply(mapp), apply(radius), apply(mass), apply(inv_mass), apply(inertia), apply(inv_inertia);
-    apply(density), apply(fixity), apply(handle), apply(proxy), apply(fat), apply(groups);
-    apply(kn), apply(ks), apply(fric), apply(k_tran), apply(k_rot);
-}
-
 // ------------------------------------------------------------------------ construction
 
 Model::Model(const ModelDef& def, PluginRegistry& registry)
-    : m_balls_ptr(std::make_unique<BallArrays>()),
-      m_balls(m_balls_ptr.get()),
-      m_broadphase(std::make_unique<Broadphase>()),
-      m_wall_broadphase(std::make_unique<Broadphase>()),
+    : m_bodies(std::make_unique<BodyStore>()),
+      m_contacts(std::make_unique<ContactStore>()),
       m_registry(registry),
       m_gravity(def.gravity),
       m_mass_mode(def.mass_mode) {
@@ -191,14 +78,14 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
     // Rule 0 is the default; until set it is "none" (no contacts are created).
     auto none = std::make_unique<Rule>();
     none->model_name = "";
-    m_rules.push_back(std::move(none));
+    m_contacts->rules.push_back(std::move(none));
     m_fd_template.size = sizeof(FdBlock);
     m_fd_template.version = TALUS_ABI_MAJOR * 1000 + TALUS_ABI_MINOR;
     m_warning_handler = [](const std::string& w) { std::cerr << "warning: " << w << "\n"; };
 }
 
 Model::~Model() {
-    for (auto& p : m_pairs) {
+    for (auto& p : m_contacts->pairs) {
         if (p.model) {
             p.model->Destroy();
             p.rule->pool->release(p.model);
@@ -216,647 +103,26 @@ int Model::groupIndex(const std::string& name, bool create) {
     return static_cast<int>(m_group_names.size() - 1);
 }
 
-// ------------------------------------------------------------------------ balls
-
-std::size_t Model::ballCount() const { return m_balls->size(); }
-
-uint32_t Model::slotOf(BallId id) const {
-    if (id.index == 0 || id.index > m_slot_of.size())
-        throw InputError("ball id " + std::to_string(id.index) + " does not exist");
-    const uint32_t slot = m_slot_of[id.index - 1];
-    if (slot == kDeadSlot || m_generation[id.index - 1] != id.generation)
-        throw InputError("ball " + std::to_string(id.index) + " was deleted (stale id)");
-    return slot;
-}
-
-bool Model::isAlive(BallId id) const {
-    return id.index != 0 && id.index <= m_slot_of.size() && m_slot_of[id.index - 1] != kDeadSlot &&
-           m_generation[id.index - 1] == id.generation;
-}
-
-std::string Model::describeBall(uint32_t slot) const {
-    return "ball " + std::to_string(m_balls->handle[slot]) + " at " + vecText(m_balls->pos[slot]);
-}
-
-void Model::refreshPairMasses(uint32_t s) {
-    // Pairs cache their effective mass (force_displacement.cpp); a mass change is rare.
-    const auto& b = *m_balls;
-    for (auto& p : m_pairs)
-        if (p.end1 == s || (!p.wall && p.end2 == s))
-            p.mass_eff = p.wall
-                             ? b.mass[p.end1]
-                             : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
-            p.inv_mass_eff_s = tangentialInverseMass(p);
-}
-
-void Model::updateMass(uint32_t s) {
-    auto& b = *m_balls;
-    const double r = b.radius[s];
-    if (m_mass_mode == MassMode::Disk) {
-        b.mass[s] = b.density[s] * M_PI * r * r;  // unit thickness
-        b.inertia[s] = 0.5 * b.mass[s] * r * r;
-    } else {
-        b.mass[s] = b.density[s] * 4.0 / 3.0 * M_PI * r * r * r;
-        b.inertia[s] = 0.4 * b.mass[s] * r * r;
-    }
-    b.inv_mass[s] = 1.0 / b.mass[s];
-    b.inv_inertia[s] = 1.0 / b.inertia[s];
-}
-
-BallId Model::createBall(const BallDef& d) {
-    m_limits_stale = true;
-    auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
-    requireRadius(d.radius);
-    const bool has_mass = !std::isnan(d.mass);
-    if (has_mass && !(d.mass > 0.0 && std::isfinite(d.mass)))
-        throw InputError("ball: mass must be > 0 (got " + fmt(d.mass) + ")");
-    if (!has_mass && !(d.density > 0.0 && std::isfinite(d.density)))
-        throw InputError("ball: density must be > 0 (got " + fmt(d.density) + ")");
-    if (!std::isnan(d.inertia) && !(d.inertia > 0.0 && std::isfinite(d.inertia)))
-        throw InputError("ball: inertia must be > 0 (got " + fmt(d.inertia) + ")");
-    requireCoordinate("ball: pos", d.pos);
-    if (!finite2(d.vel)) throw InputError("ball: vel must be finite");
-    if (!std::isfinite(d.spin) || !std::isfinite(d.angle))
-        throw InputError("ball: spin and angle must be finite");
-    for (double v : {d.kn, d.ks, d.fric})
-        if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
-            throw InputError("ball: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
-    {
-        // The derived values, before anything is stored.
-        const double r = d.radius;
-        const bool disk = m_mass_mode == MassMode::Disk;
-        const double volume = disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
-        const double mass = has_mass ? d.mass : d.density * volume;
-        const double inertia =
-            !std::isnan(d.inertia) ? d.inertia : (disk ? 0.5 : 0.4) * mass * r * r;
-        requireUsableMass(mass, inertia,
-                          has_mass ? "mass " + fmt(d.mass) + " and radius " + fmt(r)
-                                   : "density " + fmt(d.density) + " and radius " + fmt(r));
-        requireFiniteEnergy(mass, inertia, d.vel, d.spin);
-    }
-
-    auto& b = *m_balls;
-    const uint32_t s = static_cast<uint32_t>(b.size());
-    b.resize(s + 1);
-    b.pos[s] = d.pos;
-    b.vel[s] = d.vel;
-    b.force[s] = b.fapp[s] = Vec2::Zero();
-    b.angle[s] = d.angle;
-    b.spin[s] = d.spin;
-    b.moment[s] = b.mapp[s] = 0.0;
-    b.radius[s] = d.radius;
-    b.density[s] = has_mass ? 0.0 : d.density;
-    if (has_mass) {
-        b.mass[s] = d.mass;
-        b.inertia[s] = (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * d.mass * d.radius * d.radius;
-        b.inv_mass[s] = 1.0 / d.mass;
-        b.inv_inertia[s] = 1.0 / b.inertia[s];
-        b.density[s] = d.mass / (m_mass_mode == MassMode::Disk
-                                     ? M_PI * d.radius * d.radius
-                                     : 4.0 / 3.0 * M_PI * d.radius * d.radius * d.radius);
-    } else {
-        updateMass(s);
-    }
-    if (!std::isnan(d.inertia)) {
-        b.inertia[s] = d.inertia;
-        b.inv_inertia[s] = 1.0 / d.inertia;
-    }
-    b.fixity[s] = d.fixity;
-    if (d.fixity) ++m_fixed_balls;
-    b.proxy[s] = -1;
-    b.groups[s] = 0;
-    for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << groupIndex(g, true);
-    b.kn[s] = d.kn, b.ks[s] = d.ks, b.fric[s] = d.fric;
-    b.k_tran[s] = b.k_rot[s] = 0.0;
-
-    uint32_t h;
-    if (!m_free_handles.empty()) {
-        h = m_free_handles.back();
-        m_free_handles.pop_back();
-        m_generation[h - 1] += 1;
-    } else {
-        m_slot_of.push_back(kDeadSlot);
-        m_generation.push_back(1);
-        h = static_cast<uint32_t>(m_slot_of.size());
-    }
-    m_slot_of[h - 1] = s;
-    b.handle[s] = h;
-    if (m_broadphase_ready) insertBall(s);
-    return BallId{h, m_generation[h - 1]};
-}
-
-void Model::deleteBall(BallId id) {
-    m_limits_stale = true;
-    const uint32_t s = slotOf(id);
-    if (m_energy_on) {
-        // The ball leaves the books with its kinetic energy at the present whole step, taken as
-        // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
-        // plus half a step of the acceleration of the last force loop. Its contacts' stored
-        // energy goes to `released` (removePair).
-        const auto& b = *m_balls;
-        const double half = 0.5 * m_dt;
-        const Vec2 v = b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity) * half;
-        const double w = b.spin[s] + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * half;
-        const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
-                             (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
-        const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
-        m_energy_acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
-    }
-    // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
-    for (std::size_t i = m_pairs.size(); i-- > 0;) {
-        const Pair& p = m_pairs[i];
-        if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(i);
-    }
-    auto& b = *m_balls;
-    if (b.fixity[s]) --m_fixed_balls;
-    if (b.proxy[s] >= 0) m_broadphase->destroy(b.proxy[s]);
-    const uint32_t last = static_cast<uint32_t>(b.size() - 1);
-    if (s != last) {
-        b.move(s, last);
-        m_slot_of[b.handle[s] - 1] = s;
-        for (auto& p : m_pairs) {
-            if (p.end1 == last) p.end1 = s;
-            if (!p.wall && p.end2 == last) p.end2 = s;
-        }
-    }
-    b.resize(last);
-    if (m_ball_moved.size() > last) m_ball_moved.resize(last);
-    m_slot_of[id.index - 1] = kDeadSlot;
-    m_free_handles.push_back(id.index);
-}
-
-std::vector<BallId> Model::ballIds() const {
-    std::vector<BallId> ids;
-    ids.reserve(m_balls->size());
-    for (uint32_t h = 1; h <= m_slot_of.size(); ++h)
-        if (m_slot_of[h - 1] != kDeadSlot) ids.push_back(BallId{h, m_generation[h - 1]});
-    return ids;
-}
-
-Vec2 Model::ballPos(BallId id) const { return m_balls->pos[slotOf(id)]; }
-Vec2 Model::ballVel(BallId id) const { return m_balls->vel[slotOf(id)]; }
-double Model::ballSpin(BallId id) const { return m_balls->spin[slotOf(id)]; }
-double Model::ballAngle(BallId id) const { return m_balls->angle[slotOf(id)]; }
-double Model::ballRadius(BallId id) const { return m_balls->radius[slotOf(id)]; }
-double Model::ballMass(BallId id) const { return m_balls->mass[slotOf(id)]; }
-double Model::ballInertia(BallId id) const { return m_balls->inertia[slotOf(id)]; }
-double Model::ballDensity(BallId id) const { return m_balls->density[slotOf(id)]; }
-Vec2 Model::ballForce(BallId id) const { return m_balls->force[slotOf(id)]; }
-double Model::ballMoment(BallId id) const { return m_balls->moment[slotOf(id)]; }
-Vec2 Model::ballAppliedForce(BallId id) const { return m_balls->fapp[slotOf(id)]; }
-double Model::ballAppliedMoment(BallId id) const { return m_balls->mapp[slotOf(id)]; }
-uint8_t Model::ballFixity(BallId id) const { return m_balls->fixity[slotOf(id)]; }
-
-static void requireFinite(const char* what, const Vec2& v) {
-    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
-        throw InputError(std::string("ball: ") + what + " must be finite");
-}
-
-void Model::setBallPos(BallId id, const Vec2& p) {
-    m_limits_stale = true;
-    requireCoordinate("ball: pos", p);
-    const uint32_t s = slotOf(id);
-    m_balls->pos[s] = p;
-}
-void Model::setBallVel(BallId id, const Vec2& v) {
-    m_limits_stale = true;
-    requireFinite("vel", v);
-    const uint32_t s = slotOf(id);
-    requireFiniteEnergy(m_balls->mass[s], 0.0, v, 0.0);
-    m_balls->vel[s] = v;
-}
-void Model::setBallSpin(BallId id, double w) {
-    m_limits_stale = true;
-    if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
-    const uint32_t s = slotOf(id);
-    requireFiniteEnergy(0.0, m_balls->inertia[s], Vec2::Zero(), w);
-    m_balls->spin[s] = w;
-}
-void Model::setBallRadius(BallId id, double r) {
-    m_limits_stale = true;
-    requireRadius(r);
-    const uint32_t s = slotOf(id);
-    if (m_balls->density[s] > 0.0) {
-        const double rho = m_balls->density[s];
-        const double mass =
-            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
-        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
-                          "density " + fmt(rho) + " and radius " + fmt(r));
-    }
-    m_balls->radius[s] = r;
-    if (m_balls->density[s] > 0.0) updateMass(s);
-    refreshPairMasses(s);
-}
-void Model::setBallDensity(BallId id, double rho) {
-    m_limits_stale = true;
-    if (!(rho > 0.0) || !std::isfinite(rho))
-        throw InputError("ball: density must be > 0 (got " + fmt(rho) + ")");
-    const uint32_t s = slotOf(id);
-    {
-        const double r = m_balls->radius[s];
-        const double mass =
-            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
-        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
-                          "density " + fmt(rho) + " and radius " + fmt(r));
-    }
-    m_balls->density[s] = rho;
-    updateMass(s);
-    refreshPairMasses(s);
-}
-void Model::setBallAppliedForce(BallId id, const Vec2& f) {
-    requireFinite("fapp (applied force)", f);
-    Vec2& fapp = m_balls->fapp[slotOf(id)];
-    if (fapp != f) m_limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
-    fapp = f;
-}
-void Model::setBallAppliedMoment(BallId id, double m) {
-    if (!std::isfinite(m))
-        throw InputError("ball: mapp (applied moment) must be finite (got " + fmt(m) + ")");
-    m_balls->mapp[slotOf(id)] = m;
-}
-void Model::setBallFixity(BallId id, uint8_t f) {
-    uint8_t& cur = m_balls->fixity[slotOf(id)];
-    m_fixed_balls += (f != 0) - (cur != 0);
-    cur = f;
-}
-
-static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
-                              std::vector<double>& fric, uint32_t s, const std::string& name,
-                              const char* owner) {
-    const std::string n = lower(name);
-    if (n == "kn") return kn[s];
-    if (n == "ks") return ks[s];
-    if (n == "fric") return fric[s];
-    throw InputError(std::string(owner) + ": unknown contact property '" + name +
-                     "' (inheritable: kn, ks, fric)");
-}
-
-double Model::ballContactProp(BallId id, const std::string& name) const {
-    auto& b = *m_balls;
-    return inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball");
-}
-void Model::setBallContactProp(BallId id, const std::string& name, double v) {
-    if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
-        throw InputError("ball: " + name + " must be >= 0 (got " + fmt(v) + ")");
-    auto& b = *m_balls;
-    inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball") = v;
-}
-
-std::vector<std::string> Model::ballGroups(BallId id) const {
-    std::vector<std::string> out;
-    const uint64_t g = m_balls->groups[slotOf(id)];
-    for (std::size_t i = 0; i < m_group_names.size(); ++i)
-        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
-    return out;
-}
-void Model::addBallGroup(BallId id, const std::string& group) {
-    const uint32_t s = slotOf(id);
-    m_balls->groups[s] |= uint64_t(1) << groupIndex(group, true);
-}
-
-// ------------------------------------------------------------------------ walls
-
-WallId Model::createWall(const WallDef& d) {
-    m_limits_stale = true;
-    const std::size_t n = d.points.size();
-    if (n < 2) throw InputError("wall: needs at least 2 points (got " + std::to_string(n) + ")");
-    if (d.closed && n < 3) throw InputError("wall: a closed wall needs at least 3 points");
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec2& p = d.points[i];
-        if (!std::isfinite(p.x()) || !std::isfinite(p.y()))
-            throw InputError("wall: point " + std::to_string(i + 1) + " is not finite");
-        requireCoordinate("wall: point " + std::to_string(i + 1), p);
-        const std::size_t j = (i + 1) % n;
-        if ((i + 1 < n || d.closed) && (d.points[j] - p).norm() <= 0.0)
-            throw InputError("wall: points " + std::to_string(i + 1) + " and " +
-                             std::to_string(j + 1) + " coincide (zero-length segment)");
-    }
-    if (!std::isfinite(d.vel.x()) || !std::isfinite(d.vel.y()) || !std::isfinite(d.spin))
-        throw InputError("wall: vel and spin must be finite");
-    if (!std::isnan(d.center.x()) || !std::isnan(d.center.y()))
-        requireCoordinate("wall: center", d.center);
-    for (double v : {d.kn, d.ks, d.fric})
-        if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
-            throw InputError("wall: kn, ks and fric must be >= 0 (got " + fmt(v) + ")");
-
-    WallData w;
-    w.closed = d.closed;
-    w.first_vertex = static_cast<uint32_t>(m_vertices.size());
-    w.vertex_count = static_cast<uint32_t>(n);
-    Vec2 centroid = Vec2::Zero();
-    for (const auto& p : d.points) {
-        m_vertices.push_back(p);
-        centroid += p;
-    }
-    centroid /= static_cast<double>(n);
-    w.center = std::isnan(d.center.x()) ? centroid : d.center;
-    w.vel = d.vel;
-    w.spin = d.spin;
-    for (const auto& g : d.groups) w.groups |= uint64_t(1) << groupIndex(g, true);
-    w.kn = d.kn, w.ks = d.ks, w.fric = d.fric;
-    const uint32_t wall_index = static_cast<uint32_t>(m_walls.size());
-    const std::size_t nseg = d.closed ? n : n - 1;
-    w.first_segment = static_cast<uint32_t>(m_segments.size());
-    w.segment_count = static_cast<uint32_t>(nseg);
-    for (std::size_t i = 0; i < nseg; ++i) {
-        Segment s;
-        s.wall = wall_index;
-        s.a = w.first_vertex + static_cast<uint32_t>(i);
-        s.b = w.first_vertex + static_cast<uint32_t>((i + 1) % n);
-        const int32_t first = static_cast<int32_t>(w.first_segment);
-        const int32_t k = static_cast<int32_t>(i), ns = static_cast<int32_t>(nseg);
-        s.prev = (i > 0) ? first + k - 1 : (d.closed ? first + ns - 1 : -1);
-        s.next = (i + 1 < nseg) ? first + k + 1 : (d.closed ? first : -1);
-        m_segments.push_back(s);
-    }
-    m_walls.push_back(w);
-    if (m_broadphase_ready)
-        for (uint32_t i = 0; i < nseg; ++i) insertSegment(w.first_segment + i);
-    return WallId{wall_index + 1, m_walls.back().generation};
-}
-
-std::size_t Model::wallCount() const { return m_walls.size(); }
-
-std::vector<WallId> Model::wallIds() const {
-    std::vector<WallId> ids;
-    for (std::size_t i = 0; i < m_walls.size(); ++i)
-        if (m_walls[i].alive)
-            ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_walls[i].generation});
-    return ids;
-}
-
-const Model::WallData& Model::wallOf(WallId id) const {
-    if (id.index == 0 || id.index > m_walls.size() || !m_walls[id.index - 1].alive ||
-        m_walls[id.index - 1].generation != id.generation)
-        throw InputError("wall id " + std::to_string(id.index) + " does not exist");
-    return m_walls[id.index - 1];
-}
-Model::WallData& Model::wallOf(WallId id) {
-    return const_cast<WallData&>(static_cast<const Model*>(this)->wallOf(id));
-}
-
-std::vector<Vec2> Model::wallPoints(WallId id) const {
-    const WallData& w = wallOf(id);
-    return std::vector<Vec2>(m_vertices.begin() + w.first_vertex,
-                             m_vertices.begin() + w.first_vertex + w.vertex_count);
-}
-Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
-void Model::setWallVel(WallId id, const Vec2& v) {
-    m_limits_stale = true;
-    if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
-        throw InputError("wall: vel must be finite");
-    wallOf(id).vel = v;
-}
-double Model::wallSpin(WallId id) const { return wallOf(id).spin; }
-void Model::setWallSpin(WallId id, double w) {
-    m_limits_stale = true;
-    if (!std::isfinite(w)) throw InputError("wall: spin must be finite");
-    wallOf(id).spin = w;
-}
-Vec2 Model::wallCenter(WallId id) const { return wallOf(id).center; }
-void Model::setWallCenter(WallId id, const Vec2& c) {
-    requireCoordinate("wall: center", c);
-    wallOf(id).center = c;
-}
-Vec2 Model::wallForce(WallId id) const { return wallOf(id).force; }
-
-double Model::wallContactProp(WallId id, const std::string& name) const {
-    const WallData& w = wallOf(id);
-    const std::string n = lower(name);
-    if (n == "kn") return w.kn;
-    if (n == "ks") return w.ks;
-    if (n == "fric") return w.fric;
-    throw InputError("wall: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
-}
-void Model::setWallContactProp(WallId id, const std::string& name, double v) {
-    if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
-        throw InputError("wall: " + name + " must be >= 0 (got " + fmt(v) + ")");
-    WallData& w = wallOf(id);
-    const std::string n = lower(name);
-    if (n == "kn")
-        w.kn = v;
-    else if (n == "ks")
-        w.ks = v;
-    else if (n == "fric")
-        w.fric = v;
-    else
-        throw InputError("wall: unknown contact property '" + name +
-                         "' (inheritable: kn, ks, fric)");
-}
-
-// ------------------------------------------------------------------------ contact-model rules
-
-const ModelFactory& Model::contactModelFactory(const std::string& name) {
-    return m_registry.find(name);
-}
-
-void Model::setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props) {
-    addContactModelRule(name, props, "", "");
-}
-
-void Model::addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
-                                const std::string& group_a, const std::string& group_b) {
-    auto rule = std::make_unique<Rule>();
-    rule->factory = &m_registry.find(name);
-    rule->model_name = rule->factory->name;
-    rule->prototype = m_registry.createPrototype(*rule->factory);
-    applyProps(*rule->prototype, props, "contact_model");
-    PropBlock pb = emptyPropBlock();
-    if (const char* err = rule->prototype->PreCycle(pb))
-        throw InputError(std::string("contact_model '") + rule->model_name + "': " + err);
-    rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
-    rule->group_b = group_b.empty() ? -1 : groupIndex(group_b, true);
-    rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
-    rule->order = static_cast<int>(m_rules.size());
-    rule->activity = rule->prototype->ActivityDistance();
-    rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
-    if (rule->specificity == 0) {
-        // A new default replaces the old one for future contacts; the old rule stays alive
-        // (existing contacts hold objects from its pool) but is no longer matched.
-        m_rules.push_back(std::move(m_rules[0]));
-        m_rules[0] = std::move(rule);
-    } else {
-        m_rules.push_back(std::move(rule));
-    }
-    // Pairs that are not in contact pick the new rules up when they touch.
-    ++m_rules_version;
-    m_limits_stale = true;
-    m_max_activity = 0.0;
-    for (const auto& r : m_rules)
-        if (r->prototype) m_max_activity = std::max(m_max_activity, r->activity);
-}
-
-const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
-    const Rule* best = m_rules[0].get();
-    int best_spec = -1, best_order = -1;
-    auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
-    for (std::size_t i = 1; i < m_rules.size(); ++i) {
-        const Rule& r = *m_rules[i];
-        if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
-        const bool match =
-            (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
-        if (match &&
-            (r.specificity > best_spec || (r.specificity == best_spec && r.order > best_order))) {
-            best = &r;
-            best_spec = r.specificity;
-            best_order = r.order;
-        }
-    }
-    return *best;
-}
-
-// ------------------------------------------------------------------------ contacts (queries)
-
-Model::Pair* Model::pairByKey(ContactKey key) {
-    auto it = m_pair_index.find(key.value);
-    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
-}
-const Model::Pair* Model::pairByKey(ContactKey key) const {
-    auto it = m_pair_index.find(key.value);
-    return it == m_pair_index.end() ? nullptr : &m_pairs[it->second];
-}
-
-std::size_t Model::pairIndex(const Pair& p) const {
-    return static_cast<std::size_t>(&p - m_pairs.data());
-}
-
-bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const {
-    const auto& b = *m_balls;
-    const Vec2& x1 = b.pos[p.end1];
-    ContactGeometry g;
-    if (p.wall) {
-        if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) return false;
-    } else {
-        const Vec2 d = b.pos[p.end2] - x1;
-        const double dist = d.norm();
-        g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
-        g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
-        g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
-    }
-    normal = g.normal;
-    overlap = g.overlap;
-    point = g.point;
-    return true;
-}
-
-ContactInfo Model::infoOf(std::size_t index) const {
-    const Pair& p = m_pairs[index];
-    ContactInfo c;
-    c.key = ContactKey{m_cold[index].key};
-    const uint32_t h1 = m_balls->handle[p.end1];
-    c.ball1 = BallId{h1, m_generation[h1 - 1]};
-    if (p.wall) {
-        const Segment& s = m_segments[p.end2];
-        c.wall = WallId{s.wall + 1, m_walls[s.wall].generation};
-        c.segment = static_cast<int32_t>(p.end2 - m_walls[s.wall].first_segment);
-    } else {
-        const uint32_t h2 = m_balls->handle[p.end2];
-        c.ball2 = BallId{h2, m_generation[h2 - 1]};
-    }
-    c.active = p.active;
-    pairGeometry(p, c.normal, c.overlap, c.point);
-    c.normal_force = p.n_force;
-    c.shear_force = p.s_force;
-    c.moment = p.moment;
-    c.sliding = p.sliding;
-    c.bonded = p.bonded;
-    c.model = p.rule ? p.rule->model_name : "";
-    return c;
-}
-
-std::string Model::describePair(const Pair& p) const {
-    std::string s = "contact ball " + std::to_string(m_balls->handle[p.end1]) + " - ";
-    if (p.wall) {
-        const Segment& seg = m_segments[p.end2];
-        s += "wall " + std::to_string(seg.wall + 1) + " segment " +
-             std::to_string(p.end2 - m_walls[seg.wall].first_segment + 1);
-    } else {
-        s += "ball " + std::to_string(m_balls->handle[p.end2]);
-    }
-    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
-    Vec2 n, point;
-    double overlap;
-    if (pairGeometry(p, n, overlap, point)) s += " at " + vecText(point);
-    return s;
-}
-
-std::size_t Model::contactCount(bool active_only) const {
-    if (!active_only) return m_pairs.size();
-    std::size_t n = 0;
-    for (const auto& p : m_pairs) n += p.active;
-    return n;
-}
-
-std::vector<ContactInfo> Model::contacts(bool active_only) const {
-    std::vector<ContactInfo> out;
-    for (std::size_t i = 0; i < m_pairs.size(); ++i)
-        if (m_pairs[i].active || !active_only) out.push_back(infoOf(i));
-    return out;
-}
-
-bool Model::findContact(ContactKey key, ContactInfo& out) const {
-    const Pair* p = pairByKey(key);
-    if (!p) return false;
-    out = infoOf(pairIndex(*p));
-    return true;
-}
-
-double Model::contactProp(ContactKey key, const std::string& name) const {
-    const Pair* p = pairByKey(key);
-    if (!p || !p->model) throw InputError("contact no longer exists");
-    const int32_t idx = propIndex(*p->model, name);
-    if (idx < 0)
-        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
-                         "' (known: " + knownProps(*p->model) + ")");
-    return p->model->ReturnProp(idx);
-}
-
-void Model::setContactProp(ContactKey key, const std::string& name, double value) {
-    m_limits_stale = true;
-    Pair* p = pairByKey(key);
-    if (!p || !p->model) throw InputError("contact no longer exists");
-    const int32_t idx = propIndex(*p->model, name);
-    if (idx < 0)
-        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
-                         "' (known: " + knownProps(*p->model) + ")");
-    if (const std::string why = propValueProblem(*p->model, idx, value); !why.empty())
-        throw InputError(std::string("contact: ") + p->model->Name() + ": '" + name + "' " + why);
-    if (p->model->AcceptProp(idx, value) != 0)
-        throw InputError(std::string("contact: ") + p->model->LastError());
-    // A stiffness set to zero on a live contact: the bodies may pass through each other.
-    const PropInfo* info = p->model->PropInfoAt(idx);
-    const std::string units = info && info->units ? info->units : "";
-    if (value == 0.0 && (units == "N/m" || units == "Pa"))
-        warn("contact " + describePair(*p) + ": property '" + name + "' of model '" +
-             p->model->Name() + "' set to 0: the contact may let the bodies pass through");
-}
-
-void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
-    Pair* p = pairByKey(key);
-    if (!p) throw InputError("contact no longer exists");
-    if (!std::isfinite(normal_force) || !std::isfinite(shear_force))
-        throw InputError("contact: normal_force and shear_force must be finite (got " +
-                         fmt(normal_force) + ", " + fmt(shear_force) + ")");
-    p->n_force = normal_force;
-    p->s_force = shear_force;
-}
+const Model::BallArrays& Model::balls() const { return m_bodies->balls; }
+double Model::broadphaseMargin() const { return m_contacts->margin; }
 
 // ------------------------------------------------------------------------ the cycle
 
 void Model::prepareRun() {
-    if (!m_broadphase_ready) initBroadphase();
+    if (!m_contacts->broadphase_ready) initBroadphase();
     const TimestepSettings& t = m_timestep;
     if (t.automatic != m_last_settings.automatic || t.safety != m_last_settings.safety ||
         t.resolution != m_last_settings.resolution)
         m_limits_stale = true;
     m_last_settings = t;
-    for (auto& r : m_rules)
+    for (auto& r : m_contacts->rules)
         if (r->prototype) {
             PropBlock pb = emptyPropBlock();
             if (const char* err = r->prototype->PreCycle(pb))
                 throw InputError("contact model '" + r->model_name + "': " + err);
         }
-    if (!m_rules[0]->prototype && m_rules.size() == 1 && ballCount() > 0 && !m_warned_no_model) {
+    if (!m_contacts->rules[0]->prototype && m_contacts->rules.size() == 1 && ballCount() > 0 &&
+        !m_warned_no_model) {
         m_warned_no_model = true;
         warn("no contact model is set (contact_model{...}): bodies will pass through each other");
     }
@@ -902,17 +168,17 @@ void Model::cycle(int64_t steps) {
 
 void Model::solveTime(double duration) {
     if (!(duration >= 0.0) || !std::isfinite(duration))
-        throw InputError("solve: time must be >= 0 (got " + fmt(duration) + ")");
+        throw InputError("solve: time must be >= 0 (got " + messageNumber(duration) + ")");
     // A duration no run can reach is refused rather than cycled for ever with no sign of life
     // (issue 6, item 12): beyond 1e9 s (32 years), and beyond 1e12 steps at a fixed step.
     if (duration > 1e9)
-        throw InputError("solve: time " + fmt(duration) +
+        throw InputError("solve: time " + messageNumber(duration) +
                          " s cannot be reached in a sane number of steps (at most 1e9 s per "
                          "solve; call solve repeatedly for longer runs)");
     if (!m_timestep.automatic && m_timestep.fixed > 0.0 && duration / m_timestep.fixed > 1e12)
-        throw InputError("solve: time " + fmt(duration) + " s needs " +
-                         fmt(duration / m_timestep.fixed) + " steps of the fixed step " +
-                         fmt(m_timestep.fixed) + " s (more than 1e12)");
+        throw InputError("solve: time " + messageNumber(duration) + " s needs " +
+                         messageNumber(duration / m_timestep.fixed) + " steps of the fixed step " +
+                         messageNumber(m_timestep.fixed) + " s (more than 1e12)");
     prepareRun();
     const double end = m_time + duration;
     try {
@@ -931,7 +197,8 @@ void Model::solveTime(double duration) {
 }
 
 std::string Model::lastStepReason() const {
-    std::string s = std::string(stepRuleName(m_dt_rule)) + " rule, dt = " + fmt(m_dt) + " s";
+    std::string s =
+        std::string(stepRuleName(m_dt_rule)) + " rule, dt = " + messageNumber(m_dt) + " s";
     std::string where;
     switch (m_dt_where.kind) {
         case StepWhere::Ball:
@@ -956,7 +223,7 @@ void Model::warn(const std::string& text) {
 
 void Model::throwNonFinite(const std::string& what) const {
     throw NumericalError("non-finite state at step " + std::to_string(m_step) +
-                         " (t = " + fmt(m_time) + " s): " + what);
+                         " (t = " + messageNumber(m_time) + " s): " + what);
 }
 
 }  // namespace talus

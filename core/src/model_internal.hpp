@@ -17,6 +17,8 @@ constexpr uint32_t kDeadSlot = 0xffffffffu;
 
 /// A number for a message: `digits` significant digits (printf %g).
 std::string messageNumber(double v, int digits = 6);
+/// "(x, y)" with %g numbers, for messages.
+std::string vecText(const Vec2& v);
 constexpr uint32_t kWallBit = 0x80000000u;  // in ContactKey: end 2 is a wall segment
 
 /// Fixed-size blocks for per-contact model objects (one pool per rule), so that a contact's

@@ -27,6 +27,8 @@
 #include <cmath>
 #include <limits>
 
+#include "body_store.hpp"
+#include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "talus/errors.hpp"
@@ -119,7 +121,7 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
     // already meets the limits the contact will have once it exists.
     const double t_free = stepForDisplacement(accel, vrel.norm(), 0.5 * std::max(gap, 0.0));
     if (t_free >= m_limits.approach) return;
-    const auto& b = *m_balls;
+    const auto& b = m_bodies->balls;
     const double m1 = b.mass[p.end1];
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
     const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
@@ -134,7 +136,7 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
 
 void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
                         double arm1_sq, double arm2_sq, double mass_eff) {
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
     if (!p.wall) {
@@ -160,20 +162,20 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
 void Model::surveyPairs() {
     // The limits the force loop gathers, from the stored state, for a first step or after the
     // user changed the scene between runs.
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
     std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
     m_limits = StepLimits{};
-    for (std::size_t i = 0; i < m_pairs.size(); ++i) {
-        Pair& p = m_pairs[i];
-        PairCold& cold = m_cold[i];
+    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
+        Pair& p = m_contacts->pairs[i];
+        PairCold& cold = m_contacts->cold[i];
         const Vec2 x1 = b.pos[p.end1];
         ContactGeometry g;
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
         double accel;
         if (p.wall) {
             if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) continue;
-            const WallData& w = m_walls[m_segments[p.end2].wall];
+            const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
             x2 = w.center;
             v2 = w.vel + spinCross(w.spin, g.point - x2);
             accel = ((b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1] + m_gravity).norm();
@@ -237,7 +239,7 @@ void Model::computeTimestep() {
     double dt = inf;
     StepRule rule = StepRule::Max;
     StepWhere where;
-    auto& b = *m_balls;
+    auto& b = m_bodies->balls;
     const std::size_t n = b.size();
 
     // Stability, per ball, from the stiffness sums of the last force loop.
@@ -273,7 +275,7 @@ void Model::computeTimestep() {
 
     // Kinematic: stay inside the fat boxes. Half the room, to leave the acceleration estimate
     // (contact forces change within the step) a factor of two.
-    if (m_broadphase_ready) {
+    if (m_contacts->broadphase_ready) {
         const double half_prev = 0.5 * m_dt_prev;
         for (std::size_t s = 0; s < n; ++s) {
             const Vec2 acc = (b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity;
@@ -285,16 +287,17 @@ void Model::computeTimestep() {
                 dt = d, rule = StepRule::Kinematic,
                 where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
         }
-        for (std::size_t w = 0; w < m_walls.size(); ++w) {
-            const WallData& wd = m_walls[w];
+        for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
+            const WallData& wd = m_bodies->walls[w];
             if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0)) continue;
             double reach = 0.0;
             for (uint32_t k = 0; k < wd.vertex_count; ++k)
-                reach = std::max(reach, (m_vertices[wd.first_vertex + k] - wd.center).norm());
+                reach =
+                    std::max(reach, (m_bodies->vertices[wd.first_vertex + k] - wd.center).norm());
             const double v = wd.vel.norm() + std::fabs(wd.spin) * reach;
             for (uint32_t k = 0; k < wd.segment_count; ++k) {
                 const uint32_t sg = wd.first_segment + k;
-                const double room = roomInside(m_segments[sg].fat, segmentBox(sg));
+                const double room = roomInside(m_bodies->segments[sg].fat, segmentBox(sg));
                 const double d = stepForDisplacement(0.0, v, 0.5 * std::max(room, 0.0));
                 if (d < dt)
                     dt = d, rule = StepRule::Kinematic,
@@ -318,15 +321,15 @@ void Model::computeTimestep() {
         rule = StepRule::Idle;
         where = m_dt_rule == StepRule::Idle ? m_dt_where : StepWhere{};
         if (surveyed || !m_dt_idle) {
-            for (std::size_t i = 0; i < m_pairs.size(); ++i) {
-                const Pair& p = m_pairs[i];
+            for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
+                const Pair& p = m_contacts->pairs[i];
                 const double m1 = b.mass[p.end1];
                 const double m2 = p.wall ? 0.0 : b.mass[p.end2];
                 const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
                 const double m_min = p.wall ? m1 : std::min(m1, m2);
                 const double d = contactStepLimit(
                     p, m_min, approachDuration(p, m_eff, 0.0, 0.0, 1.0), m_timestep);
-                if (d < dt) dt = d, where = StepWhere{StepWhere::Pair, 0, m_cold[i].key};
+                if (d < dt) dt = d, where = StepWhere{StepWhere::Pair, 0, m_contacts->cold[i].key};
             }
         }
         dt = std::min(dt, kIdleStepCap);

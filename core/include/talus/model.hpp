@@ -26,6 +26,8 @@
 namespace talus {
 
 class Broadphase;
+struct BodyStore;        // core/src/body_store.hpp
+struct ContactStore;     // core/src/contact_store.hpp
 struct ContactGeometry;  // narrowphase.hpp
 
 constexpr double kNotSet = std::numeric_limits<double>::quiet_NaN();
@@ -276,11 +278,11 @@ public:
     /// Broadphase margin [m] (half the extra room of each fat box). 0 = automatic: 5% of the
     /// mean ball radius, fixed at the first cycle.
     void setBroadphaseMargin(double margin);
-    double broadphaseMargin() const { return m_margin; }
+    double broadphaseMargin() const;
 
     // ------------------------------------------------------------------ energy
     void setEnergyTracing(bool on);
-    bool energyTracing() const { return m_energy_on; }
+    bool energyTracing() const { return m_books.on; }
     /// Whole-model energies (docs/physics/energy.md); kinetic and strain are current values.
     EnergyTotals energies() const;
 
@@ -316,7 +318,7 @@ public:
     struct Rule;
 
     /// Direct read access for scene builders and diagnostics.
-    const BallArrays& balls() const { return *m_balls; }
+    const BallArrays& balls() const;
 
 private:
     void prepareRun();
@@ -398,32 +400,10 @@ private:
     std::string describePair(const Pair& p) const;
     std::string describeBall(uint32_t slot) const;
 
-    // --- bodies
-    std::unique_ptr<BallArrays> m_balls_ptr;
-    BallArrays* m_balls;                 // = m_balls_ptr.get()
-    std::vector<uint32_t> m_slot_of;     // handle index - 1 -> slot (or kDead)
-    std::vector<uint32_t> m_generation;  // handle index - 1 -> generation
-    std::vector<uint32_t> m_free_handles;
-    std::vector<WallData> m_walls;
-    std::vector<Segment> m_segments;
-    std::vector<Vec2> m_vertices;
-
-    // --- contacts (pairs = broadphase candidates; active pairs carry a model object)
-    std::vector<Pair> m_pairs;
-    std::vector<PairCold> m_cold;  // same index as m_pairs
-    std::unordered_map<uint64_t, uint32_t> m_pair_index;
-    std::vector<std::unique_ptr<Rule>> m_rules;  // [0] is the default rule
-    uint32_t m_rules_version = 1;
-    double m_max_activity = 0.0;                    // largest activity distance of any rule [m]
-    std::unique_ptr<Broadphase> m_broadphase;       // balls
-    std::unique_ptr<Broadphase> m_wall_broadphase;  // wall segments
-    double m_margin = 0.0;
-    bool m_broadphase_ready = false;
-    std::vector<int32_t> m_query;  // scratch for the broadphase
-    // Bodies re-inserted this step: only their pairs can have stopped overlapping.
-    std::vector<uint32_t> m_moved_balls, m_moved_segments;
-    std::vector<uint8_t> m_ball_moved, m_segment_moved;
-    std::vector<uint32_t> m_to_remove;  // scratch for the force loop
+    // --- the two stores (core/src/body_store.hpp, core/src/contact_store.hpp): all bodies, all
+    // pairs/rules/broadphase. Phases take references to their arrays before their loops.
+    std::unique_ptr<BodyStore> m_bodies;
+    std::unique_ptr<ContactStore> m_contacts;
 
     // --- settings and state
     PluginRegistry& m_registry;
@@ -461,38 +441,46 @@ private:
         uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
     } m_limits;
 
-    // --- energy: running sums, and the snapshot at the last whole step (energy.md)
-    bool m_energy_on = false;
-    EnergyTotals m_energy_acc;
-    EnergyTotals m_energy;  // snapshot at the last whole step (law_of_motion.cpp)
-    // Contact dashpot work of the last force loop, split at the next snapshot like the damping
-    // impulse (its impulse spans the window around the force's time level).
-    double m_dashpot_pending = 0.0;
-    // Tracing was switched on while contacts were loaded: the next force loop books what they
-    // hold as initial_strain.
-    bool m_strain_baseline_pending = false;
+    // --- energy books (docs/physics/energy.md). Every energy sum of the model is accumulated
+    // in this one struct: body, damping, boundary and kinetic by the law of motion
+    // (law_of_motion.cpp), the contact items by the force loop (force_displacement.cpp), the
+    // snapshot and the balance check by the bookkeeping (bookkeeping.cpp). Per-group books
+    // belong next to `acc`.
+    struct EnergyBooks {
+        bool on = false;
+        EnergyTotals acc;       // running sums
+        EnergyTotals snapshot;  // at the last whole step (law_of_motion.cpp)
+        // Contact dashpot work of the last force loop, split at the next snapshot like the
+        // damping impulse (its impulse spans the window around the force's time level).
+        double dashpot_pending = 0.0;
+        // Tracing was switched on while contacts were loaded: the next force loop books what
+        // they hold as initial_strain.
+        bool strain_baseline_pending = false;
+    } m_books;
 
-    // --- guard counters (aggregated warnings)
-    int64_t m_underresolved = 0;
-    std::string m_underresolved_first;
-    int64_t m_energy_gain = 0;
-    std::string m_energy_gain_first;
-    int64_t m_stiffness_lies = 0;
-    std::string m_stiffness_lies_first;
-    int64_t m_placed = 0;  // contacts that started overlapping, since the last report
-    double m_placed_energy = 0.0;
-    std::string m_placed_first;
-    // Run-level balance check: the snapshot at the last check that passed (the window a finding
-    // names opens there), the peak mechanical energy, and the error last reported (a finding is
-    // reported again only when it grows by another tolerance).
-    struct BalanceWatch {
-        EnergyTotals open;
-        int64_t open_step = 0;
-        double peak = 0.0;
-        double reported = 0.0;
-        int64_t findings = 0;
-        std::string first, last;
-    } m_balance;
+    // --- guard state: findings aggregated into one warning per kind (bookkeeping.cpp reports).
+    struct GuardState {
+        int64_t underresolved = 0;
+        std::string underresolved_first;
+        int64_t energy_gain = 0;
+        std::string energy_gain_first;
+        int64_t stiffness_lies = 0;
+        std::string stiffness_lies_first;
+        int64_t placed = 0;  // contacts that started overlapping, since the last report
+        double placed_energy = 0.0;
+        std::string placed_first;
+        // Run-level balance check: the snapshot at the last check that passed (the window a
+        // finding names opens there), the peak mechanical energy, and the error last reported (a
+        // finding is reported again only when it grows by another tolerance).
+        struct BalanceWatch {
+            EnergyTotals open;
+            int64_t open_step = 0;
+            double peak = 0.0;
+            double reported = 0.0;
+            int64_t findings = 0;
+            std::string first, last;
+        } balance;
+    } m_guard_state;
 
     // --- hooks and events
     struct Hook {

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+//
+// The body store: every body of a model and the handle tables that name them (the "world's
+// bodies" of Box2D v3's layout). Balls live in structure-of-arrays form (BallArrays, indexed by
+// slot); scripts hold handles (index + generation) that the tables map to slots, so that slots
+// can be compacted and re-ordered without invalidating a script's ids. Walls are chains of
+// segments over a shared vertex list. Not installed.
+//
+// The store holds data and the operations that only need data (lookup, describe); everything
+// that also needs the contacts or the settings (create/delete a body, mass update) is a Model
+// member in model_bodies.cpp, which keeps both stores consistent.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "model_internal.hpp"
+
+namespace talus {
+
+struct BodyStore {
+    using BallArrays = Model::BallArrays;
+    using WallData = Model::WallData;
+    using Segment = Model::Segment;
+
+    // --- balls
+    BallArrays balls;
+    std::vector<uint32_t> slot_of;     // handle index - 1 -> slot (or kDeadSlot)
+    std::vector<uint32_t> generation;  // handle index - 1 -> generation
+    std::vector<uint32_t> free_handles;
+
+    // --- clumps (issue 7): the clump arrays and their handle table go here, next to the balls
+    // whose slots their pebbles occupy.
+
+    // --- walls: chains of segments; a segment joins two entries of `vertices`
+    std::vector<WallData> walls;
+    std::vector<Segment> segments;
+    std::vector<Vec2> vertices;
+
+    /// Slot of a live ball; throws InputError naming the id for an unknown or stale id.
+    uint32_t slotOf(BallId id) const;
+    bool isAlive(BallId id) const;
+    /// The current id of the ball in `slot`.
+    BallId ballId(uint32_t slot) const {
+        const uint32_t h = balls.handle[slot];
+        return BallId{h, generation[h - 1]};
+    }
+    /// "ball N at (x, y)", for messages.
+    std::string describeBall(uint32_t slot) const;
+
+    /// Wall data of a live wall; throws InputError for an unknown id.
+    const WallData& wallOf(WallId id) const;
+    WallData& wallOf(WallId id);
+};
+
+}  // namespace talus

@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+//
+// Model's contact API: contact-model rules (default model, group rules, rule lookup) and the
+// contact queries (list, find, read and set a contact's properties and forces). The data is in
+// the contact store (contact_store.hpp).
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "body_store.hpp"
+#include "broadphase.hpp"
+#include "contact_store.hpp"
+#include "model_internal.hpp"
+#include "narrowphase.hpp"
+#include "props.hpp"
+#include "talus/errors.hpp"
+#include "talus/model.hpp"
+
+namespace talus {
+
+// ------------------------------------------------------------------------ contact-model rules
+
+const ModelFactory& Model::contactModelFactory(const std::string& name) {
+    return m_registry.find(name);
+}
+
+void Model::setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props) {
+    addContactModelRule(name, props, "", "");
+}
+
+void Model::addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
+                                const std::string& group_a, const std::string& group_b) {
+    auto rule = std::make_unique<Rule>();
+    rule->factory = &m_registry.find(name);
+    rule->model_name = rule->factory->name;
+    rule->prototype = m_registry.createPrototype(*rule->factory);
+    applyProps(*rule->prototype, props, "contact_model");
+    PropBlock pb = emptyPropBlock();
+    if (const char* err = rule->prototype->PreCycle(pb))
+        throw InputError(std::string("contact_model '") + rule->model_name + "': " + err);
+    rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
+    rule->group_b = group_b.empty() ? -1 : groupIndex(group_b, true);
+    rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
+    rule->order = static_cast<int>(m_contacts->rules.size());
+    rule->activity = rule->prototype->ActivityDistance();
+    rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
+    if (rule->specificity == 0) {
+        // A new default replaces the old one for future contacts; the old rule stays alive
+        // (existing contacts hold objects from its pool) but is no longer matched.
+        m_contacts->rules.push_back(std::move(m_contacts->rules[0]));
+        m_contacts->rules[0] = std::move(rule);
+    } else {
+        m_contacts->rules.push_back(std::move(rule));
+    }
+    // Pairs that are not in contact pick the new rules up when they touch.
+    ++m_contacts->rules_version;
+    m_limits_stale = true;
+    m_contacts->max_activity = 0.0;
+    for (const auto& r : m_contacts->rules)
+        if (r->prototype)
+            m_contacts->max_activity = std::max(m_contacts->max_activity, r->activity);
+}
+
+const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
+    const Rule* best = m_contacts->rules[0].get();
+    int best_spec = -1, best_order = -1;
+    auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
+    for (std::size_t i = 1; i < m_contacts->rules.size(); ++i) {
+        const Rule& r = *m_contacts->rules[i];
+        if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
+        const bool match =
+            (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
+        if (match &&
+            (r.specificity > best_spec || (r.specificity == best_spec && r.order > best_order))) {
+            best = &r;
+            best_spec = r.specificity;
+            best_order = r.order;
+        }
+    }
+    return *best;
+}
+
+// ------------------------------------------------------------------------ contacts (queries)
+
+Model::Pair* Model::pairByKey(ContactKey key) { return m_contacts->pairByKey(key); }
+const Model::Pair* Model::pairByKey(ContactKey key) const { return m_contacts->pairByKey(key); }
+std::size_t Model::pairIndex(const Pair& p) const { return m_contacts->pairIndex(p); }
+
+bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const {
+    const auto& b = m_bodies->balls;
+    const Vec2& x1 = b.pos[p.end1];
+    ContactGeometry g;
+    if (p.wall) {
+        if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) return false;
+    } else {
+        const Vec2 d = b.pos[p.end2] - x1;
+        const double dist = d.norm();
+        g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+        g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
+        g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
+    }
+    normal = g.normal;
+    overlap = g.overlap;
+    point = g.point;
+    return true;
+}
+
+ContactInfo Model::infoOf(std::size_t index) const {
+    const Pair& p = m_contacts->pairs[index];
+    ContactInfo c;
+    c.key = ContactKey{m_contacts->cold[index].key};
+    const uint32_t h1 = m_bodies->balls.handle[p.end1];
+    c.ball1 = BallId{h1, m_bodies->generation[h1 - 1]};
+    if (p.wall) {
+        const Segment& s = m_bodies->segments[p.end2];
+        c.wall = WallId{s.wall + 1, m_bodies->walls[s.wall].generation};
+        c.segment = static_cast<int32_t>(p.end2 - m_bodies->walls[s.wall].first_segment);
+    } else {
+        const uint32_t h2 = m_bodies->balls.handle[p.end2];
+        c.ball2 = BallId{h2, m_bodies->generation[h2 - 1]};
+    }
+    c.active = p.active;
+    pairGeometry(p, c.normal, c.overlap, c.point);
+    c.normal_force = p.n_force;
+    c.shear_force = p.s_force;
+    c.moment = p.moment;
+    c.sliding = p.sliding;
+    c.bonded = p.bonded;
+    c.model = p.rule ? p.rule->model_name : "";
+    return c;
+}
+
+std::string Model::describePair(const Pair& p) const {
+    std::string s = "contact ball " + std::to_string(m_bodies->balls.handle[p.end1]) + " - ";
+    if (p.wall) {
+        const Segment& seg = m_bodies->segments[p.end2];
+        s += "wall " + std::to_string(seg.wall + 1) + " segment " +
+             std::to_string(p.end2 - m_bodies->walls[seg.wall].first_segment + 1);
+    } else {
+        s += "ball " + std::to_string(m_bodies->balls.handle[p.end2]);
+    }
+    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
+    Vec2 n, point;
+    double overlap;
+    if (pairGeometry(p, n, overlap, point)) s += " at " + vecText(point);
+    return s;
+}
+
+std::size_t Model::contactCount(bool active_only) const {
+    if (!active_only) return m_contacts->pairs.size();
+    std::size_t n = 0;
+    for (const auto& p : m_contacts->pairs) n += p.active;
+    return n;
+}
+
+std::vector<ContactInfo> Model::contacts(bool active_only) const {
+    std::vector<ContactInfo> out;
+    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i)
+        if (m_contacts->pairs[i].active || !active_only) out.push_back(infoOf(i));
+    return out;
+}
+
+bool Model::findContact(ContactKey key, ContactInfo& out) const {
+    const Pair* p = pairByKey(key);
+    if (!p) return false;
+    out = infoOf(pairIndex(*p));
+    return true;
+}
+
+double Model::contactProp(ContactKey key, const std::string& name) const {
+    const Pair* p = pairByKey(key);
+    if (!p || !p->model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*p->model, name);
+    if (idx < 0)
+        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
+                         "' (known: " + knownProps(*p->model) + ")");
+    return p->model->ReturnProp(idx);
+}
+
+void Model::setContactProp(ContactKey key, const std::string& name, double value) {
+    m_limits_stale = true;
+    Pair* p = pairByKey(key);
+    if (!p || !p->model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*p->model, name);
+    if (idx < 0)
+        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
+                         "' (known: " + knownProps(*p->model) + ")");
+    if (const std::string why = propValueProblem(*p->model, idx, value); !why.empty())
+        throw InputError(std::string("contact: ") + p->model->Name() + ": '" + name + "' " + why);
+    if (p->model->AcceptProp(idx, value) != 0)
+        throw InputError(std::string("contact: ") + p->model->LastError());
+    // A stiffness set to zero on a live contact: the bodies may pass through each other.
+    const PropInfo* info = p->model->PropInfoAt(idx);
+    const std::string units = info && info->units ? info->units : "";
+    if (value == 0.0 && (units == "N/m" || units == "Pa"))
+        warn("contact " + describePair(*p) + ": property '" + name + "' of model '" +
+             p->model->Name() + "' set to 0: the contact may let the bodies pass through");
+}
+
+void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
+    Pair* p = pairByKey(key);
+    if (!p) throw InputError("contact no longer exists");
+    if (!std::isfinite(normal_force) || !std::isfinite(shear_force))
+        throw InputError("contact: normal_force and shear_force must be finite (got " +
+                         messageNumber(normal_force) + ", " + messageNumber(shear_force) + ")");
+    p->n_force = normal_force;
+    p->s_force = shear_force;
+}
+
+}  // namespace talus

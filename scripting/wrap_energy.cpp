@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+// m:energy(on) / m:energies() and the energy items shared with histories and impact.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "lua_bindings.hpp"
+#include "talus/errors.hpp"
+#include "talus/plugin_registry.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+// ------------------------------------------------------------------ energy
+
+int w_energy(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "energy");
+        const Options o(L, 2, "energy", {"on"}, true);
+        if (o.has("on")) lm.model->setEnergyTracing(o.boolean("on", false));
+        lua_pushboolean(L, lm.model->energyTracing());
+        return 1;
+    });
+}
+
+int w_energies(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "energies");
+        if (!lua_isnoneornil(L, 2))
+            throw ScriptError(
+                "energies: group-wise energies are not available yet (the engine "
+                "traces whole-model energies only); call m:energies()");
+        pushEnergies(L, lm.model->energies());
+        return 1;
+    });
+}
+
+}  // namespace
+
+extern const luaL_Reg kEnergyMethods[] = {
+    {"energy", w_energy},
+    {"energies", w_energies},
+    {nullptr, nullptr},
+};
+
+const std::vector<EnergyItem>& energyItems() {
+    static const std::vector<EnergyItem> items = {
+        {"body", &EnergyTotals::body},
+        {"boundary", &EnergyTotals::boundary},
+        {"kinetic", &EnergyTotals::kinetic},
+        {"strain", &EnergyTotals::strain},
+        {"bond", &EnergyTotals::bond},
+        {"slip", &EnergyTotals::slip},
+        {"dashpot", &EnergyTotals::dashpot},
+        {"plastic", &EnergyTotals::plastic},
+        {"damping", &EnergyTotals::damping},
+        {"released", &EnergyTotals::released},
+        {"deleted", &EnergyTotals::deleted},
+        {"initial_kinetic", &EnergyTotals::initial_kinetic},
+        {"initial_strain", &EnergyTotals::initial_strain},
+        {"placement", &EnergyTotals::placement},
+    };
+    return items;
+}
+
+void pushEnergies(lua_State* L, const EnergyTotals& e) {
+    lua_createtable(L, 0, 14);
+    for (const EnergyItem& item : energyItems()) {
+        lua_pushnumber(L, e.*(item.member));
+        lua_setfield(L, -2, item.name);
+    }
+    lua_pushnumber(L, e.balanceError());
+    lua_setfield(L, -2, "balance_error");
+    lua_pushnumber(L, e.input());
+    lua_setfield(L, -2, "input");
+}
+
+}  // namespace talus::lua

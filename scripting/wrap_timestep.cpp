@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// m:timestep{...} and the time-step option reader shared with impact.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "lua_bindings.hpp"
+#include "talus/errors.hpp"
+#include "talus/plugin_registry.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+int w_timestep(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "timestep");
+        const Options o(L, 2, "timestep",
+                        {"safety", "resolution", "fixed", "max", "growth", "auto"}, true);
+        TimestepSettings ts = lm.model->timestep();
+        readTimestepOptions(o, ts);
+        lm.model->timestep() = ts;
+        Model& m = *lm.model;
+        lua_createtable(L, 0, 9);
+        lua_pushboolean(L, ts.automatic);
+        lua_setfield(L, -2, "auto");
+        if (ts.automatic)
+            lua_pushboolean(L, false);
+        else
+            lua_pushnumber(L, ts.fixed);
+        lua_setfield(L, -2, "fixed");
+        lua_pushnumber(L, ts.safety);
+        lua_setfield(L, -2, "safety");
+        lua_pushnumber(L, ts.resolution);
+        lua_setfield(L, -2, "resolution");
+        lua_pushnumber(L, ts.max);
+        lua_setfield(L, -2, "max");
+        lua_pushnumber(L, ts.growth);
+        lua_setfield(L, -2, "growth");
+        lua_pushnumber(L, m.lastTimestep());
+        lua_setfield(L, -2, "dt");
+        lua_pushstring(L, stepRuleName(m.lastStepRule()));
+        lua_setfield(L, -2, "rule");
+        lua_pushstring(L, m.lastStepReason().c_str());
+        lua_setfield(L, -2, "reason");
+        return 1;
+    });
+}
+
+}  // namespace
+
+extern const luaL_Reg kTimestepMethods[] = {
+    {"timestep", w_timestep},
+    {nullptr, nullptr},
+};
+
+void readTimestepOptions(const Options& o, TimestepSettings& ts) {
+    lua_State* L = o.state();
+    if (o.has("fixed")) {
+        const int t = o.push("fixed");
+        const bool is_false = t == LUA_TBOOLEAN && !lua_toboolean(L, -1);
+        lua_pop(L, 1);
+        if (is_false) {
+            ts.automatic = true;
+        } else {
+            const double dt = o.number("fixed", 0.0);
+            if (!(dt > 0.0) || !std::isfinite(dt))
+                throw ScriptError("timestep: 'fixed' must be > 0 [s] (got " + numberText(dt) + ")");
+            ts.fixed = dt;
+            ts.automatic = false;
+        }
+    }
+    if (o.has("auto")) {
+        ts.automatic = o.boolean("auto", true);
+        if (!ts.automatic && !(ts.fixed > 0.0))
+            throw ScriptError("timestep: auto = false needs a 'fixed' step");
+    }
+    ts.safety = o.number("safety", ts.safety);
+    ts.resolution = o.number("resolution", ts.resolution);
+    ts.max = o.number("max", ts.max);
+    ts.growth = o.number("growth", ts.growth);
+    if (!(ts.safety > 0.0) || !std::isfinite(ts.safety))
+        throw ScriptError("timestep: 'safety' must be > 0 (got " + numberText(ts.safety) + ")");
+    if (!(ts.resolution >= 0.0) || !std::isfinite(ts.resolution))
+        throw ScriptError("timestep: 'resolution' must be >= 0 steps per contact (got " +
+                          numberText(ts.resolution) + ")");
+    if (!(ts.max > 0.0))
+        throw ScriptError("timestep: 'max' must be > 0 [s] (got " + numberText(ts.max) + ")");
+    if (!(ts.growth > 1.0))
+        throw ScriptError("timestep: 'growth' must be > 1 (got " + numberText(ts.growth) + ")");
+}
+
+}  // namespace talus::lua
