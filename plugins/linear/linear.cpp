@@ -224,8 +224,14 @@ public:
     double KnEstimate() const override { return kn * dashpotStiffnessFactor(dp_nratio); }
     double KsEstimate() const override { return ks * dashpotStiffnessFactor(dp_sratio); }
     double ContactDuration(double mass_eff, double) const override {
-        // Half period of the undamped spring; damping only lengthens the contact.
-        return kn > 0.0 ? M_PI * std::sqrt(mass_eff / kn) : HUGE_VAL;
+        // Half period of the faster undamped spring; damping only lengthens the contact. The
+        // sticking shear spring of a disk sees the inverse mass 1/m* + r^2/I = 3/m* (both ends
+        // disks, or a disk on a wall), so it is the faster one when 3 ks > kn; resolving only
+        // the normal impact then left it a few steps per half cycle, and leapfrog created a few
+        // percent of the shear energy at each separation (issue 6, stress seeds 228 and 684;
+        // docs/models/linear.md). A sphere's inertia (3.5/m*) would be 8% faster than this.
+        // Without kn there is no force at all (the shear force is limited by fric kn u_n).
+        return kn > 0.0 ? M_PI * std::sqrt(mass_eff / std::max(kn, 3.0 * ks)) : HUGE_VAL;
     }
 };
 
