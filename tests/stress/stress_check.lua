@@ -28,8 +28,10 @@ check.max_dt = 1e3
 local WATCHDOG = "stress watchdog: "
 local input_items = { initial_kinetic = true, body = true, boundary = true }
 local stored_items = { kinetic = true, strain = true, bond = true }
+-- Sinks, and the engine's own sums: `input` is the sum of the input items above (counting it
+-- too would double the throughput and the tolerance with it), `deleted` leaves the model.
 local known_items = { slip = true, dashpot = true, plastic = true, damping = true, released = true,
-                      balance_error = true }
+                      deleted = true, balance_error = true, input = true, exchanged = true }
 
 local function finite(x) return type(x) == "number" and x == x and x ~= math.huge and x ~= -math.huge end
 
@@ -177,7 +179,13 @@ function check.scene(S)
     end
     if a.nonfinite then defect("nonfinite", "no error: " .. a.nonfinite) end
     if not a.err and not a.nonfinite and #a.warnings == 0 then
-        local tol = check.energy_tolerance * a.throughput
+        -- A scene that lowers the resolution rule below its default of 30 steps per contact
+        -- asks for a coarser integration: leapfrog's energy error is second order in the step
+        -- (seed 91, hertz at resolution 10 / 20 / 40: -4.6e-3 / -6.3e-4 / -1.4e-4 J), so the
+        -- tolerance grows as (30 / resolution)^2. A booking defect does not shrink with the step
+        -- and the other 80% of the scenes keep the default.
+        local res = S.timestep and S.timestep.resolution or 30
+        local tol = check.energy_tolerance * math.max(1, (30 / res) ^ 2) * a.throughput
         if math.abs(a.worst) > tol or a.worst ~= a.worst then
             defect("energy", string.format("balance_error %.4g J = %.3g%% of throughput %.4g J (%s) at step %d, no warning",
                 a.worst, 100 * a.worst / a.throughput, a.throughput, a.worst < 0 and "created" or "lost", a.worst_step))
