@@ -215,7 +215,9 @@ void Model::deleteBall(BallId id) {
         const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
                              (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
         const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
-        m_books.acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+        const double ke = 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+        m_books.acc.deleted += ke;
+        if (m_books.groups.on) bookDeletedToGroups(s, ke);
     }
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
