@@ -373,6 +373,18 @@ void Model::addBallGroup(BallId id, const std::string& group) {
     m_bodies->balls.groups[s] |= uint64_t(1) << groupIndex(group, true);
 }
 
+std::vector<std::string> Model::wallGroups(WallId id) const {
+    std::vector<std::string> out;
+    const uint64_t g = wallOf(id).groups;
+    for (std::size_t i = 0; i < m_group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    return out;
+}
+void Model::addWallGroup(WallId id, const std::string& group) {
+    WallData& w = wallOf(id);
+    w.groups |= uint64_t(1) << groupIndex(group, true);
+}
+
 // ------------------------------------------------------------------------ walls
 
 WallId Model::createWall(const WallDef& d) {

@@ -233,6 +233,8 @@ public:
     Vec2 wallForce(WallId id) const;  ///< total force the balls exert on the wall [N]
     double wallContactProp(WallId id, const std::string& name) const;
     void setWallContactProp(WallId id, const std::string& name, double v);
+    std::vector<std::string> wallGroups(WallId id) const;
+    void addWallGroup(WallId id, const std::string& group);
 
     // ------------------------------------------------------------------ contact models
     /// Sets the model new contacts get by default, with properties by name.
