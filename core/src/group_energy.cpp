@@ -46,15 +46,10 @@ void Model::openGroupBooks() {
         gb = EnergyBooks::GroupBooks{};
         return;
     }
-    const std::size_t old = gb.acc.size();
+    const std::size_t old = gb.g.size();
     // Grow, keeping what the existing groups have booked (a group named while tracing is on
     // starts with empty books: its members' energy at that moment is not an input to it).
-    for (auto* v :
-         {&gb.dashpot_pending, &gb.strain_now, &gb.bond_now, &gb.held_before, &gb.step_kinetic,
-          &gb.step_body, &gb.step_damping, &gb.step_driven, &gb.exchanged_pending})
-        v->resize(n, 0.0);
-    gb.acc.resize(n);
-    gb.snapshot.resize(n);
+    gb.g.resize(n);
     gb.traced = n >= 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1;
     gb.on = true;
     if (old == 0) {
@@ -65,11 +60,11 @@ void Model::openGroupBooks() {
                 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
             for (uint64_t m = b.groups[s] & gb.traced; m; m &= m - 1) {
                 const int g = __builtin_ctzll(m);
-                gb.acc[g].initial_kinetic += ke;
-                gb.acc[g].kinetic += ke;
+                gb.g[g].acc.initial_kinetic += ke;
+                gb.g[g].acc.kinetic += ke;
             }
         }
-        for (std::size_t g = 0; g < n; ++g) gb.snapshot[g] = gb.acc[g];
+        for (auto& gr : gb.g) gr.snapshot = gr.acc;
     }
 }
 
@@ -93,21 +88,23 @@ void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bo
     const PairCold& c = m_contacts->cold[i];
     const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
     const double placed = (first && c.born_overlapped) ? m_books.last_placed : 0.0;
+    auto* groups = gb.g.data();
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
         const double s = share(uint64_t(1) << g, g1, g2, p.wall);
-        EnergyTotals& a = gb.acc[g];
+        auto& gr = groups[g];
+        EnergyTotals& a = gr.acc;
         a.slip += s * fd.energy[kEnergySlip];
-        gb.dashpot_pending[g] += s * fd.energy[kEnergyDashpot];
+        gr.dashpot_pending += s * fd.energy[kEnergyDashpot];
         a.plastic += s * fd.energy[kEnergyPlastic];
         a.released += s * fd.energy[kEnergyReleased];
         a.placement += s * placed;
-        gb.held_before[g] += s * held;
+        gr.held_before += s * held;
         if (ends) {
             a.released += s * (c.strain + c.bond);
         } else {
-            gb.strain_now[g] += s * c.strain;
-            gb.bond_now[g] += s * c.bond;
+            gr.strain_now += s * c.strain;
+            gr.bond_now += s * c.bond;
         }
     }
     // Work passed across a group border: only when the ends' groups differ (with a wall, only
@@ -139,14 +136,14 @@ void Model::bookReleasedToGroups(const Pair& p, double released) {
     const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
-        gb.acc[g].released += share(uint64_t(1) << g, g1, g2, p.wall) * released;
+        gb.g[g].acc.released += share(uint64_t(1) << g, g1, g2, p.wall) * released;
     }
 }
 
 void Model::bookDeletedToGroups(uint32_t slot, double kinetic) {
     auto& gb = m_books.groups;
     for (uint64_t m = m_bodies->balls.groups[slot] & gb.traced; m; m &= m - 1)
-        gb.acc[__builtin_ctzll(m)].deleted += kinetic;
+        gb.g[__builtin_ctzll(m)].acc.deleted += kinetic;
     // deleteBall moves the last slot into this one: follow it in the pending records, and mark
     // the deleted ball's ends gone (its force is never applied, so that end does no work).
     const uint32_t last = static_cast<uint32_t>(m_bodies->balls.size() - 1);
@@ -160,18 +157,15 @@ void Model::bookDeletedToGroups(uint32_t slot, double kinetic) {
 
 void Model::groupForceLoopStart() {
     auto& gb = m_books.groups;
-    std::fill(gb.strain_now.begin(), gb.strain_now.end(), 0.0);
-    std::fill(gb.bond_now.begin(), gb.bond_now.end(), 0.0);
-    std::fill(gb.held_before.begin(), gb.held_before.end(), 0.0);
+    for (auto& gr : gb.g) gr.strain_now = gr.bond_now = gr.held_before = 0.0;
     gb.exchange.clear();  // a force loop run twice before a law of motion books once
 }
 
 void Model::groupForceLoopEnd() {
-    auto& gb = m_books.groups;
-    for (std::size_t g = 0; g < gb.acc.size(); ++g) {
-        gb.acc[g].strain = gb.strain_now[g];
-        gb.acc[g].bond = gb.bond_now[g];
-        if (m_books.strain_baseline_pending) gb.acc[g].initial_strain = gb.held_before[g];
+    for (auto& gr : m_books.groups.g) {
+        gr.acc.strain = gr.strain_now;
+        gr.acc.bond = gr.bond_now;
+        if (m_books.strain_baseline_pending) gr.acc.initial_strain = gr.held_before;
     }
 }
 
@@ -204,27 +198,27 @@ void Model::groupSnapshot(double lead) {
         for (uint64_t m = (x.g1 | x.g2) & gb.traced; m; m &= m - 1) {
             const int g = __builtin_ctzll(m);
             const uint64_t bit = uint64_t(1) << g;
-            gb.exchanged_pending[g] += ((x.g1 & bit) ? w1 : 0.0) + ((x.g2 & bit) ? w2 : 0.0) -
-                                       share(bit, x.g1, x.g2, x.wall) * total;
+            gb.g[g].exchanged_pending += ((x.g1 & bit) ? w1 : 0.0) + ((x.g2 & bit) ? w2 : 0.0) -
+                                         share(bit, x.g1, x.g2, x.wall) * total;
         }
     }
     gb.exchange.clear();
     // The same split at the snapshot as the whole model's (law_of_motion.cpp).
-    for (std::size_t g = 0; g < gb.acc.size(); ++g) {
-        EnergyTotals& a = gb.acc[g];
-        a.damping += gb.step_damping[g] * lead;
-        a.boundary += gb.step_driven[g] * lead;
-        a.dashpot += gb.dashpot_pending[g] * lead;
-        a.exchanged += gb.exchanged_pending[g] * lead;
-        gb.snapshot[g] = a;
-        gb.snapshot[g].kinetic = gb.step_kinetic[g];
-        a.body += gb.step_body[g];
-        a.boundary += gb.step_driven[g] * (1.0 - lead);
-        a.damping += gb.step_damping[g] * (1.0 - lead);
-        a.dashpot += gb.dashpot_pending[g] * (1.0 - lead);
-        a.exchanged += gb.exchanged_pending[g] * (1.0 - lead);
-        gb.dashpot_pending[g] = gb.exchanged_pending[g] = 0.0;
-        gb.step_kinetic[g] = gb.step_body[g] = gb.step_damping[g] = gb.step_driven[g] = 0.0;
+    for (auto& gr : gb.g) {
+        EnergyTotals& a = gr.acc;
+        a.damping += gr.step_damping * lead;
+        a.boundary += gr.step_driven * lead;
+        a.dashpot += gr.dashpot_pending * lead;
+        a.exchanged += gr.exchanged_pending * lead;
+        gr.snapshot = a;
+        gr.snapshot.kinetic = gr.step_kinetic;
+        a.body += gr.step_body;
+        a.boundary += gr.step_driven * (1.0 - lead);
+        a.damping += gr.step_damping * (1.0 - lead);
+        a.dashpot += gr.dashpot_pending * (1.0 - lead);
+        a.exchanged += gr.exchanged_pending * (1.0 - lead);
+        gr.dashpot_pending = gr.exchanged_pending = 0.0;
+        gr.step_kinetic = gr.step_body = gr.step_damping = gr.step_driven = 0.0;
     }
 }
 
@@ -232,8 +226,8 @@ void Model::bookWallToGroups(uint64_t mask, double work, double lead) {
     auto& gb = m_books.groups;
     for (uint64_t m = mask & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
-        gb.acc[g].boundary += work;
-        gb.snapshot[g].boundary += work * lead;
+        gb.g[g].acc.boundary += work;
+        gb.g[g].snapshot.boundary += work * lead;
     }
 }
 
@@ -242,7 +236,7 @@ EnergyTotals Model::energies(const std::string& group) const {
         throw InputError("energies: energy tracing is off (call energy{on = true} first)");
     for (std::size_t g = 0; g < m_group_names.size(); ++g)
         if (m_group_names[g] == group)
-            return g < m_books.groups.snapshot.size() ? m_books.groups.snapshot[g] : EnergyTotals{};
+            return g < m_books.groups.g.size() ? m_books.groups.g[g].snapshot : EnergyTotals{};
     std::string known;
     for (const auto& n : m_group_names) known += (known.empty() ? "" : ", ") + n;
     throw InputError("energies: unknown group '" + group +

@@ -410,13 +410,13 @@ private:
     /// and fixity work (`driven`, split at the snapshot like the whole model's).
     void bookBodyToGroups(uint64_t mask, double kinetic, double body, double damping,
                           double driven) {
-        auto& gb = m_books.groups;
-        for (uint64_t m = mask & gb.traced; m; m &= m - 1) {
-            const int g = __builtin_ctzll(m);
-            gb.step_kinetic[g] += kinetic;
-            gb.step_body[g] += body;
-            gb.step_damping[g] += damping;
-            gb.step_driven[g] += driven;
+        auto* groups = m_books.groups.g.data();
+        for (uint64_t m = mask & m_books.groups.traced; m; m &= m - 1) {
+            auto& gr = groups[__builtin_ctzll(m)];
+            gr.step_kinetic += kinetic;
+            gr.step_body += body;
+            gr.step_damping += damping;
+            gr.step_driven += driven;
         }
     }
     /// The force loop's per-contact share (rare path: called only with groups traced).
@@ -501,11 +501,15 @@ private:
         struct GroupBooks {
             bool on = false;
             uint64_t traced = 0;  // mask of the groups with books
-            std::vector<EnergyTotals> acc, snapshot;
-            std::vector<double> dashpot_pending;  // as the whole model's, per group
-            std::vector<double> strain_now, bond_now, held_before;  // force-loop scratch
-            std::vector<double> step_kinetic, step_body, step_damping, step_driven;
-            std::vector<double> exchanged_pending;
+            // One record per group, all its sums together (one base pointer in the loops).
+            struct Group {
+                EnergyTotals acc, snapshot;
+                double dashpot_pending = 0.0, exchanged_pending = 0.0;  // split at the snapshot
+                double strain_now = 0.0, bond_now = 0.0, held_before = 0.0;  // force-loop scratch
+                double step_kinetic = 0.0, step_body = 0.0, step_damping = 0.0,
+                       step_driven = 0.0;  // law-of-motion scratch
+            };
+            std::vector<Group> g;
             // A contact between ends of different groups (or with a moving wall), pushed by the
             // force loop and consumed by the next law of motion: the force on end 1 (end 2
             // gets -f1), the moments about each end's centre, the masks, and the end rates
