@@ -38,6 +38,7 @@ struct History {
         std::string name;
         Kind kind = Time;
         double EnergyTotals::*energy = nullptr;  // for Kind::Energy
+        std::string group;                       // Energy/BalanceError of one group ("" = all)
         int ref = LUA_NOREF;                     // for Kind::Function (model user-value table)
     };
     std::string path;

@@ -29,11 +29,15 @@ int w_energy(lua_State* L) {
 int w_energies(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "energies");
-        if (!lua_isnoneornil(L, 2))
-            throw ScriptError(
-                "energies: group-wise energies are not available yet (the engine "
-                "traces whole-model energies only); call m:energies()");
-        pushEnergies(L, lm.model->energies());
+        if (lua_isnoneornil(L, 2)) {
+            pushEnergies(L, lm.model->energies());
+        } else {
+            // m:energies("rock"): the same items for one group (docs/physics/energy.md).
+            if (lua_type(L, 2) != LUA_TSTRING)
+                throw ScriptError("energies: the argument is a group name (a string), got " +
+                                  typeName(L, 2));
+            pushEnergies(L, lm.model->energies(lua_tostring(L, 2)));
+        }
         return 1;
     });
 }
@@ -62,12 +66,13 @@ const std::vector<EnergyItem>& energyItems() {
         {"initial_kinetic", &EnergyTotals::initial_kinetic},
         {"initial_strain", &EnergyTotals::initial_strain},
         {"placement", &EnergyTotals::placement},
+        {"exchanged", &EnergyTotals::exchanged},
     };
     return items;
 }
 
 void pushEnergies(lua_State* L, const EnergyTotals& e) {
-    lua_createtable(L, 0, 14);
+    lua_createtable(L, 0, 17);
     for (const EnergyItem& item : energyItems()) {
         lua_pushnumber(L, e.*(item.member));
         lua_setfield(L, -2, item.name);

@@ -29,7 +29,31 @@ std::string knownSpecs() {
     std::vector<std::string> names(std::begin(kBuiltins), std::end(kBuiltins));
     for (const EnergyItem& e : energyItems()) names.push_back(e.name);
     names.push_back("balance_error");
-    return joinNames(names) + ", or a function";
+    return joinNames(names) +
+           ", an energy item of a group (\"kinetic@rock\" or {\"kinetic\", "
+           "\"rock\"}), or a function";
+}
+
+bool isEnergyName(const std::string& name) {
+    if (name == "balance_error") return true;
+    for (const EnergyItem& e : energyItems())
+        if (name == e.name) return true;
+    return false;
+}
+
+/// The group of a group-wise energy column, checked against the model's groups.
+std::string checkGroup(LuaModel& lm, const std::string& column, const std::string& item,
+                       const std::string& group) {
+    if (!isEnergyName(item))
+        throw ScriptError(
+            "history: column '" + column + "': '" + item +
+            "' is not an energy item (a group goes with an energy item: " + knownSpecs() + ")");
+    if (lm.model->groupIndex(group, false) < 0) {
+        std::vector<std::string> names = lm.model->groupNames();
+        throw ScriptError("history: column '" + column + "': unknown group '" + group +
+                          "' (groups: " + (names.empty() ? "none" : joinNames(names)) + ")");
+    }
+    return group;
 }
 
 /// Parses one column spec (the value on top of the stack) into `col`.
@@ -43,18 +67,30 @@ void parseSpec(lua_State* L, LuaModel& lm, History::Column& col) {
     std::string name;
     if (t == LUA_TSTRING) {
         name = lua_tostring(L, -1);
+        // "kinetic@rock": an energy item of one group.
+        const std::size_t at = name.find('@');
+        if (at != std::string::npos) {
+            col.group = checkGroup(lm, col.name, name.substr(0, at), name.substr(at + 1));
+            name.resize(at);
+        }
     } else if (t == LUA_TTABLE) {
-        // {"kinetic"} or {"kinetic", "rock"} (the API sketch's group-wise form)
+        // {"kinetic"} or {"kinetic", "rock"} (an energy item of one group)
         lua_rawgeti(L, -1, 1);
         const bool ok = lua_type(L, -1) == LUA_TSTRING;
         if (ok) name = lua_tostring(L, -1);
         lua_pop(L, 1);
         if (!ok) throw ScriptError("history: column '" + col.name + "': {name} needs a string");
-        if (lua_rawlen(L, -1) > 1)
-            throw ScriptError("history: column '" + col.name +
-                              "': group-wise energies are not available yet (the engine traces "
-                              "whole-model energies only); use {\"" +
-                              name + "\"}");
+        if (lua_rawlen(L, -1) > 1) {
+            lua_rawgeti(L, -1, 2);
+            const bool ok2 = lua_type(L, -1) == LUA_TSTRING;
+            const std::string group = ok2 ? lua_tostring(L, -1) : "";
+            lua_pop(L, 1);
+            if (!ok2 || lua_rawlen(L, -1) > 2)
+                throw ScriptError("history: column '" + col.name +
+                                  "': {item, group} needs two strings, e.g. {\"kinetic\", "
+                                  "\"rock\"}");
+            col.group = checkGroup(lm, col.name, name, group);
+        }
     } else {
         throw ScriptError("history: column '" + col.name + "' must be a name (" + knownSpecs() +
                           "), got " + typeName(L, -1));
@@ -77,6 +113,21 @@ void parseSpec(lua_State* L, LuaModel& lm, History::Column& col) {
         throw ScriptError("history: column '" + col.name + "': unknown quantity '" + name +
                           "' (known: " + knownSpecs() + ")");
     }
+}
+
+/// In the list form, {"kinetic", "rock"} is a group-wise energy column when the first string is
+/// an energy item and the second a group of the model (a pair {"name", spec} otherwise; an
+/// energy item's name with a spec that is not a group would be a quantity named like an item).
+bool isGroupPair(lua_State* L, LuaModel& lm, int index) {
+    index = lua_absindex(L, index);
+    if (lua_rawlen(L, index) != 2) return false;
+    lua_rawgeti(L, index, 1);
+    lua_rawgeti(L, index, 2);
+    const bool strings = lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TSTRING;
+    const bool pair = strings && isEnergyName(lua_tostring(L, -2)) &&
+                      lm.model->groupIndex(lua_tostring(L, -1), false) >= 0;
+    lua_pop(L, 2);
+    return pair;
 }
 
 std::string formatNumber(double v) {
@@ -133,6 +184,12 @@ int w_history(lua_State* L) {
                 const int t = lua_rawgeti(L, cols, i);
                 if (t == LUA_TSTRING) {
                     col.name = lua_tostring(L, -1);
+                } else if (t == LUA_TTABLE && isGroupPair(L, lm, -1)) {
+                    // {"kinetic", "rock"}: an energy item of a group, named "kinetic@rock".
+                    lua_rawgeti(L, -1, 1);
+                    lua_rawgeti(L, -2, 2);
+                    col.name = std::string(lua_tostring(L, -2)) + "@" + lua_tostring(L, -1);
+                    lua_pop(L, 2);
                 } else if (t == LUA_TTABLE) {
                     lua_rawgeti(L, -1, 1);
                     const bool ok = lua_type(L, -1) == LUA_TSTRING;
@@ -303,11 +360,13 @@ void History::writeRow(LuaModel& lm) {
                     row += formatNumber(m.lastTimestep());
                     break;
                 case Column::Energy:
-                case Column::BalanceError:
+                case Column::BalanceError: {
                     if (!have_energy) e = m.energies(), have_energy = true;
+                    const EnergyTotals eg = c.group.empty() ? e : m.energies(c.group);
                     row +=
-                        formatNumber(c.kind == Column::Energy ? e.*(c.energy) : e.balanceError());
+                        formatNumber(c.kind == Column::Energy ? eg.*(c.energy) : eg.balanceError());
                     break;
+                }
                 case Column::Function: {
                     lua_State* L = lm.L;
                     const int base = lua_gettop(L);

@@ -15,7 +15,7 @@ struct WallRef {
     WallId id;
 };
 
-enum class Field { Id, Points, Vel, Spin, Center, Force, Kn, Ks, Fric };
+enum class Field { Id, Points, Vel, Spin, Center, Force, Kn, Ks, Fric, Groups };
 
 struct FieldInfo {
     const char* name;
@@ -24,16 +24,18 @@ struct FieldInfo {
 };
 
 const FieldInfo kFields[] = {
-    {"id", Field::Id, false},    {"points", Field::Points, false}, {"vel", Field::Vel, true},
-    {"spin", Field::Spin, true}, {"center", Field::Center, true},  {"force", Field::Force, false},
-    {"kn", Field::Kn, true},     {"ks", Field::Ks, true},          {"fric", Field::Fric, true},
+    {"id", Field::Id, false},        {"points", Field::Points, false},
+    {"vel", Field::Vel, true},       {"spin", Field::Spin, true},
+    {"center", Field::Center, true}, {"force", Field::Force, false},
+    {"kn", Field::Kn, true},         {"ks", Field::Ks, true},
+    {"fric", Field::Fric, true},     {"groups", Field::Groups, false},
 };
 
 std::string knownFields(bool writable_only) {
     std::vector<std::string> names;
     for (const FieldInfo& f : kFields)
         if (f.writable || !writable_only) names.push_back(f.name);
-    if (!writable_only) names.push_back("set()");
+    if (!writable_only) names.push_back("set()"), names.push_back("add_group()");
     return joinNames(names);
 }
 
@@ -102,6 +104,9 @@ void pushField(lua_State* L, const WallRef& w, Field f) {
         case Field::Fric:
             optional("fric");
             break;
+        case Field::Groups:
+            pushStringList(L, m.wallGroups(w.id));
+            break;
     }
 }
 
@@ -144,8 +149,8 @@ int w_index(lua_State* L) {
     return catchexcept(L, [&] {
         WallRef& w = checkWall(L, 1, "index");
         const std::string key = fieldKey(L, 2);
-        if (key == "set") {
-            lua_pushstring(L, "set");
+        if (key == "set" || key == "add_group") {
+            lua_pushstring(L, key.c_str());
             lua_rawget(L, lua_upvalueindex(1));
             return 1;
         }
@@ -188,8 +193,20 @@ int w_tostring(lua_State* L) {
     return 1;
 }
 
+int w_add_group(lua_State* L) {
+    return catchexcept(L, [&] {
+        WallRef& w = checkWall(L, 1, "add_group");
+        if (lua_type(L, 2) != LUA_TSTRING)
+            throw ScriptError("wall: add_group(name) needs a group name (got " + typeName(L, 2) +
+                              ")");
+        w.lm->model->addWallGroup(w.id, lua_tostring(L, 2));
+        return 0;
+    });
+}
+
 const luaL_Reg kWallMethods[] = {
     {"set", w_set},
+    {"add_group", w_add_group},
     {nullptr, nullptr},
 };
 

@@ -186,8 +186,12 @@ void Model::setEnergyTracing(bool on) {
         m_books.acc.strain = 0.0;
         for (auto& c : m_contacts->cold) c.strain = c.bond = 0.0;
         m_books.snapshot = m_books.acc;
+        m_books.on = true;
+        m_books.groups = EnergyBooks::GroupBooks{};
+        openGroupBooks();
     }
     m_books.on = on;
+    if (!on) m_books.groups = EnergyBooks::GroupBooks{};  // tracing off: no group books
 }
 
 EnergyTotals Model::energies() const {

@@ -341,8 +341,11 @@ void Model::removePair(std::size_t i) {
     Pair& p = m_contacts->pairs[i];
     // A contact removed while active (its ball deleted) ends with what it stores: released,
     // not dropped (the next step's strain sum no longer holds it).
-    if (p.active && m_books.on)
+    if (p.active && m_books.on) {
         m_books.acc.released += m_contacts->cold[i].strain + m_contacts->cold[i].bond;
+        if (m_books.groups.on)
+            bookReleasedToGroups(p, m_contacts->cold[i].strain + m_contacts->cold[i].bond);
+    }
     if (p.model) {
         p.model->Destroy();
         p.rule->pool->release(p.model);

@@ -122,6 +122,8 @@ void Model::forceLoop() {
     double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
     double finite_check = 0.0;
     to_remove.clear();
+    const bool groups = kEnergy && m_books.groups.on;
+    if (groups) groupForceLoopStart();
     const Vec2* pos = b.pos.data();
     const Vec2* vel = b.vel.data();
     const double* radius = b.radius.data();
@@ -208,7 +210,10 @@ void Model::forceLoop() {
                     }
                     // No pair can take it (no holder, or one with a contact of its own): the
                     // contact ends here, and what it still stores is released.
-                    if constexpr (kEnergy) m_books.acc.released += cold[i].strain + cold[i].bond;
+                    if constexpr (kEnergy) {
+                        m_books.acc.released += cold[i].strain + cold[i].bond;
+                        if (groups) bookReleasedToGroups(p, cold[i].strain + cold[i].bond);
+                    }
                     endContact(p, cold[i], kGuard);
                 }
                 if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
@@ -323,14 +328,20 @@ void Model::forceLoop() {
                 m_books.acc.released += fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
-                if (m_books.strain_baseline_pending && !first)
-                    held_before += storedBefore(fd, fn_old, fs_old, m_old);
+                double held = 0.0;
+                if (m_books.strain_baseline_pending && !first) {
+                    held = storedBefore(fd, fn_old, fs_old, m_old);
+                    held_before += held;
+                }
                 if (ends) {
                     m_books.acc.released += c.strain + c.bond;
                 } else {
                     strain_now += c.strain;
                     bond_now += c.bond;
                 }
+                // Group shares and the work across group borders (group_energy.cpp): one
+                // branch per contact, taken only with groups traced.
+                if (groups) bookContactToGroups(i, fd, first, ends, held, f, g.point);
             }
         }
 
@@ -394,6 +405,7 @@ void Model::forceLoop() {
     if constexpr (kEnergy) {
         m_books.acc.strain = strain_now;
         m_books.acc.bond = bond_now;
+        if (groups) groupForceLoopEnd();
         if (m_books.strain_baseline_pending) {
             // Tracing was switched on with loaded contacts: what they hold was put in before
             // the books opened (bookkeeping.cpp, setEnergyTracing).
@@ -516,6 +528,7 @@ void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, cons
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
     if (energy) m_books.acc.placement += placed;
+    m_books.last_placed = placed;
     // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
     // formed by a spin-driven slide, rounding). Booked, not reported.
     const auto& b = m_bodies->balls;

@@ -44,6 +44,7 @@ void Model::lawOfMotion() {
     m_window = m_first_cycle ? 0.5 * m_dt : 0.5 * (m_dt_prev + m_dt);
     const bool general =
         m_books.on || m_damping.local > 0.0 || m_damping.viscous > 0.0 || m_fixed_balls > 0;
+    if (m_books.groups.on) gatherExchangeStart();  // rates before the update (group_energy.cpp)
     general ? moveBalls<true>() : moveBalls<false>();
     m_first_cycle = false;
     m_time += m_dt;
@@ -88,6 +89,7 @@ void Model::moveBalls() {
     const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
     const double gain = w / (1.0 + 0.5 * c * w);
     const bool energy = m_books.on;
+    const bool groups = m_books.groups.on;
     const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
     for (std::size_t s = 0; s < n; ++s) {
@@ -125,15 +127,19 @@ void Model::moveBalls() {
             const double inertia = b.inertia[s];
             const Vec2 v_now = v_old + (v - v_old) * lead;
             const double om_now = w_old + (om - w_old) * lead;
-            kinetic += 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
-            body += ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
+            const double ke = 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
+            const double work = ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
+            kinetic += ke;
+            body += work;
             // Work of the damping impulses on the half-step kinetic energy; viscous damping acts
             // on translation and spin alike (F = -c m v, M = -c I w).
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
             const Vec2 dmp = fd - m * Vec2(cx * v_mid.x(), cy * v_mid.y());
             const double mdmp = md - cw * inertia * om_mid;
-            damping -= w * (dmp.dot(v_mid) + mdmp * om_mid);
+            const double damp = -w * (dmp.dot(v_mid) + mdmp * om_mid);
+            damping += damp;
+            double react = 0.0;
             if (fix) {
                 // A fixed component moves at its set velocity whatever acts on it: the fixity
                 // supplies the reaction R = -(everything else), and R's work goes into
@@ -141,12 +147,12 @@ void Model::moveBalls() {
                 // at the rate v, split at the snapshot like the damping impulse below (the
                 // trapezoidal rule: second order, as the rest of the balance).
                 const Vec2 load = f + m * g;
-                double react = 0.0;
                 if (fix & kFixX) react -= load.x() * v.x();
                 if (fix & kFixY) react -= load.y() * v.y();
                 if (fix & kFixSpin) react -= mom * om;
                 driven += react * w;
             }
+            if (groups) bookBodyToGroups(b.groups[s], ke, work, damp, react * w);
         }
     }
     bool finite = true;
@@ -169,6 +175,7 @@ void Model::moveBalls() {
         m_books.acc.damping += damping * (1.0 - lead);
         m_books.acc.dashpot += m_books.dashpot_pending * (1.0 - lead);
         m_books.dashpot_pending = 0.0;
+        if (groups) groupSnapshot(lead);
     }
 }
 
@@ -201,6 +208,7 @@ void Model::moveWalls() {
             const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
             m_books.acc.boundary += work;
             m_books.snapshot.boundary += work * lead;
+            if (m_books.groups.on) bookWallToGroups(w.groups, work, lead);
         }
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);

@@ -100,6 +100,7 @@ int Model::groupIndex(const std::string& name, bool create) {
     if (m_group_names.size() >= 64)
         throw InputError("group '" + name + "': a model holds at most 64 group names");
     m_group_names.push_back(name);
+    if (m_books.on) openGroupBooks();  // the new group's books start empty
     return static_cast<int>(m_group_names.size() - 1);
 }
 

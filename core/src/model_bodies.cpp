@@ -215,7 +215,9 @@ void Model::deleteBall(BallId id) {
         const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
                              (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
         const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
-        m_books.acc.deleted += 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+        const double ke = 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
+        m_books.acc.deleted += ke;
+        if (m_books.groups.on) bookDeletedToGroups(s, ke);
     }
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
@@ -369,6 +371,18 @@ std::vector<std::string> Model::ballGroups(BallId id) const {
 void Model::addBallGroup(BallId id, const std::string& group) {
     const uint32_t s = slotOf(id);
     m_bodies->balls.groups[s] |= uint64_t(1) << groupIndex(group, true);
+}
+
+std::vector<std::string> Model::wallGroups(WallId id) const {
+    std::vector<std::string> out;
+    const uint64_t g = wallOf(id).groups;
+    for (std::size_t i = 0; i < m_group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    return out;
+}
+void Model::addWallGroup(WallId id, const std::string& group) {
+    WallData& w = wallOf(id);
+    w.groups |= uint64_t(1) << groupIndex(group, true);
 }
 
 // ------------------------------------------------------------------------ walls

@@ -16,6 +16,8 @@
 //   --sort-interval K     (default 1000, as LAMMPS's default atom sort)
 //   --seed S  --aspect A  scene parameters (defaults 1 and 4)
 //   --guard on|off        the engine's stability guard (default: the engine's default)
+//   --groups N            assign the balls round-robin to N groups (0-64) before the timed run
+//                         (with --energy on: energy traced per group)
 //   --no-profile          time without the per-phase clock reads
 //   --settle-only         stop after settling (and exporting)
 // Each timed run prints one machine-readable line starting with "RESULT" (key=value pairs);
@@ -50,6 +52,7 @@ struct Options {
     std::string guard;           // "" = engine default
     std::string energy = "off";  // energy tracing during the timed run
     std::string balance = "on";  // the run-level balance check (while tracing)
+    int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
     bool profile = true;
     bool settle_only = false;
 };
@@ -58,7 +61,8 @@ struct Options {
     std::fprintf(stderr,
                  "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
                  "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
-                 "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--balance on|off] "
+                 "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
+                 "[--balance on|off] "
                  "[--no-profile] [--settle-only]\n",
                  why);
     std::exit(2);
@@ -89,6 +93,8 @@ Options parse(int argc, char** argv) {
             o.guard = value();
         else if (a == "--energy")
             o.energy = value();
+        else if (a == "--groups")
+            o.groups = std::atoi(value().c_str());
         else if (a == "--balance")
             o.balance = value();
         else if (a == "--no-profile")
@@ -110,6 +116,7 @@ Options parse(int argc, char** argv) {
     if ((o.energy != "on" && o.energy != "off") || (o.balance != "on" && o.balance != "off"))
         usage("--energy on|off, --balance on|off");
     if (o.warmup < 0 || o.sort_interval < 1) usage("bad --warmup or --sort-interval");
+    if (o.groups < 0 || o.groups > 64) usage("--groups N needs 0 <= N <= 64");
     return o;
 }
 
@@ -158,6 +165,11 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
     if (o.warmup > 0) model.cycle(o.warmup);
+    if (o.groups > 0) {
+        int k = 0;
+        for (const talus::BallId id : model.ballIds())
+            model.addBallGroup(id, "g" + std::to_string(k++ % o.groups));
+    }
     model.setEnergyTracing(o.energy == "on");
     model.profile().reset();
     const double ke_start = talus::meanKineticEnergy(model);
@@ -199,15 +211,15 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
     std::printf(
         "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
-        "energy=%s balance=%s "
+        "energy=%s groups=%d balance=%s "
         "profile=%d wall_s=%.6f cpu_s=%.6f ns_per_particle_step=%.4f contacts_per_particle=%.5f "
         "ball_contacts_per_particle=%.5f wall_contacts=%zu pairs_per_particle=%.5f "
         "t_timestep=%.6f t_motion=%.6f t_detection=%.6f t_force=%.6f t_bookkeeping=%.6f "
         "proxy_moves=%lld pairs_created=%lld contacts_created=%lld ke_start=%.4g ke_end=%.4g\n",
         o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
         sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
-        guard_on ? "on" : "off", o.energy.c_str(), o.balance.c_str(), o.profile ? 1 : 0, wall, cpu,
-        ns, double(active) / n, double(active - wall_contacts) / n, wall_contacts,
+        guard_on ? "on" : "off", o.energy.c_str(), o.groups, o.balance.c_str(), o.profile ? 1 : 0,
+        wall, cpu, ns, double(active) / n, double(active - wall_contacts) / n, wall_contacts,
         double(pairs) / n, p.timestep, p.motion, p.detection, p.force_displacement, p.bookkeeping,
         static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
         static_cast<long long>(p.contacts_created), ke_start, ke_end);

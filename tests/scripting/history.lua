@@ -72,7 +72,7 @@ T.fails(function() e:history{ file = dir .. "/x.csv", columns = { "kinetic" } } 
 T.fails(function() e:history{ file = dir .. "/x.csv", columns = { "speed" } } end,
     { "history: column 'speed': unknown quantity 'speed' (known: time, step, dt, body" }, "unknown")
 T.fails(function() e:history{ file = dir .. "/x.csv", columns = { k = {"kinetic", "rock"} } } end,
-    { "group-wise energies are not available yet" }, "group-wise")
+    { "history: column 'k': unknown group 'rock' (groups: none)" }, "group-wise, unknown group")
 T.fails(function() e:history{ file = "/nonexistent-dir/x.csv", columns = { "time" } } end,
     { "history: cannot write '/nonexistent-dir/x.csv'" }, "bad path")
 T.fails(function() e:history{ file = dir .. "/x.csv", columns = { { "y", function() error("bad column") end } } } end,

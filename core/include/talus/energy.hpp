@@ -25,17 +25,21 @@ struct EnergyTotals {
     /// Strain energy of contacts that started overlapping (bodies created or moved into each
     /// other): energy no traced work put in, booked as an input when such a contact forms [J].
     double placement = 0.0;
+    /// Work done on a group's bodies by contacts with bodies outside it, less the group's share
+    /// of what those contacts stored and dissipated (docs/physics/energy.md, "Energy per
+    /// group"). Always 0 for the whole model; the exchanged items of a partition sum to 0 [J].
+    double exchanged = 0.0;
 
     /// Energy put in so far: the initial kinetic and strain energy, the placement energy and the
-    /// positive parts of the body and boundary work [J].
+    /// positive parts of the body, boundary and exchanged work [J].
     double input() const {
         return initial_kinetic + initial_strain + placement + (body > 0.0 ? body : 0.0) +
-               (boundary > 0.0 ? boundary : 0.0);
+               (boundary > 0.0 ? boundary : 0.0) + (exchanged > 0.0 ? exchanged : 0.0);
     }
 
     /// Energy in minus energy accounted for; zero up to discretisation error.
     double balanceError() const {
-        return initial_kinetic + initial_strain + placement + body + boundary -
+        return initial_kinetic + initial_strain + placement + body + boundary + exchanged -
                (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted);
     }
 };

@@ -233,6 +233,8 @@ public:
     Vec2 wallForce(WallId id) const;  ///< total force the balls exert on the wall [N]
     double wallContactProp(WallId id, const std::string& name) const;
     void setWallContactProp(WallId id, const std::string& name, double v);
+    std::vector<std::string> wallGroups(WallId id) const;
+    void addWallGroup(WallId id, const std::string& group);
 
     // ------------------------------------------------------------------ contact models
     /// Sets the model new contacts get by default, with properties by name.
@@ -285,6 +287,10 @@ public:
     bool energyTracing() const { return m_books.on; }
     /// Whole-model energies (docs/physics/energy.md); kinetic and strain are current values.
     EnergyTotals energies() const;
+    /// Energies of one group (docs/physics/energy.md, "Energy per group"): the same items, with
+    /// `exchanged` the work done on the group by contacts with bodies outside it. Unknown
+    /// group, or tracing off: InputError.
+    EnergyTotals energies(const std::string& group) const;
 
     // ------------------------------------------------------------------ callbacks and output
     /// Called in the bookkeeping phase every `every` steps, after events are delivered.
@@ -396,6 +402,37 @@ private:
                              double fs_old, double m_old);
     void notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
                        bool energy);
+    // --- per-group energy books (group_energy.cpp); run only while m_books.groups.on.
+    void openGroupBooks();  // tracing switched on (or groups added): size and zero the books
+    bool groupBooksOn() const { return m_books.groups.on; }
+    /// Books a body's terms of this step to each of its groups (the law of motion; the clump
+    /// pass calls it with a clump's mask): kinetic energy at the snapshot, body work, damping
+    /// and fixity work (`driven`, split at the snapshot like the whole model's).
+    void bookBodyToGroups(uint64_t mask, double kinetic, double body, double damping,
+                          double driven) {
+        auto* groups = m_books.groups.g.data();
+        for (uint64_t m = mask & m_books.groups.traced; m; m &= m - 1) {
+            auto& gr = groups[__builtin_ctzll(m)];
+            gr.step_kinetic += kinetic;
+            gr.step_body += body;
+            gr.step_damping += damping;
+            gr.step_driven += driven;
+        }
+    }
+    /// The force loop's per-contact share (rare path: called only with groups traced).
+    void bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bool ends, double held,
+                             const Vec2& f, const Vec2& point);
+    void bookReleasedToGroups(const Pair& p, double released);
+    void bookDeletedToGroups(uint32_t slot, double kinetic);
+    void groupForceLoopStart();       // zero the scratch, drop stale records
+    void groupForceLoopEnd();         // strain/bond current values, baseline
+    void gatherExchangeStart();       // law of motion: rates before the update
+    void groupSnapshot(double lead);  // law of motion: split, snapshot, accumulate
+    void bookWallToGroups(uint64_t mask, double work, double lead);
+    /// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
+    /// update; the clump pass routes pebble ends to their clump here.
+    void endRates(uint32_t slot, Vec2& v, double& w) const;
+    uint64_t endGroups(const Pair& p, bool end2) const;
     [[noreturn]] void throwNonFinite(const std::string& what) const;
     std::string describePair(const Pair& p) const;
     std::string describeBall(uint32_t slot) const;
@@ -456,6 +493,39 @@ private:
         // Tracing was switched on while contacts were loaded: the next force loop books what
         // they hold as initial_strain.
         bool strain_baseline_pending = false;
+        // Placement energy of the contact the force loop just activated (notePlacement), for
+        // the group shares.
+        double last_placed = 0.0;
+        // Per-group books (group_energy.cpp), sized to the group table while tracing is on and
+        // at least one group exists; empty and never touched otherwise.
+        struct GroupBooks {
+            bool on = false;
+            uint64_t traced = 0;  // mask of the groups with books
+            // One record per group, all its sums together (one base pointer in the loops).
+            struct Group {
+                EnergyTotals acc, snapshot;
+                double dashpot_pending = 0.0, exchanged_pending = 0.0;  // split at the snapshot
+                double strain_now = 0.0, bond_now = 0.0, held_before = 0.0;  // force-loop scratch
+                double step_kinetic = 0.0, step_body = 0.0, step_damping = 0.0,
+                       step_driven = 0.0;  // law-of-motion scratch
+            };
+            std::vector<Group> g;
+            // A contact between ends of different groups (or with a moving wall), pushed by the
+            // force loop and consumed by the next law of motion: the force on end 1 (end 2
+            // gets -f1), the moments about each end's centre, the masks, and the end rates
+            // before the update (gatherExchangeStart). A ball deleted in between (a hook) marks
+            // its end `gone` (its force is never applied).
+            struct Exchange {
+                uint32_t end1 = 0, end2 = 0;  // ball slots; end2 = wall index when `wall`
+                bool wall = false, gone1 = false, gone2 = false;
+                uint64_t g1 = 0, g2 = 0;
+                Vec2 f1{0.0, 0.0};
+                double m1 = 0.0, m2 = 0.0;
+                Vec2 v1{0.0, 0.0}, v2{0.0, 0.0};
+                double w1 = 0.0, w2 = 0.0;
+            };
+            std::vector<Exchange> exchange;
+        } groups;
     } m_books;
 
     // --- guard state: findings aggregated into one warning per kind (bookkeeping.cpp reports).
