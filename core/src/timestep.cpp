@@ -254,6 +254,33 @@ void Model::computeTimestep() {
             if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
         }
     }
+    // Clumps (docs/physics/clumps.md, "Time step"): the clump's mass over the sum of its
+    // pebbles' translational stiffnesses, and its inertia over an upper bound of the rotational
+    // stiffness about the centroid: a contact on pebble s at distance d_s from the centroid has
+    // the arm d_s + r_s n, and kn (arm x n)^2 + ks (arm . t)^2 <= (kn + ks)(d_s^2 + 2 d_s r_s) +
+    // ks r_s^2, so sum (k_rot[s] + k_tran[s] d_s (d_s + 2 r_s)) bounds it (exact at d_s = 0: a
+    // one-pebble clump gets the ball's step).
+    if (m_bodies->hasClumps()) {
+        for (const ClumpData& c : m_bodies->clumps) {
+            if (!c.alive) continue;
+            double kt = 0.0, kr = 0.0;
+            for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+                const uint32_t s = m_bodies->pebbleSlot(c, k);
+                const double d = (b.pos[s] - c.pos).norm();
+                kt += b.k_tran[s];
+                kr += b.k_rot[s] + b.k_tran[s] * d * (d + 2.0 * b.radius[s]);
+            }
+            const uint32_t s0 = m_bodies->pebbleSlot(c, 0);
+            if (kt > 0.0) {
+                const double d = m_timestep.safety * std::sqrt(c.mass / kt);
+                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
+            }
+            if (kr > 0.0) {
+                const double d = m_timestep.safety * std::sqrt(c.inertia / kr);
+                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
+            }
+        }
+    }
     if (rule == StepRule::Stability) where = StepWhere{StepWhere::Ball, worst, 0};
 
     // Stability, resolution and approach, per pair (gathered by the force loop).
@@ -286,6 +313,29 @@ void Model::computeTimestep() {
             if (d < dt)
                 dt = d, rule = StepRule::Kinematic,
                 where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
+        }
+        if (m_bodies->hasClumps()) {
+            // A pebble accelerates with its clump: a_s = a_c + alpha x r - w^2 r, |a_s| <= |a_c|
+            // + (|alpha| + w^2) d_s (the ball loop above used the pebble's own force only).
+            gatherClumpForces();
+            for (const ClumpData& c : m_bodies->clumps) {
+                if (!c.alive) continue;
+                const double ac = ((c.force + c.fapp) * c.inv_mass + m_gravity).norm();
+                const double al = std::fabs((c.moment + c.mapp) * c.inv_inertia);
+                for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+                    const uint32_t s = m_bodies->pebbleSlot(c, k);
+                    const double dist = (b.pos[s] - c.pos).norm();
+                    const double a = ac + (al + c.spin * c.spin) * dist;
+                    const double v = b.vel[s].norm();
+                    if (a == 0.0 && v == 0.0) continue;
+                    const double room = roomInside(b.fat[s], ballBox(s));
+                    const double d =
+                        stepForDisplacement(a, v + a * half_prev, 0.5 * std::max(room, 0.0));
+                    if (d < dt)
+                        dt = d, rule = StepRule::Kinematic,
+                        where = StepWhere{StepWhere::Ball, s, 0};
+                }
+            }
         }
         for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
             const WallData& wd = m_bodies->walls[w];
@@ -361,6 +411,8 @@ void Model::computeTimestep() {
     // moment: a spin changing under an applied moment keeps its half-step history).
     if (idle)
         for (std::size_t s = 0; s < n && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
+    if (idle)
+        for (const ClumpData& c : m_bodies->clumps) idle = idle && (!c.alive || c.mapp == 0.0);
     m_dt_idle = idle;
     m_dt = dt;
     m_dt_rule = rule;
