@@ -129,9 +129,31 @@ int w_clump(lua_State* L) {
         const int sources = o.has("pebbles") + o.has("template") + o.has("balls");
         if (sources != 1)
             throw ScriptError("clump: give exactly one of 'pebbles', 'template' or 'balls'");
-        if (o.has("balls"))
-            throw ScriptError("clump: 'balls' (a clump from existing balls) is not supported yet");
-        if (o.has("pebbles")) {
+        std::vector<BallId> balls;
+        if (o.has("balls")) {
+            for (const char* k : {"pos", "angle", "scale"})
+                if (o.has(k))
+                    throw ScriptError(std::string("clump: '") + k +
+                                      "' does not go with 'balls' (the balls stay where they are)");
+            if (o.push("balls") != LUA_TTABLE) {
+                const std::string got = typeName(L, -1);
+                lua_pop(L, 1);
+                throw ScriptError("clump: 'balls' must be a list of balls (got " + got + ")");
+            }
+            const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+            for (lua_Integer i = 1; i <= n; ++i) {
+                lua_rawgeti(L, -1, i);
+                BallRef* b = testBall(L, -1);
+                lua_pop(L, 1);
+                if (!b || b->lm != &lm) {
+                    lua_pop(L, 1);
+                    throw ScriptError("clump: 'balls' entry " + std::to_string(i) +
+                                      " is not a ball of this model");
+                }
+                balls.push_back(b->id);
+            }
+            lua_pop(L, 1);
+        } else if (o.has("pebbles")) {
             o.push("pebbles");
             try {
                 d.pebbles = readPebbles(L, lua_gettop(L), "clump: pebble");
@@ -166,7 +188,7 @@ int w_clump(lua_State* L) {
         d.inertia = o.number("inertia", kNotSet);
         if (o.has("centroid")) d.centroid = o.vec("centroid", d.centroid);
         if (d.mass_mode != ClumpMassMode::Direct && !o.has("density") && !o.has("mass") &&
-            !d.template_id)
+            !d.template_id && balls.empty())
             throw ScriptError("clump: 'density' (or direct 'mass' and 'inertia') is required");
         d.vel = o.vec("vel", d.vel);
         d.spin = o.number("spin", 0.0);
@@ -184,7 +206,9 @@ int w_clump(lua_State* L) {
         d.kn = o.number("kn", kNotSet);
         d.ks = o.number("ks", kNotSet);
         d.fric = o.number("fric", kNotSet);
-        pushClump(L, 1, lm.model->createClump(d));
+        pushClump(
+            L, 1,
+            balls.empty() ? lm.model->createClump(d) : lm.model->createClumpFromBalls(balls, d));
         return 1;
     });
 }

@@ -38,6 +38,54 @@ std::string lower(std::string s) {
 
 std::string clumpText(ClumpId id) { return "clump " + std::to_string(id.index); }
 
+/// Mass, inertia about the centroid, density (0 when direct) and centroid (pebbles' frame) of
+/// a clump of the (scaled) pebbles `peb`; `props` holds a template's scaled properties.
+void resolveMass(const std::vector<Pebble>& peb, const ClumpDef& d, double sc, bool from_template,
+                 MassProps props, MassMode model_mode, ClumpMassMode& mode, double& mass,
+                 double& inertia, double& density, Vec2& centroid) {
+    const bool direct = mode == ClumpMassMode::Direct || !std::isnan(d.mass);
+    if (direct) mode = ClumpMassMode::Direct;
+    if (!from_template || direct) props = clumpMassProps(peb, direct ? ClumpMassMode::Union : mode);
+
+    // --- mass, inertia, centroid (pebbles' frame)
+    density = 0.0;
+    centroid = props.centroid;
+    if (direct) {
+        if (!std::isnan(d.density))
+            throw InputError("clump: give 'density' or direct 'mass' and 'inertia', not both");
+        requirePositive("mass", d.mass);
+        requirePositive("inertia", d.inertia);
+        mass = d.mass;
+        inertia = d.inertia;
+        if (!std::isnan(d.centroid.x()) || !std::isnan(d.centroid.y())) {
+            if (!finite2(d.centroid)) throw InputError("clump: centroid must be finite");
+            centroid = d.centroid * sc;
+        }
+    } else {
+        if (model_mode == MassMode::Sphere)
+            throw InputError(
+                "clump: the model's mass mode is 'sphere', and the union of spheres is not "
+                "supported; give the clump's mass and inertia directly (mass_mode = direct)");
+        if (!std::isnan(d.inertia) || !std::isnan(d.centroid.x()))
+            throw InputError("clump: 'inertia' and 'centroid' need direct mass ('mass')");
+        requirePositive("density", d.density);
+        density = d.density;
+        if (peb.size() == 1) {
+            // One pebble: the same expressions as a ball's (Model::updateMass), so that such a
+            // clump moves bit for bit as the ball.
+            const double r = peb[0].radius;
+            mass = density * M_PI * r * r;
+            inertia = 0.5 * mass * r * r;
+            centroid = peb[0].pos;
+        } else {
+            mass = density * props.area;
+            inertia = density * props.polar_moment;
+        }
+        requirePositive("mass (density x area)", mass);
+        requirePositive("inertia (density x polar moment)", inertia);
+    }
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------ templates
@@ -95,47 +143,10 @@ ClumpId Model::createClump(const ClumpDef& d) {
             peb[i].pos *= sc, peb[i].radius *= sc;
         }
     }
-    const bool direct = mode == ClumpMassMode::Direct || !std::isnan(d.mass);
-    if (direct) mode = ClumpMassMode::Direct;
-    if (!from_template || direct) props = clumpMassProps(peb, direct ? ClumpMassMode::Union : mode);
-
-    // --- mass, inertia, centroid (pebbles' frame)
-    double mass, inertia, density = 0.0;
-    Vec2 centroid = props.centroid;
-    if (direct) {
-        if (!std::isnan(d.density))
-            throw InputError("clump: give 'density' or direct 'mass' and 'inertia', not both");
-        requirePositive("mass", d.mass);
-        requirePositive("inertia", d.inertia);
-        mass = d.mass;
-        inertia = d.inertia;
-        if (!std::isnan(d.centroid.x()) || !std::isnan(d.centroid.y())) {
-            if (!finite2(d.centroid)) throw InputError("clump: centroid must be finite");
-            centroid = d.centroid * sc;
-        }
-    } else {
-        if (m_mass_mode == MassMode::Sphere)
-            throw InputError(
-                "clump: the model's mass mode is 'sphere', and the union of spheres is not "
-                "supported; give the clump's mass and inertia directly (mass_mode = direct)");
-        if (!std::isnan(d.inertia) || !std::isnan(d.centroid.x()))
-            throw InputError("clump: 'inertia' and 'centroid' need direct mass ('mass')");
-        requirePositive("density", d.density);
-        density = d.density;
-        if (peb.size() == 1) {
-            // One pebble: the same expressions as a ball's (Model::updateMass), so that such a
-            // clump moves bit for bit as the ball.
-            const double r = peb[0].radius;
-            mass = density * M_PI * r * r;
-            inertia = 0.5 * mass * r * r;
-            centroid = peb[0].pos;
-        } else {
-            mass = density * props.area;
-            inertia = density * props.polar_moment;
-        }
-        requirePositive("mass (density x area)", mass);
-        requirePositive("inertia (density x polar moment)", inertia);
-    }
+    double mass, inertia, density;
+    Vec2 centroid;
+    resolveMass(peb, d, sc, from_template, props, m_mass_mode, mode, mass, inertia, density,
+                centroid);
 
     // --- state
     const bool placed = !std::isnan(d.pos.x()) || !std::isnan(d.pos.y());
@@ -201,6 +212,101 @@ ClumpId Model::createClump(const ClumpDef& d) {
         throw InputError(std::string("clump: ") + e.what());
     }
     placePebbles(m_bodies->clumps[index]);
+    m_limits_stale = true;
+    return m_bodies->clumpId(index);
+}
+
+ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpDef& opts) {
+    if (ids.empty()) throw InputError("clump: 'balls' is empty: a clump needs at least one ball");
+    if (!opts.pebbles.empty() || opts.template_id)
+        throw InputError("clump: give balls, pebbles or a template, not two of them");
+    auto& b = m_bodies->balls;
+    std::vector<uint32_t> slots;
+    std::vector<Pebble> peb;
+    double ball_mass = 0.0, ball_area = 0.0;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        const uint32_t s = slotOf(ids[i]);
+        if (b.clump[s] != kNoClump)
+            throw InputError("clump: ball " + std::to_string(ids[i].index) +
+                             " is already a pebble of clump " + std::to_string(b.clump[s] + 1));
+        for (uint32_t t : slots)
+            if (t == s)
+                throw InputError("clump: ball " + std::to_string(ids[i].index) +
+                                 " is listed twice");
+        slots.push_back(s);
+        peb.push_back(Pebble{b.pos[s], b.radius[s]});
+        ball_mass += b.mass[s];
+        ball_area += M_PI * b.radius[s] * b.radius[s];
+    }
+    // Density: the given one, else the balls' mass over their area (their common density when
+    // they share one).
+    ClumpDef d = opts;
+    if (std::isnan(d.mass) && std::isnan(d.density) && d.mass_mode != ClumpMassMode::Direct)
+        d.density = ball_mass / ball_area;
+    ClumpMassMode mode = d.mass_mode;
+    double mass, inertia, density;
+    Vec2 centroid;
+    resolveMass(peb, d, 1.0, false, MassProps{}, m_mass_mode, mode, mass, inertia, density,
+                centroid);
+    // Velocity: the balls' momentum and angular momentum about the centroid, given to the rigid
+    // body (v = P / sum m, w = L / sum (I + m d^2), the balls' own masses): the rigid motion that
+    // conserves both when the clump's mass equals the balls' (no overlaps).
+    Vec2 p = Vec2::Zero();
+    for (uint32_t s : slots) p += b.mass[s] * b.vel[s];
+    const Vec2 v = p / ball_mass;
+    double l = 0.0, i_sum = 0.0;
+    for (uint32_t s : slots) {
+        const Vec2 r = b.pos[s] - centroid;
+        l += b.inertia[s] * b.spin[s] + b.mass[s] * cross(r, b.vel[s] - v);
+        i_sum += b.inertia[s] + b.mass[s] * r.squaredNorm();
+    }
+    ClumpData c;
+    c.mode = mode;
+    c.mass = mass, c.inv_mass = 1.0 / mass;
+    c.inertia = inertia, c.inv_inertia = 1.0 / inertia;
+    c.density = density;
+    c.pos = centroid;
+    c.angle = 0.0;
+    c.vel = v;
+    c.spin = l / i_sum;
+    c.fixity = opts.fixity;
+    for (const auto& g : opts.groups) c.groups |= uint64_t(1) << groupIndex(g, true);
+    if (opts.groups.empty())
+        for (uint32_t s : slots) c.groups |= b.groups[s];
+    c.kn = opts.kn, c.ks = opts.ks, c.fric = opts.fric;
+    const uint32_t index = static_cast<uint32_t>(m_bodies->clumps.size());
+    // The pairs between the balls go (pebbles of one clump never touch); their stored energy
+    // is released (removePair). Contacts with other bodies are kept, with the clump's mass.
+    for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
+        const Pair& pr = m_contacts->pairs[i];
+        if (pr.wall) continue;
+        bool in1 = false, in2 = false;
+        for (uint32_t s : slots) in1 |= pr.end1 == s, in2 |= pr.end2 == s;
+        if (in1 && in2) removePair(i);
+    }
+    for (uint32_t s : slots) {
+        c.pebbles.push_back(b.handle[s]);
+        c.offset.push_back(b.pos[s] - centroid);
+        c.angle_offset.push_back(b.angle[s]);
+        b.clump[s] = index;
+        ++m_bodies->pebble_count;
+        if (b.fixity[s]) --m_fixed_balls;
+        b.fixity[s] = 0;
+        b.fapp[s] = Vec2::Zero(), b.mapp[s] = 0.0;
+        b.mass[s] = mass, b.inv_mass[s] = c.inv_mass;
+        b.inertia[s] = inertia, b.inv_inertia[s] = c.inv_inertia;
+        b.density[s] = density;
+        b.groups[s] = c.groups;
+        // A ball's own kn/ks/fric stay its own (a pebble may set its own); unset ones take the
+        // clump's.
+        if (std::isnan(b.kn[s])) b.kn[s] = c.kn;
+        if (std::isnan(b.ks[s])) b.ks[s] = c.ks;
+        if (std::isnan(b.fric[s])) b.fric[s] = c.fric;
+    }
+    m_bodies->clumps.push_back(c);
+    ++m_bodies->live_clumps;
+    placePebbles(m_bodies->clumps[index]);
+    for (uint32_t s : slots) refreshPairMasses(s);
     m_limits_stale = true;
     return m_bodies->clumpId(index);
 }

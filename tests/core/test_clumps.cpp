@@ -385,3 +385,36 @@ TEST_CASE("clump time step: large steps in flight, a resolved impact", "[core][c
     CHECK(max_flight_dt > 20.0 * contact_dt);
     CHECK(steps_in_contact >= 10);
 }
+
+TEST_CASE("clump from balls: ids, contacts and momentum kept", "[core][clumps]") {
+    // Two touching balls (no overlap, so the clump's mass equals theirs) moving apart and
+    // spinning become one clump: their mutual pair goes, their momentum and angular momentum
+    // are kept (round-off, 1e-12), and a free ball's contact with one of them survives.
+    auto m = makeModel(Vec2::Zero(), linearProps(1e6));
+    WarningLog log;  // `other` is placed overlapping (a placement warning)
+    log.attach(*m);
+    const BallId a = m->createBall(ballAt(Vec2(0.0, 0.0), 0.1, kRho, Vec2(-0.1, 0.0)));
+    BallDef bd = ballAt(Vec2(0.2, 0.0), 0.1, kRho, Vec2(0.05, 0.3));
+    bd.spin = 1.0;
+    const BallId b = m->createBall(bd);
+    const BallId other = m->createBall(ballAt(Vec2(0.0, 0.199), 0.1, kRho));
+    m->cycle(1);
+    CHECK(m->contactCount(false) >= 2);
+    const Momentum before = momentumOf(*m);
+    const ClumpId c = m->createClumpFromBalls({a, b});
+    const Momentum after = momentumOf(*m);
+    CHECK((after.p - before.p).norm() <= 1e-12 * before.p.norm());
+    CHECK(std::fabs(after.l - before.l) <= 1e-12 * std::fabs(before.l));
+    CHECK(m->clumpMass(c) == Approx(2.0 * diskMass(kRho, 0.1)).epsilon(1e-12));
+    CHECK(m->ballCount() == 1);
+    CHECK(m->clumpOf(a) == c);
+    for (const ContactInfo& ci : m->contacts(false)) {
+        CHECK_FALSE((ci.clump1 == c && ci.clump2 == c));  // no pair inside the clump
+    }
+    bool kept = false;
+    for (const ContactInfo& ci : m->contacts(true))
+        kept |= (ci.ball1 == other || ci.ball2 == other) && (ci.clump1 == c || ci.clump2 == c);
+    CHECK(kept);
+    CHECK_THROWS_WITH(m->deleteBall(a), Catch::Contains("is a pebble of clump"));
+    m->cycle(10);
+}

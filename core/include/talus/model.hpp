@@ -227,6 +227,12 @@ public:
     // ------------------------------------------------------------------ clumps
     /// Creates a rigid clump (docs/physics/clumps.md); throws InputError on bad input.
     ClumpId createClump(const ClumpDef& def);
+    /// Makes a clump of existing balls (PFC "clump replicate"-like conversion): they keep their
+    /// ids and their contacts with other bodies, their mutual pairs go, and the clump takes
+    /// their momentum and angular momentum. `opts` gives density (default: the balls' mass
+    /// over their area) or direct mass, groups (default: the union of the balls'), fixity and
+    /// kn/ks/fric; its pebbles, template, pos and angle must be empty/unset.
+    ClumpId createClumpFromBalls(const std::vector<BallId>& balls, const ClumpDef& opts = {});
     /// Defines a template (pebbles in its frame, Union or PlainSum or Direct); returns its id.
     int defineClumpTemplate(const std::vector<Pebble>& pebbles,
                             ClumpMassMode mode = ClumpMassMode::Union);

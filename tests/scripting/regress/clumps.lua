@@ -91,4 +91,18 @@ do
             "sphere mode")
 end
 
+-- 4. A clump from existing balls: they keep their ids and become pebbles.
+do
+    local m = talus.model{}
+    local a = m:ball{ pos = {0, 0}, radius = R, density = rho, vel = {-1, 0} }
+    local b = m:ball{ pos = {2 * R, 0}, radius = R, density = rho, vel = {1, 0} }
+    local c = m:clump{ balls = {a, b}, group = "pair" }
+    T.near(c.mass, 2 * rho * math.pi * R * R, 1e-12, "mass of two touching disks")
+    T.near(c.vel[1], 0, 1e-15, "momentum kept")
+    T.check(m:ball_count() == 0 and m:clump_count() == 1, "balls became pebbles")
+    T.fails(function() a:delete() end, {"is a pebble of clump 1"}, "pebbles are deleted with the clump")
+    T.fails(function() m:clump{ balls = {a}, pos = {0, 0} } end, {"'pos' does not go with 'balls'"},
+            "pos with balls")
+end
+
 T.done("clumps")
