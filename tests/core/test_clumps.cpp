@@ -226,7 +226,7 @@ namespace {
 /// dt = T* / steps_per_contact (T* the half period with the true effective mass at the contact
 /// point). Returns the relative errors of the linear and angular velocity changes against the
 /// rigid-body impulse formula.
-std::pair<double, double> offCentreImpact(double steps_per_contact) {
+std::pair<double, double> offCentreImpact(double steps_per_contact, double phase) {
     // Pebble A (r 0.15) hits; B (r 0.1) sits on the same horizontal line through the centroid,
     // so A's arm about the centroid is horizontal: it changes only to second order in the
     // rotation during the contact ((w T)^2 ~ 1e-6 at kn = 1e11), and B (bottom 0.05 m higher)
@@ -242,7 +242,7 @@ std::pair<double, double> offCentreImpact(double steps_per_contact) {
     const ClumpId c = m->createClump(d);  // world frame: A's centre at the origin
     const double mass = m->clumpMass(c), inertia = m->clumpInertia(c);
     const Vec2 xc = m->clumpPos(c);
-    m->setClumpPos(c, xc + Vec2(0.0, ra + 1e-4));  // A's bottom 0.1 mm above the wall
+
     // Rigid-body impulse (e = 1): contact point P below A's centre, normal n = +y;
     // rho = P - x_c, rho x n = rho_x; v_n = v_y + w rho_x = -1.
     const double rho_x = -xc.x();
@@ -251,6 +251,9 @@ std::pair<double, double> offCentreImpact(double steps_per_contact) {
     const double dv_exact = J / mass, dw_exact = rho_x * J / inertia;
     const double T = M_PI * std::sqrt(1.0 / (inv_m_eff * kn));
     m->timestep() = fixedStep(T / steps_per_contact);
+    // A's bottom 0.1 mm above the wall plus `phase` of a step's travel: where within a step the
+    // contact begins (the restitution error of a discrete impact depends on it).
+    m->setClumpPos(c, xc + Vec2(0.0, ra + 1e-4 + phase * T / steps_per_contact));
     bool touched = false;
     for (int i = 0; i < 100000; ++i) {
         m->cycle(1);
@@ -267,18 +270,32 @@ std::pair<double, double> offCentreImpact(double steps_per_contact) {
 }  // namespace
 
 TEST_CASE("off-centre impact: rigid-body impulse, converging with the step", "[core][clumps]") {
-    // The impulse formula is the limit of a stiff elastic contact resolved finely. At 20 and 40
-    // steps per contact the errors must be below 1e-3 (the single-ball elastic impact at 30
-    // steps has |e - 1| <= 1e-4, test_bounce.cpp) and shrink with the step by a factor >= 3
-    // (second order: 4; the contact's onset within a step adds a phase error of the same order).
-    const auto [ev20, ew20] = offCentreImpact(20.0);
-    const auto [ev40, ew40] = offCentreImpact(40.0);
+    // The impulse formula is the limit of a stiff elastic contact resolved finely. The error of
+    // a discrete impact depends on where within a step the contact begins, so each step size is
+    // run at four onset phases and the largest error counts. Central differences give a
+    // restitution error of order (dt/T)^2 (measured: 0.53 (dt/T)^2 at 20, 40 and 80 steps per
+    // contact), so at 20 steps it must be below 2e-3 = 0.8 (1/20)^2, and halving the step must
+    // shrink it by a factor >= 3 (second order: 4).
+    auto worst = [](double n) {
+        double ev = 0.0, ew = 0.0;
+        for (double phase : {0.0, 0.25, 0.5, 0.75}) {
+            const auto [v, w] = offCentreImpact(n, phase);
+            ev = std::max(ev, v), ew = std::max(ew, w);
+        }
+        return std::make_pair(ev, ew);
+    };
+    const auto [ev20, ew20] = worst(20.0);
+    const auto [ev40, ew40] = worst(40.0);
     report(
-        "off-centre impact: dv error %.3g (20 steps) %.3g (40 steps), ratio %.2f; dw error "
-        "%.3g / %.3g, ratio %.2f\n",
+        "off-centre impact, worst of 4 onset phases: dv error %.3g (20 steps/contact) %.3g "
+        "(40), ratio %.2f; dw error %.3g / %.3g, ratio %.2f\n",
         ev20, ev40, ev20 / ev40, ew20, ew40, ew20 / ew40);
-    CHECK(ev20 < 1e-3);
-    CHECK(ew20 < 1e-3);
+    if (reportOn()) {
+        const auto [ev80, ew80] = worst(80.0);
+        report("  80 steps/contact: dv error %.3g, dw error %.3g\n", ev80, ew80);
+    }
+    CHECK(ev20 < 2e-3);
+    CHECK(ew20 < 2e-3);
     CHECK(ev40 < ev20 / 3.0);
     CHECK(ew40 < ew20 / 3.0);
 }
