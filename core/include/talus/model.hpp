@@ -433,6 +433,9 @@ private:
     void noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
                      double arm1_sq, double arm2_sq, double mass_eff);
     void surveyPairs();
+    /// For a pair with a pebble end off its clump's centroid: the lower bound of the true
+    /// effective mass over the pair's (clump) effective mass, <= 1 (timestep.cpp); 1 otherwise.
+    double pebbleMassRatio(const Pair& p) const;
 
     // helpers
     uint32_t slotOf(BallId id) const;  // throws InputError for a stale id
