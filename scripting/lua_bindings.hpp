@@ -27,6 +27,7 @@ inline constexpr const char* kModelType = "talus.Model";
 inline constexpr const char* kBallType = "talus.Ball";
 inline constexpr const char* kWallType = "talus.Wall";
 inline constexpr const char* kContactType = "talus.Contact";
+inline constexpr const char* kClumpType = "talus.Clump";
 inline constexpr const char* kHistoryType = "talus.History";
 
 struct LuaModel;
@@ -152,6 +153,7 @@ const std::vector<EnergyItem>& energyItems();
 void pushBall(lua_State* L, int model_index, BallId id);
 void pushWall(lua_State* L, int model_index, WallId id);
 void pushContact(lua_State* L, int model_index, ContactKey key);
+void pushClump(lua_State* L, int model_index, ClumpId id);  // wrap_clump.cpp
 
 /// The ball at `index` (with its model); nullptr if the value is not a ball.
 struct BallRef {
@@ -166,6 +168,7 @@ void openModel(lua_State* L);    // wrap_model.cpp: talus.Model metatable
 void openBall(lua_State* L);     // wrap_ball.cpp
 void openWall(lua_State* L);     // wrap_wall.cpp
 void openContact(lua_State* L);  // wrap_contact.cpp
+void openClump(lua_State* L);    // wrap_clump.cpp
 void openHistory(lua_State* L);  // wrap_history.cpp
 /// The model's methods, one table per wrap_<thing>.cpp; openModel registers them all and the
 /// unknown-method error lists their names.
@@ -174,6 +177,7 @@ extern const luaL_Reg kContactModelMethods[];  // wrap_contact_model.cpp
 extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
 extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
 extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
+extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
 /// Lower-case copy of `s` (names compared without case).
 std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.

@@ -109,6 +109,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     openBall(L);
     openWall(L);
     openContact(L);
+    openClump(L);
     openHistory(L);
     luaL_newlib(L, kModuleFunctions);
     addImpactFunctions(L);

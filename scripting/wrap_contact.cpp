@@ -29,8 +29,8 @@ std::string describeKey(ContactKey key) {
 }
 
 const char* const kFieldNames[] = {
-    "key",     "ball1",        "ball2",       "wall",   "segment", "normal", "point",
-    "overlap", "normal_force", "shear_force", "moment", "sliding", "model",  "active",
+    "key",          "ball1",       "ball2",  "wall",    "segment", "normal", "point",  "overlap",
+    "normal_force", "shear_force", "moment", "sliding", "model",   "active", "clump1", "clump2",
 };
 const char* const kMethods[] = {"prop", "set_prop", "props"};
 
@@ -86,7 +86,13 @@ int w_index(lua_State* L) {
         const int model_index = lua_gettop(L);
         if (key == "ball1")
             pushBall(L, model_index, info.ball1);
-        else if (key == "ball2") {
+        else if (key == "clump1" || key == "clump2") {
+            const ClumpId cl = key == "clump1" ? info.clump1 : info.clump2;
+            if (cl.valid())
+                pushClump(L, model_index, cl);
+            else
+                lua_pushnil(L);
+        } else if (key == "ball2") {
             if (info.ball2.valid())
                 pushBall(L, model_index, info.ball2);
             else

@@ -15,6 +15,7 @@ void Model::BallArrays::resize(std::size_t n) {
         density.resize(n);
     fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
     kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
+    clump.resize(n, kNoClump);
 }
 
 void Model::BallArrays::move(std::size_t to, std::size_t from) {
@@ -26,7 +27,7 @@ void Model::BallArrays::move(std::size_t to, std::size_t from) {
     fixity[to] = fixity[from], handle[to] = handle[from], proxy[to] = proxy[from];
     fat[to] = fat[from], groups[to] = groups[from];
     kn[to] = kn[from], ks[to] = ks[from], fric[to] = fric[from];
-    k_tran[to] = k_tran[from], k_rot[to] = k_rot[from];
+    k_tran[to] = k_tran[from], k_rot[to] = k_rot[from], clump[to] = clump[from];
 }
 
 void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
@@ -37,7 +38,7 @@ void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
     apply(pos), apply(vel), apply(force), apply(fapp), apply(angle), apply(spin), apply(moment);
     apply(mapp), apply(radius), apply(mass), apply(inv_mass), apply(inertia), apply(inv_inertia);
     apply(density), apply(fixity), apply(handle), apply(proxy), apply(fat), apply(groups);
-    apply(kn), apply(ks), apply(fric), apply(k_tran), apply(k_rot);
+    apply(kn), apply(ks), apply(fric), apply(k_tran), apply(k_rot), apply(clump);
 }
 
 uint32_t BodyStore::slotOf(BallId id) const {
@@ -56,6 +57,15 @@ bool BodyStore::isAlive(BallId id) const {
 
 std::string BodyStore::describeBall(uint32_t slot) const {
     return "ball " + std::to_string(balls.handle[slot]) + " at " + vecText(balls.pos[slot]);
+}
+
+uint32_t BodyStore::clumpIndex(ClumpId id) const {
+    if (id.index == 0 || id.index > clumps.size())
+        throw InputError("clump id " + std::to_string(id.index) + " does not exist");
+    const ClumpData& c = clumps[id.index - 1];
+    if (!c.alive || c.generation != id.generation)
+        throw InputError("clump " + std::to_string(id.index) + " was deleted (stale id)");
+    return id.index - 1;
 }
 
 const Model::WallData& BodyStore::wallOf(WallId id) const {

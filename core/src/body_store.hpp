@@ -30,8 +30,21 @@ struct BodyStore {
     std::vector<uint32_t> generation;  // handle index - 1 -> generation
     std::vector<uint32_t> free_handles;
 
-    // --- clumps (issue 7): the clump arrays and their handle table go here, next to the balls
-    // whose slots their pebbles occupy.
+    // --- clumps (issue 7, docs/physics/clumps.md): indexed by handle - 1 (never re-used; a
+    // deleted clump stays as a dead entry). Their pebbles occupy ball slots
+    // (BallArrays::clump names the clump of each slot).
+    using ClumpData = Model::ClumpData;
+    std::vector<ClumpData> clumps;
+    std::size_t live_clumps = 0;
+    std::size_t pebble_count = 0;  // ball slots that are pebbles
+    bool hasClumps() const { return pebble_count > 0; }
+    /// Index of a live clump; throws InputError naming the id for an unknown or stale id.
+    uint32_t clumpIndex(ClumpId id) const;
+    ClumpId clumpId(uint32_t index) const { return ClumpId{index + 1, clumps[index].generation}; }
+    /// Slot of pebble k of clump c.
+    uint32_t pebbleSlot(const ClumpData& c, std::size_t k) const {
+        return slot_of[c.pebbles[k] - 1];
+    }
 
     // --- walls: chains of segments; a segment joins two entries of `vertices`
     std::vector<WallData> walls;

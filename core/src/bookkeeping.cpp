@@ -172,7 +172,11 @@ void Model::setEnergyTracing(bool on) {
         const auto& b = m_bodies->balls;
         double ke = 0.0;
         for (std::size_t s = 0; s < b.size(); ++s)
-            ke += 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
+            if (b.clump[s] == kNoClump)  // a pebble's motion is its clump's (below)
+                ke += 0.5 *
+                      (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
+        for (const ClumpData& c : m_bodies->clumps)
+            if (c.alive) ke += 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
         m_books.acc.initial_kinetic = ke;
         m_books.acc.kinetic = ke;
         m_books.dashpot_pending = 0.0;

@@ -310,6 +310,8 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
         cold.key = (uint64_t(b.handle[s1]) << 32) | (kWallBit | other);
     } else {
         if (s1 == other) return false;
+        // Pebbles of one clump never touch each other (they may overlap by construction).
+        if (b.clump[s1] != kNoClump && b.clump[s1] == b.clump[other]) return false;
         uint32_t a = s1, c = other;
         if (b.handle[a] > b.handle[c]) std::swap(a, c);
         p.end1 = a;

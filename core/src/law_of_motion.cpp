@@ -42,8 +42,9 @@ std::string text(double v) { return messageNumber(v); }
 
 void Model::lawOfMotion() {
     m_window = m_first_cycle ? 0.5 * m_dt : 0.5 * (m_dt_prev + m_dt);
-    const bool general =
-        m_books.on || m_damping.local > 0.0 || m_damping.viscous > 0.0 || m_fixed_balls > 0;
+    // Clumps need the general loop (it skips their pebbles; moveClumps moves them).
+    const bool general = m_books.on || m_damping.local > 0.0 || m_damping.viscous > 0.0 ||
+                         m_fixed_balls > 0 || m_bodies->hasClumps();
     if (m_books.groups.on) gatherExchangeStart();  // rates before the update (group_energy.cpp)
     general ? moveBalls<true>() : moveBalls<false>();
     m_first_cycle = false;
@@ -92,7 +93,9 @@ void Model::moveBalls() {
     const bool groups = m_books.groups.on;
     const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
+    const uint32_t* pebble = m_bodies->hasClumps() ? b.clump.data() : nullptr;
     for (std::size_t s = 0; s < n; ++s) {
+        if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
         const Vec2 v_old = vel[s];
         const double w_old = spin[s];
         const uint8_t fix = b.fixity[s];
@@ -155,6 +158,7 @@ void Model::moveBalls() {
             if (groups) bookBodyToGroups(b.groups[s], ke, work, damp, react * w);
         }
     }
+    if (pebble) moveClumps(kinetic, body, damping, driven);  // clump_motion.cpp
     bool finite = true;
     for (std::size_t s = 0; s < n && finite; ++s)
         finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);

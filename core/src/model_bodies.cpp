@@ -90,7 +90,7 @@ uint32_t Model::slotOf(BallId id) const { return m_bodies->slotOf(id); }
 bool Model::isAlive(BallId id) const { return m_bodies->isAlive(id); }
 std::string Model::describeBall(uint32_t slot) const { return m_bodies->describeBall(slot); }
 
-std::size_t Model::ballCount() const { return m_bodies->balls.size(); }
+std::size_t Model::ballCount() const { return m_bodies->balls.size() - m_bodies->pebble_count; }
 
 void Model::refreshPairMasses(uint32_t s) {
     // Pairs cache their effective mass (force_displacement.cpp); a mass change is rare.
@@ -117,7 +117,9 @@ void Model::updateMass(uint32_t s) {
     b.inv_inertia[s] = 1.0 / b.inertia[s];
 }
 
-BallId Model::createBall(const BallDef& d) {
+BallId Model::createBall(const BallDef& d) { return createBallIn(d, kNoClump); }
+
+BallId Model::createBallIn(const BallDef& d, uint32_t clump) {
     m_limits_stale = true;
     auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
     requireRadius(d.radius);
@@ -183,6 +185,9 @@ BallId Model::createBall(const BallDef& d) {
     for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << groupIndex(g, true);
     b.kn[s] = d.kn, b.ks[s] = d.ks, b.fric[s] = d.fric;
     b.k_tran[s] = b.k_rot[s] = 0.0;
+    // Before the broadphase sees it: pebbles of one clump never form a pair (makePair).
+    b.clump[s] = clump;
+    if (clump != kNoClump) ++m_bodies->pebble_count;
 
     uint32_t h;
     if (!m_bodies->free_handles.empty()) {
@@ -201,9 +206,18 @@ BallId Model::createBall(const BallDef& d) {
 }
 
 void Model::deleteBall(BallId id) {
+    const uint32_t s = slotOf(id);
+    if (m_bodies->balls.clump[s] != kNoClump)
+        throw InputError("ball " + std::to_string(id.index) + " is a pebble of clump " +
+                         std::to_string(m_bodies->balls.clump[s] + 1) +
+                         ": delete or release the clump");
+    removeBall(id, true);
+}
+
+void Model::removeBall(BallId id, bool book_energy) {
     m_limits_stale = true;
     const uint32_t s = slotOf(id);
-    if (m_books.on) {
+    if (m_books.on && book_energy) {
         // The ball leaves the books with its kinetic energy at the present whole step, taken as
         // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
         // plus half a step of the acceleration of the last force loop. Its contacts' stored
@@ -226,6 +240,7 @@ void Model::deleteBall(BallId id) {
     }
     auto& b = m_bodies->balls;
     if (b.fixity[s]) --m_fixed_balls;
+    if (b.clump[s] != kNoClump) --m_bodies->pebble_count;
     if (b.proxy[s] >= 0) m_contacts->broadphase->destroy(b.proxy[s]);
     const uint32_t last = static_cast<uint32_t>(b.size() - 1);
     if (s != last) {
@@ -246,7 +261,8 @@ std::vector<BallId> Model::ballIds() const {
     std::vector<BallId> ids;
     ids.reserve(m_bodies->balls.size());
     for (uint32_t h = 1; h <= m_bodies->slot_of.size(); ++h)
-        if (m_bodies->slot_of[h - 1] != kDeadSlot)
+        if (m_bodies->slot_of[h - 1] != kDeadSlot &&
+            m_bodies->balls.clump[m_bodies->slot_of[h - 1]] == kNoClump)
             ids.push_back(BallId{h, m_bodies->generation[h - 1]});
     return ids;
 }

@@ -115,6 +115,11 @@ ContactInfo Model::infoOf(std::size_t index) const {
     c.key = ContactKey{m_contacts->cold[index].key};
     const uint32_t h1 = m_bodies->balls.handle[p.end1];
     c.ball1 = BallId{h1, m_bodies->generation[h1 - 1]};
+    const auto clumpAt = [&](uint32_t slot) {
+        const uint32_t k = m_bodies->balls.clump[slot];
+        return k == kNoClump ? ClumpId{} : m_bodies->clumpId(k);
+    };
+    c.clump1 = clumpAt(p.end1);
     if (p.wall) {
         const Segment& s = m_bodies->segments[p.end2];
         c.wall = WallId{s.wall + 1, m_bodies->walls[s.wall].generation};
@@ -122,6 +127,7 @@ ContactInfo Model::infoOf(std::size_t index) const {
     } else {
         const uint32_t h2 = m_bodies->balls.handle[p.end2];
         c.ball2 = BallId{h2, m_bodies->generation[h2 - 1]};
+        c.clump2 = clumpAt(p.end2);
     }
     c.active = p.active;
     pairGeometry(p, c.normal, c.overlap, c.point);

@@ -8,12 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "talus/clump_mass.hpp"
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 
 namespace talus {
 
 constexpr uint32_t kDeadSlot = 0xffffffffu;
+constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
 
 /// A number for a message: `digits` significant digits (printf %g).
 std::string messageNumber(double v, int digits = 6);
@@ -135,12 +137,40 @@ struct Model::BallArrays {
     std::vector<uint64_t> groups;
     std::vector<double> kn, ks, fric;
     std::vector<double> k_tran, k_rot;  // time-step accumulators (automatic mode)
+    /// Index of the clump (ClumpData, handle - 1) a pebble belongs to; kNoClump for a free ball.
+    /// Pebbles are balls to the detection and the force loop, but not to the user.
+    std::vector<uint32_t> clump;
 
     std::size_t size() const { return pos.size(); }
     void resize(std::size_t n);
     /// Moves slot `from` into slot `to` (all arrays).
     void move(std::size_t to, std::size_t from);
     void permute(const std::vector<uint32_t>& new_to_old);
+};
+
+/// A rigid clump (docs/physics/clumps.md). Its pebbles are balls (BallArrays slots, named here by
+/// their handles so that sorting and deletion of balls need no update) whose mass and inertia
+/// fields hold the clump's, so a pair's effective mass is the clump's. The law of motion
+/// integrates the clump and places its pebbles rigidly (law_of_motion.cpp, moveClumps).
+struct Model::ClumpData {
+    uint32_t generation = 1;
+    bool alive = true;
+    Vec2 pos{0.0, 0.0};  // centroid [m]
+    Vec2 vel{0.0, 0.0};  // at the half step, like a ball's
+    double angle = 0.0, spin = 0.0;
+    double mass = 0.0, inv_mass = 0.0, inertia = 0.0, inv_inertia = 0.0;  // about the centroid
+    double density = 0.0;                                                 // 0 in direct mode
+    ClumpMassMode mode = ClumpMassMode::Union;
+    Vec2 force{0.0, 0.0};  // contact force summed to the centroid, last step [N]
+    double moment = 0.0;   // contact moment about the centroid, last step [N m]
+    Vec2 fapp{0.0, 0.0};
+    double mapp = 0.0;
+    uint8_t fixity = 0;
+    uint64_t groups = 0;
+    double kn = kNotSet, ks = kNotSet, fric = kNotSet;
+    std::vector<uint32_t> pebbles;     // ball handles
+    std::vector<Vec2> offset;          // pebble centre - centroid, in the clump frame (angle 0)
+    std::vector<double> angle_offset;  // pebble angle - clump angle
 };
 
 }  // namespace talus

@@ -114,6 +114,31 @@ double roomInside(const Box& fat, const Box& box) {
 
 }  // namespace
 
+double Model::pebbleMassRatio(const Pair& p) const {
+    // A contact on pebble s acts along a normal through the pebble's centre, so its arm about
+    // the clump's centroid, (x_s - x_c) x n, is at most d_s = |x_s - x_c|, and the effective
+    // mass of the clump at the contact, 1 / (1/m + ((x_s - x_c) x n)^2 / I), is at least
+    // 1 / (1/m + d_s^2 / I). The pair's mass_eff uses m (PFC's choice, kept for the dashpots);
+    // the time-step rules use this lower bound, so an off-centre impact is resolved as well as
+    // a central one (docs/physics/clumps.md, "Time step").
+    const auto& b = m_bodies->balls;
+    bool off = false;
+    auto lower = [&](uint32_t s) {
+        const uint32_t k = b.clump[s];
+        if (k == kNoClump) return b.mass[s];
+        const ClumpData& c = m_bodies->clumps[k];
+        const double d2 = (b.pos[s] - c.pos).squaredNorm();
+        if (d2 == 0.0) return b.mass[s];
+        off = true;
+        return 1.0 / (c.inv_mass + d2 * c.inv_inertia);
+    };
+    const double m1 = lower(p.end1);
+    const double m2 = p.wall ? 0.0 : lower(p.end2);
+    if (!off) return 1.0;
+    const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
+    return std::min(1.0, m_eff / p.mass_eff);
+}
+
 void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
                          double accel, const Vec2& normal) {
     // A pair not yet touching may not close more than half its gap in one step (bounded with
@@ -124,8 +149,12 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
     const auto& b = m_bodies->balls;
     const double m1 = b.mass[p.end1];
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
-    const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
-    const double m_min = p.wall ? m1 : std::min(m1, m2);
+    double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
+    double m_min = p.wall ? m1 : std::min(m1, m2);
+    if (m_bodies->hasClumps()) {
+        const double ratio = pebbleMassRatio(p);
+        if (ratio != 1.0) m_eff *= ratio, m_min *= ratio;
+    }
     // The impact's duration at the speed the bodies will have in it (approachDuration); the
     // relative acceleration's norm bounds its closing component.
     const double approach = std::max(0.0, -vrel.dot(normal));
@@ -148,7 +177,14 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
     // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
     // quasi-static bonded specimen turns resolution off (`resolution = 0`); the last argument
     // (the contact is not bonded) is no longer used.
-    const double duration = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0));
+    double duration = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0));
+    if (m_bodies->hasClumps()) {
+        // Off-centre pebble: the duration with the lower bound of the effective mass. It scales
+        // as sqrt(m) for a linear law and as m^(2/5) for Hertz; sqrt(ratio) <= ratio^(2/5) for
+        // ratio <= 1, so scaling by sqrt is never less strict.
+        const double ratio = pebbleMassRatio(p);
+        if (ratio != 1.0) duration *= std::sqrt(ratio);
+    }
     // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
     // large steps early in an impact: bound the step by `safety` of the impact's time scale.
     const double stable = m_timestep.safety * duration / M_PI;
@@ -254,6 +290,33 @@ void Model::computeTimestep() {
             if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
         }
     }
+    // Clumps (docs/physics/clumps.md, "Time step"): the clump's mass over the sum of its
+    // pebbles' translational stiffnesses, and its inertia over an upper bound of the rotational
+    // stiffness about the centroid: a contact on pebble s at distance d_s from the centroid has
+    // the arm d_s + r_s n, and kn (arm x n)^2 + ks (arm . t)^2 <= (kn + ks)(d_s^2 + 2 d_s r_s) +
+    // ks r_s^2, so sum (k_rot[s] + k_tran[s] d_s (d_s + 2 r_s)) bounds it (exact at d_s = 0: a
+    // one-pebble clump gets the ball's step).
+    if (m_bodies->hasClumps()) {
+        for (const ClumpData& c : m_bodies->clumps) {
+            if (!c.alive) continue;
+            double kt = 0.0, kr = 0.0;
+            for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+                const uint32_t s = m_bodies->pebbleSlot(c, k);
+                const double d = (b.pos[s] - c.pos).norm();
+                kt += b.k_tran[s];
+                kr += b.k_rot[s] + b.k_tran[s] * d * (d + 2.0 * b.radius[s]);
+            }
+            const uint32_t s0 = m_bodies->pebbleSlot(c, 0);
+            if (kt > 0.0) {
+                const double d = m_timestep.safety * std::sqrt(c.mass / kt);
+                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
+            }
+            if (kr > 0.0) {
+                const double d = m_timestep.safety * std::sqrt(c.inertia / kr);
+                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
+            }
+        }
+    }
     if (rule == StepRule::Stability) where = StepWhere{StepWhere::Ball, worst, 0};
 
     // Stability, resolution and approach, per pair (gathered by the force loop).
@@ -286,6 +349,29 @@ void Model::computeTimestep() {
             if (d < dt)
                 dt = d, rule = StepRule::Kinematic,
                 where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
+        }
+        if (m_bodies->hasClumps()) {
+            // A pebble accelerates with its clump: a_s = a_c + alpha x r - w^2 r, |a_s| <= |a_c|
+            // + (|alpha| + w^2) d_s (the ball loop above used the pebble's own force only).
+            gatherClumpForces();
+            for (const ClumpData& c : m_bodies->clumps) {
+                if (!c.alive) continue;
+                const double ac = ((c.force + c.fapp) * c.inv_mass + m_gravity).norm();
+                const double al = std::fabs((c.moment + c.mapp) * c.inv_inertia);
+                for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+                    const uint32_t s = m_bodies->pebbleSlot(c, k);
+                    const double dist = (b.pos[s] - c.pos).norm();
+                    const double a = ac + (al + c.spin * c.spin) * dist;
+                    const double v = b.vel[s].norm();
+                    if (a == 0.0 && v == 0.0) continue;
+                    const double room = roomInside(b.fat[s], ballBox(s));
+                    const double d =
+                        stepForDisplacement(a, v + a * half_prev, 0.5 * std::max(room, 0.0));
+                    if (d < dt)
+                        dt = d, rule = StepRule::Kinematic,
+                        where = StepWhere{StepWhere::Ball, s, 0};
+                }
+            }
         }
         for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
             const WallData& wd = m_bodies->walls[w];
@@ -361,6 +447,8 @@ void Model::computeTimestep() {
     // moment: a spin changing under an applied moment keeps its half-step history).
     if (idle)
         for (std::size_t s = 0; s < n && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
+    if (idle)
+        for (const ClumpData& c : m_bodies->clumps) idle = idle && (!c.alive || c.mapp == 0.0);
     m_dt_idle = idle;
     m_dt = dt;
     m_dt_rule = rule;

@@ -27,6 +27,16 @@ struct WallId {
     }
 };
 
+struct ClumpId {
+    uint32_t index = 0;  ///< 1-based; 0 = none
+    uint32_t generation = 0;
+    bool valid() const { return index != 0; }
+    bool operator==(const ClumpId& o) const {
+        return index == o.index && generation == o.generation;
+    }
+    bool operator!=(const ClumpId& o) const { return !(*this == o); }
+};
+
 /// A contact is named by its ordered ends: end 1 is a ball (the lower id of two balls), end 2 a
 /// ball or a wall segment. The key stays valid while the contact exists.
 struct ContactKey {

@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "talus/clump_mass.hpp"
 #include "talus/contact_model.hpp"
 #include "talus/energy.hpp"
 #include "talus/ids.hpp"
@@ -59,6 +60,37 @@ struct BallDef {
     std::vector<std::string> groups;
     /// Inheritable contact properties (PFC2D 3.x ball properties); NaN = not set.
     double kn = kNotSet, ks = kNotSet, fric = kNotSet;
+};
+
+/// A rigid clump of pebbles (docs/physics/clumps.md). Pebbles are given in the clump's frame and
+/// placed so that the clump's centroid lands on `pos`, turned by `angle` and scaled by `scale`;
+/// without `pos` they are in world coordinates (scaled about the origin). Mass properties by
+/// `mass_mode`: Union (default) and PlainSum need `density`; Direct needs `mass` and `inertia`
+/// (about the centroid) and takes `centroid` (clump frame, default: the union's) if given.
+struct ClumpDef {
+    std::vector<Pebble> pebbles;  ///< {pos, radius}; empty when `template_id` is set
+    int template_id = 0;          ///< > 0: a template's pebbles and mass properties
+    Vec2 pos{kNotSet, kNotSet};   ///< [m] where the centroid goes; NaN: pebbles in world frame
+    double angle = 0.0;           ///< [rad]
+    double scale = 1.0;           ///< > 0; lengths scale by it, mass by scale^2, I by scale^4
+    ClumpMassMode mass_mode = ClumpMassMode::Union;
+    double density = kNotSet;         ///< [kg/m^3] (Union, PlainSum)
+    double mass = kNotSet;            ///< [kg] (Direct)
+    double inertia = kNotSet;         ///< [kg m^2] about the centroid (Direct)
+    Vec2 centroid{kNotSet, kNotSet};  ///< [m] in the clump frame before scaling (Direct)
+    Vec2 vel{0.0, 0.0};               ///< [m/s] of the centroid
+    double spin = 0.0;                ///< [rad/s]
+    uint8_t fixity = 0;
+    std::vector<std::string> groups;
+    double kn = kNotSet, ks = kNotSet, fric = kNotSet;  ///< inherited by the pebbles
+};
+
+/// A clump template: pebbles in its own frame and their mass properties per unit density,
+/// computed once (Model::defineClumpTemplate) and scaled at each placement.
+struct ClumpTemplate {
+    std::vector<Pebble> pebbles;
+    ClumpMassMode mass_mode = ClumpMassMode::Union;
+    MassProps props;  ///< per unit density (zero for Direct)
 };
 
 struct WallDef {
@@ -161,6 +193,8 @@ struct ContactInfo {
     BallId ball1;
     BallId ball2;          ///< invalid for a ball-wall contact
     WallId wall;           ///< valid for a ball-wall contact
+    ClumpId clump1;        ///< clump of end 1 when it is a pebble (else invalid)
+    ClumpId clump2;        ///< clump of end 2 when it is a pebble (else invalid)
     int32_t segment = -1;  ///< segment index within the wall
     bool active = false;   ///< has a model object (touching or within activity distance)
     Vec2 normal{0.0, 0.0};
@@ -189,6 +223,58 @@ public:
     std::size_t ballCount() const;
     /// Ids of the live balls, in creation order of their slots.
     std::vector<BallId> ballIds() const;
+
+    // ------------------------------------------------------------------ clumps
+    /// Creates a rigid clump (docs/physics/clumps.md); throws InputError on bad input.
+    ClumpId createClump(const ClumpDef& def);
+    /// Makes a clump of existing balls (PFC "clump replicate"-like conversion): they keep their
+    /// ids and their contacts with other bodies, their mutual pairs go, and the clump takes
+    /// their momentum and angular momentum. `opts` gives density (default: the balls' mass
+    /// over their area) or direct mass, groups (default: the union of the balls'), fixity and
+    /// kn/ks/fric; its pebbles, template, pos and angle must be empty/unset.
+    ClumpId createClumpFromBalls(const std::vector<BallId>& balls, const ClumpDef& opts = {});
+    /// Defines a template (pebbles in its frame, Union or PlainSum or Direct); returns its id.
+    int defineClumpTemplate(const std::vector<Pebble>& pebbles,
+                            ClumpMassMode mode = ClumpMassMode::Union);
+    const ClumpTemplate& clumpTemplate(int id) const;
+    /// Deletes a clump, its pebbles and their contacts (books its kinetic energy as deleted).
+    void deleteClump(ClumpId id);
+    /// PFC "clump release": the pebbles become free balls (disk mass from the clump's density;
+    /// in direct mode the clump's mass shared by area) moving with the clump's rigid velocity.
+    std::vector<BallId> releaseClump(ClumpId id);
+    bool isAlive(ClumpId id) const;
+    std::size_t clumpCount() const;
+    std::vector<ClumpId> clumpIds() const;
+    /// The clump a ball belongs to as a pebble (invalid for a free ball).
+    ClumpId clumpOf(BallId id) const;
+
+    Vec2 clumpPos(ClumpId id) const;  ///< centroid
+    void setClumpPos(ClumpId id, const Vec2& p);
+    Vec2 clumpVel(ClumpId id) const;
+    void setClumpVel(ClumpId id, const Vec2& v);
+    double clumpSpin(ClumpId id) const;
+    void setClumpSpin(ClumpId id, double w);
+    double clumpAngle(ClumpId id) const;
+    void setClumpAngle(ClumpId id, double a);
+    double clumpMass(ClumpId id) const;
+    double clumpInertia(ClumpId id) const;
+    double clumpDensity(ClumpId id) const;
+    Vec2 clumpForce(ClumpId id) const;  ///< contact force summed to the centroid, last step
+    double clumpMoment(ClumpId id) const;
+    Vec2 clumpAppliedForce(ClumpId id) const;
+    void setClumpAppliedForce(ClumpId id, const Vec2& f);
+    double clumpAppliedMoment(ClumpId id) const;
+    void setClumpAppliedMoment(ClumpId id, double m);
+    uint8_t clumpFixity(ClumpId id) const;
+    void setClumpFixity(ClumpId id, uint8_t fixity);
+    double clumpContactProp(ClumpId id, const std::string& name) const;
+    /// Sets kn/ks/fric of the clump and of its pebbles.
+    void setClumpContactProp(ClumpId id, const std::string& name, double v);
+    std::vector<std::string> clumpGroups(ClumpId id) const;
+    void addClumpGroup(ClumpId id, const std::string& group);
+    /// The pebbles in world coordinates (centre, radius).
+    std::vector<Pebble> clumpPebbles(ClumpId id) const;
+    std::vector<BallId> clumpPebbleIds(ClumpId id) const;
 
     WallId createWall(const WallDef& def);
     std::size_t wallCount() const;
@@ -322,6 +408,7 @@ public:
     struct Segment;
     struct WallData;
     struct Rule;
+    struct ClumpData;
 
     /// Direct read access for scene builders and diagnostics.
     const BallArrays& balls() const;
@@ -336,6 +423,9 @@ private:
     template <bool kGeneral>
     void moveBalls();  // law_of_motion.cpp
     void reportNonFiniteBall() const;
+    void moveClumps(double& kinetic, double& body, double& damping, double& driven);
+    void gatherClumpForces();  // law_of_motion.cpp: pebble forces summed to the centroids
+    void placePebbles(const ClumpData& c);
     void moveWalls();          // law_of_motion.cpp
     void detectContacts();     // contact_detection.cpp
     void forceDisplacement();  // force_displacement.cpp
@@ -349,12 +439,17 @@ private:
     void noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
                      double arm1_sq, double arm2_sq, double mass_eff);
     void surveyPairs();
+    /// For a pair with a pebble end off its clump's centroid: the lower bound of the true
+    /// effective mass over the pair's (clump) effective mass, <= 1 (timestep.cpp); 1 otherwise.
+    double pebbleMassRatio(const Pair& p) const;
 
     // helpers
     uint32_t slotOf(BallId id) const;  // throws InputError for a stale id
     const WallData& wallOf(WallId id) const;
     WallData& wallOf(WallId id);
     void updateMass(uint32_t slot);
+    BallId createBallIn(const BallDef& def, uint32_t clump);  // clump: kNoClump for a free ball
+    void removeBall(BallId id, bool book_energy);
     void refreshPairMasses(uint32_t slot);
     void initBroadphase();
     void insertBall(uint32_t slot);
@@ -462,6 +557,7 @@ private:
     } m_dt_where;
     bool m_first_cycle = true;
     bool m_warned_no_model = false;
+    std::vector<ClumpTemplate> m_clump_templates;
     std::size_t m_fixed_balls = 0;  // balls with any fixity bit (they need the general loop)
     TimestepSettings m_last_settings;
     bool m_limits_stale = true;  // the scene changed outside a cycle: survey before the next step
