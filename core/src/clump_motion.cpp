@@ -108,21 +108,26 @@ void Model::moveClumps(double& kinetic, double& body, double& damping, double& d
             const double inertia = cl.inertia;
             const Vec2 v_now = v_old + (v - v_old) * lead;
             const double om_now = w_old + (om - w_old) * lead;
-            kinetic += 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
-            body += ((m * g + cl.fapp).dot(v) + cl.mapp * om) * dt;
+            const double ke = 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
+            const double work = ((m * g + cl.fapp).dot(v) + cl.mapp * om) * dt;
+            kinetic += ke;
+            body += work;
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
             const Vec2 dmp = fd - m * Vec2(cx * v_mid.x(), cy * v_mid.y());
             const double mdmp = md - cw * inertia * om_mid;
-            damping -= w * (dmp.dot(v_mid) + mdmp * om_mid);
+            const double damp = -w * (dmp.dot(v_mid) + mdmp * om_mid);
+            damping += damp;
+            double react = 0.0;
             if (fix) {
                 const Vec2 load = f + m * g;
-                double react = 0.0;
                 if (fix & kFixX) react -= load.x() * v.x();
                 if (fix & kFixY) react -= load.y() * v.y();
                 if (fix & kFixSpin) react -= mom * om;
                 driven += react * w;
             }
+            // A clump is one body of its groups (its pebbles are not counted on their own).
+            if (m_books.groups.on) bookBodyToGroups(cl.groups, ke, work, damp, react * w);
         }
         placePebbles(cl);
     }

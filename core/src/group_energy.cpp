@@ -54,16 +54,21 @@ void Model::openGroupBooks() {
     gb.on = true;
     if (old == 0) {
         // Tracing switched on now: the groups' initial kinetic energy, as the whole model's.
-        const auto& b = m_bodies->balls;
-        for (std::size_t s = 0; s < b.size(); ++s) {
-            const double ke =
-                0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
-            for (uint64_t m = b.groups[s] & gb.traced; m; m &= m - 1) {
+        const auto book = [&](uint64_t mask, double ke) {
+            for (uint64_t m = mask & gb.traced; m; m &= m - 1) {
                 const int g = __builtin_ctzll(m);
                 gb.g[g].acc.initial_kinetic += ke;
                 gb.g[g].acc.kinetic += ke;
             }
-        }
+        };
+        const auto& b = m_bodies->balls;
+        for (std::size_t s = 0; s < b.size(); ++s)
+            if (b.clump[s] == kNoClump)  // a pebble's motion is its clump's (below)
+                book(b.groups[s], 0.5 * (b.mass[s] * b.vel[s].squaredNorm() +
+                                         b.inertia[s] * b.spin[s] * b.spin[s]));
+        for (const ClumpData& c : m_bodies->clumps)
+            if (c.alive)
+                book(c.groups, 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin));
         for (auto& gr : gb.g) gr.snapshot = gr.acc;
     }
 }
@@ -75,10 +80,23 @@ uint64_t Model::endGroups(const Pair& p, bool end2) const {
 }
 
 void Model::endRates(uint32_t slot, Vec2& v, double& w) const {
-    // A ball end. (A clump pebble's end moves with its clump: route it to the clump's rates and
-    // take moments about the clump's centroid.)
-    v = m_bodies->balls.vel[slot];
-    w = m_bodies->balls.spin[slot];
+    // A pebble end moves with its clump: its work is F . v_c + (d x F + M) w_c, with the moment
+    // taken about the clump's centroid (endCentre), which is exactly the clump's half-step
+    // kinetic energy change that the force causes.
+    const auto& b = m_bodies->balls;
+    if (b.clump[slot] != kNoClump) {
+        const ClumpData& c = m_bodies->clumps[b.clump[slot]];
+        v = c.vel;
+        w = c.spin;
+        return;
+    }
+    v = b.vel[slot];
+    w = b.spin[slot];
+}
+
+Vec2 Model::endCentre(uint32_t slot) const {
+    const auto& b = m_bodies->balls;
+    return b.clump[slot] != kNoClump ? m_bodies->clumps[b.clump[slot]].pos : b.pos[slot];
 }
 
 void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bool ends,
@@ -111,12 +129,11 @@ void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bo
     // when it moves, else it does no work and the ball's groups take the whole contact).
     if (g1 == g2) return;
     EnergyBooks::GroupBooks::Exchange x;
-    const auto& b = m_bodies->balls;
     x.end1 = p.end1;
     x.g1 = g1;
     x.g2 = g2;
     x.f1 = -f;  // the loop applies -f to end 1 and +f to end 2
-    x.m1 = -cross(point - b.pos[p.end1], f) - fd.moment;
+    x.m1 = -cross(point - endCentre(p.end1), f) - fd.moment;
     if (p.wall) {
         const uint32_t wi = m_bodies->segments[p.end2].wall;
         const WallData& w = m_bodies->walls[wi];
@@ -126,7 +143,7 @@ void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bo
         x.m2 = cross(point - w.center, f) + fd.moment;
     } else {
         x.end2 = p.end2;
-        x.m2 = cross(point - b.pos[p.end2], f) + fd.moment;
+        x.m2 = cross(point - endCentre(p.end2), f) + fd.moment;
     }
     gb.exchange.push_back(x);
 }
@@ -140,10 +157,14 @@ void Model::bookReleasedToGroups(const Pair& p, double released) {
     }
 }
 
-void Model::bookDeletedToGroups(uint32_t slot, double kinetic) {
+void Model::bookDeletedToGroups(uint64_t mask, double kinetic) {
     auto& gb = m_books.groups;
-    for (uint64_t m = m_bodies->balls.groups[slot] & gb.traced; m; m &= m - 1)
+    for (uint64_t m = mask & gb.traced; m; m &= m - 1)
         gb.g[__builtin_ctzll(m)].acc.deleted += kinetic;
+}
+
+void Model::followRemovedSlot(uint32_t slot) {
+    auto& gb = m_books.groups;
     // deleteBall moves the last slot into this one: follow it in the pending records, and mark
     // the deleted ball's ends gone (its force is never applied, so that end does no work).
     const uint32_t last = static_cast<uint32_t>(m_bodies->balls.size() - 1);

@@ -231,8 +231,9 @@ void Model::removeBall(BallId id, bool book_energy) {
         const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
         const double ke = 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
         m_books.acc.deleted += ke;
-        if (m_books.groups.on) bookDeletedToGroups(s, ke);
+        if (m_books.groups.on) bookDeletedToGroups(b.groups[s], ke);
     }
+    if (m_books.groups.on) followRemovedSlot(s);
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
         const Pair& p = m_contacts->pairs[i];

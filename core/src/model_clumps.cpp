@@ -327,7 +327,9 @@ void Model::deleteClump(ClumpId id) {
         const Vec2 vv((c.fixity & kFixX) ? c.vel.x() : v.x(),
                       (c.fixity & kFixY) ? c.vel.y() : v.y());
         const double ww = (c.fixity & kFixSpin) ? c.spin : w;
-        m_books.acc.deleted += 0.5 * (c.mass * vv.squaredNorm() + c.inertia * ww * ww);
+        const double ke = 0.5 * (c.mass * vv.squaredNorm() + c.inertia * ww * ww);
+        m_books.acc.deleted += ke;
+        if (m_books.groups.on) bookDeletedToGroups(c.groups, ke);
     }
     const std::vector<uint32_t> pebbles = c.pebbles;
     for (uint32_t h : pebbles) removeBall(BallId{h, m_bodies->generation[h - 1]}, false);
@@ -354,6 +356,12 @@ std::vector<BallId> Model::releaseClump(ClumpId id) {
     }
     std::vector<BallId> out;
     std::vector<uint32_t> slots;
+    // The balls' masses are not the clump's (overlaps now count twice, and the inertia of the
+    // pieces about their own centres replaces the union's), so the kinetic energy changes at the
+    // release. With tracing on that change is booked under `deleted`, the item for kinetic
+    // energy that leaves the model with a body: the clump's minus its balls', at the half step.
+    double ke_change = 0.0;
+    if (m_books.on) ke_change = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
         const uint32_t s = m_bodies->pebbleSlot(c, k);
         // The pebble already moves with the clump's rigid velocity at the half step.
@@ -361,11 +369,18 @@ std::vector<BallId> Model::releaseClump(ClumpId id) {
         --m_bodies->pebble_count;
         b.density[s] = rho;
         updateMass(s);
+        if (m_books.on)
+            ke_change -=
+                0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
         refreshPairMasses(s);
         b.fixity[s] = c.fixity;
         if (c.fixity) ++m_fixed_balls;
         slots.push_back(s);
         out.push_back(m_bodies->ballId(s));
+    }
+    if (m_books.on) {
+        m_books.acc.deleted += ke_change;
+        if (m_books.groups.on) bookDeletedToGroups(c.groups, ke_change);
     }
     c.pebbles.clear(), c.offset.clear(), c.angle_offset.clear();
     c.alive = false;

@@ -518,7 +518,11 @@ private:
     void bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bool ends, double held,
                              const Vec2& f, const Vec2& point);
     void bookReleasedToGroups(const Pair& p, double released);
-    void bookDeletedToGroups(uint32_t slot, double kinetic);
+    /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
+    void bookDeletedToGroups(uint64_t mask, double kinetic);
+    /// A ball slot is being removed (deleted ball or pebble): mark its pending exchange records
+    /// gone and follow the last slot, which moves into it.
+    void followRemovedSlot(uint32_t slot);
     void groupForceLoopStart();       // zero the scratch, drop stale records
     void groupForceLoopEnd();         // strain/bond current values, baseline
     void gatherExchangeStart();       // law of motion: rates before the update
@@ -527,6 +531,8 @@ private:
     /// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
     /// update; the clump pass routes pebble ends to their clump here.
     void endRates(uint32_t slot, Vec2& v, double& w) const;
+    /// The point an end's moments are taken about: a ball's centre, a pebble's clump centroid.
+    Vec2 endCentre(uint32_t slot) const;
     uint64_t endGroups(const Pair& p, bool end2) const;
     [[noreturn]] void throwNonFinite(const std::string& what) const;
     std::string describePair(const Pair& p) const;
