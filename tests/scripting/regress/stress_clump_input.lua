@@ -27,9 +27,8 @@ refused(function() m:clump{ pebbles = two, pos = { 0, 1 }, density = 1000, scale
     { "clump: pebble 1 radius", "scale 1e+300" }, "scale 1e300")
 refused(function() m:clump_template{ pebbles = { { 0, 0, 1e-320 } } } end,
     { "clump template: pebble 1 radius" }, "template pebble radius 1e-320")
-refused(function()
-    m:clump{ pebbles = two, pos = { 0, 1 }, mass = 1, inertia = 0.01, centroid = { 1e300, 0 } } end,
-    { "clump: centroid", "out of range" }, "centroid 1e300")
+local far = { pebbles = two, pos = { 0, 1 }, mass = 1, inertia = 0.01, centroid = { 1e300, 0 } }
+refused(function() m:clump(far) end, { "clump: centroid", "out of range" }, "centroid 1e300")
 local b1 = m:ball{ pos = { 5, 1 }, radius = 0.05, density = 1000 }
 refused(function() m:clump{ balls = {} } end, { "clump: 'balls' is empty" }, "balls = {}")
 T.check(b1.alive, "the ball is untouched")
