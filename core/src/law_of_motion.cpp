@@ -219,6 +219,26 @@ void Model::reportNonFiniteEnergy(double kinetic, double body, double damping,
             who = "clump " + std::to_string(i + 1) + ": velocity (" + text(c.vel.x()) + ", " +
                   text(c.vel.y()) + "), spin " + text(c.spin) + ", ";
     }
+    // No kinetic energy overflows: the work of an applied load did (body work F.v dt or M w dt
+    // with a finite but huge load). Name the body carrying the largest applied load.
+    double largest = 0.0;
+    std::string loaded;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const double load = b.fapp[s].norm() + std::fabs(b.mapp[s]);
+        if (!(m_bodies->hasClumps() && b.clump[s] != kNoClump) && load > largest)
+            largest = load, loaded = describeBall(static_cast<uint32_t>(s)) + ": applied force (" +
+                                     text(b.fapp[s].x()) + ", " + text(b.fapp[s].y()) +
+                                     "), moment " + text(b.mapp[s]) + ", ";
+    }
+    for (std::size_t i = 0; i < m_bodies->clumps.size(); ++i) {
+        const ClumpData& c = m_bodies->clumps[i];
+        const double load = c.fapp.norm() + std::fabs(c.mapp);
+        if (c.alive && load > largest)
+            largest = load, loaded = "clump " + std::to_string(i + 1) + ": applied force (" +
+                                     text(c.fapp.x()) + ", " + text(c.fapp.y()) + "), moment " +
+                                     text(c.mapp) + ", ";
+    }
+    if (who.empty()) who = loaded;
     throwNonFinite(who + "the energy of this step overflows (kinetic " + text(kinetic) +
                    " J, body work " + text(body) + " J, damping " + text(damping) +
                    " J, fixity work " + text(driven) + " J)");
