@@ -141,6 +141,11 @@ int w_clump(lua_State* L) {
                 throw ScriptError("clump: 'balls' must be a list of balls (got " + got + ")");
             }
             const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+            // Said here: the density check below would otherwise answer an empty list.
+            if (n == 0) {
+                lua_pop(L, 1);
+                throw ScriptError("clump: 'balls' is empty: a clump needs at least one ball");
+            }
             for (lua_Integer i = 1; i <= n; ++i) {
                 lua_rawgeti(L, -1, i);
                 BallRef* b = testBall(L, -1);

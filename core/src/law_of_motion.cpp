@@ -163,6 +163,11 @@ void Model::moveBalls() {
     for (std::size_t s = 0; s < n && finite; ++s)
         finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
     if (!finite) reportNonFiniteBall();
+    // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
+    // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
+    // contact then ran on with inf in the balance and no word.
+    if (energy && !std::isfinite(kinetic + body + damping + driven))
+        reportNonFiniteEnergy(kinetic, body, damping, driven);
     if (energy) {
         // Impulses applied now span the window around t: the damping, the fixities' reactions
         // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
@@ -192,6 +197,51 @@ void Model::reportNonFiniteBall() const {
                        ", " + text(v.y()) + "), spin " + text(b.spin[s]) + ", contact force (" +
                        text(b.force[s].x()) + ", " + text(b.force[s].y()) + ")");
     }
+}
+
+void Model::reportNonFiniteEnergy(double kinetic, double body, double damping,
+                                  double driven) const {
+    // Name the first body whose kinetic energy 1/2 (m v^2 + I w^2) overflows.
+    const auto& b = m_bodies->balls;
+    auto overflows = [](double m, const Vec2& v, double inertia, double om) {
+        return !std::isfinite(0.5 * (m * v.squaredNorm() + inertia * om * om));
+    };
+    std::string who;
+    for (std::size_t s = 0; s < b.size() && who.empty(); ++s) {
+        if (m_bodies->hasClumps() && b.clump[s] != kNoClump) continue;
+        if (overflows(b.mass[s], b.vel[s], b.inertia[s], b.spin[s]))
+            who = describeBall(static_cast<uint32_t>(s)) + ": velocity (" + text(b.vel[s].x()) +
+                  ", " + text(b.vel[s].y()) + "), spin " + text(b.spin[s]) + ", ";
+    }
+    for (std::size_t i = 0; i < m_bodies->clumps.size() && who.empty(); ++i) {
+        const ClumpData& c = m_bodies->clumps[i];
+        if (c.alive && overflows(c.mass, c.vel, c.inertia, c.spin))
+            who = "clump " + std::to_string(i + 1) + ": velocity (" + text(c.vel.x()) + ", " +
+                  text(c.vel.y()) + "), spin " + text(c.spin) + ", ";
+    }
+    // No kinetic energy overflows: the work of an applied load did (body work F.v dt or M w dt
+    // with a finite but huge load). Name the body carrying the largest applied load.
+    double largest = 0.0;
+    std::string loaded;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const double load = b.fapp[s].norm() + std::fabs(b.mapp[s]);
+        if (!(m_bodies->hasClumps() && b.clump[s] != kNoClump) && load > largest)
+            largest = load, loaded = describeBall(static_cast<uint32_t>(s)) + ": applied force (" +
+                                     text(b.fapp[s].x()) + ", " + text(b.fapp[s].y()) +
+                                     "), moment " + text(b.mapp[s]) + ", ";
+    }
+    for (std::size_t i = 0; i < m_bodies->clumps.size(); ++i) {
+        const ClumpData& c = m_bodies->clumps[i];
+        const double load = c.fapp.norm() + std::fabs(c.mapp);
+        if (c.alive && load > largest)
+            largest = load, loaded = "clump " + std::to_string(i + 1) + ": applied force (" +
+                                     text(c.fapp.x()) + ", " + text(c.fapp.y()) + "), moment " +
+                                     text(c.mapp) + ", ";
+    }
+    if (who.empty()) who = loaded;
+    throwNonFinite(who + "the energy of this step overflows (kinetic " + text(kinetic) +
+                   " J, body work " + text(body) + " J, damping " + text(damping) +
+                   " J, fixity work " + text(driven) + " J)");
 }
 
 void Model::moveWalls() {

@@ -38,6 +38,29 @@ std::string lower(std::string s) {
 
 std::string clumpText(ClumpId id) { return "clump " + std::to_string(id.index); }
 
+// A pebble becomes a ball: the ball limits apply (model_bodies.cpp, kMinRadius and
+// kMaxCoordinate). They are checked before the mass properties, whose arc integrals underflow
+// for a radius of 1e-320 (the union's area came out 0: an internal assertion reached the user)
+// and overflow for 1e300 (the error then named the mass, not the pebble).
+constexpr double kPebbleMinRadius = 1e-12;  // [m]
+constexpr double kPebbleMaxLength = 1e9;    // [m]
+void requirePebbles(const std::vector<Pebble>& peb, const std::string& what, double scale) {
+    const std::string scaled = scale != 1.0 ? " (after scale " + messageNumber(scale) + ")" : "";
+    for (std::size_t i = 0; i < peb.size(); ++i) {
+        const double r = peb[i].radius;
+        const std::string name = what + ": pebble " + std::to_string(i + 1);
+        if (!(r >= kPebbleMinRadius && r <= kPebbleMaxLength))
+            throw InputError(name + " radius " + messageNumber(r) + " m" + scaled +
+                             " is out of range [" + messageNumber(kPebbleMinRadius) + ", " +
+                             messageNumber(kPebbleMaxLength) + "] m");
+        if (!(std::fabs(peb[i].pos.x()) <= kPebbleMaxLength &&
+              std::fabs(peb[i].pos.y()) <= kPebbleMaxLength))
+            throw InputError(name + " position " + vecText(peb[i].pos) + scaled +
+                             " is out of range: coordinates must be within " +
+                             messageNumber(kPebbleMaxLength) + " m");
+    }
+}
+
 /// Mass, inertia about the centroid, density (0 when direct) and centroid (pebbles' frame) of
 /// a clump of the (scaled) pebbles `peb`; `props` holds a template's scaled properties.
 void resolveMass(const std::vector<Pebble>& peb, const ClumpDef& d, double sc, bool from_template,
@@ -60,6 +83,11 @@ void resolveMass(const std::vector<Pebble>& peb, const ClumpDef& d, double sc, b
         if (!std::isnan(d.centroid.x()) || !std::isnan(d.centroid.y())) {
             if (!finite2(d.centroid)) throw InputError("clump: centroid must be finite");
             centroid = d.centroid * sc;
+            if (!(std::fabs(centroid.x()) <= kPebbleMaxLength &&
+                  std::fabs(centroid.y()) <= kPebbleMaxLength))
+                throw InputError("clump: centroid " + vecText(centroid) +
+                                 " is out of range: coordinates must be within " +
+                                 messageNumber(kPebbleMaxLength) + " m");
         }
     } else {
         if (model_mode == MassMode::Sphere)
@@ -98,6 +126,7 @@ int Model::defineClumpTemplate(const std::vector<Pebble>& pebbles, ClumpMassMode
     // Computed once here; a placement scales them (area s^2, centroid s, polar moment s^4).
     // Direct templates carry no geometric mass (the placement gives mass and inertia), but the
     // pebbles are checked all the same.
+    requirePebbles(pebbles, "clump template", 1.0);
     t.props = clumpMassProps(pebbles, mode == ClumpMassMode::Direct ? ClumpMassMode::Union : mode);
     if (mode == ClumpMassMode::Direct) t.props.area = t.props.polar_moment = 0.0;
     m_clump_templates.push_back(std::move(t));
@@ -143,6 +172,7 @@ ClumpId Model::createClump(const ClumpDef& d) {
             peb[i].pos *= sc, peb[i].radius *= sc;
         }
     }
+    requirePebbles(peb, "clump", sc);
     double mass, inertia, density;
     Vec2 centroid;
     resolveMass(peb, d, sc, from_template, props, m_mass_mode, mode, mass, inertia, density,
@@ -429,6 +459,11 @@ uint8_t Model::clumpFixity(ClumpId id) const { return TALUS_CLUMP(id).fixity; }
 
 void Model::setClumpPos(ClumpId id, const Vec2& p) {
     if (!finite2(p)) throw InputError(clumpText(id) + ": pos must be finite");
+    // The range of a ball's pos (its pebbles are balls).
+    if (!(std::fabs(p.x()) <= kPebbleMaxLength && std::fabs(p.y()) <= kPebbleMaxLength))
+        throw InputError(clumpText(id) + ": pos " + vecText(p) +
+                         " is out of range: coordinates must be within " +
+                         messageNumber(kPebbleMaxLength) + " m of the origin");
     ClumpData& c = TALUS_CLUMP(id);
     c.pos = p;
     placePebbles(c);

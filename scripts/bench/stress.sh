@@ -42,7 +42,7 @@ seed=$first
 last=$((first + count - 1))
 stopped=0
 warned=0
-touch "$work/digests"
+touch "$work/digests" "$work/groups"
 while ((seed <= last)); do
     n=$((last - seed + 1 < batch ? last - seed + 1 : batch))
     out="$work/batch.txt"
@@ -71,6 +71,7 @@ while ((seed <= last)); do
     stopped=$((stopped + ${s:-0}))
     warned=$((warned + ${w:-0}))
     grep '^stress: state digest' "$out" >>"$work/digests"
+    grep '^stress: groupstats' "$out" >>"$work/groups"
     seed=$((seed + n))
 done
 
@@ -88,7 +89,15 @@ ndef=$(wc -l <"$defects")
 elapsed=$(($(date +%s) - start))
 classes=$(sed -n 's/^stress: bad-input classes: //p' "$work/bad.txt")
 ncases=$(sed -n 's/^stress: \([0-9]*\) bad-input cases.*/\1/p' "$work/bad.txt")
-by_check=$(sed -E 's/^DEFECT (badinput [^:]*: ([a-z-]+):|seed=[0-9]+ [^]]*\] ([a-z]+):|seed=[0-9]+ ([a-z]+):).*/\2\3\4/' "$defects" |
+# Clump and group scenes, and the worst group residuals over all batches (stress.lua's summary).
+groups_line=$(awk '{
+    for (i = 3; i <= NF; i++) { split($i, kv, "="); v[kv[1]] = kv[2] }
+    c += v["clumps"]; g += v["groups"]; p += v["partitions"]
+    if (v["own"] + 0 > own) { own = v["own"] + 0; os = v["own_seed"] }
+    if (v["whole"] + 0 > whole) { whole = v["whole"] + 0; ws = v["whole_seed"] }
+    if (v["sum"] + 0 > sum) { sum = v["sum"] + 0; ss = v["sum_seed"] }
+} END { printf "%d scenes with clumps, %d with groups (%d partitions); worst group residual %.3g of the model throughput (seed %s; %.3g of its own, seed %s, not a criterion); worst partition sum %.3g of the throughput (seed %s)", c, g, p, whole, ws, own, os, sum, ss }' "$work/groups")
+by_check=$(sed -E 's/^DEFECT (badinput [^:]*: ([a-z-]+):|seed=[0-9]+ [^]]*\] ([a-z-]+):|seed=[0-9]+ ([a-z-]+):).*/\2\3\4/' "$defects" |
     sort | uniq -c | awk '{printf "%s%s %d", (NR > 1 ? ", " : ""), $2, $1}')
 
 report="$work/report.md"
@@ -97,6 +106,7 @@ doc_report="$work/doc_report.md"
     echo "Run of $(date -u +%Y-%m-%d) with \`scripts/bench/stress.sh $build $count $first\` ($(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet 2>/dev/null || echo ' + local changes'), $elapsed s wall on $(nproc) cores):"
     echo
     echo "- scenes: $count (seeds $first-$last); $stopped stopped with a clear error, $warned warned"
+    echo "- clumps and groups: $groups_line"
     echo "- bad-input cases: ${ncases:-?} (${classes:-no result})"
     echo "- defects: $ndef${by_check:+ ($by_check)}"
     echo "- state digest: $(md5sum <"$work/digests" | cut -c1-16) (md5 of the batches' FNV-1a digests of every final state; equal between builds = bit-identical results)"

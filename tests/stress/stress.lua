@@ -62,6 +62,8 @@ elseif mode == "scenes" then
     local function mix(text)
         for i = 1, #text do digest = (digest ~ text:byte(i)) * 0x100000001b3 end
     end
+    local nclump, ngroup, npart = 0, 0, 0
+    local gworst = { own = 0, whole = 0, sum = 0 }
     local t0 = os.clock()
     local slowest = { first, 0 }
     for seed = first, first + count - 1 do
@@ -74,6 +76,23 @@ elseif mode == "scenes" then
         local defects, res = check.scene(S)
         if os.clock() - c0 > slowest[2] then slowest = { seed, os.clock() - c0 } end
         local desc = check.describe(S)
+        if S.clumps then nclump = nclump + 1 end
+        if S.groups then
+            ngroup = ngroup + 1
+            if res.partition_at_start then npart = npart + 1 end
+            for _, r in pairs(res.groups or {}) do
+                -- The largest group residual against the group's own throughput and against the
+                -- model's (docs/stress.md "Group checks"), over the scenes the check applies to.
+                if not res.err and #res.warnings == 0 and r.throughput > 0 and res.throughput > 0 then
+                    local own, whole = math.abs(r.worst) / r.throughput, math.abs(r.worst) / res.throughput
+                    if own > gworst.own then gworst.own, gworst.own_seed = own, seed end
+                    if whole > gworst.whole then gworst.whole, gworst.whole_seed = whole, seed end
+                end
+            end
+            if res.sum_worst and res.throughput > 0 and res.sum_worst / res.throughput > gworst.sum then
+                gworst.sum, gworst.sum_seed = res.sum_worst / res.throughput, seed
+            end
+        end
         mix(res.state or "")
         mix((res.err or ""):gsub("^[^:]*:%d+: ", "")) -- the runner's path is not state
         for _, d in ipairs(defects) do
@@ -105,6 +124,11 @@ elseif mode == "scenes" then
     print(string.format("stress: state digest %016x", digest))
     print(string.format("stress: seeds %d-%d, %.1f s CPU (slowest: seed %d, %.2f s for both runs); %d stopped with an error (%s); %d warned (%s)",
         first, first + count - 1, os.clock() - t0, slowest[1], slowest[2], nstop, list(errors), nwarn, list(warnings)))
+    print(string.format("stress: %d scenes with clumps, %d with groups (%d partitions); worst group residual %.3g of its own throughput (seed %s), %.3g of the model's (seed %s); worst partition sum %.3g of the throughput (seed %s)",
+        nclump, ngroup, npart, gworst.own, tostring(gworst.own_seed), gworst.whole, tostring(gworst.whole_seed), gworst.sum, tostring(gworst.sum_seed)))
+    -- The same, as key=value for scripts/bench/stress.sh.
+    print(string.format("stress: groupstats clumps=%d groups=%d partitions=%d own=%.3g own_seed=%s whole=%.3g whole_seed=%s sum=%.3g sum_seed=%s",
+        nclump, ngroup, npart, gworst.own, tostring(gworst.own_seed), gworst.whole, tostring(gworst.whole_seed), gworst.sum, tostring(gworst.sum_seed)))
     print(string.format("stress: %d scenes, %d defects", count, ndef))
     os.exit(ndef > 0 and 1 or 0)
 elseif mode == "badinput" then

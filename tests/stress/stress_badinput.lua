@@ -107,7 +107,7 @@ local function vectorValues()
     out[#out + 1] = { "nan", 0 / 0 }
     return out
 end
-local vector_options = { pos = true, vel = true, gravity = true, center = true, fapp = true }
+local vector_options = { pos = true, vel = true, gravity = true, center = true, fapp = true, centroid = true }
 
 --- Builds the list of cases: {what, option, label, value, run(env, v) -> ok, err, line}.
 local function cases(out_dir)
@@ -225,6 +225,123 @@ local function cases(out_dir)
     -- Writing the dropped ball's position moves it off its drop (onto or into the floor).
     for _, c in ipairs(list) do if c.what == "ball field" and c.opt == "pos" then c.moves_ball = true end end
     addFields("wall field", probe:wall{ points = { { 0, 0 }, { 1, 0 } } }, "w")
+
+    -- m:clump{...}: a valid two-pebble clump (left of the dropped ball, above the floor) with one
+    -- option replaced; the direct-mode options (mass, inertia, centroid) in a direct definition.
+    local function clumpDef(opt)
+        local d = { pebbles = { { -0.04, 0, 0.05 }, { 0.04, 0, 0.04 } }, pos = { -0.5, 0.5 }, density = 1000 }
+        if opt == "mass" or opt == "inertia" or opt == "centroid" then
+            d.density, d.mass_mode, d.mass, d.inertia = nil, "direct", 10, 0.01
+        end
+        if opt == "groups" then d.group = nil end
+        if opt == "template" or opt == "balls" then d.pebbles, d.pos = nil, nil end
+        if opt == "balls" then d.density = nil end
+        return d
+    end
+    local function pebbleValues()
+        local out = {}
+        for _, v in ipairs(vectorValues()) do
+            if type(v[2]) == "table" and #v[2] == 2 then
+                out[#out + 1] = { "{{" .. v[1]:sub(2, -2) .. ", 0.05}}", { { v[2][1], 0, 0.05 } } }
+                out[#out + 1] = { "{{0, 0, " .. v[1]:sub(2, -5) .. "}}", { { 0, 0, v[2][1] } } }
+            end
+        end
+        for _, sc in ipairs(scalars) do out[#out + 1] = sc end
+        out[#out + 1] = { "empty", {} }
+        out[#out + 1] = { "{{0, 0}}", { { 0, 0 } } }
+        out[#out + 1] = { "{{0, 0, 0.05}, 'x'}", { { 0, 0, 0.05 }, "x" } }
+        out[#out + 1] = { "{{0, 0, 0.05}, {0, 0, 0.05}}", { { 0, 0, 0.05 }, { 0, 0, 0.05 } } }
+        return out
+    end
+    for _, opt in ipairs(known("clump", { zz__stress = 1 })) do
+        local values = nil
+        if opt == "pebbles" then values = pebbleValues() end
+        if opt == "balls" then
+            values = {}
+            for _, sc in ipairs(scalars) do values[#values + 1] = sc end
+            values[#values + 1] = { "empty", {} }
+            values[#values + 1] = { "{number}", { 1 } }
+            values[#values + 1] = { "{stale ball}", "stale" }
+            values[#values + 1] = { "{pebble}", "pebble" }
+            values[#values + 1] = { "{ball, ball}", "twice" }
+        end
+        if opt == "template" then
+            values = {}
+            for _, sc in ipairs(scalars) do values[#values + 1] = sc end
+            values[#values + 1] = { "{id = 99}", { id = 99 } }
+            values[#values + 1] = { "{id = nan}", { id = 0 / 0 } }
+        end
+        add("clump", opt, function(env, v)
+            local d = clumpDef(opt)
+            if opt == "balls" and type(v) == "string" and v ~= "abc" then
+                local b = env.m:ball{ pos = { -0.5, 0.5 }, radius = 0.05, density = 1000 }
+                if v == "stale" then b:delete() v = { b }
+                elseif v == "twice" then v = { b, b }
+                else
+                    env.m:clump{ balls = { b, env.m:ball{ pos = { -0.4, 0.5 }, radius = 0.05, density = 1000 } } }
+                    v = { b }
+                end
+            end
+            d[opt] = v
+            return attempt(env.m.clump, env.m, d)
+        end, values)
+    end
+    for _, opt in ipairs(known("clump_template", { zz__stress = 1 })) do
+        add("clump_template", opt, function(env, v)
+            local d = { pebbles = { { -0.04, 0, 0.05 }, { 0.04, 0, 0.04 } } }
+            d[opt] = v
+            return attempt(env.m.clump_template, env.m, d)
+        end, opt == "pebbles" and pebbleValues() or nil)
+    end
+    -- Clump fields: every writable one, on a clump created by the case.
+    do
+        local _, unknown = pcall(setField, probe:clump{ pebbles = { { 0, 0, 1 } }, pos = { 0, 0 }, density = 1 }, "zz__stress", 1)
+        for _, f in ipairs(namesFrom(unknown, "writable")) do
+            add("clump field", f, function(env, v)
+                env.c = env.c or env.m:clump(clumpDef(""))
+                local ok, e = pcall(setField, env.c, f, v)
+                return ok, e, SET_LINE
+            end)
+        end
+    end
+    -- A deleted or released clump: every field read and write, and its methods, must be refused
+    -- ("clump N was deleted (stale id)"), never crash.
+    for _, how in ipairs({ "delete", "release" }) do
+        for _, f in ipairs({ "pos", "vel", "spin", "angle", "fapp", "mapp", "fix", "kn", "mass", "groups" }) do
+            list[#list + 1] = { what = how .. "d clump", opt = "clump", label = f, value = f, run = function(env, _)
+                local c = env.m:clump(clumpDef(""))
+                c[how](c)
+                local ok, e = pcall(setField, c, f, f == "fix" and { "x" } or (f == "kn" and 1e6 or ((f == "pos" or f == "vel" or f == "fapp") and { 0, 0 } or 1)))
+                return ok, e, SET_LINE
+            end }
+        end
+        for _, meth in ipairs({ "delete", "release", "pebbles", "add_group", "set" }) do
+            list[#list + 1] = { what = how .. "d clump", opt = "clump", label = meth .. "()", value = meth, run = function(env, _)
+                local c = env.m:clump(clumpDef(""))
+                c[how](c)
+                return attempt(c[meth], c, meth == "add_group" and "g" or (meth == "set" and { spin = 1 } or nil))
+            end }
+        end
+    end
+    -- m:energies(group) with a group that does not exist, and values of the wrong type.
+    for _, v in ipairs({ { "unknown", "nosuch" }, { "nan", 0 / 0 }, { "1", 1 }, { "table", {} }, { "boolean", true },
+                         { "empty", "" } }) do
+        list[#list + 1] = { what = "energies", opt = "group", label = v[1], value = v[2], run = function(env, val)
+            env.b:add_group("rock")
+            return attempt(env.m.energies, env.m, val)
+        end }
+    end
+    -- History columns of a group that does not exist (or an empty group name).
+    for _, v in ipairs({ { "kinetic@nosuch", { "kinetic@nosuch" } }, { "{kinetic, nosuch}", { { "kinetic", "nosuch" } } },
+                         { "map kinetic@nosuch", { ke = "kinetic@nosuch" } }, { "kinetic@", { "kinetic@" } },
+                         { "nosuch@rock", { "nosuch@rock" } }, { "{kinetic, nan}", { { "kinetic", 0 / 0 } } } }) do
+        list[#list + 1] = { what = "history group column", opt = "column", label = v[1], value = v[2], run = function(env, val)
+            env.b:add_group("rock")
+            local ok, e, line = attempt(env.m.history, env.m, { file = out_dir .. "/stress_history_g.csv", columns = val })
+            if ok then env.history = e end
+            return ok, e, line
+        end }
+    end
 
     -- Contact writes: c.normal_force, c.shear_force, c:set_prop(name, v) on the floor contact.
     local function floorContact(env)

@@ -20,6 +20,21 @@ local check = {}
 -- errs by ~1e-4 of its energy (docs/models/*.md tables, default step), so an error above 1% of
 -- everything that went through the model is a booking defect, not integration error.
 check.energy_tolerance = 0.01
+-- Partition sums: each group item is booked as a share of the same increments as the whole
+-- model's, so over a partition the group sums differ from the whole only by the order of the
+-- additions: ~1e-16 relative per booking, accumulating over at most 1e4 steps to ~1e-12 of the
+-- throughput (measured 3e-15 over 3000 steps, docs/physics/energy.md). 1e-9 leaves three decades
+-- for unlucky cancellation; a booking defect (a share lost, counted twice) is of the order of a
+-- contact's energy, far above it.
+check.group_sum_tolerance = 1e-9
+--- The per-group balance tolerance [J]. A group's residual is the second-order error of its own
+--- contacts and of those across its border; a small group crossed by a large impact carries a
+--- residual large against its own throughput (the "left column" of docs/physics/energy.md:
+--- 1.2% of its own, 5.5e-4 of the model's). So the bound is the whole model's tolerance in
+--- joules: energy_tolerance x the model's throughput (x the resolution factor).
+function check.groupTolerance(scale, group_throughput, model_throughput)
+    return check.energy_tolerance * scale * model_throughput
+end
 -- CPU seconds one run of a scene may take before the watchdog stops it (a hang is a defect).
 check.watchdog_seconds = 20
 -- The largest sane step [s] (see the runaway check in check.scene).
@@ -42,6 +57,11 @@ local function stateText(m)
         local p, v = b.pos, b.vel
         parts[#parts + 1] = string.format("%d %a %a %a %a %a", b.id, p[1], p[2], v[1], v[2], b.spin)
     end
+    -- Clumps (none in a scene without clumps: its text, and the digest, are what they were).
+    for c in m:clumps() do
+        local p, v = c.pos, c.vel
+        parts[#parts + 1] = string.format("clump %d %a %a %a %a %a %a", c.id, p[1], p[2], v[1], v[2], c.spin, c.angle)
+    end
     local ok, e = pcall(m.energies, m)
     if ok then
         local keys = {}
@@ -61,6 +81,12 @@ local function firstNonFinite(m)
         local p, v = b.pos, b.vel
         if not (finite(p[1]) and finite(p[2]) and finite(v[1]) and finite(v[2]) and finite(b.spin)) then
             return string.format("ball %d: pos (%g, %g) vel (%g, %g) spin %g", b.id, p[1], p[2], v[1], v[2], b.spin)
+        end
+    end
+    for c in m:clumps() do
+        local p, v = c.pos, c.vel
+        if not (finite(p[1]) and finite(p[2]) and finite(v[1]) and finite(v[2]) and finite(c.spin) and finite(c.angle)) then
+            return string.format("clump %d: pos (%g, %g) vel (%g, %g) spin %g angle %g", c.id, p[1], p[2], v[1], v[2], c.spin, c.angle)
         end
     end
     local ok, e = pcall(m.energies, m)
@@ -87,6 +113,62 @@ local function sample(e)
     return input, stored, e.balance_error
 end
 
+--- True when every live body (ball, clump, wall) is in exactly one of `names`: the group books
+--- must then sum to the whole model's (docs/physics/energy.md "Energy per group").
+local function isPartition(m, names)
+    local set = {}
+    for _, g in ipairs(names) do set[g] = true end
+    local function one(body)
+        local n = 0
+        for _, g in ipairs(body.groups) do if set[g] then n = n + 1 end end
+        return n == 1
+    end
+    for b in m:balls() do if not one(b) then return false end end
+    for c in m:clumps() do if not one(c) then return false end end
+    for w in m:walls() do if not one(w) then return false end end
+    return true
+end
+
+--- The group books after a chunk: per group its balance error and throughput (as for the whole
+--- model), and over a partition the largest |sum over the groups - whole| of any additive item.
+local function sampleGroups(m, G, e, res)
+    local part = res.partition and isPartition(m, G.names)
+    res.partition = part
+    local sums = {}
+    local text = {}
+    for _, g in ipairs(G.names) do
+        local f = m:energies(g)
+        local input, stored, bal = sample(f)
+        -- `exchanged` is the group's work with its neighbours: an input of the group.
+        input = input + math.abs(f.exchanged or 0)
+        local r = res.groups[g] or { throughput = 0, worst = 0, worst_step = 0 }
+        res.groups[g] = r
+        r.throughput = math.max(r.throughput, input, stored)
+        if not finite(bal) or math.abs(bal) > math.abs(r.worst) then r.worst, r.worst_step = bal, m:step() end
+        local keys = {}
+        for k, x in pairs(f) do
+            keys[#keys + 1] = k
+            if not finite(x) then res.group_nonfinite = res.group_nonfinite or string.format("group %s item %s = %s after step %d", g, k, tostring(x), m:step()) end
+            sums[k] = (sums[k] or 0) + x
+        end
+        table.sort(keys)
+        for _, k in ipairs(keys) do text[#text + 1] = string.format("%s %s %a", g, k, f[k]) end
+    end
+    res.gstate = table.concat(text, "\n")
+    if part then
+        -- `input` adds positive parts (of body, boundary, exchanged) group by group: not additive.
+        for k, x in pairs(e) do
+            if k ~= "input" then
+                local d = math.abs((sums[k] or 0) - x)
+                if not (d <= res.sum_worst) then res.sum_worst, res.sum_item, res.sum_step = d, k, m:step() end
+            end
+        end
+        if math.abs(sums.exchanged or 0) > res.sum_worst then
+            res.sum_worst, res.sum_item, res.sum_step = math.abs(sums.exchanged or 0), "exchanged (sum)", m:step()
+        end
+    end
+end
+
 local SRC = debug.getinfo(1, "S").short_src
 -- Step rules that follow the bodies' motion: their steps are long when the motion is slow.
 local motion_rules = { kinematic = true, approach = true, growth = true }
@@ -102,6 +184,11 @@ function check.runOnce(S)
         return res
     end
     m:on_warning(function(text) res.warnings[#res.warnings + 1] = text end)
+    if S.groups then
+        res.groups, res.sum_worst = {}, 0
+        res.partition = isPartition(m, S.groups.names)
+        res.partition_at_start = res.partition
+    end
     if S.hook then S.hook(m) end -- the self-test's deliberate faults (stress.lua selftest)
     local deadline = os.clock() + check.watchdog_seconds
     m:on_cycle(function()
@@ -121,7 +208,9 @@ function check.runOnce(S)
         end
         local dt, rule = m:dt()
         if dt > res.max_dt and not motion_rules[rule] then res.max_dt, res.max_dt_step, res.max_dt_rule = dt, m:step(), rule end
-        local input, stored, bal = sample(m:energies())
+        local e = m:energies()
+        if S.groups then sampleGroups(m, S.groups, e, res) end
+        local input, stored, bal = sample(e)
         res.throughput = math.max(res.throughput, input, stored)
         if math.abs(bal) > math.abs(res.worst) then res.worst, res.worst_step = bal, m:step() end
         res.chunks = i
@@ -191,7 +280,33 @@ function check.scene(S)
                 a.worst, 100 * a.worst / a.throughput, a.throughput, a.worst < 0 and "created" or "lost", a.worst_step))
         end
     end
+    if S.groups and not a.nonfinite then
+        if a.group_nonfinite then defect("group-energy", "non-finite group item, no error: " .. a.group_nonfinite) end
+        -- Over a partition every additive item summed over the groups is the whole model's, to
+        -- round-off (check.group_sum_tolerance). Checked even in scenes that warned or stopped:
+        -- the samples are of completed chunks, and books are books.
+        if a.partition and a.sum_worst > check.group_sum_tolerance * a.throughput then
+            defect("groups", string.format("over the partition %s the groups' %s differ from the whole model's by %.4g J = %.3g of throughput %.4g J at step %d",
+                table.concat(S.groups.names, ","), a.sum_item, a.sum_worst, a.sum_worst / a.throughput, a.throughput, a.sum_step))
+        end
+        if not a.err and #a.warnings == 0 then
+            -- Every group's balance closes (exchanged work on its input side), with the same
+            -- discretisation error as the whole model's: the tolerance is the whole model's, in
+            -- joules (check.groupTolerance).
+            local res = S.timestep and S.timestep.resolution or 30
+            local scale = math.max(1, (30 / res) ^ 2)
+            for _, g in ipairs(S.groups.names) do
+                local r = a.groups[g]
+                local tol = check.groupTolerance(scale, r.throughput, a.throughput)
+                if r and (math.abs(r.worst) > tol or r.worst ~= r.worst) then
+                    defect("group-energy", string.format("group %s: balance_error %.4g J at step %d > %.3g J (group throughput %.4g J, model %.4g J), no warning",
+                        g, r.worst, r.worst_step, tol, r.throughput, a.throughput))
+                end
+            end
+        end
+    end
     local b = check.runOnce(S)
+    if a.gstate ~= b.gstate then defect("determinism", "group energy books differ between two runs in one process") end
     if a.state ~= b.state or tostring(a.err) ~= tostring(b.err) or #a.warnings ~= #b.warnings then
         local why = a.state ~= b.state and "final state differs" or
             (tostring(a.err) ~= tostring(b.err) and "error differs" or "warning count differs")
@@ -209,7 +324,15 @@ function check.describe(S)
     if S.idle then f[#f + 1] = "idle" end
     if S.soft then f[#f + 1] = "soft" end
     for _, wl in ipairs(S.walls) do if wl.vel or wl.spin then f[#f + 1] = "moving-wall" break end end
-    for _, ev in ipairs(S.events or {}) do f[#f + 1] = ev.kind == "delete" and "delete" or "wall-kick" end
+    for _, ev in ipairs(S.events or {}) do
+        f[#f + 1] = ({ delete = "delete", wallvel = "wall-kick", cdelete = "clump-delete", release = "release" })[ev.kind]
+    end
+    if S.clumps then
+        local n = 0
+        for _ in pairs(S.clumps) do n = n + 1 end
+        f[#f + 1] = string.format("clumps=%d%s%s", n + #S.fromballs, S.template and ",template" or "", #S.fromballs > 0 and ",from-balls" or "")
+    end
+    if S.groups then f[#f + 1] = "groups=" .. #S.groups.names .. (S.groups.partition and ",partition" or "") end
     if S.damping then f[#f + 1] = "damping" end
     if S.guard and S.guard.balance == "off" then f[#f + 1] = "balance-off" end
     if S.gravity[1] ~= 0 or S.gravity[2] ~= 0 then f[#f + 1] = "gravity" end

@@ -110,6 +110,7 @@ local inheritable = { linear = true, cbond = true, power = true, hysdamp = true 
 --- scene can make, mass `mass` at closing speed `v`, overlaps by at most `u`: a softer contact
 --- lets the ball pass through, which the engine reports as an error (a correct stop, but one
 --- that ends the scene early). Used on 85% of the scenes; the others keep the raw draw.
+local addClumps, addGroups
 local function stiffen(name, p, mass, v, u, reff)
     local e = 0.5 * mass * v * v
     local kmin = math.min(1e12, 2 * e / (u * u)) -- linear spring: e = k u^2 / 2
@@ -128,6 +129,181 @@ local function stiffen(name, p, mass, v, u, reff)
     if name == "power" and p.transition ~= math.huge and p.transition < 2 * e / u then p.transition = 2 * e / u end
 end
 
+
+--- A random pebble set {{x, y, r}, ...} inside the circle of radius `rad` about the frame's
+--- origin: 1-5 pebbles, radius ratio up to 5, overlapping or not (drawn independently).
+local function pebbleSet(r, rad)
+    local n = r:int(1, 5)
+    local big = rad * r:uniform(0.3, 1)
+    local ratio = r:chance(0.3) and 1 or r:log(1, 5)
+    local peb = {}
+    for i = 1, n do
+        local pr = i == 1 and big or r:log(big / ratio, big)
+        local d, a = r:uniform(0, rad - pr), r:uniform(0, 2 * math.pi)
+        peb[i] = { d * math.cos(a), d * math.sin(a), pr }
+    end
+    return peb
+end
+
+--- Clumps (docs/stress.md "The scenes"): in ~25% of the scenes some balls are replaced by clumps
+--- whose pebbles lie within the ball's circle (so the placement stays clear), some from a
+--- template placed several times, some made of existing neighbouring balls (m:clump{balls =}),
+--- with random mass modes, angle, scale, fixities and loads; occasionally a clump is released or
+--- deleted between chunks. Draws only from `r` (the clump sub-stream).
+addClumps = function(S, r, rmin)
+    if not r:chance(0.25) or #S.balls == 0 then return end
+    S.clumps, S.absorbed, S.fromballs = {}, {}, {}
+    local sphere = S.mass == "sphere" -- union and sum are refused there: direct mass only
+    local frac = r:uniform(0.2, 1)
+    if not sphere and r:chance(0.3) then
+        -- Template pebbles within radius 0.5: placed with scale <= R, they fit the ball's circle.
+        S.template = { pebbles = pebbleSet(r, 0.5), mass_mode = r:chance(0.8) and "union" or "sum" }
+    end
+    local mass_factor, pmin = 1, math.huge
+    for i, b in ipairs(S.balls) do
+        if r:chance(frac) then
+            local R = b.radius
+            local rho = b.density or b.mass / (math.pi * R * R)
+            local c = { pos = { b.pos[1], b.pos[2] }, vel = b.vel, spin = b.spin, fix = b.fix,
+                        kn = b.kn, fric = b.fric, group = b.group }
+            local peb
+            if S.template and r:chance(0.5) then
+                c.template = true
+                c.scale = R * r:uniform(0.5, 1)
+                c.density = rho
+                peb = S.template.pebbles
+                for _, p in ipairs(peb) do pmin = math.min(pmin, p[3] * c.scale) end
+                if S.template.mass_mode == "sum" then mass_factor = math.max(mass_factor, 1.25) end
+            else
+                -- Pebbles within R/2 (world) of the frame origin: the centroid lies in that circle
+                -- too, so every pebble stays within R of it.
+                local s = r:chance(0.5) and r:log(0.5, 2) or 1
+                peb = pebbleSet(r, R / 2 / s)
+                c.pebbles = peb
+                if s ~= 1 then c.scale = s end
+                for _, p in ipairs(peb) do pmin = math.min(pmin, p[3] * s) end
+                local u = r:u()
+                if sphere or u > 0.85 then
+                    c.mass_mode = "direct"
+                    c.mass = rho * math.pi * R * R * r:uniform(0.3, 1)
+                    c.inertia = 0.5 * c.mass * (R / 2) ^ 2 * r:log(0.5, 2)
+                    if r:chance(0.5) then
+                        local a = r:uniform(0, 2 * math.pi)
+                        c.centroid = { 0.1 * R / s * math.cos(a), 0.1 * R / s * math.sin(a) }
+                    end
+                elseif u > 0.7 then
+                    c.mass_mode, c.density = "sum", rho
+                    mass_factor = math.max(mass_factor, 1.25) -- at most 5 pebbles of R/2
+                else
+                    if r:chance(0.5) then c.mass_mode = "union" end
+                    c.density = rho
+                end
+            end
+            if r:chance(0.7) then c.angle = r:uniform(-math.pi, math.pi) end
+            if not c.fix and r:chance(0.05) then c.fix = r:pick({ { "spin" }, { "x", "y" }, true }) end
+            c.fapp, c.mapp = b.fapp, b.mapp
+            if r:chance(0.05) then
+                local mass = rho * math.pi * R * R
+                c.fapp, c.mapp = { mass * r:uniform(-20, 20), mass * r:uniform(-20, 20) }, rho * R ^ 4 * r:uniform(-100, 100)
+            end
+            S.clumps[i] = c
+        end
+    end
+    -- Clumps of existing balls: a ball and its 1-3 nearest neighbours that are still balls.
+    if #S.balls > 1 and r:chance(0.4) then
+        for _ = 1, r:int(1, 3) do
+            local i = r:int(1, #S.balls)
+            if not S.clumps[i] and not S.absorbed[i] then
+                local near = {}
+                for k, q in ipairs(S.balls) do
+                    if k ~= i and not S.clumps[k] and not S.absorbed[k] then
+                        near[#near + 1] = { (q.pos[1] - S.balls[i].pos[1]) ^ 2 + (q.pos[2] - S.balls[i].pos[2]) ^ 2, k }
+                    end
+                end
+                table.sort(near, function(a, b) return a[1] < b[1] end)
+                local set = { i }
+                for k = 1, math.min(#near, r:int(1, 3)) do set[#set + 1] = near[k][2] end
+                if #set > 1 then
+                    local fb = { balls = set }
+                    local j = #S.fromballs + 1
+                    for _, k in ipairs(set) do S.absorbed[k] = j end
+                    if r:chance(0.3) then fb.density = S.balls[i].density or 1000 end
+                    if sphere then fb = nil end -- union mass of spheres: refused
+                    if fb then S.fromballs[j] = fb else for _, k in ipairs(set) do S.absorbed[k] = nil end end
+                end
+            end
+        end
+    end
+    -- A clump's mass may exceed its ball's (sum mode) and its pebbles are smaller than the
+    -- scene's balls: raise the stiffness floor again for them.
+    if S._impact and pmin < math.huge then
+        local e = S._impact
+        stiffen(S.model, S.props, e.mass * mass_factor, e.v, 0.1 * math.min(rmin, pmin), math.min(rmin, pmin) / 2)
+        if S.rule then stiffen(S.rule.model, S.rule.props, e.mass * mass_factor, e.v, 0.1 * math.min(rmin, pmin), math.min(rmin, pmin) / 2) end
+    end
+    -- The budget counts pebbles: a clump of five pebbles costs about what five balls cost.
+    local bodies = 0
+    for i in ipairs(S.balls) do
+        local c = S.clumps[i]
+        bodies = bodies + (c and #(c.pebbles or S.template.pebbles) or 1)
+    end
+    S.steps = math.max(200, math.min(10000, S._budget // math.max(1, bodies)))
+    -- Redirect the ball deletion to the clump a ball became a pebble of.
+    for _, ev in ipairs(S.events) do
+        if ev.kind == "delete" and S.absorbed[ev.ball] then ev.kind, ev.fromballs, ev.ball = "cdelete", S.absorbed[ev.ball], nil end
+        if ev.kind == "delete" and S.clumps[ev.ball] then ev.kind = "cdelete" end
+    end
+    if r:chance(0.2) then
+        local ids = {}
+        for i in pairs(S.clumps) do ids[#ids + 1] = i end
+        table.sort(ids)
+        local ev = { chunk = r:int(1, 6), kind = r:chance(0.6) and "release" or "cdelete" }
+        if #S.fromballs > 0 and (#ids == 0 or r:chance(0.3)) then
+            ev.fromballs = r:int(1, #S.fromballs)
+        elseif #ids > 0 then
+            ev.ball = ids[r:int(1, #ids)]
+        end
+        if ev.ball or ev.fromballs then S.events[#S.events + 1] = ev end
+    end
+end
+
+--- Groups for the group-wise energy books (docs/physics/energy.md "Energy per group"): in ~30%
+--- of the scenes 1-4 names g1..g4; in 80% of those every body (ball, clump, wall) gets exactly
+--- one (a partition, so that the group books must sum to the whole model's), otherwise some
+--- bodies get two and some none. Draws only from `r` (the group sub-stream).
+addGroups = function(S, r)
+    if not r:chance(0.3) then return end
+    local k = r:int(1, 4)
+    local names = {}
+    for i = 1, k do names[i] = "g" .. i end
+    local partition = r:chance(0.8)
+    local function draw()
+        if not partition then
+            local u = r:u()
+            if u < 0.1 then return {} end
+            if u < 0.25 and k > 1 then
+                local a = r:int(1, k)
+                local b = 1 + (a + r:int(0, k - 2)) % k
+                return { names[a], names[b] }
+            end
+        end
+        return { names[r:int(1, k)] }
+    end
+    local G = { names = names, partition = partition, balls = {}, walls = {}, fromballs = {} }
+    for i = 1, #S.balls do G.balls[i] = draw() end
+    for i = 1, #S.walls do G.walls[i] = draw() end
+    for j = 1, #(S.fromballs or {}) do G.fromballs[j] = draw() end
+    -- Only the names some body got exist in the model (m:energies("g4") is an error otherwise).
+    local used = {}
+    for _, list in ipairs({ G.balls, G.walls, G.fromballs }) do
+        for i, l in pairs(list) do
+            if not (list == G.balls and S.absorbed and S.absorbed[i]) then for _, g in ipairs(l) do used[g] = true end end
+        end
+    end
+    G.names = {}
+    for _, g in ipairs(names) do if used[g] then G.names[#G.names + 1] = g end end
+    if #G.names > 0 then S.groups = G end
+end
 
 --- Wall chains around a region [x0, x1] x [y0, y1] that holds the balls.
 local function makeWalls(r, kind, x0, x1, y0, y1, rmax)
@@ -355,10 +531,12 @@ function gen.scene(seed, opts)
         local v = 2 * vmax + vw + math.sqrt(2 * gmag * 6 * (w + h)) + 1e-3
         stiffen(S.model, S.props, mmax, v, 0.1 * rmin, rmin / 2)
         if S.rule then stiffen(S.rule.model, S.rule.props, mmax, v, 0.1 * rmin, rmin / 2) end
+        S._impact = { mass = mmax, v = v }
     end
 
     local budget = opts.budget or 600000
     S.steps = math.max(200, math.min(10000, budget // math.max(1, #S.balls)))
+    S._budget = budget
     S.chunks = 10
     -- Changes between chunks: a ball deleted (its contacts end), a wall's velocity changed
     -- (boundary work with a velocity step). Chunk numbers count the idle phase as chunk 1.
@@ -371,6 +549,12 @@ function gen.scene(seed, opts)
         S.events[#S.events + 1] = { chunk = r:int(1, 5), kind = "wallvel", wall = r:int(1, #S.walls),
                                     vel = { v * math.cos(a), v * math.sin(a) } }
     end
+    -- Clumps and groups come from sub-streams of their own, drawn after everything above: a seed
+    -- that draws neither builds exactly the scene it built before they existed (same calls, same
+    -- state digest).
+    addClumps(S, gen.rng(seed ~ 0x3C6EF372FE94F82B), rmin)
+    addGroups(S, gen.rng(seed ~ 0x510E527FADE682D1))
+    S._impact, S._budget = nil, nil
     return S
 end
 
@@ -398,18 +582,35 @@ function gen.build(S)
     local m = talus.model{ gravity = g, mass = S.mass }
     m:contact_model(S.model, S.props)
     if S.rule then m:contact_model(S.rule.model, S.rule.props, { groups = S.rule.groups }) end
-    local walls, balls = {}, {}
+    local walls, balls, fromballs = {}, {}, {}
     for _, wl in ipairs(S.walls) do walls[#walls + 1] = m:wall(wl) end
-    for _, b in ipairs(S.balls) do
-        local d = ballDef(b)
+    local template = S.template and m:clump_template(S.template)
+    for i, b in ipairs(S.balls) do
+        local d = S.clumps and S.clumps[i] and ballDef(S.clumps[i]) or ballDef(b)
         local fapp, mapp = d.fapp, d.mapp
         d.fapp, d.mapp = nil, nil
-        local ball = m:ball(d)
+        if d.template then d.template = template end
+        local ball = S.clumps and S.clumps[i] and m:clump(d) or m:ball(d)
         if fapp then ball.fapp = fapp end
         if mapp then ball.mapp = mapp end
         balls[#balls + 1] = ball
     end
-    S.handles = { balls = balls, walls = walls }
+    for j, fb in ipairs(S.fromballs or {}) do
+        local d = { balls = {}, density = fb.density }
+        for _, k in ipairs(fb.balls) do d.balls[#d.balls + 1] = balls[k] end
+        fromballs[j] = m:clump(d)
+    end
+    -- Groups of the energy books, named before tracing starts (a group named later starts with
+    -- empty books). A ball that became a pebble takes its clump's groups.
+    local G = S.groups
+    if G then
+        for i, h in ipairs(balls) do
+            if not (S.absorbed and S.absorbed[i]) then for _, g in ipairs(G.balls[i]) do h:add_group(g) end end
+        end
+        for i, h in ipairs(walls) do for _, g in ipairs(G.walls[i]) do h:add_group(g) end end
+        for j, h in ipairs(fromballs) do for _, g in ipairs(G.fromballs[j]) do h:add_group(g) end end
+    end
+    S.handles = { balls = balls, walls = walls, fromballs = fromballs }
     if S.damping then m:damping(S.damping) end
     if S.timestep then m:timestep(S.timestep) end
     if S.guard then
@@ -429,8 +630,12 @@ function gen.afterChunk(S, m, i)
     if i == 1 and S.idle then m:gravity(S.gravity) end
     for _, ev in ipairs(S.events or {}) do
         if ev.chunk == i then
-            if ev.kind == "delete" then
-                S.handles.balls[ev.ball]:delete()
+            -- A body released or deleted by an earlier event is left alone.
+            local h = ev.fromballs and S.handles.fromballs[ev.fromballs] or (ev.ball and S.handles.balls[ev.ball])
+            if (ev.kind == "delete" or ev.kind == "cdelete") and h.alive then
+                h:delete()
+            elseif ev.kind == "release" and h.alive then
+                h:release()
             elseif ev.kind == "wallvel" then
                 S.handles.walls[ev.wall].vel = ev.vel
             end
@@ -505,14 +710,36 @@ function gen.dump(S)
     w("m:on_warning(function(text) print('warning: ' .. text) end)")
     w("local W, B = {}, {}")
     for _, wl in ipairs(S.walls) do w("W[#W + 1] = m:wall" .. lit(wl)) end
-    for _, b in ipairs(S.balls) do
-        local d = ballDef(b)
+    if S.template then w("local T = m:clump_template" .. lit(S.template)) end
+    for i, b in ipairs(S.balls) do
+        local c = S.clumps and S.clumps[i]
+        local d = ballDef(c or b)
         local fapp, mapp = d.fapp, d.mapp
         d.fapp, d.mapp = nil, nil
-        local line = "B[#B + 1] = m:ball" .. lit(d)
+        local tpl = d.template
+        d.template = nil
+        local line = "B[#B + 1] = m:" .. (c and "clump" or "ball") .. lit(d)
+        if tpl then line = line:gsub("^(B%[#B %+ 1%] = m:clump{ )", "%1template = T, ") end
         if fapp then line = line .. "; B[#B].fapp = " .. lit(fapp) end
         if mapp then line = line .. "; B[#B].mapp = " .. lit(mapp) end
         w(line)
+    end
+    w("local C = {}")
+    for j, fb in ipairs(S.fromballs or {}) do
+        local parts = {}
+        for _, k in ipairs(fb.balls) do parts[#parts + 1] = "B[" .. k .. "]" end
+        w(string.format("C[%d] = m:clump{ balls = {%s}%s }", j, table.concat(parts, ", "),
+            fb.density and (", density = " .. num(fb.density)) or ""))
+    end
+    local G = S.groups
+    if G then
+        for i in ipairs(S.balls) do
+            if not (S.absorbed and S.absorbed[i]) then
+                for _, g in ipairs(G.balls[i]) do w(string.format("B[%d]:add_group(%q)", i, g)) end
+            end
+        end
+        for i in ipairs(S.walls) do for _, g in ipairs(G.walls[i]) do w(string.format("W[%d]:add_group(%q)", i, g)) end end
+        for j in ipairs(S.fromballs or {}) do for _, g in ipairs(G.fromballs[j]) do w(string.format("C[%d]:add_group(%q)", j, g)) end end
     end
     if S.damping then w("m:damping" .. lit(S.damping)) end
     if S.timestep then w("m:timestep" .. lit(S.timestep)) end
@@ -528,12 +755,21 @@ function gen.dump(S)
     w("  local e = m:energies()")
     w("  print(string.format('step %d t %.6g: kinetic %.6g strain %.6g bond %.6g slip %.6g dashpot %.6g plastic %.6g damping %.6g released %.6g | in: initial %.6g body %.6g boundary %.6g | balance_error %.6g J',")
     w("    m:step(), m:time(), e.kinetic, e.strain, e.bond, e.slip, e.dashpot, e.plastic, e.damping, e.released, e.initial_kinetic, e.body, e.boundary, e.balance_error))")
+    if G then
+        w("  for _, g in ipairs(" .. lit(G.names) .. ") do")
+        w("    local f = m:energies(g)")
+        w("    print(string.format('  %s: kinetic %.6g strain %.6g body %.6g boundary %.6g exchanged %.6g balance_error %.6g J', g, f.kinetic, f.strain, f.body, f.boundary, f.exchanged, f.balance_error))")
+        w("  end")
+    end
     w("end")
     for i, k in ipairs(gen.plan(S)) do
         w(string.format("m:cycle(%d) report()", k))
         if i == 1 and S.idle then w(string.format("m:gravity(%s)", lit(S.gravity))) end
         for _, ev in ipairs(S.events or {}) do
-            if ev.chunk == i and ev.kind == "delete" then w(string.format("B[%d]:delete()", ev.ball)) end
+            if ev.chunk == i and ev.kind ~= "wallvel" then
+                local h = ev.fromballs and string.format("C[%d]", ev.fromballs) or string.format("B[%d]", ev.ball)
+                w(string.format("if %s.alive then %s:%s() end", h, h, ev.kind == "release" and "release" or "delete"))
+            end
             if ev.chunk == i and ev.kind == "wallvel" then w(string.format("W[%d].vel = %s", ev.wall, lit(ev.vel))) end
         end
     end

@@ -423,6 +423,7 @@ private:
     template <bool kGeneral>
     void moveBalls();  // law_of_motion.cpp
     void reportNonFiniteBall() const;
+    void reportNonFiniteEnergy(double kinetic, double body, double damping, double driven) const;
     void moveClumps(double& kinetic, double& body, double& damping, double& driven);
     void gatherClumpForces();  // law_of_motion.cpp: pebble forces summed to the centroids
     void placePebbles(const ClumpData& c);
