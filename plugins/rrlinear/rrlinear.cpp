@@ -17,7 +17,8 @@
 // Energies: the rolling spring's M_r^2 / (2 k_r) is booked with the strain energy and the
 // rolling slip work with the slip (frictional) work: the ABI has no separate partitions for
 // them, and both are the same kind as the linear law's (stored elastic, frictional).
-// Time step: krest = k_r, so that the rotational stability rule sees the rolling spring.
+// Time step: krest = k_r (0 when rr_fric = 0), so that the rotational stability rule sees the
+// rolling spring (docs/physics/timestep.md: k_rot = sum of ksest r^2 + krest).
 #include <cmath>
 
 #include "talus/contact_model.hpp"
@@ -34,10 +35,10 @@ class RRLinear final : public ModelBase<RRLinear>, public LinearLaw {
 public:
     static constexpr const char* kName = "rrlinear";
 
-    double rr_fric = 0.0;    // rolling friction coefficient [-]
-    double rr_moment = 0.0;  // rolling-resistance moment on end 2 [N m] (state)
-    double rr_slip = 0.0;    // 1 while the rolling moment is at its limit (state)
-    double rr_kr = 0.0;      // rolling stiffness ks R_bar^2 [N m/rad] (derived, per contact)
+    double rr_fric = 0.0;     // rolling friction coefficient [-]
+    double rr_moment = 0.0;   // rolling-resistance moment on end 2 [N m] (state)
+    double rr_slip = 0.0;     // 1 while the rolling moment is at its limit (state)
+    double rr_kr = 0.0;       // rolling stiffness ks R_bar^2 [N m/rad] (derived, per contact)
     double rr_radius_ = 0.0;  // effective contact radius R_bar [m]
 
     static const PropTable<RRLinear>& Table() {
@@ -67,8 +68,8 @@ public:
         const double r1 = pb.radius[0], r2 = pb.end2_type == kEndWall ? 0.0 : pb.radius[1];
         rr_radius_ = r2 > 0.0 ? r1 * r2 / (r1 + r2) : r1;
         if (!(rr_radius_ >= 0.0) || !std::isfinite(rr_radius_)) {
-            fail("rrlinear: the ends' radii give no effective radius (R1 = " +
-                 std::to_string(r1) + " m, R2 = " + std::to_string(r2) + " m)");
+            fail("rrlinear: the ends' radii give no effective radius (R1 = " + std::to_string(r1) +
+                 " m, R2 = " + std::to_string(r2) + " m)");
             return false;
         }
         rr_kr = ks * rr_radius_ * rr_radius_;
@@ -83,7 +84,9 @@ public:
     void fdlaw(FdBlock& fd) {
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
         const Step s = linearLaw(fd);
-        fd.krest = rr_kr;
+        // Without rolling friction the rolling spring never holds a moment: it has no stiffness
+        // for the time step either (and rr_fric = 0 is then `linear` exactly, step for step).
+        fd.krest = rr_fric > 0.0 ? rr_kr : 0.0;
         if (!s.touching) {
             // Separated: the rolling spring lets go, as the shear spring does; what it held
             // goes to friction (linear_law.hpp books the shear spring's the same way).

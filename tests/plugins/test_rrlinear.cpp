@@ -270,7 +270,7 @@ TEST_CASE("rrlinear: on an incline a rolling disk accelerates or stops as the cl
         report("incline 5 deg, rr_fric %g, v0 %g: stop at %.9f m, closed form %.9f (%+.2e)\n", mu_r,
                v0, dist, exact, (dist - exact) / exact);
         // Measured -4.5e-6 relative; bound 5e-5, 10x that and below the lever arm's effect
-        // (l/R in both the moment and kappa: 3e-4 here).
+        // (l/R = 1 - 4e-5 in the moment, kappa and the rolled arc: 6e-5 here).
         CHECK(dist == Approx(exact).epsilon(5e-5));
         const double amp = 2.0 * mu_r * d.mass * kG / ks;
         d.m->solveTime(1.0);
