@@ -8,9 +8,9 @@
 -- is booked as slip and the balance closes.
 local T = require("testlib")
 
-local g, R, rho, kn, ks, mu_r, v0 = 9.81, 0.25, 2600, 1e9, 1e9, 0.3, 3.0
+local g, R, rho, kn, ks, v0 = 9.81, 0.25, 2600, 1e9, 1e9, 3.0
 
-local function roll(mass_mode, kappa)
+local function roll(mass_mode, kappa, mu_r)
     local m = talus.model{ gravity = {0, -g}, mass = mass_mode }
     -- The bench's rule, by group, as a material zone of a slope would have it.
     m:contact_model("rrlinear", { kn = kn, ks = ks, fric = 0.6, rr_fric = mu_r, dp_nratio = 0.3,
@@ -49,10 +49,19 @@ local function roll(mass_mode, kappa)
     return dist, d
 end
 
-local dd, cd = roll("disk", 0.5)
-local ds, cs = roll("sphere", 0.4)
+local dd, cd = roll("disk", 0.5, 0.3)
+local ds, cs = roll("sphere", 0.4, 0.3)
 print(string.format("rrlinear_rolling: disk %.6f m (closed form %.6f), sphere %.6f m (%.6f)",
     dd, cd, ds, cs))
+-- A lumped-mass rolling friction tan(beta) (STONE, rockfall-inputs B3a: bedrock 0.30) stops a
+-- point mass after v0^2 / (2 g tan(beta)); rr_fric = (1 + kappa) tan(beta) gives a round rock
+-- the same run-out (issue 8's bench check).
+local tan_beta = 0.30
+local db = roll("disk", 0.5, 1.5 * tan_beta)
+T.near(db / (v0 * v0 / (2 * g * tan_beta)), 1, 5e-5,
+    "disk, rr_fric = 1.5 tan(beta): v0^2/(2 g tan(beta))")
+print(string.format("rrlinear_rolling: disk, rr_fric = 1.5 x 0.30: %.6f m "
+    .. "(v0^2/(2 g tan beta) = %.6f)", db, v0 * v0 / (2 * g * tan_beta)))
 
 T.fails(function() talus.model{}:contact_model("rrlinear", { rr_fric = -0.1 }) end,
     { "rrlinear: 'rr_fric' must be >= 0", "got -0.1" }, "negative rr_fric refused")
