@@ -252,11 +252,16 @@ template <class D>
 PropTable<D> linearStateProps() {
     // clang-format off
     return {
-        {{"lin_fn", "N", kPropReadOnly | kPropState, 0.0, "linear normal force", nullptr}, &D::lin_fn},
-        {{"lin_fs", "N", kPropReadOnly | kPropState, 0.0, "linear shear force", nullptr}, &D::lin_fs},
-        {{"dp_fn", "N", kPropReadOnly | kPropState, 0.0, "normal dashpot force", nullptr}, &D::dp_fn},
-        {{"dp_fs", "N", kPropReadOnly | kPropState, 0.0, "shear dashpot force", nullptr}, &D::dp_fs},
-        {{"lin_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr}, &D::lin_slip},
+        {{"lin_fn", "N", kPropReadOnly | kPropState, 0.0, "linear normal force", nullptr},
+         &D::lin_fn},
+        {{"lin_fs", "N", kPropReadOnly | kPropState, 0.0, "linear shear force", nullptr},
+         &D::lin_fs},
+        {{"dp_fn", "N", kPropReadOnly | kPropState, 0.0, "normal dashpot force", nullptr},
+         &D::dp_fn},
+        {{"dp_fs", "N", kPropReadOnly | kPropState, 0.0, "shear dashpot force", nullptr},
+         &D::dp_fs},
+        {{"lin_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr},
+         &D::lin_slip},
     };
     // clang-format on
 }
