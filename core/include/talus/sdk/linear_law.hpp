@@ -197,7 +197,7 @@ public:
     }
 
     /// The linear law's per-contact state, in the layout of `linear`'s SaveRestore version 2;
-    /// `data_version` is the version at which the dashpots' history was added (data older than
+    /// `history_version` is the version at which the dashpots' history was added (data older than
     /// that restores without it: the next call then estimates nothing, as on a first touch).
     void linearSaveRestore(ModelSaveObject& so, int32_t history_version) {
         so.Double(lin_fn);
