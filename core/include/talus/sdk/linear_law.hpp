@@ -1,0 +1,269 @@
+// SPDX-License-Identifier: MIT
+//
+// The PFC linear law as a building block: the state, the force-displacement law and the
+// time-step contract of the `linear` model (docs/models/linear.md), shared by every model that
+// is "linear plus something" (`rrlinear` adds a rolling-resistance moment).
+//
+//   normal:  F_n^l = kn u_n                       (secant, absolute; no tension)
+//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (accuracy-reference 3.2)
+//   dashpot: F^d = c (rate), c_n = 2 dp_nratio sqrt(m* kn), c_s = 2 dp_sratio sqrt(m* ks)
+//            (PFC's coefficients; the implicit solve of the shear dashpot uses the tangential
+//            effective mass, rotation included, FdBlock::inv_mass_eff_s)
+//   dp_mode: 0 full; 1 total normal force >= 0; 2 shear dashpot off while sliding; 3 = 1 and 2
+//
+// kn, ks and fric are inherited from the ends when they define them (springs in series,
+// friction minimum), as PFC2D 3.x did with ball and wall properties.
+// The dashpots use the implicit, impulse-exact scheme of talus/sdk/dashpot.hpp.
+//
+// Use: a model derives from ModelBase<Model> and from LinearLaw, puts linearSettableProps<Model>()
+// and linearStateProps<Model>() into its property table, and calls the linear* members from its
+// own inherit, onPropChanged, fdlaw and saveRestoreState. The data members keep the order the
+// `linear` model had (its hot values in the first cache lines; force_displacement.cpp prefetches
+// three).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "talus/contact_model.hpp"
+#include "talus/sdk/corners.hpp"
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/model_base.hpp"
+#include "talus/sdk/shear_spring.hpp"
+
+namespace talus::sdk {
+
+/// Names of the linear law's dp_mode values.
+inline const char* const* linearDpModeNames() {
+    static const char* const names[] = {"full", "no_tension", "no_shear_slip",
+                                        "no_tension_no_shear_slip", nullptr};
+    return names;
+}
+
+class LinearLaw {
+public:
+    // properties (PFC names)
+    double kn = 0.0;    // [N/m]
+    double ks = 0.0;    // [N/m]
+    double fric = 0.0;  // [-]
+    // state (read-only)
+    double lin_fn = 0.0;    // linear normal force [N]
+    double lin_fs = 0.0;    // linear shear force [N]
+    double dp_fn = 0.0;     // normal dashpot force [N]
+    double dp_fs = 0.0;     // shear dashpot force [N]
+    double lin_slip = 0.0;  // 1 while sliding
+    // per-contact derived values (not properties), cached so FDlaw needs no square root
+    double mass_eff_ = 0.0, inv_mass_eff_ = 0.0;
+    double cn_ = 0.0, cs_ = 0.0;  // dashpot coefficients [N s/m]
+    double knest_ = 0.0, ksest_ = 0.0;
+    bool no_tension_ = false, no_shear_dp_sliding_ = false;
+    bool touching_ = false;
+    double last_overlap_ = 0.0;
+    DashpotHistory history_;  // the rest of the model's push on the dashpots' rates
+    // Dashpot properties last: FDlaw reads only what setMass derives from them, and the force
+    // loop prefetches an object's first three cache lines (force_displacement.cpp).
+    double dp_nratio = 0.0;  // [-]
+    double dp_sratio = 0.0;  // [-]
+    double dp_mode = 0.0;    // 0..3
+
+    /// What the linear law did this step, for a model built on it.
+    struct Step {
+        bool touching = false;  ///< u_n > 0 this step
+        bool first = false;     ///< first contact step (touch within this step)
+        double lead = 0.5;      ///< onsetFraction on the first step, else 0.5
+    };
+
+    /// PFC inheritance of kn, ks, fric from the ends; caches the mass-dependent values.
+    void linearInherit(const PropBlock& pb) {
+        kn = inheritSeries(kn, pb.kn);
+        ks = inheritSeries(ks, pb.ks);
+        fric = inheritMin(fric, pb.fric);
+        setMass(pb.mass_eff);
+    }
+
+    void setMass(double m) {
+        mass_eff_ = m;
+        inv_mass_eff_ = m > 0.0 ? 1.0 / m : 0.0;
+        cn_ = dashpotCoefficient(dp_nratio, m, kn);
+        cs_ = dashpotCoefficient(dp_sratio, m, ks);
+        knest_ = kn * dashpotStiffnessFactor(dp_nratio);
+        ksest_ = ks * dashpotStiffnessFactor(dp_sratio);
+        no_tension_ = dp_mode == 1.0 || dp_mode == 3.0;
+        no_shear_dp_sliding_ = dp_mode >= 2.0;
+        // Without dashpots the history is not followed (fdlaw); it must not be stale when a
+        // dashpot is switched on later.
+        if (cn_ <= 0.0 && cs_ <= 0.0) history_.reset();
+    }
+
+    /// After a property changed: recompute what is derived from the properties.
+    void linearRefresh() { setMass(mass_eff_); }
+
+    bool noTension() const { return no_tension_; }
+    bool noShearDashpotWhileSliding() const { return no_shear_dp_sliding_; }
+
+    /// The linear force-displacement law: writes n_force, s_force, moment = 0, the estimates
+    /// (krest = 0) and, with energy tracing on, strain, slip and dashpot energies.
+    Step linearLaw(FdBlock& fd) {
+        if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
+        const double dt = fd.tdel;
+        const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        // Gravity, the other contacts and the rest, as seen in the rates (sdk/dashpot.hpp);
+        // followed on every call, touching or not, so that it is current at the next touch.
+        const DashpotLoad other = cn_ > 0.0 || cs_ > 0.0
+                                      ? history_.observe(fd, cn_ > 0.0 ? inv_mass_eff_ : 0.0,
+                                                         cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0)
+                                      : DashpotLoad{};
+
+        if (fd.u_n <= 0.0) {
+            // Separated. Pay what the last contact step owed for the part of the step the
+            // contact lasted beyond (or fell short of) the step's centre (talus/sdk/dashpot.hpp):
+            // the dashpots and the shear spring act until separation; the normal spring's force
+            // falls to zero there (a corner). With the no-tension limit and a normal dashpot the
+            // normal force had already reached zero before the overlap did: nothing is owed.
+            double closing_n = 0.0, closing_s = 0.0, released_shear = 0.0, dash = 0.0;
+            if (touching_) {
+                const double frac = closingFraction(last_overlap_, fd.u_n);
+                const bool normal_corner = !noTension() || cn_ <= 0.0;
+                const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
+                                                       frac, normal_corner);
+                const double dn = normal_corner
+                                      ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
+                                      : 0.0;
+                const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
+                closing_n = k.normal + dn;
+                closing_s = k.shear - ds;
+                dash += dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
+                // The shear spring lets go as the contact ends: its energy goes to friction.
+                released_shear = springEnergy(lin_fs, ks);
+            }
+            touching_ = false;
+            lin_fn = lin_fs = dp_fs = lin_slip = 0.0;
+            dp_fn = 0.0;
+            fd.n_force = closing_n;
+            fd.s_force = closing_s;
+            fd.moment = 0.0;
+            if (energy) {
+                fd.energy[kEnergyStrain] = 0.0;
+                fd.energy[kEnergySlip] = released_shear;
+                fd.energy[kEnergyDashpot] = dash;  // impulse times rate
+            }
+            writeLinearEstimates(fd);
+            last_overlap_ = fd.u_n;
+            return Step{};
+        }
+
+        const bool first = !touching_;
+        const double lead = first ? onsetFraction(fd.u_n, fd.du_n) : 0.5;
+        // On the first step only the part of the shear increment after touch loads the spring.
+        const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
+
+        lin_fn = kn * fd.u_n;
+        const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
+        lin_slip = sr.sliding ? 1.0 : 0.0;
+
+        const double dn =
+            dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead, other.normal);
+        dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
+        double ds = 0.0;  // resisting the shear motion
+        if (!(sr.sliding && noShearDashpotWhileSliding()))
+            ds =
+                dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead, other.shear);
+        dp_fs = -ds;
+
+        // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);
+        // a sliding shear force follows the normal spring's corner (Coulomb).
+        const Corners corner =
+            first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
+        fd.n_force = lin_fn + dp_fn + corner.normal;
+        fd.s_force = lin_fs + dp_fs + corner.shear;
+        fd.moment = 0.0;
+        if (sr.sliding) fd.flags |= kFdSliding;
+        writeLinearEstimates(fd);
+        if (energy) {
+            fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
+            fd.energy[kEnergySlip] = sr.slip_work;
+            fd.energy[kEnergyDashpot] =
+                dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
+        }
+        touching_ = true;
+        last_overlap_ = fd.u_n;
+        return Step{true, first, lead};
+    }
+
+    void writeLinearEstimates(FdBlock& fd) const {
+        fd.knest = knest_;
+        fd.ksest = ksest_;
+        fd.krest = 0.0;
+    }
+
+    /// The linear law's per-contact state, in the layout of `linear`'s SaveRestore version 2;
+    /// `history_version` is the version at which the dashpots' history was added (data older than
+    /// that restores without it: the next call then estimates nothing, as on a first touch).
+    void linearSaveRestore(ModelSaveObject& so, int32_t history_version) {
+        so.Double(lin_fn);
+        so.Double(lin_fs);
+        so.Double(dp_fn);
+        so.Double(dp_fs);
+        so.Double(lin_slip);
+        so.Double(mass_eff_);
+        so.Double(last_overlap_);
+        if (so.IsSaving() || so.DataVersion() >= history_version)
+            history_.saveRestore(so);
+        else
+            history_.reset();
+        so.Bool(touching_);
+    }
+
+    double linearKnEstimate() const { return kn * dashpotStiffnessFactor(dp_nratio); }
+    double linearKsEstimate() const { return ks * dashpotStiffnessFactor(dp_sratio); }
+    /// Half period of the faster undamped spring; damping only lengthens the contact. The
+    /// sticking shear spring of a disk sees the inverse mass 1/m* + r^2/I = 3/m* (both ends
+    /// disks, or a disk on a wall), so it is the faster one when 3 ks > kn; resolving only the
+    /// normal impact then left it a few steps per half cycle, and leapfrog created a few percent
+    /// of the shear energy at each separation (issue 6, stress seeds 228 and 684;
+    /// docs/models/linear.md). A sphere's inertia (3.5/m*) would be 8% faster than this.
+    /// Without kn there is no force at all (the shear force is limited by fric kn u_n).
+    double linearContactDuration(double mass_eff) const {
+        return kn > 0.0 ? M_PI * std::sqrt(mass_eff / std::max(kn, 3.0 * ks)) : HUGE_VAL;
+    }
+};
+
+/// The linear law's settable properties, for the property table of a model D deriving from
+/// LinearLaw: kn, ks, fric, dp_nratio, dp_sratio, dp_mode (PFC order).
+template <class D>
+PropTable<D> linearSettableProps() {
+    // clang-format off
+    return {
+        {{"kn", "N/m", kPropInheritable, 0.0, "normal stiffness", nullptr}, &D::kn, 0.0, kStiffnessMax},
+        {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr}, &D::ks, 0.0, kStiffnessMax},
+        {{"fric", "-", kPropInheritable, 0.0, "friction coefficient", nullptr}, &D::fric, 0.0},
+        {{"dp_nratio", "-", 0, 0.0, "normal critical damping ratio", nullptr},
+         &D::dp_nratio, 0.0, 1.0, false, "(1 = critical)"},
+        {{"dp_sratio", "-", 0, 0.0, "shear critical damping ratio", nullptr},
+         &D::dp_sratio, 0.0, 1.0, false, "(1 = critical)"},
+        {{"dp_mode", "-", kPropInteger, 0.0, "dashpot mode", linearDpModeNames()}, &D::dp_mode,
+         0.0, 3.0},
+    };
+    // clang-format on
+}
+
+/// The linear law's read-only state: lin_fn, lin_fs, dp_fn, dp_fs, lin_slip.
+template <class D>
+PropTable<D> linearStateProps() {
+    // clang-format off
+    return {
+        {{"lin_fn", "N", kPropReadOnly | kPropState, 0.0, "linear normal force", nullptr},
+         &D::lin_fn},
+        {{"lin_fs", "N", kPropReadOnly | kPropState, 0.0, "linear shear force", nullptr},
+         &D::lin_fs},
+        {{"dp_fn", "N", kPropReadOnly | kPropState, 0.0, "normal dashpot force", nullptr},
+         &D::dp_fn},
+        {{"dp_fs", "N", kPropReadOnly | kPropState, 0.0, "shear dashpot force", nullptr},
+         &D::dp_fs},
+        {{"lin_slip", "-", kPropReadOnly | kPropState, 0.0, "1 while sliding", nullptr},
+         &D::lin_slip},
+    };
+    // clang-format on
+}
+
+}  // namespace talus::sdk
