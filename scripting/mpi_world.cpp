@@ -100,7 +100,7 @@ std::vector<std::string> allgather(const std::string& mine) {
 bool built() { return false; }
 void start() {
     // Every rank would run the whole script on its own and write the same files: say so.
-    if (launchedByMpirun() && !std::getenv("TALUS_QUIET_MPI"))
+    if (launchedByMpirun())
         std::fputs(
             "talus: warning: launched by mpirun, but this talus was built without MPI: every "
             "process runs the whole script as rank 0 of 1\n",
