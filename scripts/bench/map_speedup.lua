@@ -4,6 +4,7 @@
 -- them settle for 1.2 s (about 0.3 s of wall time on one core); the map runs 16 items with
 -- jobs = 1 and jobs = J, checks that the results are identical and prints the wall times.
 --   talus run scripts/bench/map_speedup.lua [items=16] [jobs=2]
+--   mpirun -n 2 talus run scripts/bench/map_speedup.lua 16 1     (2 ranks, 1 process each)
 local items = tonumber(arg[1]) or 16
 local jobs = tonumber(arg[2]) or 2
 
@@ -44,6 +45,10 @@ for i = 1, items do
 end
 local steps = 0
 for i = 1, items do steps = steps + serial[i].steps end
-print(string.format("%d items (%d steps each on average): jobs = 1 %.2f s (%.3f s per item), "
-    .. "jobs = %d %.2f s, speed-up %.2f; results identical",
-    items, steps // items, t1 - t0, (t1 - t0) / items, jobs, t2 - t1, (t1 - t0) / (t2 - t1)))
+-- Under mpirun the items are shared among the ranks in both maps (jobs counts workers per rank).
+if talus.rank() == 0 then
+    print(string.format("%d items (%d steps each on average), %d rank(s): jobs = 1 %.2f s "
+        .. "(%.3f s per item), jobs = %d %.2f s, speed-up %.2f; results identical", items,
+        steps // items, talus.ranks(), t1 - t0, (t1 - t0) / items, jobs, t2 - t1,
+        (t1 - t0) / (t2 - t1)))
+end
