@@ -472,10 +472,22 @@ int w_map(lua_State* L) {
             DepthGuard depth;
             const int64_t count = hi - lo + 1;
             const int64_t workers = std::min<int64_t>(jobs, count);
-            if (workers <= 1)
-                runInPlace(L, fn, lo, hi, mine);
-            else
-                runForked(L, fn, lo, hi, workers, mine);
+            try {
+                if (workers <= 1)
+                    runInPlace(L, fn, lo, hi, mine);
+                else
+                    runForked(L, fn, lo, hi, workers, mine);
+            } catch (const std::exception& e) {
+                // A system failure (no pipe, no fork, corrupt frame) becomes this block's
+                // failure: under MPI it must still reach the exchange, or the other ranks
+                // would wait there for this one forever.
+                if (!collective) throw;
+                std::string text = e.what();
+                if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
+                mine.failed = true;
+                mine.index = lo;
+                mine.message = text;
+            }
         }
 
         // Every rank's values, in rank order (one rank without MPI).
