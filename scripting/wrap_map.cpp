@@ -139,10 +139,10 @@ bool writeFrame(int fd, char kind, int64_t index, const std::string& bytes) {
 }
 
 struct WorkerJob {
-    int fn;
     int64_t lo, hi;
     int fd;
-    int status;  // exit status for _exit
+    int status;       // exit status for _exit
+    int64_t current;  // the item being run
 };
 
 /// The body of a worker, run under lua_pcall: a Lua error that escapes the per-item pcall (out
@@ -155,6 +155,7 @@ int workerBody(lua_State* L) {
     std::string encoded, message;
     job->status = 0;
     for (int64_t i = job->lo; i <= job->hi; ++i) {
+        job->current = i;
         if (runItem(L, fn, i, encoded, message)) {
             if (!writeFrame(job->fd, 'v', i, encoded)) {
                 job->status = 3;  // the caller is gone
@@ -169,13 +170,15 @@ int workerBody(lua_State* L) {
 }
 
 [[noreturn]] void workerMain(lua_State* L, int fn, int64_t lo, int64_t hi, int fd) {
-    WorkerJob job{fn, lo, hi, fd, 4};
+    WorkerJob job{lo, hi, fd, 4, lo};
     try {
         lua_pushvalue(L, fn);
         lua_pushcclosure(L, workerBody, 1);
         lua_pushlightuserdata(L, &job);
         if (lua_pcall(L, 1, 0, 0) != LUA_OK) {
-            writeFrame(fd, 'e', lo, "a worker failed outside fn: " + errorText(L, -1));
+            writeFrame(
+                fd, 'e', job.current,
+                itemName(job.current) + " failed in its worker, outside fn: " + errorText(L, -1));
             job.status = 5;
         }
     } catch (...) {
