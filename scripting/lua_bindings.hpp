@@ -184,6 +184,8 @@ std::string lower(std::string s);
 void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
 /// talus.impact and talus.drive, added to the module table at the top of the stack.
 void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
+/// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.
+void addMapFunctions(lua_State* L);  // wrap_map.cpp
 
 }  // namespace talus::lua
 

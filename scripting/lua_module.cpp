@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The `talus` module table: talus.model, talus.load_plugin, talus.contact_model_info,
-// talus.models, talus.mkdir, talus.version, and talus.impact/drive (wrap_impact.cpp).
+// talus.models, talus.mkdir, talus.version, talus.impact/drive (wrap_impact.cpp) and
+// talus.map/rank/ranks (wrap_map.cpp).
 #include <filesystem>
 #include <system_error>
 
@@ -113,6 +114,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     openHistory(L);
     luaL_newlib(L, kModuleFunctions);
     addImpactFunctions(L);
+    addMapFunctions(L);
     lua_pushliteral(L, TALUS_VERSION);
     lua_setfield(L, -2, "version");
     return 1;

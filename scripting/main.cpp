@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lua_bindings.hpp"
+#include "mpi_world.hpp"
 
 #ifndef TALUS_VERSION
 #error "TALUS_VERSION must be defined by the build (project version)"
@@ -173,11 +174,16 @@ int main(int argc, char** argv) {
     }
     const std::string script = a[i];
     const std::vector<std::string> args(a.begin() + static_cast<std::ptrdiff_t>(i + 1), a.end());
+    // Under mpirun only (talus.rank/ranks/map); a plain run does not touch MPI.
+    talus::mpi::start();
+    int status = 1;
     try {
-        return runScript(script, args, traceback, argv[0]);
+        status = runScript(script, args, traceback, argv[0]);
     } catch (const std::exception& e) {
         // Not expected: the bindings turn exceptions into Lua errors. Report rather than abort.
         std::fprintf(stderr, "talus: internal error: %s\n", e.what());
-        return 1;
     }
+    std::fflush(nullptr);
+    talus::mpi::finish(status != 0);
+    return status;
 }

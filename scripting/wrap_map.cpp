@@ -1,0 +1,561 @@
+// SPDX-License-Identifier: MIT
+//
+// talus.map(n, fn [, {jobs = J}]), talus.rank(), talus.ranks(): independent items (the rocks of
+// a Monte Carlo) on all cores of a machine and across the ranks of an mpirun.
+//
+// How the items are shared. The n indices are cut into contiguous blocks of sizes that differ
+// by at most one: first one block per MPI rank, then, inside a rank, one block per worker
+// process. Each worker is a fork() of the caller: it inherits the whole Lua state (fn, its
+// upvalues, loaded models and modules) and runs fn(i) for the indices of its block, in order.
+// Every result is encoded (map_codec.hpp) and sent through a pipe as one frame
+//     kind (1 byte: 'v' value, 'e' failure) | index (8 bytes) | length (8 bytes) | bytes
+// The caller reads every pipe with poll(), so a worker never blocks on a full pipe while the
+// caller waits for another. Under MPI each rank packs its block's values and all ranks exchange
+// them (mpi_world.hpp), so every rank returns the whole list.
+//
+// Why the results are identical whatever the number of jobs and ranks: fn(i) is computed by
+// the same code from the same state (a fork copies the caller's state; another rank runs the
+// same script), its value is encoded exactly (numbers by their bits), and the caller builds
+// every result by decoding the bytes, including when it ran fn(i) itself (jobs = 1): the
+// decoded tables are built the same way on every path.
+//
+// Threads: the engine and its plugins run no threads (no OpenMP, no std::thread; checked with
+// grep when this was written), so fork() copies a consistent, single-threaded process. If an
+// engine part ever starts threads, a worker must fork before they start or map must fall back
+// to jobs = 1 (docs/lua-api.md, talus.map).
+//
+// Workers end with _exit() after flushing their own stdio buffers: the caller's atexit
+// handlers, destructors and (under MPI) MPI's shutdown must run once, in the caller.
+#include <poll.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "lua_bindings.hpp"
+#include "map_codec.hpp"
+#include "mpi_world.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+/// Maps running in this process (a worker inherits its parent's count). A map called from
+/// inside fn runs its items in place: forking again would multiply the processes, and under
+/// MPI the ranks run different items, so a collective exchange could never match up.
+int g_depth = 0;
+
+class DepthGuard {
+public:
+    DepthGuard() { ++g_depth; }
+    ~DepthGuard() { --g_depth; }
+    DepthGuard(const DepthGuard&) = delete;
+    DepthGuard& operator=(const DepthGuard&) = delete;
+};
+
+/// What running a block of indices gave: one encoded value per index, or the first failure.
+struct Outcome {
+    std::vector<std::string> values;  // values[i - lo]
+    bool failed = false;
+    int64_t index = 0;    // the failed item (for a dead worker: the one it was running)
+    std::string message;  // "fn(5) failed: script.lua:12: boom"
+};
+
+/// Block w of `count` items cut into `parts` contiguous blocks: first index (0-based) and size.
+void block(int64_t count, int64_t parts, int64_t w, int64_t& first, int64_t& size) {
+    const int64_t base = count / parts, extra = count % parts;
+    first = w * base + std::min(w, extra);
+    size = base + (w < extra ? 1 : 0);
+}
+
+std::string itemName(int64_t i) { return "fn(" + std::to_string(i) + ")"; }
+
+/// Runs fn(i) (fn at stack index `fn`) and encodes its value into `encoded`; on failure returns
+/// false with the message in `message`.
+bool runItem(lua_State* L, int fn, int64_t i, std::string& encoded, std::string& message) {
+    lua_pushvalue(L, fn);
+    lua_pushinteger(L, static_cast<lua_Integer>(i));
+    if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+        message = itemName(i) + " failed: " + errorText(L, -1);
+        lua_pop(L, 1);
+        return false;
+    }
+    encoded.clear();
+    try {
+        encodeValue(L, -1, encoded);
+    } catch (const EncodeError& e) {
+        message = itemName(i) + " returned a value that talus.map cannot pass back: " + e.what() +
+                  " (only nil, booleans, numbers, strings and tables of these)";
+        lua_pop(L, 1);
+        return false;
+    }
+    lua_pop(L, 1);
+    return true;
+}
+
+void runInPlace(lua_State* L, int fn, int64_t lo, int64_t hi, Outcome& out) {
+    out.values.assign(static_cast<std::size_t>(hi - lo + 1), std::string());
+    for (int64_t i = lo; i <= hi; ++i) {
+        if (!runItem(L, fn, i, out.values[static_cast<std::size_t>(i - lo)], out.message)) {
+            out.failed = true;
+            out.index = i;
+            return;
+        }
+    }
+}
+
+// ------------------------------------------------------------------ worker side
+
+bool writeAll(int fd, const char* p, std::size_t len) {
+    while (len > 0) {
+        const ssize_t k = ::write(fd, p, len);
+        if (k < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        p += k;
+        len -= static_cast<std::size_t>(k);
+    }
+    return true;
+}
+
+bool writeFrame(int fd, char kind, int64_t index, const std::string& bytes) {
+    char head[17];
+    head[0] = kind;
+    const uint64_t len = bytes.size();
+    std::memcpy(head + 1, &index, 8);
+    std::memcpy(head + 9, &len, 8);
+    return writeAll(fd, head, sizeof head) && writeAll(fd, bytes.data(), bytes.size());
+}
+
+struct WorkerJob {
+    int64_t lo, hi;
+    int fd;
+    int status;       // exit status for _exit
+    int64_t current;  // the item being run
+};
+
+/// The body of a worker, run under lua_pcall: a Lua error that escapes the per-item pcall (out
+/// of memory while encoding) ends up there, never back in the caller's script frames.
+int workerBody(lua_State* L) {
+    auto* job = static_cast<WorkerJob*>(lua_touserdata(L, 1));
+    lua_settop(L, 0);
+    lua_pushvalue(L, lua_upvalueindex(1));  // fn
+    const int fn = 1;
+    std::string encoded, message;
+    job->status = 0;
+    for (int64_t i = job->lo; i <= job->hi; ++i) {
+        job->current = i;
+        if (runItem(L, fn, i, encoded, message)) {
+            if (!writeFrame(job->fd, 'v', i, encoded)) {
+                job->status = 3;  // the caller is gone
+                break;
+            }
+        } else {
+            if (!writeFrame(job->fd, 'e', i, message)) job->status = 3;
+            break;
+        }
+    }
+    return 0;
+}
+
+[[noreturn]] void workerMain(lua_State* L, int fn, int64_t lo, int64_t hi, int fd) {
+    WorkerJob job{lo, hi, fd, 4, lo};
+    try {
+        lua_pushvalue(L, fn);
+        lua_pushcclosure(L, workerBody, 1);
+        lua_pushlightuserdata(L, &job);
+        if (lua_pcall(L, 1, 0, 0) != LUA_OK) {
+            writeFrame(
+                fd, 'e', job.current,
+                itemName(job.current) + " failed in its worker, outside fn: " + errorText(L, -1));
+            job.status = 5;
+        }
+    } catch (...) {
+        job.status = 6;
+    }
+    // What fn printed or wrote to files it left open; the caller flushed its own buffers
+    // before the fork, so nothing is written twice.
+    std::fflush(nullptr);
+    ::close(fd);
+    ::_exit(job.status);
+}
+
+// ------------------------------------------------------------------ caller side
+
+struct Worker {
+    pid_t pid = -1;
+    int fd = -1;
+    int64_t lo = 0, hi = 0;
+    int64_t next = 0;  // the index whose value is expected next
+    std::string buf;
+    std::size_t used = 0;  // bytes of buf already parsed
+    bool eof = false;
+    bool killed = false;        // we sent SIGTERM (a worker of a lower block failed)
+    bool sent_failure = false;  // an 'e' frame arrived
+    bool reaped = false;
+    int status = 0;
+};
+
+/// Owns the workers: whatever happens in the caller, they are stopped and reaped.
+class Workers {
+public:
+    std::vector<Worker> w;
+    ~Workers() {
+        for (Worker& x : w) {
+            if (x.fd >= 0) ::close(x.fd);
+            if (x.pid > 0 && !x.reaped) {
+                ::kill(x.pid, SIGKILL);
+                int st;
+                while (::waitpid(x.pid, &st, 0) < 0 && errno == EINTR) {
+                }
+            }
+        }
+    }
+    /// Stops the workers whose blocks start after `index` (a failure there): they cannot fail
+    /// at a lower index. Workers of lower blocks run on, so that the failure reported is the
+    /// one of the lowest index, the one a serial loop would meet first, whatever the jobs.
+    void stopAbove(int64_t index) {
+        for (Worker& x : w)
+            if (x.pid > 0 && !x.eof && !x.killed && x.lo > index) {
+                ::kill(x.pid, SIGTERM);
+                x.killed = true;
+            }
+    }
+};
+
+/// Parses the complete frames in x.buf; stores values into out; records a failure.
+void parseFrames(Worker& x, Outcome& out, int64_t lo, Workers& all) {
+    for (;;) {
+        const std::size_t avail = x.buf.size() - x.used;
+        if (avail < 17) break;
+        const char* head = x.buf.data() + x.used;
+        int64_t index;
+        uint64_t len;
+        std::memcpy(&index, head + 1, 8);
+        std::memcpy(&len, head + 9, 8);
+        if (avail - 17 < len) break;
+        const char kind = head[0];
+        if ((kind != 'v' && kind != 'e') || index < x.lo || index > x.hi ||
+            (kind == 'v' && index != x.next))
+            throw std::runtime_error("map: corrupt frame from worker " + std::to_string(x.pid));
+        std::string bytes(head + 17, static_cast<std::size_t>(len));
+        x.used += 17 + static_cast<std::size_t>(len);
+        if (kind == 'v') {
+            out.values[static_cast<std::size_t>(index - lo)] = std::move(bytes);
+            ++x.next;
+        } else {
+            x.sent_failure = true;
+            if (!out.failed || index < out.index) {
+                out.failed = true;
+                out.index = index;
+                out.message = std::move(bytes);
+            }
+            all.stopAbove(index);  // the map fails: workers of higher blocks need not run on
+        }
+    }
+    if (x.used > (1u << 20) && x.used * 2 > x.buf.size()) {
+        x.buf.erase(0, x.used);
+        x.used = 0;
+    }
+}
+
+std::string describeExit(const Worker& x, int64_t jobs, std::size_t k) {
+    std::string who = "worker " + std::to_string(k + 1) + " of " + std::to_string(jobs) +
+                      (mpi::size() > 1 ? " on rank " + std::to_string(mpi::rank()) : "") +
+                      " (pid " + std::to_string(x.pid) + ", indices " + std::to_string(x.lo) +
+                      ".." + std::to_string(x.hi) + ")";
+    std::string when = x.next <= x.hi ? " while running " + itemName(x.next) : "";
+    if (WIFSIGNALED(x.status)) {
+        const int sig = WTERMSIG(x.status);
+        const char* name = strsignal(sig);
+        return who + " was killed by signal " + std::to_string(sig) + " (" + (name ? name : "?") +
+               ")" + when;
+    }
+    if (WIFEXITED(x.status) && WEXITSTATUS(x.status) != 0)
+        return who + " exited with status " + std::to_string(WEXITSTATUS(x.status)) + when;
+    return who + " ended without returning " + itemName(x.next) + " (did fn call os.exit?)";
+}
+
+void runForked(lua_State* L, int fn, int64_t lo, int64_t hi, int64_t jobs, Outcome& out) {
+    const int64_t count = hi - lo + 1;
+    out.values.assign(static_cast<std::size_t>(count), std::string());
+    // Buffers the caller has not written yet would be copied into every worker.
+    std::fflush(nullptr);
+    Workers ws;
+    ws.w.resize(static_cast<std::size_t>(jobs));
+    for (int64_t k = 0; k < jobs; ++k) {
+        Worker& x = ws.w[static_cast<std::size_t>(k)];
+        int64_t first, size;
+        block(count, jobs, k, first, size);
+        x.lo = lo + first;
+        x.hi = x.lo + size - 1;
+        x.next = x.lo;
+        int fds[2];
+        if (::pipe(fds) != 0)
+            throw std::runtime_error(std::string("map: cannot create a pipe: ") +
+                                     std::strerror(errno));
+        const pid_t pid = ::fork();
+        if (pid < 0) {
+            const int err = errno;
+            ::close(fds[0]);
+            ::close(fds[1]);
+            throw std::runtime_error(std::string("map: cannot start a worker process: ") +
+                                     std::strerror(err));
+        }
+        if (pid == 0) {
+            ::close(fds[0]);
+            for (int64_t j = 0; j < k; ++j) ::close(ws.w[static_cast<std::size_t>(j)].fd);
+            workerMain(L, fn, x.lo, x.hi, fds[1]);
+        }
+        ::close(fds[1]);
+        x.pid = pid;
+        x.fd = fds[0];
+    }
+
+    std::vector<pollfd> pfds;
+    std::vector<std::size_t> which;
+    char chunk[1 << 16];
+    for (;;) {
+        pfds.clear();
+        which.clear();
+        for (std::size_t k = 0; k < ws.w.size(); ++k)
+            if (!ws.w[k].eof) {
+                pfds.push_back({ws.w[k].fd, POLLIN, 0});
+                which.push_back(k);
+            }
+        if (pfds.empty()) break;
+        if (::poll(pfds.data(), pfds.size(), -1) < 0) {
+            if (errno == EINTR) continue;
+            throw std::runtime_error(std::string("map: poll failed: ") + std::strerror(errno));
+        }
+        for (std::size_t p = 0; p < pfds.size(); ++p) {
+            if (!(pfds[p].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+            Worker& x = ws.w[which[p]];
+            const ssize_t got = ::read(x.fd, chunk, sizeof chunk);
+            if (got < 0) {
+                if (errno == EINTR || errno == EAGAIN) continue;
+                throw std::runtime_error(std::string("map: reading a worker failed: ") +
+                                         std::strerror(errno));
+            }
+            if (got == 0) {
+                x.eof = true;
+                ::close(x.fd);
+                x.fd = -1;
+                // Ended before its last value without saying why: it died (or called os.exit)
+                // while running fn(next). Reported once reaped, below; stop higher blocks now.
+                if (!x.killed && !x.sent_failure && x.next <= x.hi) ws.stopAbove(x.next);
+                continue;
+            }
+            x.buf.append(chunk, static_cast<std::size_t>(got));
+            parseFrames(x, out, lo, ws);
+        }
+    }
+
+    for (std::size_t k = 0; k < ws.w.size(); ++k) {
+        Worker& x = ws.w[k];
+        while (::waitpid(x.pid, &x.status, 0) < 0) {
+            if (errno != EINTR) throw std::runtime_error("map: waitpid failed");
+        }
+        x.reaped = true;
+        if (x.killed || x.sent_failure) continue;  // stopped by us, or failed in fn and said so
+        const bool clean = WIFEXITED(x.status) && WEXITSTATUS(x.status) == 0;
+        if (clean && x.next > x.hi) continue;
+        // Died, or stopped early without a failure frame: report with its index range.
+        if (!out.failed || x.next < out.index) {
+            out.failed = true;
+            out.index = x.next;
+            out.message = describeExit(x, static_cast<int64_t>(ws.w.size()), k);
+        }
+    }
+}
+
+// ------------------------------------------------------------------ jobs
+
+int64_t usableCores() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (::sched_getaffinity(0, sizeof set, &set) == 0) {
+        const int c = CPU_COUNT(&set);
+        if (c > 0) return c;
+    }
+    const long c = ::sysconf(_SC_NPROCESSORS_ONLN);
+    return c > 0 ? c : 1;
+}
+
+/// The default number of worker processes: TALUS_JOBS, else the cores this process may use.
+int64_t defaultJobs() {
+    if (const char* env = std::getenv("TALUS_JOBS")) {
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(env, &end, 10);
+        if (errno != 0 || end == env || *end != '\0' || v < 1)
+            throw ScriptError(std::string("map: TALUS_JOBS must be a positive integer (got '") +
+                              env + "')");
+        return v;
+    }
+    return usableCores();
+}
+
+// ------------------------------------------------------------------ MPI exchange
+
+void put64(std::string& s, uint64_t v) {
+    char b[8];
+    std::memcpy(b, &v, 8);
+    s.append(b, 8);
+}
+
+uint64_t get64(const std::string& s, std::size_t& pos) {
+    if (s.size() - pos < 8) throw std::runtime_error("map: corrupt data from another rank");
+    uint64_t v;
+    std::memcpy(&v, s.data() + pos, 8);
+    pos += 8;
+    return v;
+}
+
+/// This rank's outcome as bytes: 'F' index message | 'V' (length bytes)...
+std::string pack(const Outcome& o) {
+    std::string s;
+    if (o.failed) {
+        s.push_back('F');
+        put64(s, static_cast<uint64_t>(o.index));
+        s += o.message;
+        return s;
+    }
+    s.push_back('V');
+    for (const std::string& v : o.values) {
+        put64(s, v.size());
+        s += v;
+    }
+    return s;
+}
+
+// ------------------------------------------------------------------ Lua functions
+
+int w_map(lua_State* L) {
+    return catchexcept(L, [&] {
+        const long long n = toInteger(L, 1, "map: n (the number of items)");
+        if (n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(n) + ")");
+        if (lua_type(L, 2) != LUA_TFUNCTION)
+            throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
+        const Options opts(L, 3, "map", {"jobs"}, true);
+        int64_t jobs = opts.integer("jobs", 0);
+        const bool jobs_given = opts.has("jobs");
+        if (jobs_given && jobs < 1)
+            throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) +
+                              ")");
+        const bool nested = g_depth > 0;
+        // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a
+        // fork under MPI is fragile with some interconnects: one process per rank unless asked.
+        if (!jobs_given) jobs = mpi::size() > 1 ? 1 : defaultJobs();
+        if (nested) jobs = 1;
+        const bool collective = !nested && mpi::size() > 1;
+
+        int64_t lo = 1, hi = n;
+        if (collective) {
+            int64_t first, size;
+            block(n, mpi::size(), mpi::rank(), first, size);
+            lo = 1 + first;
+            hi = lo + size - 1;
+        }
+        lua_settop(L, 3);
+        const int fn = 2;
+        Outcome mine;
+        {
+            DepthGuard depth;
+            const int64_t count = hi - lo + 1;
+            const int64_t workers = std::min<int64_t>(jobs, count);
+            try {
+                if (workers <= 1)
+                    runInPlace(L, fn, lo, hi, mine);
+                else
+                    runForked(L, fn, lo, hi, workers, mine);
+            } catch (const std::exception& e) {
+                // A system failure (no pipe, no fork, corrupt frame) becomes this block's
+                // failure: under MPI it must still reach the exchange, or the other ranks
+                // would wait there for this one forever.
+                if (!collective) throw;
+                std::string text = e.what();
+                if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
+                mine.failed = true;
+                mine.index = lo;
+                mine.message = text;
+            }
+        }
+
+        // Every rank's values, in rank order (one rank without MPI).
+        std::vector<Outcome> ranks;
+        if (collective) {
+            const std::vector<std::string> all = mpi::allgather(pack(mine));
+            ranks.resize(all.size());
+            for (std::size_t r = 0; r < all.size(); ++r) {
+                const std::string& s = all[r];
+                Outcome& o = ranks[r];
+                if (s.empty()) throw std::runtime_error("map: corrupt data from another rank");
+                std::size_t pos = 1;
+                if (s[0] == 'F') {
+                    o.failed = true;
+                    o.index = static_cast<int64_t>(get64(s, pos));
+                    o.message = s.substr(pos);
+                    continue;
+                }
+                int64_t first, size;
+                block(n, static_cast<int64_t>(all.size()), static_cast<int64_t>(r), first, size);
+                o.values.resize(static_cast<std::size_t>(size));
+                for (auto& v : o.values) {
+                    const uint64_t len = get64(s, pos);
+                    if (s.size() - pos < len)
+                        throw std::runtime_error("map: corrupt data from another rank");
+                    v.assign(s, pos, static_cast<std::size_t>(len));
+                    pos += static_cast<std::size_t>(len);
+                }
+            }
+        } else {
+            ranks.push_back(std::move(mine));
+        }
+        // The failure with the lowest index, the same on every rank.
+        const Outcome* failed = nullptr;
+        for (const Outcome& o : ranks)
+            if (o.failed && (!failed || o.index < failed->index)) failed = &o;
+        if (failed) throw ScriptError("map: " + failed->message);
+
+        lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
+        lua_Integer i = 1;
+        for (const Outcome& o : ranks)
+            for (const std::string& v : o.values) {
+                decodeValue(L, v.data(), v.size());
+                lua_rawseti(L, -2, i++);
+            }
+        return 1;
+    });
+}
+
+int w_rank(lua_State* L) {
+    lua_pushinteger(L, mpi::rank());
+    return 1;
+}
+
+int w_ranks(lua_State* L) {
+    lua_pushinteger(L, mpi::size());
+    return 1;
+}
+
+}  // namespace
+
+void addMapFunctions(lua_State* L) {
+    const luaL_Reg fns[] = {
+        {"map", w_map}, {"rank", w_rank}, {"ranks", w_ranks}, {nullptr, nullptr}};
+    luaL_setfuncs(L, fns, 0);
+}
+
+}  // namespace talus::lua
