@@ -118,6 +118,21 @@ T.check(l == nil and u == nil, "n=5 median: too few rocks for either side")
 -- 95000 -+ 135.1 for n = 1e5, p = 0.95 -> ranks near 94865 and 95136.
 l, u = S.quantile_ci_ranks(100000, 0.95, 0.95)
 T.check(math.abs(l - 94865) <= 2 and math.abs(u - 95136) <= 2, "n=1e5 q95 ranks " .. l .. " " .. u)
+-- Smallest sample with each side (docs/rockfall-statistics.md table): the upper rank u <= n
+-- exists iff F(n-1) = 1 - p^n >= 0.975, i.e. n >= ln 0.025 / ln p; the lower rank iff
+-- F(0) = (1-p)^n <= 0.025, i.e. n >= ln 0.025 / ln(1-p). p = 0.9: upper from 36 rocks (0.9^35
+-- = 0.0250 > 0.025, 0.9^36 = 0.0225); p = 0.95: 72; p = 0.99: 368; p = 0.01: lower from 368.
+for _, c in ipairs({ { 0.9, "upper", 36 }, { 0.95, "upper", 72 }, { 0.98, "upper", 183 },
+    { 0.99, "upper", 368 }, { 0.5, "upper", 6 }, { 0.5, "lower", 6 }, { 0.01, "lower", 368 },
+    { 0.05, "lower", 72 }, { 0.9, "lower", 2 } }) do
+    local p, side, nmin = c[1], c[2], c[3]
+    local function has(n)
+        local lo, hi = S.quantile_ci_ranks(n, p, 0.95)
+        if side == "upper" then return hi ~= nil end
+        return lo ~= nil
+    end
+    T.check(has(nmin) and not has(nmin - 1), string.format("p = %g: %s bound from n = %d", p, side, nmin))
+end
 -- Wilson 15/20: centre (0.75 + z^2/40)/(1 + z^2/20), half width ... = [0.531299, 0.888138].
 local wl, wh = S.wilson(15, 20, 0.95)
 T.near(wl, 0.531299122381256, 1e-8, "Wilson 15/20 low")
