@@ -221,7 +221,9 @@ end
 local function direction_of(analysis, where)
     local d = analysis and analysis.direction
     if d ~= nil then
-        if d ~= 1 and d ~= -1 then fail(where, "analysis.direction must be 1 or -1 (got %s)", tostring(d)) end
+        if d ~= 1 and d ~= -1 then
+            fail(where, "analysis.direction must be 1 or -1 (got %s)", tostring(d))
+        end
         return d
     end
     local pts = profile_points(analysis, where)
@@ -330,7 +332,8 @@ function M.endpoints(records, opts)
         local x = d * M.quantile(s, p)
         lo, hi = d * lo, d * hi
         if d < 0 then lo, hi = hi, lo end
-        res.percentiles[i] = { p = p, name = M.qname(p), x = x, lo = lo, hi = hi, coverage = coverage }
+        res.percentiles[i] = { p = p, name = M.qname(p), x = x, lo = lo, hi = hi,
+            coverage = coverage }
     end
 
     -- Histogram bins along x.
@@ -390,7 +393,8 @@ function M.endpoints(records, opts)
             if d * xf >= d * x then count = count + 1 end
         end
         local lo, hi = M.wilson(count, n, level)
-        res.reach[i] = { x = x, count = count, reach = n > 0 and count / n or NaN, lo = lo, hi = hi }
+        res.reach[i] = { x = x, count = count, reach = n > 0 and count / n or NaN, lo = lo,
+            hi = hi }
     end
 
     -- Stop-rule counts: the four rules always, other names in order of appearance.
@@ -409,7 +413,8 @@ function M.endpoints(records, opts)
     end
     res.stops = {}
     for i, rule in ipairs(order) do
-        res.stops[i] = { rule = rule, count = counts[rule], fraction = n > 0 and counts[rule] / n or NaN }
+        res.stops[i] = { rule = rule, count = counts[rule],
+            fraction = n > 0 and counts[rule] / n or NaN }
     end
     res.stop_count = counts
     return res
@@ -595,7 +600,8 @@ function M.shadow_apex(analysis)
         if rise > 0 and incl >= steep then
             local toe = a[2] < b[2] and a or b
             if not apex or d * toe[1] > d * apex.x then
-                apex = { x = toe[1], y = toe[2], rule = string.format("toe of the last segment steeper than %g deg", steep) }
+                apex = { x = toe[1], y = toe[2],
+                    rule = string.format("toe of the last segment steeper than %g deg", steep) }
             end
         end
     end
@@ -633,8 +639,8 @@ function M.angles(records, analysis, opts)
             local xr, yr = point_xy(r.release)
             if not (isnum(xr) and isnum(yr)) then xr, yr = point_xy(analysis.release) end
             if not (isnum(xr) and isnum(yr)) then
-                fail(where, "record %d (rock %s): no release point (record.release or analysis.release)",
-                    i, tostring(r.rock or i))
+                fail(where, "record %d (rock %s): no release point (record.release or "
+                    .. "analysis.release)", i, tostring(r.rock or i))
             end
             local yend = r.end_y
             if not isnum(yend) then
@@ -655,6 +661,16 @@ function M.angles(records, analysis, opts)
     end
     res.energy_line = M.describe(el, probs, level)
     res.shadow = M.describe(sh, probs, level)
+    -- A derived apex at the lowest height of the profile (a cliff straight onto a flat floor,
+    -- as on a stepped profile) makes every shadow angle on the floor 0: say so.
+    if apex and apex.rule ~= "given" and pts then
+        local lowest = INF
+        for _, pt in ipairs(pts) do lowest = math.min(lowest, pt[2]) end
+        if apex.y <= lowest then
+            res.note = "the apex is at the bottom of the profile (no talus below the last cliff):"
+                .. " shadow angles on the flat run-out are 0; give analysis.shadow_apex"
+        end
+    end
     return res
 end
 
@@ -680,7 +696,9 @@ end
 
 local function write_csv(path, header, rows)
     local f, err = io.open(path, "w")
-    if not f then error("rockfall_stats.write: cannot write " .. path .. ": " .. tostring(err), 3) end
+    if not f then
+        error("rockfall_stats.write: cannot write " .. path .. ": " .. tostring(err), 3)
+    end
     local line = {}
     for i, h in ipairs(header) do line[i] = cell(h) end
     f:write(table.concat(line, ","), "\n")
@@ -741,7 +759,8 @@ function M.write(records, analysis, outdir, opts)
 
     local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
         percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
-        apex = ang.apex, deposited = ang.deposited, beyond_apex = ang.beyond_apex,
+        apex = ang.apex, shadow_note = ang.note, deposited = ang.deposited,
+        beyond_apex = ang.beyond_apex,
         collectors = col, barriers = bar, outdir = outdir, files = {} }
 
     -- summary rows: section, name, value, ci_lo, ci_hi
@@ -754,13 +773,16 @@ function M.write(records, analysis, outdir, opts)
         local a = ang[kind]
         srows[#srows + 1] = { kind .. "_deg", "n", a.n }
         srows[#srows + 1] = { kind .. "_deg", "min", a.min }
-        for _, q in ipairs(a.q) do srows[#srows + 1] = { kind .. "_deg", q.name, q.value, q.lo, q.hi } end
+        for _, q in ipairs(a.q) do
+            srows[#srows + 1] = { kind .. "_deg", q.name, q.value, q.lo, q.hi }
+        end
     end
     for _, c in ipairs(col) do
         srows[#srows + 1] = { "collector:" .. tostring(c.name), "fraction", c.fraction, c.lo, c.hi }
         for _, q in ipairs({ "ke", "height" }) do
             local st = c.stats[q]
-            srows[#srows + 1] = { "collector:" .. tostring(c.name), q .. "_q95", st.q95, st.q95_lo, st.q95_hi }
+            srows[#srows + 1] = { "collector:" .. tostring(c.name), q .. "_q95", st.q95, st.q95_lo,
+                st.q95_hi }
             srows[#srows + 1] = { "collector:" .. tostring(c.name), q .. "_max", st.max }
         end
     end
@@ -796,7 +818,9 @@ function M.write(records, analysis, outdir, opts)
         "end_x", "end_y", "t_end", "x_far", "energy_line_deg", "shadow_deg" }, rows)
 
     rows = {}
-    for i, b in ipairs(ep.hist.bins) do rows[i] = { b.k, b.x_lo, b.x_hi, b.count, b.fraction, b.cumulative } end
+    for i, b in ipairs(ep.hist.bins) do
+        rows[i] = { b.k, b.x_lo, b.x_hi, b.count, b.fraction, b.cumulative }
+    end
     out("endpoint_hist.csv", { "bin", "x_lo", "x_hi", "count", "fraction", "cumulative" }, rows)
 
     rows = {}
@@ -911,23 +935,29 @@ function M.print_summary(summary, print_fn)
     for _, kind in ipairs({ "energy_line", "shadow" }) do
         local a = s[kind]
         local parts = { string.format("%d rocks, min %s", a.n, g(a.min)) }
-        for _, q in ipairs(a.q) do parts[#parts + 1] = q.name .. " " .. fmt_ci(q.value, q.lo, q.hi) end
+        for _, q in ipairs(a.q) do
+            parts[#parts + 1] = q.name .. " " .. fmt_ci(q.value, q.lo, q.hi)
+        end
         local extra = ""
         if kind == "shadow" then
-            extra = s.apex and string.format(" (apex %.4g, %.4g: %s)", s.apex.x, s.apex.y, s.apex.rule)
+            extra = s.apex
+                and string.format(" (apex %.4g, %.4g: %s)", s.apex.x, s.apex.y, s.apex.rule)
                 or " (no apex: no steep segment and no analysis.shadow_apex)"
         end
         p(string.format("  %s angle [deg]%s: %s", kind == "shadow" and "shadow" or "energy-line",
             extra, table.concat(parts, "; ")))
+        if kind == "shadow" and s.shadow_note then p("    note: " .. s.shadow_note) end
     end
     for _, c in ipairs(s.collectors) do
-        p(string.format("  collector %s: %d rocks crossed (%s), ke q95 %s J, max %s J; height q95 %s m",
+        p(string.format("  collector %s: %d rocks crossed (%s), ke q95 %s J, max %s J; "
+            .. "height q95 %s m",
             tostring(c.name), c.rocks, g(c.fraction), fmt_ci(c.stats.ke.q95, c.stats.ke.q95_lo,
                 c.stats.ke.q95_hi), g(c.stats.ke.max), fmt_ci(c.stats.height.q95,
                 c.stats.height.q95_lo, c.stats.height.q95_hi)))
     end
     for _, b in ipairs(s.barriers) do
-        p(string.format("  barrier %s: %d stopped, %d passed, %d not reached; impact energy q95 %s J, max %s J",
+        p(string.format("  barrier %s: %d stopped, %d passed, %d not reached; impact energy "
+            .. "q95 %s J, max %s J",
             tostring(b.name), b.stopped, b.passed, b.not_reached, fmt_ci(b.stats.energy.q95,
                 b.stats.energy.q95_lo, b.stats.energy.q95_hi), g(b.stats.energy.max)))
     end

@@ -131,8 +131,36 @@ for _, c in ipairs({ { 0.9, "upper", 36 }, { 0.95, "upper", 72 }, { 0.98, "upper
         if side == "upper" then return hi ~= nil end
         return lo ~= nil
     end
-    T.check(has(nmin) and not has(nmin - 1), string.format("p = %g: %s bound from n = %d", p, side, nmin))
+    T.check(has(nmin) and not has(nmin - 1),
+        string.format("p = %g: %s bound from n = %d", p, side, nmin))
 end
+-- Measured coverage. 4000 samples of 20 Uniform(0,1) numbers (math.randomseed(8): the same
+-- numbers every run, so the check is deterministic). The median interval [x_(6), x_(15)] must
+-- hold the true median 0.5 in F(14) - F(5) = 0.95861 of them, the one-sided q90 bound x_(15)
+-- must be <= 0.9 in 1 - F(14) = 0.98875 of them (binomial standard errors 0.0032 and 0.0017;
+-- tolerance 4 of them). Wilson's 95 % interval of k ~ Binomial(50, 0.3) from the same stream
+-- holds 0.3 in about 95 % of 4000 trials (exact coverage at n = 50, p = 0.3 is 0.9567;
+-- SE 0.0032, tolerance 4 SE = 0.013).
+math.randomseed(8)
+local hold_med, hold_q90, hold_w = 0, 0, 0
+for _ = 1, 4000 do
+    local sample = {}
+    for j = 1, 20 do sample[j] = math.random() end
+    table.sort(sample)
+    local lo, hi = S.quantile_ci(sample, 0.5, 0.95)
+    if lo <= 0.5 and 0.5 <= hi then hold_med = hold_med + 1 end
+    lo = S.quantile_ci(sample, 0.9, 0.95)
+    if lo <= 0.9 then hold_q90 = hold_q90 + 1 end
+    local k = 0
+    for _ = 1, 50 do
+        if math.random() < 0.3 then k = k + 1 end
+    end
+    local wl0, wh0 = S.wilson(k, 50, 0.95)
+    if wl0 <= 0.3 and 0.3 <= wh0 then hold_w = hold_w + 1 end
+end
+T.near(hold_med / 4000, 0.95861, 0.013, "measured coverage of the median interval")
+T.near(hold_q90 / 4000, 0.98875, 0.007, "measured coverage of the q90 lower bound")
+T.near(hold_w / 4000, 0.9567, 0.013, "measured coverage of Wilson's interval")
 -- Wilson 15/20: centre (0.75 + z^2/40)/(1 + z^2/20), half width ... = [0.531299, 0.888138].
 local wl, wh = S.wilson(15, 20, 0.95)
 T.near(wl, 0.531299122381256, 1e-8, "Wilson 15/20 low")
@@ -147,7 +175,7 @@ T.check(S.quantile({ 1, 2, 3, 4 }, 1) == 4 and S.quantile({ 1, 2, 3, 4 }, 0) == 
 local ep = S.endpoints(records, { bins = { x0 = 0, x1 = 60, dx = 10 }, profile = profile })
 T.check(ep.n == 20 and ep.direction == 1, "n and direction (profile falls towards +x)")
 -- Type 7, h = 19 p + 1:
---   p50: h = 10.5  -> x_(10) + 0.5 (x_(11) - x_(10)) = 25 + 0.5 = 25.5,  CI [x_(6), x_(15)] = [20, 31]
+--   p50: h = 10.5  -> x_(10) + 0.5 (x_(11) - x_(10)) = 25.5,       CI [x_(6), x_(15)] = [20, 31]
 --   p90: h = 18.1  -> 38 + 0.1 * 1.5 = 38.15,                          CI [x_(15), -] = [31, nan]
 --   p95: h = 19.05 -> 39.5 + 0.05 * 20.5 = 40.525, l = 17 (F(16) = 0.0159): [35, nan]
 --   p98: h = 19.62 -> 39.5 + 0.62 * 20.5 = 52.21,  l = 18 (F(17) = 0.0071): [38, nan]
@@ -180,7 +208,8 @@ end
 local reach = { 20, 20, 15, 7, 1, 1, 1 }
 T.check(#ep.reach == 7, "reach grid = bin edges")
 for k = 1, 7 do
-    T.check(ep.reach[k].x == 10 * (k - 1) and ep.reach[k].count == reach[k], "reach count at " .. ep.reach[k].x)
+    T.check(ep.reach[k].x == 10 * (k - 1) and ep.reach[k].count == reach[k],
+        "reach count at " .. ep.reach[k].x)
     T.near(ep.reach[k].reach, reach[k] / 20, EPS, "reach at " .. ep.reach[k].x)
 end
 T.near(ep.reach[3].lo, 0.531299122381256, 1e-8, "reach(20) Wilson low")
@@ -287,8 +316,9 @@ T.check(col[4].rocks == 1 and isnan(col[4].x) and col[4].stats.height.max == 2
 -- ------------------------------------------------------------------ barriers
 local bar = S.barriers(records, analysis)
 T.check(#bar == 1 and bar[1].name == "fence" and bar[1].x == 40, "one barrier")
-T.check(bar[1].rocks == 2 and bar[1].stopped == 1 and bar[1].passed == 1 and bar[1].not_reached == 18
-    and bar[1].impacts == 2, "fence: 1 stopped, 1 passed, 18 not reached")
+T.check(bar[1].rocks == 2 and bar[1].stopped == 1 and bar[1].passed == 1
+    and bar[1].not_reached == 18 and bar[1].impacts == 2,
+    "fence: 1 stopped, 1 passed, 18 not reached")
 -- energies {2000, 5000}: mean 3500, median 3500, q90 h = 1.9 -> 2000 + 0.9 3000 = 4700; two
 -- rocks give no median interval (F(0) = 0.25); q90: F(0) = 0.01 -> lower bound x_(1) = 2000.
 local be = bar[1].stats.energy
@@ -306,7 +336,8 @@ local ang = S.angles(records, analysis)
 T.check(ang.deposited == 17 and ang.beyond_apex == 17, "17 deposited, all beyond the apex")
 T.near(ang.per_rock[4].energy_line, math.deg(math.atan(30.5 / 35)), EPS, "energy line rock 4")
 T.near(ang.per_rock[20].energy_line, math.deg(math.atan(24 / 12)), EPS, "energy line rock 20")
-T.check(isnan(ang.per_rock[1].energy_line) and isnan(ang.per_rock[2].energy_line), "not deposited: NaN")
+T.check(isnan(ang.per_rock[1].energy_line) and isnan(ang.per_rock[2].energy_line),
+    "not deposited: NaN")
 T.near(ang.energy_line.min, 41.069824454274524, EPS, "energy line min")
 -- Low percentiles, n = 17, h = 16 p + 1: p05: h = 1.8 -> 41.0698 + 0.8 (42.7454 - 41.0698)
 -- = 42.4103; its CI: Binomial(17, 0.05): F(3) = 0.9912 >= 0.975 > F(2) = 0.9497 -> u = 4,
@@ -324,11 +355,19 @@ T.near(ang.per_rock[20].shadow, math.deg(math.atan(0.5)), EPS, "shadow rock on t
 T.near(ang.shadow.min, 18.43494882292201, EPS, "shadow min")
 T.near(ang.shadow.q10, 20.484036238474413, 1e-12, "shadow p10")
 -- A given apex wins; a steeper threshold than the cliff leaves no apex (no shadow angles).
-local a2 = S.angles(records, { profile = profile, release = analysis.release, shadow_apex = { 25, 0 } })
+local a2 = S.angles(records,
+    { profile = profile, release = analysis.release, shadow_apex = { 25, 0 } })
 T.check(a2.beyond_apex == 7 and a2.apex.x == 25, "given apex: 7 rocks beyond x = 25 (26..35)")
 T.near(a2.shadow.min, math.deg(math.atan(0, 10)), EPS, "given apex on the flat: 0 deg")
 local a3 = S.angles(records, { profile = profile, release = analysis.release, shadow_steep = 80 })
 T.check(a3.apex == nil and a3.shadow.n == 0 and isnan(a3.shadow.min), "no steep segment: no apex")
+T.check(ang.note == nil, "apex above the floor: no note")
+-- A cliff straight onto a flat floor (thesis B's last step): the derived apex is the bottom of
+-- the profile, every shadow angle on the floor is atan(0) = 0, and the result says so.
+local a4 = S.angles(records,
+    { profile = { { 0, 30 }, { 5, 0 }, { 60, 0 } }, release = analysis.release })
+T.check(a4.apex.x == 5 and a4.apex.y == 0 and a4.shadow.max == 0 and a4.note
+    and a4.note:find("shadow_apex", 1, true), "apex at the bottom: note")
 
 -- ------------------------------------------------------------------ files
 local summary = S.write(records, analysis, outdir)
@@ -340,15 +379,19 @@ local function lines(name)
     return out
 end
 local e = lines("endpoints.csv")
-T.check(#e == 21 and e[1]:find("^rock,seed,shape,mass,stop,release_x,release_y,end_x,end_y,t_end,x_far,")
-    and e[2]:find("^1,1001,disk,100,left,0,31,60,0.5,11,60,nan,nan$"), "endpoints.csv: " .. tostring(e[2]))
+T.check(#e == 21
+    and e[1]:find("^rock,seed,shape,mass,stop,release_x,release_y,end_x,end_y,t_end,x_far,")
+    and e[2]:find("^1,1001,disk,100,left,0,31,60,0.5,11,60,nan,nan$"),
+    "endpoints.csv: " .. tostring(e[2]))
 local pc = lines("endpoint_percentiles.csv")
 T.check(pc[2] == "0.5,25.5,20,31,0.958610534668", "percentiles row: " .. pc[2])
 T.check(lines("reach.csv")[4]:find("^20,15,0.75,0.5312991"), "reach row")
 local envl = lines("envelopes.csv")
 T.check(#envl == 8 and envl[8]:find("^7,60,70,65,0,0,0,nan"), "envelopes.csv bin 7")
-T.check(#lines("collectors.csv") == 1 + 4 * 6 and #lines("barriers.csv") == 1 + 3, "collectors/barriers rows")
-T.check(#lines("trajectories.csv") == 1 + 3 * 11 and lines("trajectories.csv")[2] == "1,0,0,31", "trajectories")
+T.check(#lines("collectors.csv") == 1 + 4 * 6 and #lines("barriers.csv") == 1 + 3,
+    "collectors/barriers rows")
+T.check(#lines("trajectories.csv") == 1 + 3 * 11 and lines("trajectories.csv")[2] == "1,0,0,31",
+    "trajectories")
 T.check(#lines("profile.csv") == 5 and lines("profile.csv")[3] == "5,10", "profile.csv")
 local sm = table.concat(lines("summary.csv"), "\n")
 T.check(sm:find("end_x,median,25.5,20,31", 1, true) and sm:find("barrier:fence,stopped,1", 1, true),
@@ -385,10 +428,10 @@ T.check(eall.stop_count.barrier == 4 and eall.reach[5].count == 0 and eall.reach
 T.check(S.angles(all, analysis).deposited == 0, "all stopped: none deposited")
 T.check(#S.envelopes(all, analysis).bins == 7, "records without envelope entries")
 -- Bad input names what and where.
-T.fails(function() S.envelopes(records, {}) end, { "rockfall_stats.envelopes", "analysis.envelope" },
-    "missing envelope")
-T.fails(function() S.endpoints({ { rock = 3 } }) end, { "record 1 (rock 3): end_x must be a number" },
-    "missing end_x")
+T.fails(function() S.envelopes(records, {}) end,
+    { "rockfall_stats.envelopes", "analysis.envelope" }, "missing envelope")
+T.fails(function() S.endpoints({ { rock = 3 } }) end,
+    { "record 1 (rock 3): end_x must be a number" }, "missing end_x")
 T.fails(function() S.endpoints({ 5 }) end, { "record 1 is a number" }, "not a table")
 T.fails(function() S.envelopes(records, { envelope = { 0, 10, -1 } }) end, { "dx > 0" }, "bad dx")
 T.fails(function() S.angles({ { end_x = 1, end_y = 0, stop = "rest" } }, {}) end,
