@@ -369,6 +369,35 @@ local a4 = S.angles(records,
 T.check(a4.apex.x == 5 and a4.apex.y == 0 and a4.shadow.max == 0 and a4.note
     and a4.note:find("shadow_apex", 1, true), "apex at the bottom: note")
 
+-- ------------------------------------------------------------------ a slope falling towards -x
+-- The same analysis mirrored (x -> -x): the direction is inferred from the profile (its first
+-- point, x = -60, is lower than its last), percentiles mirror (p50 = -25.5 with the interval
+-- [-31, -20]; p90 = -38.15 with the bound on the other side), reach counts and angles are
+-- unchanged.
+local mprofile, mrecords = {}, {}
+for i = #profile, 1, -1 do mprofile[#mprofile + 1] = { -profile[i][1], profile[i][2] } end
+for i, r in ipairs(records) do
+    local m = {}
+    for k, v in pairs(r) do m[k] = v end
+    m.end_x = -r.end_x
+    m.release = { x = -r.release.x, y = r.release.y }
+    m.impacts, m.crossings, m.path = {}, {}, nil
+    for j, e in ipairs(r.impacts) do m.impacts[j] = { x = -e.x } end
+    mrecords[i] = m
+end
+local mep = S.endpoints(mrecords, { profile = mprofile, reach_x = { -20, -13 } })
+T.check(mep.direction == -1, "direction -1 from the profile")
+T.near(mep.percentiles[1].x, -25.5, EPS, "mirrored p50")
+T.near(mep.percentiles[1].lo, -31, EPS, "mirrored p50 low")
+T.near(mep.percentiles[1].hi, -20, EPS, "mirrored p50 high")
+T.near(mep.percentiles[2].x, -38.15, EPS, "mirrored p90")
+T.check(isnan(mep.percentiles[2].lo) and mep.percentiles[2].hi == -31, "mirrored p90 bound")
+T.check(mep.reach[1].count == 15 and mep.reach[2].count == 20, "mirrored reach (and x_far)")
+local mang = S.angles(mrecords, { profile = mprofile, release = analysis.release })
+T.check(mang.apex.x == -5 and mang.apex.y == 10, "mirrored apex")
+T.near(mang.energy_line.min, 41.069824454274524, EPS, "mirrored energy line min")
+T.near(mang.shadow.min, 18.43494882292201, EPS, "mirrored shadow min")
+
 -- ------------------------------------------------------------------ files
 local summary = S.write(records, analysis, outdir)
 S.print_summary(summary)
