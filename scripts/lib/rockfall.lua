@@ -777,7 +777,7 @@ local function analysis(opts)
     -- Engine and end rules.
     an.gravity = opts.gravity and point(opts.gravity, W .. ".gravity") or { 0, -9.81 }
     an.margin = opts.margin and num(opts.margin, W .. ".margin", 1e-9)
-    an.rest_speed = num(opts.rest_speed or 0.05, W .. ".rest_speed", 0)
+    an.rest_speed = num(opts.rest_speed or 0.1, W .. ".rest_speed", 0)
     an.rest_ke = opts.rest_ke and num(opts.rest_ke, W .. ".rest_ke", 0)
     an.rest_time = num(opts.rest_time or 0.5, W .. ".rest_time", 0)
     an.t_max = num(opts.t_max or 120, W .. ".t_max", 1e-9)
@@ -1145,10 +1145,10 @@ local function run_rock(an, i, opts)
     local warnings = {}
     m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local tr = new_tracker(an, i, s, body, opts)
-    local contact_info = {}
+    local contact_info, all = {}, {}
     local function hook(model)
         local touching = nil
-        for c in model:contacts{} do
+        for c in model:contacts(all) do
             if c.overlap > 0 and c.wall then
                 local n = c.normal -- from the rock to the wall: the slope's outward normal is -n
                 local w = c.wall
