@@ -1195,9 +1195,25 @@ local function mass_release(an, opts)
                 per_rock = false }, seed = an.seed }, 0)
     end
     for i = 1, n do
-        samples[i] = sample(an, i)
-        samples[i].points, samples[i].materials = pts, mats
-        rmax = math.max(rmax, samples[i].rock.r_eq)
+        local si = sample(an, i)
+        si.points, si.materials = pts, mats
+        rmax = math.max(rmax, si.rock.r_eq)
+        -- Rocks drawn onto each other would start with huge overlaps: a rock whose bounding
+        -- circle meets an earlier one's is lifted above it (deterministic: rocks in index order).
+        local moved = true
+        while moved do
+            moved = false
+            for j = 1, i - 1 do
+                local sj = samples[j]
+                local dx, dy = si.release.x - sj.release.x, si.release.y - sj.release.y
+                local need = si.rock.bound + sj.rock.bound + an.clearance
+                if dx * dx + dy * dy < need * need then
+                    si.release.y = sj.release.y + math.sqrt(need * need - dx * dx) + 1e-6
+                    si.lifted, moved = true, true
+                end
+            end
+        end
+        samples[i] = si
     end
     local m = new_model(an, an.margin or rmax)
     local wall_material = build_slope(m, an, pts, mats)
