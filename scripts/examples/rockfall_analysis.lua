@@ -15,22 +15,23 @@
 --             roughness: vertices every 2 m, each moved up to 0.05 m across the slope, a
 --             different perturbation per rock (RocFall-style).
 --   materials bedrock on the three cliff faces, talus on the benches and the toe flat.
---             Restitution: RocFall defaults (rockfall-inputs.md B3b) "bedrock outcrops"
---             Rn = 0.35 and "talus cover" Rn = 0.32, as the damping ratio of a linear dashpot
---             with that restitution, dp_nratio = -ln Rn / sqrt(pi^2 + ln^2 Rn) = 0.317 / 0.341.
---             Friction 0.5 (bedrock) and 0.6 (talus). kn = 1e8 N/m (thesis B used 1e6-1e7 N/m
---             for walls; for 1-2 t rocks 1e8 keeps a 20 m/s impact's overlap near 8 cm), ks = kn/2.
+--             Restitution: bedrock Rn = 0.53 ("clean hard bedrock", RocFall defaults,
+--             rockfall-inputs.md B3b); talus Rn = 0.45 with rolling friction tan(beta) = 0.35
+--             (STONE's "loosely packed clastic deposits", B3a); bedrock tan(beta) = 0.30 (B3a).
+--             Each Rn is the damping ratio of a linear dashpot with that restitution,
+--             dp_nratio = -ln Rn / sqrt(pi^2 + ln^2 Rn) = 0.198 / 0.246. Friction 0.5 (bedrock)
+--             and 0.6 (talus). kn = 1e8 N/m (thesis B used 1e6-1e7 N/m for walls; for 1-2 t
+--             rocks 1e8 keeps a 20 m/s impact's overlap near 8 cm), ks = kn/2.
 --             Rolling resistance: with the rrlinear plugin, rr_fric = (1 + kappa) tan(beta),
 --             kappa = I / (m R^2) = 1/2 for a disk, so that a rolling disk decelerates at
---             g tan(beta) (rrlinear's run-out v^2 (1 + kappa) / (2 rr_fric g)); tan(beta) from
---             STONE (B3a): 0.30 for bedrock, 0.65 for talus-like deposits. Without rrlinear the
---             script falls back to linear and says so (rounded rocks then roll farther).
+--             g tan(beta) (rrlinear's run-out v^2 (1 + kappa) / (2 rr_fric g)). Without rrlinear
+--             the script falls back to linear and says so (rounded rocks then roll farther).
 --   rocks     thesis A's rock (three equal balls in mutual contact) and rounded hexagons, half
 --             each; mass lognormal, mean 1500 kg, sd 500 kg, truncated to 300-5000 kg (2D,
 --             unit thickness, density 2600 kg/m^3: r_eq about 0.43 m at 1500 kg); random angle.
---   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-2 m/s, vy 0, spin 0.
---   lines     collectors at x = 30 m (second bench) and x = 60 m (toe flat); a barrier at
---             x = 55 m with capacity 100 kJ and height 3 m.
+--   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-3 m/s, vy 0, spin 0.
+--   lines     collectors at x = 30 m (second bench) and x = 50 m (toe flat); a barrier at
+--             x = 52 m with capacity 30 kJ and height 2 m.
 -- Outputs in <outdir> (default out/rockfall_analysis): endpoints.csv, crossings.csv,
 -- barrier_hits.csv, profile.csv, impacts.csv (--impacts), paths.csv (the first --paths rocks),
 -- and the statistics files of rockfall_stats when present. Prints a summary.
@@ -79,8 +80,8 @@ end
 local an = rockfall.analysis{
     profile = { {0, 60}, {7.3, 40}, {19.3, 40}, {26.2, 20}, {38.6, 20}, {46, 0}, {170, 0} },
     materials = {
-        bedrock = material(0.35, 0.5, 0.30),
-        talus = material(0.32, 0.6, 0.65),
+        bedrock = material(0.53, 0.5, 0.30),
+        talus = material(0.45, 0.6, 0.35),
     },
     zones = {
         { material = "bedrock", x_from = 0, x_to = 7.3 },
@@ -93,15 +94,15 @@ local an = rockfall.analysis{
     roughness = { amplitude = 0.05, spacing = 2 },
     seeders = { {
         kind = "line", from = {0.5, 61}, to = {2.5, 61},
-        vx = { dist = "uniform", min = 0.5, max = 2 }, vy = 0, spin = 0,
+        vx = { dist = "uniform", min = 0.5, max = 3 }, vy = 0, spin = 0,
         rock = {
             { shape = "thesis_a", weight = 1, mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
             { shape = "ngon", n = 6, name = "hexagon", weight = 1,
               mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
         },
     } },
-    collectors = { { name = "bench2", x = 30 }, { name = "toe", x = 60 } },
-    barriers = { { name = "fence", x = 55, energy = 100e3, height = 3 } },
+    collectors = { { name = "bench2", x = 30 }, { name = "toe", x = 50 } },
+    barriers = { { name = "fence", x = 52, energy = 30e3, height = 2 } },
     envelope = { x0 = 0, x1 = 170, dx = 2 },
     seed = seed, n = n,
 }
