@@ -45,6 +45,12 @@ do
     local ok = same(fwd[2], rf.run_rock(a3, 2), "r")
     T.check(ok, "same seed, same record")
     T.check(fwd[1].seed ~= fwd[2].seed, "rocks have their own seeds")
+    for i = 1, 3 do
+        -- Energy tracing on: the engine's books close (its guard warns beyond 1% of the
+        -- throughput, and warnings land in the record).
+        T.check(fwd[i].warnings == nil, "no engine warning for rock " .. i)
+        T.check(math.abs(fwd[i].energy.balance_error) < 0.01 * fwd[i].energy.input, "energy balance rock " .. i)
+    end
     local other = rf.analysis{ profile = flat, materials = { s = lin },
         seeders = { { at = {1, 1}, vx = { dist = "uniform", min = 0, max = 1 } } }, seed = 78 }
     local mine = rf.analysis{ profile = flat, materials = { s = lin },
@@ -294,6 +300,12 @@ do
         { "seeders[1].vx", "dist must be" }, "bad distribution")
     T.fails(function() rf.analysis(base{ seeders = { { at = {1, 1}, rock = { shape = "cube" } } } }) end,
         { "unknown shape 'cube'" }, "bad shape")
+    local ok_an = rf.analysis(base{})
+    line = T.line() + 1
+    T.fails(function() rf.run_rock(ok_an, 1, { trajectroy = true }) end,
+        { script .. ":" .. line .. ":", "rockfall.run_rock", "unknown option 'trajectroy'" }, "run_rock option typo")
+    T.fails(function() rf.run_rock({}, 1) end, { "analysis from rockfall.analysis" }, "not an analysis")
+    T.fails(function() rf.monte_carlo(ok_an, { n = 0 }) end, { "n must be an integer >= 1" }, "bad n")
     local csv = os.tmpname()
     local f = assert(io.open(csv, "w"))
     f:write("x,y\n0,10\n5,oops\n")
