@@ -32,9 +32,10 @@
 --   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-3 m/s, vy 0, spin 0.
 --   lines     collectors at x = 30 m (second bench) and x = 50 m (toe flat); a barrier at
 --             x = 52 m with capacity 30 kJ and height 2 m.
--- Outputs in <outdir> (default out/rockfall_analysis): endpoints.csv, crossings.csv,
--- barrier_hits.csv, profile.csv, impacts.csv (--impacts), paths.csv (the first --paths rocks),
--- and the statistics files of rockfall_stats when present. Prints a summary.
+-- Outputs in <outdir> (default out/rockfall_analysis): per rock rock_endpoints.csv,
+-- rock_crossings.csv, rock_barriers.csv, rock_profile.csv, rock_impacts.csv (--impacts),
+-- rock_paths.csv (the first --paths rocks), and the statistics files of rockfall_stats when
+-- present (scripts/plot_rockfall.py plots those). Prints a summary.
 
 -- talus puts the script's own directory first in package.path, and this directory still holds
 -- the one-rock example rockfall.lua, which has the module's name: look the module up without
@@ -141,6 +142,7 @@ if (talus.rank and talus.rank() or 0) == 0 then
     end
     print(string.format("  CPU %.2f s in this process (%.3f s per rock%s); wall about %d s",
         cpu, cpu / #records, (info and info.parallel) and ", workers not counted" or "", os.time() - wall))
-    print("  wrote " .. outdir .. "/endpoints.csv, crossings.csv, barrier_hits.csv, profile.csv"
-        .. (impacts and ", impacts.csv" or "") .. ((not mass_n and paths > 0) and ", paths.csv" or ""))
+    print("  wrote " .. outdir .. "/rock_endpoints.csv, rock_crossings.csv, rock_barriers.csv, rock_profile.csv"
+        .. (impacts and ", rock_impacts.csv" or "") .. ((not mass_n and paths > 0) and ", rock_paths.csv" or "")
+        .. ((info and info.stats) and " and the statistics (rockfall_stats)" or ""))
 end

@@ -1293,8 +1293,10 @@ local function write_rows(file, header, rows)
     assert(f:close())
 end
 
---- Writes the per-rock CSVs into outdir: endpoints.csv, crossings.csv, barrier_hits.csv,
---- profile.csv, and when asked impacts.csv and paths.csv. Returns the file names.
+--- Writes the per-rock CSVs into outdir: rock_endpoints.csv, rock_crossings.csv,
+--- rock_barriers.csv, rock_profile.csv, and when asked rock_impacts.csv and rock_paths.csv
+--- (the prefix keeps them apart from the statistics files of rockfall_stats). Returns the
+--- file names.
 local function write_csv(records, an, outdir, opts)
     need_analysis(an)
     opts = opts or {}
@@ -1328,21 +1330,21 @@ local function write_csv(records, an, outdir, opts)
         write_rows(file, header, rows)
         files[#files + 1] = file
     end
-    out("endpoints.csv", { "rock", "seed", "shape", "mass", "volume", "r_eq", "release_x", "release_y",
+    out("rock_endpoints.csv", { "rock", "seed", "shape", "mass", "volume", "r_eq", "release_x", "release_y",
         "release_vx", "release_vy", "release_spin", "stop", "end_x", "end_y", "t_end", "impacts",
         "max_height", "steps" }, ends)
-    out("crossings.csv", { "rock", "line", "t", "x", "y", "height", "vx", "vy", "v", "spin", "ke_trans",
+    out("rock_crossings.csv", { "rock", "line", "t", "x", "y", "height", "vx", "vy", "v", "spin", "ke_trans",
         "ke_rot", "ke" }, cross)
-    out("barrier_hits.csv", { "rock", "barrier", "stopped", "t", "x", "y", "height", "energy", "angle",
+    out("rock_barriers.csv", { "rock", "barrier", "stopped", "t", "x", "y", "height", "energy", "angle",
         "energy_after" }, bars)
     local prof = {}
     for k, p in ipairs(an.nominal) do prof[k] = { p[1], p[2], an.segment_material[k] or "" } end
-    out("profile.csv", { "x", "y", "material" }, prof)
+    out("rock_profile.csv", { "x", "y", "material" }, prof)
     if opts.impacts then
-        out("impacts.csv", { "rock", "t", "x", "y", "vn_in", "vt_in", "vn_out", "vt_out", "rn", "rt",
+        out("rock_impacts.csv", { "rock", "t", "x", "y", "vn_in", "vt_in", "vn_out", "vt_out", "rn", "rt",
             "energy_lost", "material", "duration" }, imps)
     end
-    if opts.trajectories then out("paths.csv", { "rock", "t", "x", "y" }, paths) end
+    if opts.trajectories then out("rock_paths.csv", { "rock", "t", "x", "y" }, paths) end
     return files
 end
 rockfall.write_csv = api("write_csv", write_csv)

@@ -16,15 +16,15 @@ end
 
 arg = { [0] = example, out, "--n=4", "--paths=2", "--impacts", "--seed=7" }
 dofile(example)
-T.check(rows(out .. "/endpoints.csv") == 4, "one endpoint row per rock")
-T.check(rows(out .. "/paths.csv") > 2, "trajectories of the first rocks")
-T.check(rows(out .. "/profile.csv") == 7, "the nominal profile (zone boundaries at its vertices)")
-local f = io.open(out .. "/impacts.csv")
-T.check(f ~= nil, "impacts.csv written with --impacts")
+T.check(rows(out .. "/rock_endpoints.csv") == 4, "one endpoint row per rock")
+T.check(rows(out .. "/rock_paths.csv") > 2, "trajectories of the first rocks")
+T.check(rows(out .. "/rock_profile.csv") == 7, "the nominal profile (zone boundaries at its vertices)")
+local f = io.open(out .. "/rock_impacts.csv")
+T.check(f ~= nil, "rock_impacts.csv written with --impacts")
 if f then f:close() end
 
 arg = { [0] = example, out .. "/mass", "--mass-release=3", "--seed=7" }
 dofile(example)
-T.check(rows(out .. "/mass/endpoints.csv") == 3, "mass release: one row per rock")
+T.check(rows(out .. "/mass/rock_endpoints.csv") == 3, "mass release: one row per rock")
 os.execute("rm -rf '" .. out .. "'")
 T.done("rockfall_example")
