@@ -228,6 +228,27 @@ do
     T.check(s3.lifted and s3.release.y >= 0.5, "lifted above the surface")
 end
 
+-- ---------------------------------------------------------------- zones and seeder weights
+do
+    -- Per-segment material names; and x ranges that cut a segment (a vertex is inserted there).
+    local pts = { {0, 10}, {4, 6}, {10, 6}, {14, 0} }
+    local a = rf.analysis{ profile = pts, materials = { hard = lin, soft = lin }, zones = { "hard", "soft", "hard" },
+        seeders = { { at = {1, 11} } } }
+    T.check(#a.nominal == 4 and a.segment_material[2] == "soft" and a.segment_material[3] == "hard", "zones per segment")
+    local b = rf.analysis{ profile = pts, materials = { hard = lin, soft = lin },
+        zones = { { material = "hard", x_from = 0, x_to = 7 }, { material = "soft", x_from = 7, x_to = 14 } },
+        seeders = { { at = {1, 11} } } }
+    T.check(#b.nominal == 5 and b.nominal[3][1] == 7 and b.nominal[3][2] == 6, "vertex inserted at the zone boundary")
+    T.check(b.segment_material[2] == "hard" and b.segment_material[3] == "soft", "materials on both sides of it")
+    -- Two seeders with weights 1 and 3: the share of the second is 3/4; N = 2000 draws give a
+    -- binomial standard error sqrt(p (1 - p) / N) = 0.0097; 4 of them.
+    local c = rf.analysis{ profile = flat, materials = { s = lin }, seed = 21,
+        seeders = { { name = "one", at = {10, 5}, weight = 1 }, { name = "two", at = {20, 5}, weight = 3 } } }
+    local k = 0
+    for i = 1, 2000 do if rf.sample(c, i).seeder == "two" then k = k + 1 end end
+    T.near(k / 2000, 0.75, 4 * math.sqrt(0.75 * 0.25 / 2000), "seeder weights")
+end
+
 -- ---------------------------------------------------------------- roughness
 do
     local pts = { {0, 10}, {3, 9}, {5, 5}, {8, 4}, {12, 0} }
