@@ -52,8 +52,9 @@ std::string directoryOf(const std::string& path) {
     return path.substr(0, slash);
 }
 
-/// Puts the script's directory, TALUS_LUA_PATH and the Talus script directories in front of
-/// package.path, so `require` finds modules shipped in scripts/ from any directory.
+/// Puts the script's directory, TALUS_LUA_PATH and the Talus script directories (scripts/lib and
+/// scripts/, source tree then install) in front of package.path, so `require` finds modules
+/// shipped in scripts/lib from any directory.
 void setPackagePath(lua_State* L, const std::string& script) {
     std::string prefix = directoryOf(script) + "/?.lua;";
     if (const char* env = std::getenv("TALUS_LUA_PATH")) {
@@ -68,7 +69,10 @@ void setPackagePath(lua_State* L, const std::string& script) {
             start = end + 1;
         }
     }
-    prefix += std::string(TALUS_SOURCE_LUA_DIR) + "/?.lua;" + TALUS_INSTALL_LUA_DIR + "/?.lua;";
+    // scripts/lib holds the shipped library modules (rockfall, ...); scripts/ itself stays for
+    // older scripts that keep modules next to the examples.
+    prefix += std::string(TALUS_SOURCE_LUA_DIR) + "/lib/?.lua;" + TALUS_SOURCE_LUA_DIR + "/?.lua;" +
+              TALUS_INSTALL_LUA_DIR + "/lib/?.lua;" + TALUS_INSTALL_LUA_DIR + "/?.lua;";
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "path");
     const char* old = lua_tostring(L, -1);
