@@ -31,7 +31,8 @@ local C = {}
 --- Illinois regula falsi on a bracket [a, b] with f(a) f(b) <= 0. Regula falsi keeps the
 --- bracket (so it cannot diverge, unlike the secant method); the Illinois change halves the
 --- function value kept at the end that was retained twice in a row, which removes plain regula
---- falsi's one-sided, linear convergence (order about 1.44 on smooth roots).
+--- falsi's one-sided, linear convergence (order about 1.44 on smooth roots). A bisection step
+--- whenever two steps did not halve the bracket bounds the cost by about twice bisection's.
 --- opts: xtol (absolute, default 1e-12 (|a| + |b|) + 1e-300), ftol (|f| <= ftol stops; default
 --- 0), max_iter (default 200). Returns x, { iterations =, fx =, a =, b = } (the final bracket).
 function C.root(f, a, b, opts)
@@ -55,8 +56,17 @@ function C.root(f, a, b, opts)
     end
     local side = 0 -- which end was kept last time: -1 = a, +1 = b
     local x, fx = a, fa
+    -- Safeguard (as in Brent's method): at a multiple root (f ~ (x - r)^3) the Illinois steps
+    -- can shrink the bracket slowly; if two steps together did not halve it, bisect once.
+    local widths = { math.abs(b - a), math.abs(b - a) }
     for it = 1, max_iter do
-        x = (a * fb - b * fa) / (fb - fa)
+        local w = math.abs(b - a)
+        if w > 0.5 * widths[1] then
+            x = 0.5 * (a + b)
+        else
+            x = (a * fb - b * fa) / (fb - fa)
+        end
+        widths[1], widths[2] = widths[2], w
         -- guard against round-off putting the estimate on or outside an end
         if not (x > math.min(a, b) and x < math.max(a, b)) then x = 0.5 * (a + b) end
         fx = f(x)
