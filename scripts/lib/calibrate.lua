@@ -231,16 +231,23 @@ function C.clump_drop_rig(opts)
         -- advance until the clump has left the wall and its centroid is back above its start:
         -- with no gravity it then flies free for good (vertical velocity constant).
         local max_time = opts.max_time or 2.0
-        local touched = false
+        local touched, left = false, false
         local chunk = opts.chunk or 200
         while m:time() < max_time do
             m:cycle(chunk)
             local n = m:contact_count{ active = true }
             if n > 0 then touched = true end
-            if touched and n == 0 and rock.pos[2] > y0 and rock.vel[2] > 0 then break end
+            if touched and n == 0 and rock.pos[2] > y0 and rock.vel[2] > 0 then
+                left = true
+                break
+            end
         end
         if not touched then
             error(string.format("calibrate.clump_drop_rig: no contact at v = %g m/s", v), 2)
+        end
+        if not left then
+            error(string.format("calibrate.clump_drop_rig: the rock did not leave the wall within "
+                .. "max_time = %g s at v = %g m/s", max_time, v), 2)
         end
         local vy, vx, w = rock.vel[2], rock.vel[1], rock.spin
         local ke1 = 0.5 * rock.mass * (vx * vx + vy * vy) + 0.5 * rock.inertia * w * w
