@@ -37,18 +37,7 @@
 -- rock_paths.csv (the first --paths rocks), and the statistics files of rockfall_stats when
 -- present (scripts/plot_rockfall.py plots those). Prints a summary.
 
--- talus puts the script's own directory first in package.path, and this directory still holds
--- the one-rock example rockfall.lua, which has the module's name: look the module up without
--- that first entry (scripts/lib follows it).
-local rockfall
-do
-    local saved = package.path
-    package.path = saved:gsub("^[^;]*;", "", 1)
-    local ok, mod = pcall(require, "rockfall")
-    package.path = saved
-    if not ok then error(mod, 0) end
-    rockfall = mod
-end
+local rockfall = require("rockfall")
 
 local outdir, n, seed, jobs, impacts, paths, mass_n = "out/rockfall_analysis", 300, 2026, nil, false, 20, nil
 for _, a in ipairs(arg) do

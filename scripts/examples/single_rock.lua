@@ -1,8 +1,8 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall.lua: one rock down the stepped slope profile of thesis B (seed digest section 7).
+-- single_rock.lua: one rock down the stepped slope profile of thesis B (seed digest section 7).
 --
---   talus run scripts/examples/rockfall.lua [outdir] [--kn=1e8] [--rn=0.35] [--tan_beta=0.30]
+--   talus run scripts/examples/single_rock.lua [outdir] [--kn=1e8] [--rn=0.35] [--tan_beta=0.30]
 --                                           [--no-rolling]
 --
 -- Writes <outdir>/rockfall_history.csv (time, x, y, vx, vy, spin and the energies) and
@@ -21,12 +21,12 @@
 --             Normal restitution Rn = 0.35, "bedrock outcrops" in the RocFall defaults
 --             (rockfall-inputs B3b): dp_nratio = -ln(Rn) / sqrt(pi^2 + ln(Rn)^2) = 0.317, full
 --             dashpot mode, so e = exp(-pi beta / sqrt(1 - beta^2)) holds (accuracy-ref. 1.1).
---   rolling   the linear model has no rolling resistance, and a disk rolling on a flat floor
---             would never stop. A moment M = -mu_r R Fn sign(spin) is applied from Lua each
---             step while the rock touches the slope, with mu_r = (1 + I/(m R^2)) tan(beta) so
+--   rolling   the rrlinear model (docs/models/rrlinear.md): the linear model plus a rolling
+--             moment limited to rr_fric R Fn, with rr_fric = (1 + I/(m R^2)) tan(beta) so
 --             that a rolling disk decelerates at g tan(beta), the rolling friction of STONE;
---             tan(beta) = 0.30 for bedrock (rockfall-inputs B3a). --no-rolling switches it off,
---             --tan_beta= changes it. Its (negative) work is part of the engine's body work.
+--             tan(beta) = 0.30 for bedrock (rockfall-inputs B3a). --no-rolling switches it
+--             off (rr_fric = 0), --tan_beta= changes it. Its work is booked as slip.
+--             For many rocks, shapes, materials and statistics see rockfall_analysis.lua.
 --
 -- With these inputs the rock glances off the first cliff face, lands at its toe and stays on
 -- the first bench (benches catch rocks). --tan_beta=0.05 lets it roll down to the bottom flat;
@@ -53,7 +53,7 @@ local R, density = 0.5, 2600
 local beta = -math.log(rn) / math.sqrt(math.pi ^ 2 + math.log(rn) ^ 2)
 
 local m = talus.model{ gravity = {0, -9.81}, mass = "disk" }
-m:contact_model("linear", { kn = kn, ks = kn / 2, fric = 0.5, dp_nratio = beta, dp_mode = "full" })
+-- The contact model (rrlinear) is set below, once the rock's mass and inertia give rr_fric.
 m:wall{ points = profile, group = "slope" }
 local rock = m:ball{ pos = {R, 60 + R}, radius = R, density = density, vel = {3, -2}, group = "rock" }
 -- A wide broadphase margin lets the free-flight steps grow (the kinematic rule keeps each body
@@ -89,10 +89,11 @@ local history = m:history{
 }
 
 local mass, inertia = rock.mass, rock.inertia
-local mu_r = (1 + inertia / (mass * R * R)) * tan_beta
+local mu_r = rolling and (1 + inertia / (mass * R * R)) * tan_beta or 0
+m:contact_model("rrlinear", { kn = kn, ks = kn / 2, fric = 0.5, dp_nratio = beta, dp_mode = "full", rr_fric = mu_r })
 local stats = {
     impacts = {}, touches = 0, touching = false, max_bounce = 0, max_bounce_x = 0,
-    max_overlap = 0, rules = {}, max_speed = 0, rolling_work = 0,
+    max_overlap = 0, rules = {}, max_speed = 0,
 }
 m:on_cycle(function(model)
     local normal_force, contact = 0, nil
@@ -123,19 +124,6 @@ m:on_cycle(function(model)
     if pos[1] > x_end and not stats.left then stats.left = { t = model:time(), y = pos[2] } end
     local _, rule = model:dt()
     stats.rules[rule] = (stats.rules[rule] or 0) + 1
-    if rolling then
-        -- Rolling resistance (see the header), capped so that it never reverses the spin.
-        local w = rock.spin
-        local moment = 0
-        if normal_force > 0 and w ~= 0 then
-            local dt = model:dt()
-            moment = math.min(mu_r * R * normal_force, inertia * math.abs(w) / dt)
-            moment = w > 0 and -moment or moment
-        end
-        -- Its work over the next step (negative): part of the engine's body work.
-        stats.rolling_work = stats.rolling_work + moment * w * model:dt()
-        rock.mapp = moment
-    end
 end)
 
 -- ------------------------------------------------------------------ run
@@ -183,10 +171,6 @@ for k, imp in ipairs(stats.impacts) do
 end
 print(string.format("  energy [J]: input %.4g (body work %.4g), kinetic %.4g, slip %.4g, "
     .. "dashpot %.4g, strain %.4g", input, e.body, e.kinetic, e.slip, e.dashpot, e.strain))
-if rolling then
-    print(string.format("  rolling resistance did about %.4g J of work (counted in the body work, "
-        .. "so gravity alone did about %.4g J)", stats.rolling_work, e.body - stats.rolling_work))
-end
 print(string.format("  energy balance error %.3g J = %.2g of the input", e.balance_error,
     math.abs(e.balance_error) / input))
 local names = {}
