@@ -244,6 +244,7 @@ public:
     /// Contacts within the bonding gap must exist for the first FDlaw to bond them.
     double ActivityDistance() const override { return cb_bond == 1.0 ? cb_gap : 0.0; }
     bool OKToDelete() const override { return bonded != 1.0; }
+    uint32_t Traits() const override { return kTraitThreadSafe | kTraitBond; }
 };
 
 ContactModel* createPrototype(int32_t index) { return index == 0 ? new CBond() : nullptr; }

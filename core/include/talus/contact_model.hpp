@@ -88,6 +88,15 @@ enum FdFlags : uint32_t {
     kFdKeep = 1u << 11,      ///< out: do not delete this contact even when separated
 };
 
+/// Bits of ContactModel::Traits().
+enum ModelTraits : uint32_t {
+    kTraitThreadSafe = 1u << 0,  ///< FDlaw may run concurrently on different contacts
+    /// The model is a bond: `m:bond{}` may install it at existing contacts and near-contacts,
+    /// and its contacts persist while bonded (OKToDelete false). A contact that re-forms after
+    /// its bond broke and it separated gets the ordinary contact-model rules, never the bond.
+    kTraitBond = 1u << 1,
+};
+
 /// Bond-break modes written to FdBlock::break_mode together with kFdBroken.
 enum BreakMode : int32_t { kBreakNone = 0, kBreakTension = 1, kBreakShear = 2 };
 

@@ -174,7 +174,7 @@ public:
 
     double ActivityDistance() const override { return 0.0; }
     bool OKToDelete() const override { return true; }
-    uint32_t Traits() const override { return 1u; }
+    uint32_t Traits() const override { return kTraitThreadSafe; }
 
     /// Saves or restores the settable properties, then the derived class's state.
     void SaveRestore(ModelSaveObject& so) override {
