@@ -257,8 +257,7 @@ TEST_CASE("pbond: P4, Mohr-Coulomb shear strength under compression and its tens
 // ============================================================================ energies
 
 TEST_CASE(
-    "pbond: combined loading stores exactly the work put in; a break releases F_old "
-    "F_trial / 2k",
+    "pbond: combined loading stores exactly the work put in, a break releases F_old F_trial / 2k",
     "[pbond]") {
     LawDriver drv(
         "pbond",
@@ -336,7 +335,7 @@ TEST_CASE("pbond: bad input is refused, naming the property", "[pbond]") {
     CHECK(modelError("pbond", {{"kn", 1e8}, {"pb_kn", 1e12}, {"bonded", 1.0}}).empty());
 }
 
-TEST_CASE("pbond: declares itself a bond; bonded is settable, pb_state read-only", "[pbond]") {
+TEST_CASE("pbond: declares itself a bond, bonded is settable, pb_state read-only", "[pbond]") {
     LawDriver drv("pbond",
                   {{"kn", 1e8},
                    {"ks", 1e8},
@@ -382,7 +381,7 @@ TEST_CASE("pbond: declares itself a bond; bonded is settable, pb_state read-only
     CHECK(f3.n_force == Approx(1e8 * (1e-6 - 1e-9)));
 }
 
-TEST_CASE("pbond: first call adopts the entry forces; lin_mode 1 is incremental", "[pbond]") {
+TEST_CASE("pbond: first call adopts the entry forces, lin_mode 1 is incremental", "[pbond]") {
     const double kn = 1e8, ks = 5e7;
     SECTION("incremental: the old contact's forces plus this step's increment") {
         LawDriver drv("pbond", {{"kn", kn}, {"ks", ks}, {"fric", 0.5}, {"lin_mode", 1.0}}, true,
