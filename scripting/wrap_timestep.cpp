@@ -105,26 +105,15 @@ SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index) {
         if (n < 0) throw ScriptError("solve: 'steps' must be >= 0 (got " + std::to_string(n) + ")");
         s.steps = n;
     }
-    if (o.has("ratio")) {
-        s.ratio = o.number("ratio", 0.0);
-        if (!(s.ratio > 0.0) || !std::isfinite(s.ratio))
-            throw ScriptError(
-                "solve: 'ratio' must be > 0 (mean unbalanced over mean contact "
-                "force; got " +
-                numberText(s.ratio) + ")");
-    }
+    // Ranges of ratio and max_time: Model::solve checks them.
+    if (o.has("ratio")) s.ratio = o.number("ratio", 0.0);
     if (o.has("max_steps")) {
         const long long n = o.integer("max_steps", 0);
         if (n < 1)
             throw ScriptError("solve: 'max_steps' must be >= 1 (got " + std::to_string(n) + ")");
         s.max_steps = n;
     }
-    if (o.has("max_time")) {
-        s.max_time = o.number("max_time", 0.0);
-        if (!(s.max_time > 0.0))
-            throw ScriptError("solve: 'max_time' must be > 0 [s, wall clock] (got " +
-                              numberText(s.max_time) + ")");
-    }
+    if (o.has("max_time")) s.max_time = o.number("max_time", 0.0);
     if (o.has("until")) {
         if (o.push("until") != LUA_TFUNCTION) {
             const std::string got = typeName(L, -1);

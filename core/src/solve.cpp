@@ -58,12 +58,18 @@ SolveStop Model::solve(const SolveSpec& s) {
                              " steps of the fixed step " + messageNumber(m_timestep.fixed) +
                              " s (more than 1e12)");
     }
-    if (has_ratio && !(s.ratio > 0.0 && std::isfinite(s.ratio)))
-        throw InputError("solve: ratio must be > 0 (got " + messageNumber(s.ratio) + ")");
-    if (has_max_time && !(s.max_time > 0.0))
-        throw InputError("solve: max_time must be > 0 [s of wall-clock time] (got " +
-                         messageNumber(s.max_time) + ")");
-
+    // A ratio below the rounding of the force sums (about 1e-16 of a contact force per body)
+    // may never be reached, and a wall-clock cap beyond any run is none: refused, as a time no
+    // run can reach is (solveTime), rather than cycled for ever.
+    if (has_ratio && !(s.ratio >= 1e-15 && std::isfinite(s.ratio)))
+        throw InputError(
+            "solve: ratio must be >= 1e-15 and finite (mean unbalanced over mean contact force; "
+            "rounding leaves about 1e-16; got " +
+            messageNumber(s.ratio) + ")");
+    if (has_max_time && !(s.max_time > 0.0 && s.max_time <= 1e9))
+        throw InputError(
+            "solve: max_time must be > 0 and at most 1e9 [s of wall-clock time] (got " +
+            messageNumber(s.max_time) + ")");
     prepareRun();
     const auto clock_start = std::chrono::steady_clock::now();
     const int64_t first = m_step;

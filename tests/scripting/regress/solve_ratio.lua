@@ -61,13 +61,13 @@ do
     local warnings = {}
     m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local s0 = m:step()
-    T.check(m:solve{ ratio = 1e-30, max_steps = 50 } == "max_steps", "max_steps cap")
+    T.check(m:solve{ ratio = 1e-15, max_steps = 50 } == "max_steps", "max_steps cap")
     T.check(m:step() == s0 + 50, "the cap's steps")
     local w = warnings[#warnings] or ""
     T.check(w:find("solve: stopped by the cap max_steps = 50 after 50 steps", 1, true) and
-        w:find("before reaching ratio 1e-30", 1, true), "cap message: " .. w)
+        w:find("before reaching ratio 1e-15", 1, true), "cap message: " .. w)
     -- the wall-clock cap: 1 ns has passed by the first check (the outcome is deterministic)
-    T.check(m:solve{ ratio = 1e-30, max_time = 1e-9 } == "max_time", "max_time cap")
+    T.check(m:solve{ ratio = 1e-15, max_time = 1e-9 } == "max_time", "max_time cap")
     T.check((warnings[#warnings] or ""):find("max_time = 1e-09 s (wall clock)", 1, true), "max_time message")
     -- a cap alone is a criterion; a target reached first wins over it
     s0 = m:step()
@@ -97,11 +97,14 @@ do
     local m = drop()
     local l = T.line(); T.fails(function() m:solve{} end,
         { T.script() .. ":" .. l .. ":", "solve: give a criterion" }, "no criterion")
-    T.fails(function() m:solve{ ratio = -1 } end, { "solve: 'ratio' must be > 0" }, "ratio < 0")
+    T.fails(function() m:solve{ ratio = -1 } end, { "solve: ratio must be >= 1e-15" }, "ratio < 0")
+    T.fails(function() m:solve{ ratio = 1e-320 } end, { "solve: ratio must be >= 1e-15" },
+        "a ratio below rounding")
     T.fails(function() m:solve{ ["until"] = 3 } end, { "'until' must be a function" }, "until type")
     T.fails(function() m:solve{ steps = -2 } end, { "'steps' must be >= 0" }, "steps < 0")
     T.fails(function() m:solve{ max_steps = 0 } end, { "'max_steps' must be >= 1" }, "max_steps")
-    T.fails(function() m:solve{ max_time = 0 } end, { "'max_time' must be > 0" }, "max_time")
+    T.fails(function() m:solve{ max_time = 0 } end, { "max_time must be > 0" }, "max_time")
+    T.fails(function() m:solve{ max_time = math.huge } end, { "at most 1e9" }, "max_time inf")
     T.fails(function() m:solve{ ratoi = 1e-5 } end,
         { "solve: unknown option 'ratoi' (known: " }, "typo")
     -- an error in the until function keeps its own line and stops the run
