@@ -220,7 +220,7 @@ UnbalancedForce Model::unbalanced() const {
     double csum = 0.0;
     for (const Pair& p : m_contacts->pairs) {
         if (!p.active || (p.n_force == 0.0 && p.s_force == 0.0)) continue;
-        csum += std::hypot(p.n_force, p.s_force);
+        csum += std::sqrt(p.n_force * p.n_force + p.s_force * p.s_force);
         ++u.contacts;
     }
     u.mean_unbalanced = u.bodies > 0 ? sum / static_cast<double>(u.bodies) : 0.0;
