@@ -85,7 +85,7 @@ T.check(r.porosity > 0.1 and r.porosity < 0.6, "porosity in range: " .. r.porosi
 T.check(r.coordination > 2, "coordination: " .. r.coordination)
 -- The wall work is booked as boundary work like any moving wall's (energy tracing).
 print(string.format("servo_pack: %d steps, %.6f x %.6f m, wall stresses %.9g %.9g Pa, region %.9g %.9g Pa, porosity %.4f, coordination %.3f",
-    m:step(), WR, H, top.force[2] / WR, -right.force[1] / H, -r.stress.yy, -r.stress.xx, r.porosity, r.coordination))
+    m:step(), WR, H, top.force[2] / WR, right.force[1] / H, -r.stress.yy, -r.stress.xx, r.porosity, r.coordination))
 
 -- 4. Boundary work: with tracing on, a servo-driven change of target moves the wall, and the
 -- energy balance closes (the servo's wall is booked as any moving wall: law_of_motion.cpp).
