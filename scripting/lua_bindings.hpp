@@ -178,6 +178,7 @@ extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
 extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
 extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
+extern const luaL_Reg kBondMethods[];          // wrap_bond.cpp: bond, unbond
 /// Lower-case copy of `s` (names compared without case).
 std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.
