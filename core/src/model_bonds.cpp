@@ -381,6 +381,21 @@ std::size_t Model::bond(const BondSettings& s) {
             w.moment += cross(point - w.center, df) + dm;
         }
 
+        // Per-group books: the exchange record the last force loop left for this contact (ends
+        // in different groups) carries its force to the next law of motion; correct it too.
+        if (m_books.groups.on && (df.squaredNorm() > 0.0 || dm != 0.0)) {
+            const uint32_t e2 = p.wall ? m_bodies->segments[p.end2].wall : p.end2;
+            for (auto& x : m_books.groups.exchange) {
+                if (x.end1 != p.end1 || x.end2 != e2 || x.wall != p.wall) continue;
+                x.f1 -= df;
+                x.m1 -= cross(point - endCentre(p.end1), df) + dm;
+                x.m2 += cross(point - (p.wall ? m_bodies->walls[e2].center : endCentre(p.end2)),
+                              df) +
+                        dm;
+                break;
+            }
+        }
+
         // Energy: what the old contact stored against what the new one stores, less the part
         // of the old stored energy the bodies never paid for. The old model's report at the last
         // step includes the work of that step's force over the first half of its window (the
