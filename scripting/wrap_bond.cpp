@@ -90,7 +90,8 @@ int w_bond(lua_State* L) {
         const Options o(L, 2, "bond",
                         {"model", "props", "group", "groups", "gap", "seed", "reset", "walls"});
         BondSettings s;
-        if (!o.has("model")) throw ScriptError("bond: 'model' is required (a bond model: cbond, pbond)");
+        if (!o.has("model"))
+            throw ScriptError("bond: 'model' is required (a bond model: cbond, pbond)");
         s.model = o.string("model", "");
         PluginRegistry::global().find(s.model);  // an unknown model: the registry's error
         o.push("props");
@@ -104,7 +105,8 @@ int w_bond(lua_State* L) {
         s.groups = readSelection(o);
         s.gap = o.number("gap", 0.0);
         const long long seed = o.integer("seed", 1);
-        if (seed < 0) throw ScriptError("bond: 'seed' must be >= 0 (got " + std::to_string(seed) + ")");
+        if (seed < 0)
+            throw ScriptError("bond: 'seed' must be >= 0 (got " + std::to_string(seed) + ")");
         s.seed = static_cast<uint64_t>(seed);
         s.reset = o.boolean("reset", false);
         s.walls = o.boolean("walls", false);

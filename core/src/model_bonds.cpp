@@ -91,8 +91,20 @@ bool Model::bondSelects(const Pair& p, const BondSettings& s, int ga, int gb) co
     return ((g1 & a) && (g2 & c)) || ((g1 & c) && (g2 & a));
 }
 
+namespace {
+
+/// The key the bond memory uses: the contact key for two balls; for a ball and a wall, the
+/// wall instead of the segment (a contact that re-forms on the next segment of the chain is the
+/// same pair of bodies).
+uint64_t memoryKey(const Model::Pair& p, uint64_t key, uint32_t wall) {
+    return p.wall ? ((key & 0xffffffff00000000ull) | kWallBit | 0x40000000u | wall) : key;
+}
+
+}  // namespace
+
 uint32_t Model::autoBondFlags(const Pair& p, const PairCold& c) const {
-    const auto it = m_contacts->unbonded.find(c.key);
+    const auto it = m_contacts->unbonded.find(
+        memoryKey(p, c.key, p.wall ? m_bodies->segments[p.end2].wall : 0));
     if (it == m_contacts->unbonded.end()) return 0u;
     const uint32_t g1 = m_bodies->generation[m_bodies->balls.handle[p.end1] - 1];
     const uint32_t g2 = p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].generation
@@ -105,7 +117,9 @@ void Model::forgetBond(std::size_t i) {
     const uint32_t g1 = m_bodies->generation[m_bodies->balls.handle[p.end1] - 1];
     const uint32_t g2 = p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].generation
                                : m_bodies->generation[m_bodies->balls.handle[p.end2] - 1];
-    m_contacts->unbonded[m_contacts->cold[i].key] = (uint64_t(g1) << 32) | g2;
+    m_contacts->unbonded[memoryKey(p, m_contacts->cold[i].key,
+                                   p.wall ? m_bodies->segments[p.end2].wall : 0)] =
+        (uint64_t(g1) << 32) | g2;
 }
 
 namespace {
@@ -155,11 +169,12 @@ std::size_t Model::bond(const BondSettings& s) {
     std::vector<PropValue> fixed;
     for (std::size_t k = 0; k < s.props.size(); ++k) {
         const BondProp& bp = s.props[k];
-        const std::string where = "bond: property '" + bp.name + "' of model '" + factory.name + "'";
+        const std::string where =
+            "bond: property '" + bp.name + "' of model '" + factory.name + "'";
         idx[k] = propIndex(*proto, bp.name);
         if (idx[k] < 0)
-            throw InputError("bond: unknown property '" + bp.name + "' for model '" +
-                             factory.name + "' (known: " + knownProps(*proto) + ")");
+            throw InputError("bond: unknown property '" + bp.name + "' for model '" + factory.name +
+                             "' (known: " + knownProps(*proto) + ")");
         const PropInfo* info = proto->PropInfoAt(idx[k]);
         if (info->flags & kPropReadOnly) throw InputError(where + " is read-only");
         if (idx[k] == bonded_idx)
@@ -174,8 +189,9 @@ std::size_t Model::bond(const BondSettings& s) {
             if (info->flags & kPropInteger)
                 throw InputError(where + " is an integer mode: give a number, not a distribution");
             if (bp.dist == BondProp::Normal && !(bp.mean > 0.0))
-                throw InputError(where + ": the normal distribution is truncated at zero and "
-                                         "needs mean > 0 (got " +
+                throw InputError(where +
+                                 ": the normal distribution is truncated at zero and "
+                                 "needs mean > 0 (got " +
                                  num(bp.mean) + ")");
             if (bp.dist == BondProp::Uniform && bp.mean - bp.sd * std::sqrt(3.0) < 0.0)
                 throw InputError(where + ": the uniform range mean +- sd*sqrt(3) = [" +
@@ -273,10 +289,10 @@ std::size_t Model::bond(const BondSettings& s) {
     for (const BondProp& bp : s.props)
         streams.emplace_back((s.seed * 0x9E3779B97F4A7C15ull) ^ nameHash(bp.name));
 
-    const double tdel = m_dt > 0.0                  ? m_dt
-                        : m_timestep.fixed > 0.0    ? m_timestep.fixed
-                        : m_timestep.max < 1e300    ? m_timestep.max
-                                                    : 1e-6;
+    const double tdel = m_dt > 0.0               ? m_dt
+                        : m_timestep.fixed > 0.0 ? m_timestep.fixed
+                        : m_timestep.max < 1e300 ? m_timestep.max
+                                                 : 1e-6;
     const bool energy = m_books.on;
     std::size_t count = 0;
     for (uint32_t i : cand) {
@@ -389,9 +405,9 @@ std::size_t Model::bond(const BondSettings& s) {
                 if (x.end1 != p.end1 || x.end2 != e2 || x.wall != p.wall) continue;
                 x.f1 -= df;
                 x.m1 -= cross(point - endCentre(p.end1), df) + dm;
-                x.m2 += cross(point - (p.wall ? m_bodies->walls[e2].center : endCentre(p.end2)),
-                              df) +
-                        dm;
+                x.m2 +=
+                    cross(point - (p.wall ? m_bodies->walls[e2].center : endCentre(p.end2)), df) +
+                    dm;
                 break;
             }
         }

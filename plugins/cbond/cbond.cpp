@@ -210,9 +210,9 @@ public:
                         // held in tension, at most k du^2/2, is second order and not booked.
                         // F_old F_trial / 2k would book a negative release here, energy the
                         // bodies never received (stress seed 2800: 10% of the throughput).
-                        corner = linearClosingCorners(kn, ks, fric, fs_old, false, fd,
-                                                      closingFraction(last_engaged_, u - u_ref_),
-                                                      true);
+                        corner =
+                            linearClosingCorners(kn, ks, fric, fs_old, false, fd,
+                                                 closingFraction(last_engaged_, u - u_ref_), true);
                         released = springEnergy(fs_old, ks) - (0.5 * fs_old + corner.shear) * du_s;
                     } else {
                         released = crossEnergy(fn_old, cb_fn, kn) + crossEnergy(fs_old, cb_fs, ks);

@@ -116,7 +116,7 @@ struct BondProp {
     std::string name;
     Dist dist = Fixed;
     double mean = 0.0;  ///< the value when Fixed
-    double sd = 0.0;    ///< standard deviation (Normal: before truncation; Uniform: mean +- sd sqrt 3)
+    double sd = 0.0;    ///< standard deviation (Uniform: mean +- sd sqrt 3)
 };
 
 /// Which contacts m:bond / m:unbond act on and what m:bond installs.
