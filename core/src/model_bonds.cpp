@@ -447,7 +447,24 @@ std::size_t Model::bond(const BondSettings& s) {
             // force loop sums them again).
             m_books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? c.strain : 0.0);
             m_books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? c.bond : 0.0);
-            if (m_books.groups.on) bookReleasedToGroups(p, change);
+            if (m_books.groups.on) {
+                bookReleasedToGroups(p, change);
+                // The groups' current stored energies, shared as the force loop shares them
+                // (group_energy.cpp: half to each ball's groups, all to the ball's for a wall).
+                const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
+                const double ds = fd.energy[kEnergyStrain] - (was_active ? c.strain : 0.0);
+                const double db = fd.energy[kEnergyBondStrain] - (was_active ? c.bond : 0.0);
+                auto& books = m_books.groups;
+                for (uint64_t mk = (g1 | (p.wall ? 0 : g2)) & books.traced; mk; mk &= mk - 1) {
+                    const uint64_t bit = mk & (~mk + 1);
+                    const double w =
+                        p.wall ? ((g1 & bit) ? 1.0 : 0.0)
+                               : 0.5 * (((g1 & bit) ? 1.0 : 0.0) + ((g2 & bit) ? 1.0 : 0.0));
+                    auto& gr = books.g[__builtin_ctzll(mk)];
+                    gr.acc.strain += w * ds;
+                    gr.acc.bond += w * db;
+                }
+            }
             c.strain = fd.energy[kEnergyStrain];
             c.bond = fd.energy[kEnergyBondStrain];
         }
