@@ -225,13 +225,13 @@ int w_gravity(lua_State* L) {
 
 // ------------------------------------------------------------------ running
 
-}  // namespace
-
 // The hook main.cpp sets for `talus run --save-on-interrupt` (setInterruptHook).
 InterruptHook& interruptHook() {
     static InterruptHook hook;
     return hook;
 }
+
+}  // namespace
 
 void setInterruptHook(InterruptHook hook) { interruptHook() = std::move(hook); }
 
