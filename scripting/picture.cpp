@@ -270,9 +270,10 @@ Transform draw(const Model& m, const Settings& s, const std::vector<double>& val
         const std::vector<ContactInfo> cs = m.contacts(true);
         double fmax = 0;
         for (const ContactInfo& c : cs) fmax = std::max(fmax, std::fabs(c.normal_force));
+        // Default: 0.6 of the mean radius, so that the chains stay inside the balls they join.
         const double wmax =
-            (s.chain_width > 0 ? s.chain_width : (mean_r > 0 ? mean_r : 0.01)) * tr.scale;
-        cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+            (s.chain_width > 0 ? s.chain_width : (mean_r > 0 ? 0.6 * mean_r : 0.01)) * tr.scale;
+        cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
         if (fmax > 0)
             for (const ContactInfo& c : cs) {
                 const double f = c.normal_force;

@@ -29,7 +29,7 @@ struct Settings {
     bool range_set = false;
     double range_min = 0, range_max = 1;
     bool force_chains = false;  ///< contacts = "force"
-    double chain_width = 0;     ///< line width of the largest force [m]; 0: mean radius
+    double chain_width = 0;     ///< line width of the largest force [m]; 0: 0.6 mean radius
     bool legend = true, scale_bar = true;
     std::string title;
 };

@@ -161,7 +161,8 @@ int w_picture(lua_State* L) {
         s.title = o.string("title", "");
         s.chain_width = o.number("chain_width", 0.0);
         if (!(s.chain_width >= 0))
-            throw ScriptError("picture: 'chain_width' must be >= 0 [m] (0: the mean radius)");
+            throw ScriptError(
+                "picture: 'chain_width' must be >= 0 [m] (0: 0.6 of the mean radius)");
         return registerOutput(L, lm, std::move(out), true);
     });
 }
