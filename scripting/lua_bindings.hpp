@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <lua.hpp>
 #include <memory>
 #include <string>
@@ -19,6 +20,8 @@
 #include <vector>
 
 #include "lua_runtime.hpp"
+#include "progress.hpp"
+#include "talus/errors.hpp"
 #include "talus/model.hpp"
 
 namespace talus::lua {
@@ -65,6 +68,24 @@ struct History {
     [[noreturn]] void fail(LuaModel& lm, const char* what, int err);
 };
 
+/// A file output that a cycle hook drives (m:vtk, m:picture; output.hpp): closed with the
+/// model. Its userdata ("talus.Output") keeps the model alive and points here.
+struct Output {
+    virtual ~Output() = default;
+    /// Writes one frame of the model now (throws ScriptError / talus::Error naming the file).
+    virtual void write(LuaModel& lm) = 0;
+    virtual std::string describe() const = 0;            // "vtk series 'out/talus.pvd'"
+    virtual std::vector<std::string> files() const = 0;  // every file written, in order
+    virtual std::string mainFile() const = 0;            // the .pvd, or the last picture
+    /// Pictures: where the model point (x, y) is in the last picture [px from the top left].
+    virtual bool pixel(double, double, double&, double&) const { return false; }
+    int hook = 0;  // Model cycle-hook handle, 0 when none or closed
+    bool open = true;
+    int every = 0;  // steps between frames (0: on request only)
+    int64_t written = 0;
+    std::vector<std::pair<std::string, int>> functions;  // name, ref (model user-value table)
+};
+
 /// The Lua side of a model. Lives inside the model userdata (placement new; __gc destroys it).
 struct LuaModel {
     std::unique_ptr<Model> model;
@@ -72,10 +93,11 @@ struct LuaModel {
     /// coroutine may run the model), else the one that created it.
     lua_State* L = nullptr;
     std::vector<std::unique_ptr<History>> histories;
-    int bond_break_ref = LUA_NOREF;               // on_event("bond_break", fn)
-    int contact_created_ref = LUA_NOREF;          // on_event("contact_created", fn)
-    int warning_ref = LUA_NOREF;                  // on_warning(fn)
-    std::vector<std::pair<int, int>> cycle_refs;  // on_cycle: (hook handle, function ref)
+    std::vector<std::unique_ptr<Output>> outputs;  // m:vtk, m:picture (wrap_vtk/wrap_picture)
+    int bond_break_ref = LUA_NOREF;                // on_event("bond_break", fn)
+    int contact_created_ref = LUA_NOREF;           // on_event("contact_created", fn)
+    int warning_ref = LUA_NOREF;                   // on_warning(fn)
+    std::vector<std::pair<int, int>> cycle_refs;   // on_cycle: (hook handle, function ref)
     /// Nesting depth of cycle/solve calls. While the engine runs its hook loop, removing a hook
     /// from it would shift the loop and skip the next hook for that step, so removals are
     /// deferred: the hook is disabled at once and erased when the outermost run returns.
@@ -116,6 +138,18 @@ private:
 
 /// talus.model{...}
 int newModel(lua_State* L);
+
+/// Runs `step` on lm's model as one run call (m:cycle, m:solve): `L` runs the callbacks, the
+/// histories are flushed whatever happens, the outermost call shows the progress line
+/// (progress.hpp; `target` gives "time left"), and on Ctrl-C (talus::Interrupted) the
+/// interrupt hook runs after the flush, before the error goes on to the caller.
+void runModel(lua_State* L, LuaModel& lm, const std::function<void(Model&)>& step,
+              const ProgressTarget& target = {});
+/// Called when a run call of `lm` stopped on Ctrl-C (after its histories were flushed), with
+/// the Interrupted error (beforeStart(): Ctrl-C came between run calls and this one took no
+/// step). For `talus run --save-on-interrupt FILE` (main.cpp). Empty = none.
+using InterruptHook = std::function<void(lua_State* L, LuaModel& lm, const Interrupted& e)>;
+void setInterruptHook(InterruptHook hook);
 
 /// The LuaModel of the model userdata at `index`; throws ScriptError naming `fn` (and hinting
 /// at the m:fn(...) method-call syntax) when it is not one.
@@ -194,6 +228,9 @@ SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index);
 std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.
 void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
+void addVtkMethods(lua_State* L, int methods_index);      // wrap_vtk.cpp: vtk
+void addPictureMethods(lua_State* L, int methods_index);  // wrap_picture.cpp: picture
+void openOutputs(lua_State* L);                           // wrap_vtk.cpp: series userdata
 /// talus.impact and talus.drive, added to the module table at the top of the stack.
 void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
 /// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.

@@ -112,6 +112,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     openContact(L);
     openClump(L);
     openHistory(L);
+    openOutputs(L);
     luaL_newlib(L, kModuleFunctions);
     addImpactFunctions(L);
     addMapFunctions(L);

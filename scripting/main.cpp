@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
 // The talus command: runs a Lua script with the `talus` module preloaded.
 //
-//   talus run [--traceback] script.lua [args...]   args arrive in `arg` (arg[0] = script) and `...`
+//   talus run [--traceback] [--quiet] script.lua [args...]   args arrive in `arg` (arg[0] =
+//                                                           script) and `...`
 //   talus --help | --version
 //
 // Exit status: 0 on success, 1 when the script fails (missing file, syntax error, runtime or
-// engine error; the message, with the script line, goes to stderr), 2 for a usage error.
+// engine error; the message, with the script line, goes to stderr), 2 for a usage error, 130
+// when Ctrl-C stopped the run (docs/output.md, "Ctrl-C").
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,6 +20,8 @@
 
 #include "lua_bindings.hpp"
 #include "mpi_world.hpp"
+#include "progress.hpp"
+#include "talus/run_control.hpp"
 
 #ifndef TALUS_VERSION
 #error "TALUS_VERSION must be defined by the build (project version)"
@@ -23,7 +30,7 @@
 namespace {
 
 const char* const kUsage =
-    "usage: talus run [--traceback] script.lua [args...]\n"
+    "usage: talus run [--traceback] [--quiet] script.lua [args...]\n"
     "       talus --help | --version\n"
     "\n"
     "Runs a Lua 5.4 script with the Talus module preloaded as the global `talus`\n"
@@ -32,11 +39,63 @@ const char* const kUsage =
     "\n"
     "options:\n"
     "  --traceback   on error, also print the Lua stack traceback\n"
+    "  --quiet       no progress line (it is shown only on a terminal anyway)\n"
+    "\n"
+    "Ctrl-C stops a running cycle/solve at the end of its step (histories are flushed) and\n"
+    "ends the script with exit status 130; a second Ctrl-C kills at once.\n"
     "\n"
     "Modules are searched in the script's directory, in TALUS_LUA_PATH (directories separated\n"
     "by ':'), and in the Talus scripts directory. Contact-model plugins are searched\n"
     "in TALUS_PLUGIN_PATH, then in the build and install plugin directories.\n"
     "Documentation: docs/getting-started.md and docs/lua-api.md.\n";
+
+bool g_stderr_tty = false;
+
+/// SIGINT: the first one asks the running cycle/solve to stop at the end of its step
+/// (run_control.hpp); the second kills as SIGINT does by default (a script stuck in a Lua loop
+/// that never cycles). Only async-signal-safe calls here: an atomic store, write, signal, raise.
+extern "C" void onInterrupt(int) {
+    if (talus::stopRequested()) {
+        std::signal(SIGINT, SIG_DFL);
+        std::raise(SIGINT);
+        return;
+    }
+    talus::requestStop();
+    static const char tty_msg[] =
+        "\r\033[Ktalus: Ctrl-C: stopping at the end of the current step (Ctrl-C again kills)\n";
+    static const char msg[] =
+        "talus: Ctrl-C: stopping at the end of the current step (Ctrl-C again kills)\n";
+    const char* m = g_stderr_tty ? tty_msg : msg;
+    const std::size_t n = g_stderr_tty ? sizeof tty_msg - 1 : sizeof msg - 1;
+    [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, m, n);
+}
+
+/// Forwards Ctrl-C to the run (above), unless SIGINT is ignored (a job started in the
+/// background of a non-interactive shell): then it stays ignored, as the shell asked.
+void installInterruptHandler() {
+    struct sigaction old {};
+    if (::sigaction(SIGINT, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) return;
+    struct sigaction sa {};
+    sa.sa_handler = onInterrupt;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;  // a read/write in progress goes on; the run stops at the step end
+    ::sigaction(SIGINT, &sa, nullptr);
+}
+
+/// print() that first erases the progress line, so the script's output never lands on it.
+int printAfterProgress(lua_State* L) {
+    talus::lua::clearProgressLine();
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, 0);
+    return 0;
+}
+
+void wrapPrint(lua_State* L) {
+    lua_getglobal(L, "print");
+    lua_pushcclosure(L, printAfterProgress, 1);
+    lua_setglobal(L, "print");
+}
 
 /// Message handler for --traceback: the error message followed by the Lua traceback.
 int tracebackHandler(lua_State* L) {
@@ -102,6 +161,7 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
         return 1;
     }
     luaL_openlibs(L);
+    wrapPrint(L);
     preloadTalus(L);
     setPackagePath(L, script);
 
@@ -129,8 +189,18 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
         for (const std::string& a : args) lua_pushstring(L, a.c_str());
         if (lua_pcall(L, static_cast<int>(args.size()), 0, handler) != LUA_OK) {
             std::fflush(stdout);
-            std::fprintf(stderr, "talus: error: %s\n", talus::lua::errorText(L, -1).c_str());
-            status = 1;
+            talus::lua::clearProgressLine();
+            // After Ctrl-C the error is the run's "interrupted (Ctrl-C) at step N" (or one
+            // raised by a script that caught it): say so, and exit as SIGINT would (130).
+            const bool interrupted = talus::stopRequested();
+            std::fprintf(stderr, "talus: %s: %s\n", interrupted ? "interrupted" : "error",
+                         talus::lua::errorText(L, -1).c_str());
+            status = interrupted ? 130 : 1;
+        } else if (talus::stopRequested()) {
+            // The script handled the stop itself (m:solve returned "interrupted") and ended.
+            std::fflush(stdout);
+            std::fprintf(stderr, "talus: interrupted (Ctrl-C); the script ended normally\n");
+            status = 130;
         }
     }
     std::fflush(stdout);
@@ -160,9 +230,12 @@ int main(int argc, char** argv) {
     }
     std::size_t i = 1;
     bool traceback = false;
+    bool quiet = false;
     while (i < a.size() && a[i].size() > 1 && a[i][0] == '-' && a[i][1] == '-') {
         if (a[i] == "--traceback") {
             traceback = true;
+        } else if (a[i] == "--quiet") {
+            quiet = true;
         } else if (a[i] == "--") {
             ++i;
             break;
@@ -180,6 +253,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(a.begin() + static_cast<std::ptrdiff_t>(i + 1), a.end());
     // Under mpirun only (talus.rank/ranks/map); a plain run does not touch MPI.
     talus::mpi::start();
+    g_stderr_tty = ::isatty(STDERR_FILENO) == 1;
+    talus::lua::setProgressEnabled(!quiet && g_stderr_tty);
+    installInterruptHandler();
     int status = 1;
     try {
         status = runScript(script, args, traceback, argv[0]);

@@ -89,6 +89,7 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
 }
 
 void deliverWarning(LuaModel& lm, const std::string& text) {
+    clearProgressLine();
     if (lm.warning_ref == LUA_NOREF || !lm.L) {
         // Keep the order a user sees on a terminal: what the script printed, then the warning.
         std::fflush(stdout);
@@ -224,26 +225,58 @@ int w_gravity(lua_State* L) {
 
 // ------------------------------------------------------------------ running
 
-/// Runs `step` with this Lua thread as the callback thread; flushes histories either way.
-template <class Run>
-void runModel(lua_State* L, LuaModel& lm, const Run& step) {
+// The hook main.cpp sets for `talus run --save-on-interrupt` (setInterruptHook).
+InterruptHook& interruptHook() {
+    static InterruptHook hook;
+    return hook;
+}
+
+}  // namespace
+
+void setInterruptHook(InterruptHook hook) { interruptHook() = std::move(hook); }
+
+void runModel(lua_State* L, LuaModel& lm, const std::function<void(Model&)>& step,
+              const ProgressTarget& target) {
     ActiveThread active(lm, L);
     ++lm.running;
-    try {
-        step(*lm.model);
-    } catch (...) {
+    // The progress line follows the outermost run call only (a cycle inside an on_cycle
+    // callback is part of the step that called it).
+    std::unique_ptr<ProgressLine> progress;
+    if (lm.running == 1 && progressEnabled()) {
+        progress = std::make_unique<ProgressLine>(*lm.model, target);
+        ProgressLine* p = progress.get();
+        lm.model->setStepObserver([p](const Model& m) { p->update(m); });
+    }
+    const auto finish = [&] {
+        if (progress) {
+            lm.model->setStepObserver(nullptr);
+            progress.reset();
+        }
         --lm.running;
         lm.finishRun();
+    };
+    try {
+        step(*lm.model);
+    } catch (const Interrupted& e) {
+        // Ctrl-C: the step is complete. Histories first (they must hold every row up to this
+        // step), then the hook (--save-on-interrupt), then the error goes on to the script.
+        finish();
+        lm.flushHistories();
+        if (interruptHook()) interruptHook()(L, lm, e);
+        throw;
+    } catch (...) {
+        finish();
         try {
             lm.flushHistories();
         } catch (const std::exception&) {  // the run's own error comes first
         }
         throw;
     }
-    --lm.running;
-    lm.finishRun();
+    finish();
     lm.flushHistories();
 }
+
+namespace {
 
 int w_cycle(lua_State* L) {
     return catchexcept(L, [&] {
@@ -253,7 +286,10 @@ int w_cycle(lua_State* L) {
         if (n < 0)
             throw ScriptError("cycle: number of steps must be >= 0 (got " + std::to_string(n) +
                               ")");
-        runModel(L, lm, [&](Model& m) { m.cycle(static_cast<int64_t>(n)); });
+        ProgressTarget target;
+        target.steps = n;
+        runModel(
+            L, lm, [&](Model& m) { m.cycle(static_cast<int64_t>(n)); }, target);
         return 0;
     });
 }
@@ -262,13 +298,26 @@ int w_solve(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "solve");
         const SolveRequest req = readSolveOptions(L, lm, 2);  // wrap_timestep.cpp
+        ProgressTarget target;  // the progress line's "time left" (-1: not known)
+        if (!std::isnan(req.spec.time)) target.time = req.spec.time;
+        if (req.spec.steps >= 0) target.steps = req.spec.steps;
         SolveStop stop = SolveStop::Time;
-        runModel(L, lm, [&](Model& m) {
-            if (req.time_only)
-                m.solveTime(req.spec.time);
-            else
-                stop = m.solve(req.spec);
-        });
+        try {
+            runModel(
+                L, lm,
+                [&](Model& m) {
+                    if (req.time_only)
+                        m.solveTime(req.spec.time);
+                    else
+                        stop = m.solve(req.spec);
+                },
+                target);
+        } catch (const Interrupted& e) {
+            // Ctrl-C during the run: the reason is returned. A stop that was pending before
+            // the call took a step raises, so `repeat ... until m:solve{...}` cannot spin.
+            if (e.beforeStart()) throw;
+            stop = SolveStop::Interrupted;
+        }
         lua_pushstring(L, solveStopName(stop));
         return 1;
     });
@@ -401,6 +450,8 @@ int w_index_unknown(lua_State* L) {
             for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
         names.push_back("history");
         names.push_back("close_history");
+        names.push_back("vtk");
+        names.push_back("picture");
         std::sort(names.begin(), names.end());
         const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
         throw ScriptError("model: unknown method or field '" + key +
@@ -421,6 +472,12 @@ LuaModel::~LuaModel() { close(); }
 
 void LuaModel::close() {
     closeHistories();
+    for (auto& o : outputs) {
+        if (model && o->hook) model->removeCycleHook(o->hook);
+        o->hook = 0;
+        o->open = false;
+    }
+    std::vector<std::unique_ptr<Output>>().swap(outputs);
     // Free every container's storage: __gc calls close(), never the destructor.
     std::vector<std::unique_ptr<History>>().swap(histories);
     std::vector<std::pair<int, int>>().swap(cycle_refs);
@@ -516,6 +573,8 @@ void openModel(lua_State* L) {
     lua_newtable(L);
     for (const luaL_Reg* table : kModelMethodTables) luaL_setfuncs(L, table, 0);
     addHistoryMethods(L, lua_gettop(L));
+    addVtkMethods(L, lua_gettop(L));
+    addPictureMethods(L, lua_gettop(L));
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);
     lua_setfield(L, -2, "__index");

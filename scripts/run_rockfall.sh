@@ -4,7 +4,8 @@
 # stepped slope of thesis B (scripts/examples/rockfall_analysis.lua, docs/rockfall.md): 300 clump
 # rocks from a line seeder, two slope materials, a barrier and two collectors, on all cores.
 # Writes the statistics CSVs and out/rockfall_analysis/rockfall.png (end points, reach,
-# envelopes, trajectories; scripts/plot_rockfall.py), then one rock's energy history
+# envelopes, trajectories; scripts/plot_rockfall.py) and rockfall_endpoints.png (where each rock
+# stopped, m:picture; docs/output.md), then one rock's energy history
 # (scripts/examples/single_rock.lua): out/rockfall_history.csv and .png, out/rockfall_path.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -24,6 +24,7 @@
 #include "narrowphase.hpp"
 #include "props.hpp"
 #include "talus/errors.hpp"
+#include "talus/run_control.hpp"
 
 namespace talus {
 
@@ -110,6 +111,11 @@ double Model::broadphaseMargin() const { return m_contacts->margin; }
 // ------------------------------------------------------------------------ the cycle
 
 void Model::prepareRun() {
+    // Ctrl-C came before this run call (run_control.hpp): take no step.
+    if (stopRequested())
+        throw Interrupted("interrupted (Ctrl-C) before step " + std::to_string(m_step + 1) +
+                              " (t = " + messageNumber(m_time) + " s)",
+                          true);
     if (!m_contacts->broadphase_ready) initBroadphase();
     const TimestepSettings& t = m_timestep;
     if (t.automatic != m_last_settings.automatic || t.safety != m_last_settings.safety ||
@@ -154,6 +160,13 @@ void Model::runSteps(int64_t steps) {
         bookkeeping();
         if (prof) t1 = Clock::now(), m_profile.bookkeeping += duration<double>(t1 - t0).count();
         ++m_profile.cycles;
+        if (m_step_observer) m_step_observer(*this);
+        // Ctrl-C (run_control.hpp): the step is complete, so the model is consistent here. One
+        // relaxed atomic load per step: nothing next to a step's cost.
+        if (stopRequested())
+            throw Interrupted("interrupted (Ctrl-C) at step " + std::to_string(m_step) +
+                                  " (t = " + messageNumber(m_time) + " s)",
+                              false);
     }
 }
 

@@ -481,6 +481,7 @@ std::vector<Vec2> Model::wallPoints(WallId id) const {
     return std::vector<Vec2>(m_bodies->vertices.begin() + w.first_vertex,
                              m_bodies->vertices.begin() + w.first_vertex + w.vertex_count);
 }
+bool Model::wallClosed(WallId id) const { return wallOf(id).closed; }
 Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
 void Model::setWallVel(WallId id, const Vec2& v) {
     m_limits_stale = true;

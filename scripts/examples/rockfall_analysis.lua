@@ -35,7 +35,8 @@
 -- Outputs in <outdir> (default out/rockfall_analysis): per rock rock_endpoints.csv,
 -- rock_crossings.csv, rock_barriers.csv, rock_profile.csv, rock_impacts.csv (--impacts),
 -- rock_paths.csv (the first --paths rocks), and the statistics files of rockfall_stats when
--- present (scripts/plot_rockfall.py plots those). Prints a summary.
+-- present (scripts/plot_rockfall.py plots those), and rockfall_endpoints.png: where each rock
+-- stopped, drawn with m:picture (docs/output.md). Prints a summary.
 
 local rockfall = require("rockfall")
 
@@ -134,4 +135,25 @@ if (talus.rank and talus.rank() or 0) == 0 then
     print("  wrote " .. outdir .. "/rock_endpoints.csv, rock_crossings.csv, rock_barriers.csv, rock_profile.csv"
         .. (impacts and ", rock_impacts.csv" or "") .. ((not mass_n and paths > 0) and ", rock_paths.csv" or "")
         .. ((info and info.stats) and " and the statistics (rockfall_stats)" or ""))
+
+    -- One picture of the outcome (m:picture, docs/output.md): the profile, the fence, and each
+    -- rock as a disk of its equivalent radius where it stopped (up to x = 92 m), coloured by
+    -- its mass. A model built only to be drawn: it is never cycled.
+    local ok_pic, why = pcall(function()
+        local pic = talus.model{}
+        pic:wall{ points = an.nominal }
+        pic:wall{ points = { {52, 0}, {52, 2} } }
+        for _, r in ipairs(records) do
+            if r.end_x and r.end_x >= -2 and r.end_x <= 92 then  -- in the view
+                pic:ball{ pos = { r.end_x, r.end_y }, radius = r.r_eq, mass = r.mass }
+            end
+        end
+        pic:picture{ file = outdir .. "/rockfall_endpoints.png", size = {1200, 900},
+                     view = { -2, -3, 92, 63 }, color = function(b) return b.mass end,
+                     label = "rock mass [kg]",
+                     title = string.format("Where %d rocks stopped (thesis B profile, fence at x = 52 m)",
+                         #records) }
+    end)
+    print(ok_pic and ("  wrote " .. outdir .. "/rockfall_endpoints.png")
+        or ("  no picture: " .. tostring(why)))
 end

@@ -32,6 +32,19 @@ public:
     using Error::Error;
 };
 
+/// The run was stopped from outside (Ctrl-C, run_control.hpp) at the end of a step. The model
+/// is consistent and can be saved or inspected. `beforeStart`: the stop was already requested
+/// when the run call began, so it took no step at all.
+class Interrupted : public Error {
+public:
+    Interrupted(const std::string& what, bool before_start)
+        : Error(what), m_before_start(before_start) {}
+    bool beforeStart() const { return m_before_start; }
+
+private:
+    bool m_before_start;
+};
+
 /// Internal invariant; a bug in Talus, not in the input.
 #define TALUS_ASSERT(cond, msg)                                                              \
     do {                                                                                     \

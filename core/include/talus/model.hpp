@@ -402,6 +402,8 @@ public:
 
     // Wall state
     std::vector<Vec2> wallPoints(WallId id) const;
+    /// The chain joins its last point to its first (WallDef::closed).
+    bool wallClosed(WallId id) const;
     Vec2 wallVel(WallId id) const;
     void setWallVel(WallId id, const Vec2& v);
     double wallSpin(WallId id) const;
@@ -505,6 +507,10 @@ public:
 
     Profile& profile() { return m_profile; }
     const Profile& profile() const { return m_profile; }
+    /// Called after every step of cycle/solveTime, before the stop request (Ctrl-C,
+    /// run_control.hpp) is tested: the CLI's progress line. Not part of the model's state (no
+    /// handle, not saved); empty = none.
+    void setStepObserver(std::function<void(const Model&)> fn) { m_step_observer = std::move(fn); }
     /// Re-orders the balls in memory along a space-filling curve every `every` steps (0 = never)
     /// so that neighbours are close in memory.
     void setSortInterval(int64_t every) { m_sort_every = every; }
@@ -793,6 +799,7 @@ private:
     std::vector<std::string> m_group_names;
 
     Profile m_profile;
+    std::function<void(const Model&)> m_step_observer;  // setStepObserver
     FdBlock m_fd_template{};
     std::string m_plugin_error;  // text of an exception caught at the plugin boundary
 };
