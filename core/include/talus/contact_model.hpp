@@ -86,6 +86,9 @@ enum FdFlags : uint32_t {
     kFdBonded = 1u << 9,     ///< out: a bond is present (reported by contact queries)
     kFdBroken = 1u << 10,    ///< out: a bond broke this step (raises a bond_break event)
     kFdKeep = 1u << 11,      ///< out: do not delete this contact even when separated
+    /// out, with kFdBroken: FdBlock::reserved[0] and [1] hold the bond's peak normal stress
+    /// (tension +) and shear stress at failure [Pa] (the bond_break event's sigma and tau).
+    kFdBreakStress = 1u << 12,
 };
 
 /// Bits of ContactModel::Traits().
