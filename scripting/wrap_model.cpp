@@ -70,7 +70,7 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
     pushRef(L, lm, ref);
     pushModel(L, lm);
     const int model_index = lua_gettop(L);
-    lua_createtable(L, 0, 6);
+    lua_createtable(L, 0, 8);
     lua_pushstring(L, ev.kind == EventKind::BondBreak ? "bond_break" : "contact_created");
     lua_setfield(L, -2, "kind");
     lua_pushnumber(L, ev.time);
@@ -81,6 +81,13 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
     lua_setfield(L, -2, "model");
     lua_pushstring(L, breakModeName(ev.mode));
     lua_setfield(L, -2, "mode");
+    // Stresses at failure, when the bond model reports them (pbond; nil otherwise).
+    if (!std::isnan(ev.sigma)) {
+        lua_pushnumber(L, ev.sigma);
+        lua_setfield(L, -2, "sigma");
+        lua_pushnumber(L, ev.tau);
+        lua_setfield(L, -2, "tau");
+    }
     pushContact(L, model_index, ev.contact);
     lua_setfield(L, -2, "contact");
     lua_remove(L, model_index);

@@ -390,7 +390,7 @@ void Model::forceLoop() {
         p.sliding = (fd.flags & kFdSliding) != 0;
         p.bonded = (fd.flags & kFdBonded) != 0;
         p.steps += g.overlap > 0.0;
-        if (fd.flags & kFdBroken) queueBreak(i, g.point, fd.break_mode);
+        if (fd.flags & kFdBroken) queueBreak(i, g.point, fd);
         if (ends) {
             endContact(p, cold[i], kGuard);
             // Its ends may have moved apart while it was a contact (inactive pairs are checked
@@ -556,15 +556,19 @@ void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_af
     c.dt_at_max = m_dt;
 }
 
-void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
+void Model::queueBreak(std::size_t i, const Vec2& point, const FdBlock& fd) {
     forgetBond(i);
     Event ev;
     ev.kind = EventKind::BondBreak;
     ev.time = m_time;
     ev.pos = point;
     ev.contact = ContactKey{m_contacts->cold[i].key};
-    ev.mode = mode;
+    ev.mode = fd.break_mode;
     ev.model = m_contacts->pairs[i].rule->model_name;
+    if (fd.flags & kFdBreakStress) {
+        ev.sigma = fd.reserved[0];
+        ev.tau = fd.reserved[1];
+    }
     m_events.push_back(std::move(ev));
 }
 

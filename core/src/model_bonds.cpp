@@ -484,7 +484,7 @@ std::size_t Model::bond(const BondSettings& s) {
         c.duration = nm->ContactDuration(p.mass_eff, 0.0);
         if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
         c.born_overlapped = true;
-        if (fd.flags & kFdBroken) queueBreak(i, point, fd.break_mode);
+        if (fd.flags & kFdBroken) queueBreak(i, point, fd);
         ++count;
     }
     m_limits_stale = true;

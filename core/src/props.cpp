@@ -37,7 +37,11 @@ std::string propValueProblem(const ContactModel& model, int32_t index, double va
     // range check may allow it: `power`'s transition force is legitimately inf).
     const PropInfo* info = model.PropInfoAt(index);
     const std::string units = info && info->units ? info->units : "";
-    if (std::isinf(value) && (units == "N/m" || units == "Pa" || units == "N m/rad"))
+    // A stress of +inf is a strength out of reach (pbond's pb_ten, pb_coh: an unbreakable
+    // bond), so it goes to the model, whose range check or AcceptProp decides (a modulus in Pa
+    // has a finite upper bound there: hertz, ng, pbond's emod); -inf is no stress.
+    const bool stiffness = units == "N/m" || units == "N m/rad";
+    if (std::isinf(value) && (stiffness || (units == "Pa" && value < 0.0)))
         return std::string("must be finite (got ") + (value > 0 ? "inf" : "-inf") + " " + units +
                ")";
     return {};

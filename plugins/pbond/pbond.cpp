@@ -29,7 +29,10 @@
 // F_s^2/(2 pb_ks A) + M^2/(2 pb_kn I); slip and dashpot from the linear part. On a break the
 // trial forces of the breaking step were never applied (the bodies felt the last step's bond
 // forces, then none), so the energy released is F_old F_trial / (2k) per bond spring, as for
-// cbond (docs/models/cbond.md, Energies): what closes the leapfrog balance.
+// cbond (docs/models/cbond.md, Energies): what closes the leapfrog balance. A spring whose force
+// changed sign inside the breaking step (the crossing) gets the corner of its ramp up to the
+// failure and releases F(g)^2 / (2k); a bond made at touch pays its onset corner
+// (docs/models/pbond.md, Energies).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -308,15 +311,73 @@ public:
         return pb_coh - s * std::tan(pb_fa * M_PI / 180.0);
     }
 
+    /// One bond spring over the breaking step: its force at the last step (what the bodies
+    /// felt), its trial force, its stiffness.
+    struct Spring {
+        double old_f, trial, k;
+        double at(double g) const { return old_f + g * (trial - old_f); }
+        /// Energy released at a break at fraction g of the step; `corner` gets the force owed on
+        /// this step when the spring's force changed sign (see fdlaw).
+        double released(double g, double& corner) const {
+            if (!(k > 0.0)) return 0.0;
+            if (old_f * trial >= 0.0) return crossEnergy(old_f, trial, k);
+            // The scheme paid old_f up to half a step after the last step and nothing since;
+            // the spring's force ran linearly to at(g) and stopped there: owed is its integral
+            // from dt/2 to g dt, as a force over this step (talus/sdk/corners.hpp, the sticking
+            // shear spring's closing corner). Then the work the bodies received is the
+            // spring's, and what it gives up is what it held, F(g)^2 / (2k): the leapfrog
+            // balance closes up to its bounded term k du^2 / 8 (docs/models/pbond.md).
+            corner = old_f * (g - 0.5) + 0.5 * (trial - old_f) * (g * g - 0.25);
+            return springEnergy(at(g), k);
+        }
+    };
+
+    void setForcesAt(const Spring& n, const Spring& s, const Spring& m, double g) {
+        pb_fn = n.at(g);
+        pb_fs = s.at(g);
+        pb_m = m.at(g);
+    }
+
+    /// The fraction g in (0, 1] of the step at which the bond's forces, moving linearly from
+    /// the last step's to the trial ones, first meet the failure criterion of the break's mode
+    /// (bisection to rounding: 60 halvings of the step; breaks are rare).
+    double failureFraction(const Spring& n, const Spring& s, const Spring& m, bool tension) {
+        double lo = 0.0, hi = 1.0;
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            setForcesAt(n, s, m, mid);
+            bondStresses();
+            const bool failed = tension ? pb_sigma > 0.0 && pb_sigma >= pb_ten
+                                        : pb_tau > 0.0 && pb_tau >= shearStrength();
+            (failed ? hi : lo) = mid;
+        }
+        return hi;
+    }
+
     void fdlaw(FdBlock& fd) {
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
         const LinOut lin = linearPart(fd);
         double released = 0.0;
+        struct {
+            double n = 0.0, s = 0.0, m = 0.0;
+        } corner;  // the bond's corners [N, N, N m]: onset (bond at touch), break (crossing)
         if (isBonded()) {
             if (bond_fresh_) {
                 // Bonded at the geometry the host saw last (this call's u_n): no increment.
                 bond_fresh_ = false;
                 pb_fn = pb_fs = pb_m = 0.0;
+                // A bond made at touch (a rule with bonded = 1: this is the contact's first
+                // call) has forces that ramp from zero at this step: the scheme's window of this
+                // step's (zero) force misses their integral over its second half, k du / 8 as a
+                // force over the step (talus/sdk/corners.hpp, springOnsetCorrection with the
+                // touch at the step; cbond pays its onset corner likewise). Not for a bond set
+                // on an existing contact (m:bond): the step of that call was sized without the
+                // bond, and the bodies are at rest there as a rule.
+                if (fd.flags & kFdFirstCall) {
+                    corner.n = 0.125 * kbn_ * fd.du_n;
+                    corner.s = -0.125 * kbs_ * fd.du_s;
+                    corner.m = -0.125 * kbr_ * fd.dtheta;
+                }
             } else {
                 const double fn_old = pb_fn, fs_old = pb_fs, m_old = pb_m;
                 pb_fn += kbn_ * fd.du_n;
@@ -326,12 +387,29 @@ public:
                 const bool tension = pb_sigma > 0.0 && pb_sigma >= pb_ten;
                 const bool shear = !tension && pb_tau > 0.0 && pb_tau >= shearStrength();
                 if (tension || shear) {
-                    // The bond material goes with its force, moment and stiffness. The trial
-                    // forces of this step were never applied: released closes the leapfrog
-                    // balance (header comment; cbond's rule), zero for a bond made and broken
-                    // in one step.
-                    released = crossEnergy(fn_old, pb_fn, kbn_) + crossEnergy(fs_old, pb_fs, kbs_) +
-                               crossEnergy(m_old, pb_m, kbr_);
+                    const Spring n{fn_old, pb_fn, kbn_}, s{fs_old, pb_fs, kbs_},
+                        m{m_old, pb_m, kbr_};
+                    // Where inside the step the bond failed, on the straight path from the last
+                    // step's forces to the trial ones, and its stresses there: the stresses at
+                    // failure (pb_sigma, pb_tau and the bond_break event).
+                    const double g = failureFraction(n, s, m, tension);
+                    setForcesAt(n, s, m, g);
+                    bondStresses();
+                    fd.flags |= kFdBreakStress;
+                    fd.reserved[0] = pb_sigma;
+                    fd.reserved[1] = pb_tau;
+                    // The bond material goes with its force, moment and stiffness. Per spring
+                    // (the work of the three splits exactly, docs/models/pbond.md "Energies"):
+                    // one whose force kept its sign releases F_old F_trial / (2k), what closes
+                    // the leapfrog balance without touching the dynamics (cbond's rule; zero for
+                    // a bond made and broken in one step). One whose force changed sign inside
+                    // the step (the crossing: a stiff or weak bond, or a coarse step, goes from
+                    // compression through its whole tensile range) would book a negative release,
+                    // energy the scheme really gave the bodies (0.7% of an impact at resolution
+                    // 10, pbond_crossing.lua). It gets the corner of its force ramp up to the
+                    // failure instead, and releases what it held at the failure, F(g)^2 / (2k).
+                    released =
+                        n.released(g, corner.n) + s.released(g, corner.s) + m.released(g, corner.m);
                     bonded = 0.0;
                     pb_state = tension ? kBrokenTension : kBrokenShear;
                     pb_fn = pb_fs = pb_m = 0.0;
@@ -341,9 +419,11 @@ public:
             }
             if (isBonded()) bondStresses();
         }
-        fd.n_force = lin.fn + pb_fn;
-        fd.s_force = lin.fs + pb_fs;
-        fd.moment = pb_m;
+        // The break corner is paid on the breaking step itself: its force window starts half a
+        // step after the last one the bond's force was applied at.
+        fd.n_force = lin.fn + pb_fn + corner.n;
+        fd.s_force = lin.fs + pb_fs + corner.s;
+        fd.moment = pb_m + corner.m;
         const bool b = isBonded();
         // The time step sees the bond's springs beside the linear ones (PFC adds k_n A, k_s A,
         // k_n I); the dashpot factor is applied to the sum, which over-estimates (safe): the

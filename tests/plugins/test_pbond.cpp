@@ -33,8 +33,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// "Unbreakable": the host refuses an infinite value for a property in Pa (props.cpp), so a
-// strength out of reach is given as 1e300 Pa.
+// A strength out of reach (tests that predate inf strengths; pb_ten = inf is tested below).
 constexpr double kHuge = 1e300;
 // The inputs of bodies-bonds-rockfall.md 1.5.
 constexpr double kEbar = 62e9, kRatio = 2.5, kStrength = 157e6;
@@ -256,6 +255,42 @@ TEST_CASE("pbond: P4, Mohr-Coulomb shear strength under compression and its tens
 
 // ============================================================================ energies
 
+TEST_CASE("pbond: a break crossing the tensile range in one step: corner, release at failure",
+          "[pbond]") {
+    // Bonded at u = 0 (A = 2e-3 m^2, kbn = pb_kn A = 6e10 N/m, no linear part), compressed by
+    // 1e-9 m (F_old = 60 N), then opened by 1e-8 m in one step: the trial force is -540 N, past
+    // pb_ten A = 2 N. The failure is where F(g) = -2 N: g = 62/600. Owed on this step is the
+    // ramp's integral from dt/2 to g dt, F_old (g - 1/2) + (F_t - F_old)(g^2 - 1/4)/2, and
+    // released is what the spring held there, 2^2 / (2 kbn); the event's sigma is pb_ten.
+    // Tolerances: g by bisection to 2^-60, so 1e-12 relative on forces and energies.
+    const double ten = 1e3, A = 2e-3, kbn = 3e13 * A;
+    LawDriver drv(
+        "pbond",
+        {{"pb_kn", 3e13}, {"pb_ks", 1e13}, {"pb_ten", ten}, {"pb_coh", 1e8}, {"bonded", 1.0}}, true,
+        1e-3, 2e-3, 1e-3);
+    ContactModel* c = drv.clone();
+    FdBlock fd = drv.block(0.0, 0.0, 0.0, kDt, nullptr);
+    c->FDlaw(fd);
+    FdBlock f1 = drv.block(1e-9, 1e-9 / kDt, 0.0, kDt, &fd);
+    c->FDlaw(f1);
+    REQUIRE(!(f1.flags & kFdBroken));
+    CHECK(relErr(f1.n_force, kbn * 1e-9) < 1e-12);
+    FdBlock f2 = drv.block(-9e-9, -1e-8 / kDt, 0.0, kDt, &f1);
+    c->FDlaw(f2);
+    REQUIRE((f2.flags & kFdBroken) != 0);
+    CHECK(f2.break_mode == kBreakTension);
+    const double f_old = kbn * 1e-9, f_t = f_old - kbn * 1e-8, f_g = -ten * A;
+    const double g = (f_old - f_g) / (f_old - f_t);
+    const double corner = f_old * (g - 0.5) + 0.5 * (f_t - f_old) * (g * g - 0.25);
+    CHECK(relErr(f2.n_force, corner) < 1e-12);
+    CHECK(relErr(f2.energy[kEnergyReleased], f_g * f_g / (2.0 * kbn)) < 1e-12);
+    CHECK(f2.energy[kEnergyReleased] > 0.0);  // F_old F_trial / 2k would be -2.7e-8 J
+    CHECK((f2.flags & kFdBreakStress) != 0);
+    CHECK(relErr(f2.reserved[0], ten) < 1e-12);
+    CHECK(f2.reserved[1] == 0.0);
+    CHECK(relErr(propOf(*c, "pb_sigma"), ten) < 1e-12);
+}
+
 TEST_CASE(
     "pbond: combined loading stores exactly the work put in, a break releases F_old F_trial / 2k",
     "[pbond]") {
@@ -329,8 +364,12 @@ TEST_CASE("pbond: bad input is refused, naming the property", "[pbond]") {
     CHECK_THAT(modelError("pbond", {{"pb_state", 3.0}}), Contains("read-only"));
     CHECK_THAT(modelError("pbond", {{"pb_emod", 1e9}}), Contains("pb_kratio"));
     CHECK_THAT(modelError("pbond", {{"emod", 1e9}}), Contains("kratio"));
-    // An unbreakable bond is a strength out of reach; inf is refused for a stress (host rule).
-    CHECK_THAT(modelError("pbond", {{"pb_ten", kInf}}), Contains("pb_ten"));
+    // An unbreakable bond: +inf strengths pass the host (props.cpp lets +inf through for a
+    // stress) and pbond accepts them; -inf is no stress, and a modulus in Pa stays finite.
+    CHECK(modelError("pbond", {{"pb_ten", kInf}, {"pb_coh", kInf}}).empty());
+    CHECK_THAT(modelError("pbond", {{"pb_ten", -kInf}}), Contains("pb_ten"));
+    CHECK_THAT(modelError("pbond", {{"pb_emod", kInf}}), Contains("pb_emod"));
+    CHECK_THAT(modelError("pbond", {{"emod", kInf}}), Contains("emod"));
     CHECK(modelError("pbond", {{"pb_ten", kHuge}, {"pb_coh", kHuge}}).empty());
     CHECK(modelError("pbond", {{"kn", 1e8}, {"pb_kn", 1e12}, {"bonded", 1.0}}).empty());
 }

@@ -62,8 +62,11 @@ local models = {
     power = { kn = 1e6, ks = 1e6, fric = 0.5, exponent = 2 },
     cbond = { kn = 1e6, ks = 1e6, fric = 0.5 },
     ng = { ng_shear = 1e8, ng_poiss = 0.3, fric = 0.5 },
+    -- Bonded at touch (the bond contract's rule form), so the bond's properties are exercised.
+    pbond = { kn = 1e6, ks = 1e6, fric = 0.5, pb_kn = 1e8, pb_ks = 1e8, pb_ten = 1e5, pb_coh = 1e5,
+              bonded = 1 },
 }
-local model_names = { "linear", "hertz", "hysdamp", "power", "cbond", "ng" }
+local model_names = { "linear", "hertz", "hysdamp", "power", "cbond", "ng", "pbond" }
 
 local function copy(t)
     local o = {}

@@ -277,6 +277,10 @@ struct Event {
     ContactKey contact;
     int32_t mode = 0;  ///< BreakMode for bond breaks
     std::string model;
+    /// Bond breaks: the bond's peak normal stress (tension +) and shear stress at failure
+    /// [Pa], when the model reports them (kFdBreakStress); NaN otherwise.
+    double sigma = std::numeric_limits<double>::quiet_NaN();
+    double tau = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// A read-only view of one contact, for queries.
@@ -595,7 +599,7 @@ private:
     bool handOverWallContact(std::size_t index);
     bool adoptWallContact(std::size_t index);
     void swapPairState(std::size_t i, std::size_t j);
-    void queueBreak(std::size_t index, const Vec2& point, int32_t mode);
+    void queueBreak(std::size_t index, const Vec2& point, const FdBlock& fd);
     void noteDeepest(const Pair& p, PairCold& c, double force, double rate_after);
     [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
     [[noreturn]] void findNonFiniteContact() const;

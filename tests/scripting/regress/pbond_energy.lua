@@ -8,7 +8,12 @@
 -- impact with dashpots 6.3e-5 (the leapfrog's own bounded term, up to F^2 dt^2 / (8 m*) at the
 -- bond's peak force, and the dashpots' corners). Bounds 1e-5 and 2e-4. Booking the trial
 -- force's energy F_trial^2 / 2k as released instead (the defect cbond had, issue 6) misses by
--- F_trial (F_trial - F_old) / 2k, here 1e-3 of the input and more: these bounds catch it.
+-- F_trial (F_trial - F_old) / 2k, here 1e-3 of the input and more: the 1e-5 bounds catch it.
+-- The impact bonds at touch (a rule with bonded = 1), and since the crossing fix (pbond_crossing
+-- .lua) such a bond pays the onset corner of its force ramp, k du / 8 on its first step; the
+-- trapezoidal balance does not see that impulse correction (as for `linear`'s corners), so the
+-- impact measures 1.47e-3 (1.7e-3 without dashpots at the default resolution, 1.7e-5 at
+-- resolution 300: second order). Bound 3e-3.
 local T = require("testlib")
 
 local R, RHO = 0.01, 2600
@@ -111,7 +116,7 @@ do
     m:contact_model("pbond", bondProps{ kn = 1e9, ks = 5e8, dp_nratio = 0.3, dp_sratio = 0.2 })
     m:wall{ points = {{-1, 0}, {1, 0}} }
     m:ball{ pos = {0, R + 1e-4}, radius = R, density = RHO, vel = {0.2, -1.0} }
-    local e = run(m, "impact", "tension", 2e-4)
+    local e = run(m, "impact", "tension", 3e-3)
     T.check(e.dashpot > 0, "the dashpots dissipate")
 end
 
