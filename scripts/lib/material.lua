@@ -261,7 +261,7 @@ function M.genesis(opts)
     local ratio = opts.ratio or 1e-3
     local tol = opts.tolerance or 0.1
     local stages = opts.stages or 8
-    local max_steps = opts.max_steps or 10000
+    local max_steps = opts.max_steps or 3000
     local min_contacts = opts.min_contacts or 3
     local say = opts.verbose and print or function() end
     if not (rmin > 0 and rmax >= rmin) then error("material.genesis: need 0 < rmin <= rmax", 2) end
@@ -787,7 +787,7 @@ local function load_platens(sp, opts, measure)
     local every = opts.every or 50
     local post = opts.post_peak or 0.8
     local ramp = opts.ramp_steps or 2000
-    local max_steps = opts.max_steps or 100000
+    local max_steps = opts.max_steps or 30000
     local v = opts.velocity
     local h0 = -wall_pos(sp.top) - wall_pos(sp.bottom)
     if not v then
@@ -889,7 +889,8 @@ function M.compress(sp, opts)
         sp.left.len, sp.right.len = hlen, hlen
         sp.left.target, sp.right.target = opts.confinement, opts.confinement
         local rmean = 0.5 * ((sp.packing.rmin or 1e-3) + (sp.packing.rmax or 1e-3))
-        sv = servo(m, { sp.left, sp.right }, { kn = sp.mat.kn, rmean = rmean,
+        -- PFC's alpha 0.5 (the confinement is MPa, far from losing contact as at genesis)
+        sv = servo(m, { sp.left, sp.right }, { kn = sp.mat.kn, rmean = rmean, alpha = opts.alpha or 0.5,
             vmax = 1e-3 * rmean / m:dt(), lua = opts.lua_servo })
         -- bring the sides to the confinement first (platens held)
         for _ = 1, 200 do
