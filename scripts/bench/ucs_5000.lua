@@ -3,10 +3,10 @@
 -- ucs_5000.lua: timing of the UCS workflow on a ~5000-ball bonded specimen, per phase
 -- (issue 9 "Speed"; docs/benchmarks.md "UCS"). One process, one core.
 --
---   talus run scripts/bench/ucs_5000.lua [outdir]
+--   talus run scripts/bench/ucs_5000.lua [outdir] [width] [height]
 --
--- Specimen 63.4 x 126.8 mm... is 16k balls; this one is 40 x 80 mm with R 0.5-0.83 mm
--- (about 1900 balls per 40 x 40 mm), i.e. ~5000 balls at the target porosity.
+-- R 0.5-0.83 mm, about 470 balls per 20 x 40 mm: width 0.065 m, height 0.13 m gives ~5000
+-- balls (the defaults, 32.5 x 65 mm, ~1200 balls, are a quicker check).
 local M = require("material")
 local outdir = arg[1] or "out"
 talus.mkdir(outdir)
