@@ -833,7 +833,13 @@ local function load_platens(sp, opts, measure)
         m:cycle(every)
         local r = row()
         if r.sa > peak then peak, ipeak = r.sa, #rows end
-        if #rows > ipeak and r.sa < post * peak and peak > 0 then stop_reason = "post_peak"; break end
+        -- post-peak stop only once bonds broke: before the platens touch, a noise "peak" of a
+        -- fraction of a newton followed by a smaller value would stop the test (seen on a
+        -- Brazilian disk whose platens start at the ball extent, not pressed)
+        local failing = (breaks.tension + breaks.shear > 0) or (sp.bonds or 0) == 0
+        if failing and #rows > ipeak and r.sa < post * peak and peak > 0 then
+            stop_reason = "post_peak"; break
+        end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
         if m:step() - s0 >= max_steps then break end
     end
