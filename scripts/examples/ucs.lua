@@ -3,7 +3,7 @@
 -- ucs.lua: make a bonded specimen (P&C 2004 genesis), crush it between platens, print UCS,
 -- E and Poisson's ratio, write the history CSV and a stress-strain plot (docs/material.md).
 --
---   talus run scripts/examples/ucs.lua [outdir] [seed]        (about 20 s of CPU)
+--   talus run scripts/examples/ucs.lua [outdir] [seed]        (about 8 s of CPU)
 --
 -- Material: thesis A appendix B's contact-bond micro-properties (kn 6.4e10 N/m, ks 9.6e9 N/m,
 -- fric 0.5, density 2600, shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470
@@ -42,5 +42,5 @@ local src = debug.getinfo(1, "S").source:sub(2)
 local tool = (src:match("^(.*)/examples/[^/]*$") or "scripts") .. "/plot_history.py"
 local png = outdir .. "/ucs_stress_strain.png"
 local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 'stress_axial [Pa]' "
-    .. "--title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
+    .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
 if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
