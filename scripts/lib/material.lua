@@ -242,11 +242,12 @@ end
 
 --- P&C 2004 genesis (bodies-bonds-rockfall.md 2.1): balls with radii uniform in [rmin, rmax]
 --- are placed without overlap at half size in a box of width x height, expanded in stages to
---- the radii that give the target porosity, brought to an isotropic stress `stress` by four
---- servo walls with zero friction, and cleared of floaters (balls with fewer than `min_contacts`
---- contacts, deleted). Returns a packing: { balls = {{x, y, r}, ...}, box = {xmin, ymin, xmax,
+--- the radii that give the target porosity, brought to an isotropic stress `stress` by uniform
+--- radius scaling and then four servo walls, with zero friction, and cleared of floaters (balls
+--- with fewer than `min_contacts` contacts: enlarged `floater_passes` times, then deleted;
+--- docs/material.md). Returns a packing: { balls = {{x, y, r}, ...}, box = {xmin, ymin, xmax,
 --- ymax} (the walls' final positions), porosity, stress = {left, right, bottom, top} (Pa),
---- floaters, steps, timing = {place, expand, stress, floaters} (s of CPU), opts }.
+--- floaters (enlargements), deleted, steps, timing = {place, expand, stress, floaters} (CPU s) }.
 function M.genesis(opts)
     check_known(opts, set_of { "width", "height", "rmin", "rmax", "porosity", "density", "kn",
         "ks", "seed", "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts",
@@ -775,8 +776,8 @@ end
 -- History columns: names with units for scripts/plot_history.py.
 M.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_lateral",
     "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
-    "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_boundary [J]",
-    "energy_kinetic [J]" }
+    "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
+    "energy_boundary [J]", "energy_kinetic [J]" }
 
 -- Shared platen loading loop of the UCS, biaxial and Brazilian tests. Platens move toward
 -- each other at +-v/2 each... (velocity of each platen = v), ramped linearly over ramp_steps
@@ -818,6 +819,7 @@ local function load_platens(sp, opts, measure)
             r["energy_bond [J]"], r["energy_strain [J]"] = e.bond, e.strain
             r["energy_released [J]"], r["energy_slip [J]"] = e.released, e.slip
             r["energy_boundary [J]"], r["energy_kinetic [J]"] = e.boundary, e.kinetic
+            r["energy_damping [J]"] = e.damping
         end
         r.strain_axial, r["stress_axial [Pa]"] = r.ea, r.sa
         r.strain_lateral, r["stress_lateral [Pa]"] = r.el, r.sl
