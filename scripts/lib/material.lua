@@ -673,18 +673,25 @@ function M.install_bonds(m, mat, gap)
         return m:bond{ model = model, props = props, group = "rock", gap = gap, seed = mat.seed or 1,
                        reset = mat.reset ~= false }
     end
-    if model ~= "cbond" then
-        error("material: installing '" .. model .. "' bonds needs m:bond (issue 9); this build has "
-            .. "only the cbond stand-in", 3)
+    -- stand-in: every existing ball-ball contact is re-made by a bonding rule (cbond's
+    -- cb_bond = 1, or `bonded = 1` of a bond model that has it, e.g. pbond); a contact made by
+    -- the rule is bonded on its first FDlaw (cbond: within cb_gap; others: in overlap only).
+    local info = talus.contact_model_info(model)
+    local has = {}
+    for _, pr in ipairs(info.properties) do has[pr.name] = true end
+    if model ~= "cbond" and not has.bonded then
+        error("material: installing '" .. model .. "' bonds needs m:bond (issue 9) or a model with "
+            .. "a settable 'bonded' property", 3)
     end
-    -- stand-in: every existing ball-ball contact is re-made by the cbond rule; a contact made
-    -- by the rule on its first FDlaw is bonded when within cb_gap.
     local _, draw = drawer(mat.seed or 1)
     local fixed, drawn = {}, {}
     for k, v in pairs(bond) do
         if type(v) == "table" then drawn[k] = v else fixed[k] = v end
     end
-    local rule = { cb_bond = 1, cb_gap = gap }
+    -- a deformability form (emod) replaces kn/ks: do not pass both
+    if bond.emod then base.kn, base.ks = nil, nil end
+    local rule = model == "cbond" and { cb_bond = 1, cb_gap = gap } or { bonded = 1 }
+    if has.lin_mode then rule.lin_mode = 1 end -- incremental: PFC practice for bonded specimens
     for k, v in pairs(base) do rule[k] = v end
     for k, v in pairs(fixed) do rule[k] = v end
     for k, v in pairs(drawn) do rule[k] = v.mean end
@@ -694,17 +701,18 @@ function M.install_bonds(m, mat, gap)
         saved[#saved + 1] = { pos = b.pos, radius = b.radius, density = b.density }
         b:delete()
     end
-    m:contact_model("cbond", rule, { groups = { "rock", "rock" } })
+    m:contact_model(model, rule, { groups = { "rock", "rock" } })
     for _, o in ipairs(saved) do
         m:ball{ pos = o.pos, radius = o.radius, density = o.density, group = "rock" }
     end
     m:cycle(1)
-    local off = { cb_bond = 0 }
-    for k, v in pairs(base) do off[k] = v end
-    m:contact_model("cbond", off, { groups = { "rock", "rock" } })
+    local off = {}
+    for k, v in pairs(rule) do off[k] = v end
+    if model == "cbond" then off.cb_bond = 0 else off.bonded = 0 end
+    m:contact_model(model, off, { groups = { "rock", "rock" } })
     local n = 0
     -- contacts in creation order (deterministic), strengths drawn per contact
-    for c in m:contacts{ model = "cbond" } do
+    for c in m:contacts{ model = model } do
         if c:prop("bonded") == 1 then
             n = n + 1
             for k, v in pairs(drawn) do c:set_prop(k, draw(v)) end
