@@ -4,7 +4,7 @@
 -- REMEMBERED in bodies-bonds-rockfall.md 2.4): UCS, E, nu and Brazilian tensile strength over
 -- seeds, with their scatter (docs/material.md, "Lac du Bonnet").
 --
---   talus run scripts/examples/ldb_pbond.lua [outdir] [nseeds] [scale]
+--   talus run scripts/examples/ldb_pbond.lua [outdir] [nseeds] [scale] [first_seed]
 --
 -- Needs the pbond plugin and m:bond (issue 9 parts A and B). scale < 1 shrinks the specimen
 -- (0.5: 15.9 x 31.7 mm, ~1000 balls) when time is short: P&C note that the ball size is not a
@@ -14,6 +14,7 @@ local M = require("material")
 local outdir = arg[1] or "out"
 local n = tonumber(arg[2] or "5")
 local scale = tonumber(arg[3] or "1")
+local first = tonumber(arg[4] or "1") - 1 -- seeds first .. first + nseeds - 1
 talus.mkdir(outdir)
 local E, kratio = 62e9, 2.5
 local mat = {
@@ -28,7 +29,8 @@ local function genesis(w, h, seed)
     return M.genesis{ width = w, height = h, rmin = 0.27e-3, rmax = 1.66 * 0.27e-3, porosity = 0.16,
                       kn = E, ks = E / kratio, density = 2630, seed = seed }
 end
-local res = talus.map(n, function(i)
+local res = talus.map(n, function(k)
+    local i = first + k
     local pk = genesis(0.0317 * scale, 0.0634 * scale, i)
     local m = {}
     for k, v in pairs(mat) do m[k] = v end
@@ -54,4 +56,4 @@ end
 local u, su = stats("ucs"); local e, se = stats("E"); local nu, snu = stats("nu"); local t, st = stats("tensile")
 print(string.format("mean +- sd (%d seeds): UCS %.1f +- %.1f MPa, E %.1f +- %.1f GPa, nu %.3f +- %.3f, sigma_t %.2f +- %.2f MPa",
     #res, u / 1e6, su / 1e6, e / 1e9, se / 1e9, nu, snu, t / 1e6, st / 1e6))
-M.write_csv(outdir .. "/ldb_seeds.csv", res, { "seed", "balls", "porosity", "ucs", "E", "nu", "tensile", "ratio" })
+M.write_csv(outdir .. "/ldb_seeds_" .. (first + 1) .. ".csv", res, { "seed", "balls", "porosity", "ucs", "E", "nu", "tensile", "ratio" })

@@ -381,6 +381,7 @@ function M.genesis(opts)
     end
     local ss = m:step()
     local scale_iter = 0
+    local zero_runs = 0
     local function scale_to_stress()
     for it = 1, 25 do
         local sig = mean_stress()
@@ -403,8 +404,13 @@ function M.genesis(opts)
             eps = rel * (1 - sigma0 / sig)
             eps = math.max(-2e-4, math.min(eps, 0.95 * rel))
         else
-            eps = -1e-5 -- no stress: grow by 1e-5 (overlap/d ~ 1e-5 is ~1 MPa at kn ~ 1e11)
+            -- no stress (the packing lost contact with the walls, e.g. after floaters were
+            -- deleted): grow by 1e-6, doubling while nothing touches (overlap/d ~ 1e-5 is ~1 MPa
+            -- at kn ~ 1e11); a fixed 1e-5 per scaling left an LdB packing (seed 5) stress-free
+            zero_runs = zero_runs + 1
+            eps = -1e-6 * 2 ^ (zero_runs - 1)
         end
+        if sig > 0 and nc > 0 then zero_runs = 0 end
         local f = 1 - eps
         say(string.format("genesis: scaling %d: stress %.4g Pa, mean overlap/d %.3g, radius factor %.6f",
             it, sig, rel, f))
