@@ -1,0 +1,46 @@
+-- SPDX-License-Identifier: MIT
+--
+-- ucs.lua: make a bonded specimen (P&C 2004 genesis), crush it between platens, print UCS,
+-- E and Poisson's ratio, write the history CSV and a stress-strain plot (docs/material.md).
+--
+--   talus run scripts/examples/ucs.lua [outdir] [seed]        (about 8 s of CPU)
+--
+-- Material: thesis A appendix B's contact-bond micro-properties (kn 6.4e10 N/m, ks 9.6e9 N/m,
+-- fric 0.5, density 2600, shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470
+-- balls (R 0.5-0.83 mm). A contact bond's strength is a force, so the UCS scales as strength /
+-- ball size in 2D; the normal strength here, 4.6e4 N, is the one that gives about 40 MPa at this
+-- ball size (docs/material.md, "Berea").
+
+local M = require("material")
+local outdir = arg[1] or "out"
+local seed = tonumber(arg[2] or "1")
+talus.mkdir(outdir)
+
+local t0 = os.clock()
+local pk = M.genesis{ width = 0.02, height = 0.04, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                      kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
+M.save_packing(pk, outdir .. "/ucs_packing.lua") -- reuse: M.load_packing(file)
+local t_gen = os.clock() - t0
+print(string.format("genesis: %d balls, porosity %.3f, %d floaters enlarged, %d deleted, %.1f s",
+    #pk.balls, pk.porosity, pk.floaters, pk.deleted, t_gen))
+
+t0 = os.clock()
+local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
+                            bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 }, seed = seed })
+print(string.format("specimen: %d bonds, relaxed in %d steps, %.1f s", sp.bonds, sp.relax_steps,
+    os.clock() - t0))
+
+local csv = outdir .. "/ucs_history.csv"
+local r = M.compress(sp, { post_peak = 0.8, csv = csv })
+print(string.format("UCS %.2f MPa   E %.2f GPa (tangent at 50%% of peak; secant E50 %.2f GPa)   nu %.3f",
+    r.ucs / 1e6, r.E / 1e9, r.E50 / 1e9, r.nu))
+print(string.format("peak axial strain %.4g, strain rate %.3g 1/s, %d steps, breaks: %d tension, %d shear, %.1f s",
+    r.peak_strain, r.rate, r.steps, r.breaks.tension, r.breaks.shear, r.time))
+
+-- the plot, with the project's plot tool (needs python3-matplotlib)
+local src = debug.getinfo(1, "S").source:sub(2)
+local tool = (src:match("^(.*)/examples/[^/]*$") or "scripts") .. "/plot_history.py"
+local png = outdir .. "/ucs_stress_strain.png"
+local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 'stress_axial [Pa]' "
+    .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
+if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end

@@ -1,0 +1,991 @@
+-- SPDX-License-Identifier: MIT
+--
+-- material.lua: bonded-particle rock specimens and their laboratory tests (issue 9;
+-- bodies-bonds-rockfall.md section 2; docs/material.md).
+--
+--   local M = require("material")
+--   local pk = M.genesis{ width = 0.0317, height = 0.0634, rmin = 0.27e-3, rmax = 0.448e-3,
+--                         porosity = 0.16, kn = 62e9, ks = 62e9 / 2.5, seed = 1 }
+--   local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5,
+--                               density = 2600, bond = { cb_tenf = 1e9, cb_shearf = 1e10 } })
+--   local r = M.compress(sp, { post_peak = 0.8, csv = "out/ucs.csv" })
+--   print(r.ucs, r.E, r.nu)
+--
+-- Pieces:
+--   M.genesis{...}            P&C 2004 genesis in a frictionless four-wall vessel; returns a
+--                             packing (plain table: the specimen, without a model)
+--   M.save_packing / M.load_packing   the packing as a Lua file (reused by calibration loops)
+--   M.specimen(pk, mat, opts) a model with the packing's balls, platens (and side walls), bonds
+--                             installed and relaxed
+--   M.compress(sp, opts)      UCS test (no side walls) or biaxial test (opts.confinement)
+--   M.disk(pk) / M.brazilian(sp, opts)   Brazilian test on a disk cut from a packing
+--   M.analyse(rows, peak)     E (tangent at 50% of peak), secant E50, nu, from a history
+--   M.write_csv(file, rows, cols)
+--
+-- Sign conventions: axial stress and strain are compression positive; lateral strain is
+-- extension positive, so nu = d(eps_lat)/d(eps_ax) is positive. 2D: unit thickness (t = 1 m),
+-- E and nu are those of the disk assembly (plane stress in PFC2D's sense, section 2.2).
+--
+-- The engine features of issue 9 (m:bond, w:servo, m:solve{ratio}, m:unbalanced) are used when
+-- the build has them; until then small Lua stand-ins below do the same job (feature() picks).
+
+local M = {}
+
+-- ------------------------------------------------------------------ helpers
+
+-- Whether the model (or wall) userdata has a method: an unknown name is an error in the
+-- bindings, so probe with pcall.
+local function feature(obj, name)
+    local ok, v = pcall(function() return obj[name] end)
+    return ok and v ~= nil
+end
+M.feature = feature
+
+local function clock() return os.clock() end
+
+local function req(opts, key, where)
+    local v = opts[key]
+    if v == nil then error(string.format("material.%s: option '%s' is required", where, key), 3) end
+    return v
+end
+
+local function check_known(opts, known, where)
+    for k in pairs(opts) do
+        if not known[k] then
+            local names = {}
+            for n in pairs(known) do names[#names + 1] = n end
+            table.sort(names)
+            error(string.format("material.%s: unknown option '%s' (known: %s)", where, tostring(k),
+                table.concat(names, ", ")), 3)
+        end
+    end
+end
+
+local function set_of(list)
+    local s = {}
+    for _, v in ipairs(list) do s[v] = true end
+    return s
+end
+
+-- A value drawn from {mean =, sd =, dist = "normal"|"uniform"} (or a plain number), with a
+-- private generator so that draws do not depend on other users of math.random.
+-- Normal: Box-Muller, truncated at zero by redrawing (the wave-9 contract of m:bond).
+-- Uniform: mean +- sd sqrt(3) (that interval has standard deviation sd).
+local function drawer(seed)
+    -- xorshift64*: own small generator, deterministic for a seed on every platform
+    local s = (seed or 1) * 0x9E3779B97F4A7C15 ~ 0x2545F4914F6CDD1D
+    if s == 0 then s = 1 end
+    local function u01()
+        s = s ~ (s >> 12); s = s ~ (s << 25); s = s ~ (s >> 27)
+        local x = (s * 0x2545F4914F6CDD1D) >> 11
+        return (x + 0.5) / 9007199254740992.0
+    end
+    local function draw(spec)
+        if type(spec) ~= "table" then return spec end
+        local mean, sd = spec.mean, spec.sd or 0
+        if sd == 0 then return mean end
+        if spec.dist == "uniform" then
+            return mean + sd * math.sqrt(3) * (2 * u01() - 1)
+        end
+        for _ = 1, 1000 do
+            local v = mean + sd * math.sqrt(-2 * math.log(u01())) * math.cos(2 * math.pi * u01())
+            if v > 0 then return v end
+        end
+        error("material: cannot draw a positive value from mean " .. mean .. ", sd " .. sd)
+    end
+    return u01, draw
+end
+M.drawer = drawer
+
+-- ------------------------------------------------------------------ equilibrium
+
+-- PFC's ratio: mean unbalanced force over balls / mean contact force over contacts.
+local function unbalanced_ratio(m)
+    if feature(m, "unbalanced") then return m:unbalanced().ratio end
+    local fu, nb = 0, 0
+    for b in m:balls() do
+        local f = b.force
+        fu = fu + math.sqrt(f[1] * f[1] + f[2] * f[2]); nb = nb + 1
+    end
+    local fc, nc = 0, 0
+    for c in m:contacts{} do
+        local fn = c.normal_force
+        if fn ~= 0 then fc = fc + math.abs(fn); nc = nc + 1 end
+    end
+    if nb == 0 or nc == 0 or fc == 0 then return 0 end
+    return (fu / nb) / (fc / nc)
+end
+M.unbalanced_ratio = unbalanced_ratio
+
+-- Cycles until the ratio is below `ratio` (or max_steps). Returns steps taken, final ratio.
+local function solve_ratio(m, ratio, max_steps, chunk)
+    local s0 = m:step()
+    if feature(m, "unbalanced") and feature(m, "solve") then
+        local ok = pcall(m.solve, m, { ratio = ratio, max_steps = max_steps })
+        if ok then return m:step() - s0, m:unbalanced().ratio end
+    end
+    chunk = chunk or 200
+    local r = math.huge
+    while m:step() - s0 < max_steps do
+        m:cycle(math.min(chunk, max_steps - (m:step() - s0)))
+        r = unbalanced_ratio(m)
+        if r <= ratio then break end
+    end
+    return m:step() - s0, r
+end
+M.solve_ratio = solve_ratio
+
+-- ------------------------------------------------------------------ walls and servo
+
+-- A straight wall through `a`-`b` whose inward normal is `n`; the record keeps what the servo
+-- and the measurements need.
+local function make_wall(m, a, b, n, group, props)
+    local o = { points = { a, b }, group = group }
+    for k, v in pairs(props or {}) do o[k] = v end
+    local w = m:wall(o)
+    return { wall = w, n = n }
+end
+
+-- Position of a wall along its inward normal (signed distance of its line from the origin).
+local function wall_pos(rec)
+    local p = rec.wall.points[1]
+    return p[1] * rec.n[1] + p[2] * rec.n[2]
+end
+
+-- Compressive force on a wall: the balls push it against its inward normal.
+local function wall_push(rec)
+    local f = rec.wall.force
+    return -(f[1] * rec.n[1] + f[2] * rec.n[2])
+end
+
+-- Lua stand-in for PFC's wall servo (used until w:servo exists): every `every` steps each wall
+-- gets the velocity v = G (sigma_target - sigma) along its inward normal, G = alpha L /
+-- (k_sum dt every) (PFC's gain, stress form, divided by the update period because the
+-- velocity is held for `every` steps), k_sum = the stiffness of the wall's contacts estimated
+-- as kn per ball diameter of wall length, |v| <= vmax. len(rec) gives the loaded length L.
+local function lua_servo(m, recs, opts)
+    local every = opts.every or 4
+    local alpha = opts.alpha or 0.05
+    local h = m:on_cycle(function()
+        local dt = m:dt()
+        for _, rec in ipairs(recs) do
+            if rec.target then
+                local L = rec.len()
+                local sigma = wall_push(rec) / L
+                local ksum = opts.kn * L / (2 * opts.rmean)
+                local g = alpha * L / (ksum * dt * every)
+                local v = g * (rec.target - sigma)
+                if v > opts.vmax then v = opts.vmax elseif v < -opts.vmax then v = -opts.vmax end
+                rec.wall.vel = { v * rec.n[1], v * rec.n[2] }
+            end
+        end
+    end, every)
+    return {
+        stop = function()
+            m:remove_on_cycle(h)
+            for _, rec in ipairs(recs) do rec.wall.vel = { 0, 0 } end
+        end,
+        update = function() end,
+    }
+end
+
+-- The engine's servo (issue 9, part C) when present; its target length is refreshed by update().
+local function native_servo(recs, opts)
+    local function arm()
+        for _, rec in ipairs(recs) do
+            if rec.target then
+                rec.wall:servo{ stress = rec.target, length = rec.len(), alpha = opts.alpha or 0.5,
+                                vmax = opts.vmax, on = true }
+            end
+        end
+    end
+    arm()
+    return {
+        stop = function()
+            for _, rec in ipairs(recs) do
+                if rec.target then rec.wall:servo{ on = false } end
+                rec.wall.vel = { 0, 0 }
+            end
+        end,
+        update = arm,
+    }
+end
+
+local function servo(m, recs, opts)
+    if not opts.lua and feature(recs[1].wall, "servo") then return native_servo(recs, opts) end
+    return lua_servo(m, recs, opts)
+end
+M.servo = servo
+
+-- ------------------------------------------------------------------ genesis
+
+--- A model set up for quasi-static work: the stability rule alone sets the step (the
+--- resolution rule is for impacts, docs/models/cbond.md "Time-step contract"), PFC local
+--- damping (P&C: 0.7), the impact guards off (no impacts are resolved here), and the placement
+--- warnings of radius expansion kept quiet unless verbose.
+function M.new_model(damp, verbose)
+    local m = talus.model{}
+    m:timestep{ resolution = 0 }
+    m:damping{ damp = damp or 0.7 }
+    m:guard{ energy = "off", resolution = "off" }
+    m:on_warning(function(text)
+        if verbose then io.stderr:write("warning: ", text, "\n") end
+    end)
+    return m
+end
+
+local function porosity_of(balls, w, h)
+    local a = 0
+    for _, b in ipairs(balls) do a = a + math.pi * b[3] * b[3] end
+    return 1 - a / (w * h)
+end
+
+--- P&C 2004 genesis (bodies-bonds-rockfall.md 2.1): balls with radii uniform in [rmin, rmax]
+--- are placed without overlap at half size in a box of width x height, expanded in stages to
+--- the radii that give the target porosity, brought to an isotropic stress `stress` by uniform
+--- radius scaling and then four servo walls, with zero friction, and cleared of floaters (balls
+--- with fewer than `min_contacts` contacts: enlarged `floater_passes` times, then deleted;
+--- docs/material.md). Returns a packing: { balls = {{x, y, r}, ...}, box = {xmin, ymin, xmax,
+--- ymax} (the walls' final positions), porosity, stress = {left, right, bottom, top} (Pa),
+--- floaters (enlargements), deleted, steps, timing = {place, expand, stress, floaters} (CPU s) }.
+function M.genesis(opts)
+    check_known(opts, set_of { "width", "height", "rmin", "rmax", "porosity", "density", "kn",
+        "ks", "seed", "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts",
+        "verbose", "lua_servo", "floater_passes" }, "genesis")
+    local W, H = req(opts, "width", "genesis"), req(opts, "height", "genesis")
+    local rmin, rmax = req(opts, "rmin", "genesis"), req(opts, "rmax", "genesis")
+    local n_target = opts.porosity or 0.16
+    local rho = opts.density or 2600
+    local kn = req(opts, "kn", "genesis")
+    local ks = opts.ks or kn
+    local sigma0 = opts.stress or 1e5 -- P&C: isotropic stress ~0.1 MPa
+    local ratio = opts.ratio or 1e-3
+    local tol = opts.tolerance or 0.1
+    local stages = opts.stages or 8
+    local max_steps = opts.max_steps or 3000
+    local min_contacts = opts.min_contacts or 3
+    local say = opts.verbose and print or function() end
+    if not (rmin > 0 and rmax >= rmin) then error("material.genesis: need 0 < rmin <= rmax", 2) end
+    if not (n_target > 0.08 and n_target < 0.5) then
+        error("material.genesis: porosity must be in (0.08, 0.5) for a random disk packing (got "
+            .. n_target .. ")", 2)
+    end
+    local u01 = drawer(opts.seed or 1)
+    local timing = {}
+    local t0 = clock()
+
+    -- 1. radii: draw until the balls' area reaches (1 - n) W H (P&C: the number follows from
+    -- the porosity); positions by random sequential addition at half size (area fraction
+    -- (1 - n)/4 < 0.25, far below the RSA jamming limit ~0.55, so placement never stalls).
+    local target_area = (1 - n_target) * W * H
+    local radii, area = {}, 0
+    while area < target_area do
+        local r = rmin + (rmax - rmin) * u01()
+        if area + math.pi * r * r > target_area then
+            r = math.sqrt((target_area - area) / math.pi)
+            if r < rmin then break end
+        end
+        radii[#radii + 1] = r; area = area + math.pi * r * r
+    end
+    local s = 0.5
+    local cell = 2 * rmax * s
+    local nx, ny = math.max(1, math.floor(W / cell)), math.max(1, math.floor(H / cell))
+    local grid = {}
+    local pos = {}
+    for i, r0 in ipairs(radii) do
+        local r = r0 * s
+        local placed = false
+        for _ = 1, 10000 do
+            local x = r + (W - 2 * r) * u01()
+            local y = r + (H - 2 * r) * u01()
+            local cx, cy = math.min(nx - 1, math.floor(x / W * nx)), math.min(ny - 1, math.floor(y / H * ny))
+            local ok = true
+            for gx = math.max(0, cx - 1), math.min(nx - 1, cx + 1) do
+                for gy = math.max(0, cy - 1), math.min(ny - 1, cy + 1) do
+                    local lst = grid[gy * nx + gx]
+                    if lst then
+                        for _, j in ipairs(lst) do
+                            local p = pos[j]
+                            local dx, dy = p[1] - x, p[2] - y
+                            local rr = p[3] + r
+                            if dx * dx + dy * dy < rr * rr then ok = false; break end
+                        end
+                    end
+                    if not ok then break end
+                end
+                if not ok then break end
+            end
+            if ok then
+                pos[i] = { x, y, r }
+                local key = cy * nx + cx
+                grid[key] = grid[key] or {}
+                table.insert(grid[key], i)
+                placed = true
+                break
+            end
+        end
+        if not placed then error("material.genesis: could not place ball " .. i .. " without overlap", 2) end
+    end
+    timing.place = clock() - t0
+
+    -- 2. the vessel and radius expansion, frictionless (P&C step 1)
+    t0 = clock()
+    local m = M.new_model(opts.damp, opts.verbose)
+    m:contact_model("linear", { kn = kn, ks = ks, fric = 0 })
+    local ext = 0.25 * math.max(W, H) -- walls reach past the corners so none opens as they move
+    local walls = {
+        make_wall(m, { 0, -ext }, { 0, H + ext }, { 1, 0 }, "vessel"),   -- left
+        make_wall(m, { W, -ext }, { W, H + ext }, { -1, 0 }, "vessel"),  -- right
+        make_wall(m, { -ext, 0 }, { W + ext, 0 }, { 0, 1 }, "vessel"),   -- bottom
+        make_wall(m, { -ext, H }, { W + ext, H }, { 0, -1 }, "vessel"),  -- top
+    }
+    local balls = {}
+    for i, p in ipairs(pos) do
+        balls[i] = m:ball{ pos = { p[1], p[2] }, radius = p[3], density = rho, group = "rock" }
+    end
+    local steps0 = m:step()
+    for k = 1, stages do
+        local f = s ^ (1 - k / stages) -- radius multiplier of this stage, 1 at the last
+        -- Each ball is re-created at its larger radius rather than given a new b.radius: a
+        -- radius written in place may leave the ball's broadphase box, and the engine's
+        -- kinematic time-step rule then returns a zero step (reported; engine defect).
+        for i, b in ipairs(balls) do
+            local p = b.pos
+            b:delete()
+            balls[i] = m:ball{ pos = p, radius = radii[i] * f, density = rho, group = "rock" }
+        end
+        solve_ratio(m, 1e-2, 5000)
+    end
+    say(string.format("genesis: %d balls expanded in %d steps", #balls, m:step() - steps0))
+    timing.expand = clock() - t0
+
+    -- 3. isotropic stress (P&C step 2): first the radii are scaled uniformly (P&C's way: the
+    -- overlaps, hence the stress, follow the radius change linearly while the contacts
+    -- persist), then servo walls hold the four wall stresses at sigma0. The servo alone
+    -- cannot start from the expanded state: at sigma0 = 0.1 MPa the walls' PFC gain gives
+    -- mm/s approach speeds, and walls that retreated from an over-stressed packing need
+    -- 1e5+ steps to come back (measured).
+    t0 = clock()
+    local function xlen() return wall_pos(walls[2]) * -1 - wall_pos(walls[1]) end
+    local function ylen() return wall_pos(walls[4]) * -1 - wall_pos(walls[3]) end
+    walls[1].len, walls[2].len = ylen, ylen
+    walls[3].len, walls[4].len = xlen, xlen
+    local function stresses()
+        local st = {}
+        for i, rec in ipairs(walls) do st[i] = wall_push(rec) / rec.len() end
+        return st
+    end
+    local function mean_stress()
+        local st = stresses()
+        return 0.25 * (st[1] + st[2] + st[3] + st[4])
+    end
+    local ss = m:step()
+    local scale_iter = 0
+    local zero_runs = 0
+    local function scale_to_stress()
+    for it = 1, 25 do
+        local sig = mean_stress()
+        scale_iter = it
+        if math.abs(sig - sigma0) <= 0.2 * sigma0 then break end
+        -- mean relative overlap of the ball-ball contacts
+        local rel, nc = 0, 0
+        for c in m:contacts{} do
+            local b2 = c.ball2
+            if b2 and c.overlap > 0 then
+                rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
+            end
+        end
+        rel = nc > 0 and rel / nc or 0
+        local eps
+        if sig >= 0.01 * sigma0 and nc > 0 then
+            -- radius change that scales the overlaps by sigma0/sig (the packing re-compacts
+            -- after each shrink and gives back ~60% of the stress drop; over-relaxing by 1.6
+            -- was tried and oscillated)
+            eps = rel * (1 - sigma0 / sig)
+            eps = math.max(-2e-4, math.min(eps, 0.95 * rel))
+            zero_runs = 0
+        else
+            -- (almost) no stress: the packing lost contact with the walls, e.g. after floaters
+            -- were deleted and left holes. Grow by 1e-5, doubling while the stress stays below
+            -- 1% of sigma0, at most 2e-3 per scaling: a loose packing rearranges into its holes
+            -- and needs percent-level growth to jam again. (A fixed 1e-5, then steps capped at
+            -- 2e-4, left an LdB packing, seed 5, at a few Pa after 25 scalings.)
+            zero_runs = zero_runs + 1
+            eps = -math.min(2e-3, 1e-5 * 2 ^ (zero_runs - 1))
+        end
+        local f = 1 - eps
+        say(string.format("genesis: scaling %d: stress %.4g Pa, mean overlap/d %.3g, radius factor %.6f",
+            it, sig, rel, f))
+        for i, b in ipairs(balls) do
+            if b.alive then
+                radii[i] = radii[i] * f
+                if f <= 1 then
+                    b.radius = radii[i] -- shrinking stays inside the broadphase box
+                else
+                    local p = b.pos
+                    b:delete()
+                    balls[i] = m:ball{ pos = p, radius = radii[i], density = rho, group = "rock" }
+                end
+            end
+        end
+        solve_ratio(m, 3e-3, 5000)
+    end
+    end
+    scale_to_stress()
+    for _, rec in ipairs(walls) do rec.target = sigma0 end
+    local rmean = 0.5 * (rmin + rmax)
+    -- velocity cap: 1e-5 of a mean radius per step keeps the servo quasi-static
+    -- alpha 0.05, not PFC's 0.5: the wall's stress answers a move only after the wave has
+    -- crossed the packing (tens of steps), and with 0.5 the walls overshot and lost contact.
+    local sv = servo(m, walls, { kn = kn, rmean = rmean, vmax = 1e-5 * rmean / m:dt(), alpha = 0.05,
+                                 lua = opts.lua_servo })
+    local st, r
+    while true do
+        m:cycle(200)
+        sv.update()
+        st = stresses()
+        local within = true
+        for i = 1, 4 do
+            if math.abs(st[i] - sigma0) > tol * sigma0 then within = false end
+        end
+        if within then
+            r = unbalanced_ratio(m)
+            if r <= ratio then break end
+        end
+        if m:step() - ss > max_steps then
+            r = unbalanced_ratio(m)
+            say(string.format("genesis: isotropic stress not reached in %d steps (stresses %.4g %.4g %.4g %.4g Pa, ratio %.3g)",
+                max_steps, st[1], st[2], st[3], st[4], r))
+            break
+        end
+    end
+    sv.stop()
+    say(string.format("genesis: isotropic stress %.4g Pa after %d radius scalings and %d steps (ratio %.3g)",
+        sigma0, scale_iter, m:step() - ss, r))
+    timing.stress = clock() - t0
+
+    -- 4. floaters (P&C step 3): a ball with fewer than min_contacts contacts (walls count)
+    -- is enlarged, in place, until it reaches its min_contacts-th nearest neighbour (ball or
+    -- wall) with an overlap of 1e-6 of its radius. Deleting floaters instead was tried: 8% of
+    -- the balls went and the porosity rose by 0.05.
+    t0 = clock()
+    local floaters = 0
+    for pass = 1, opts.floater_passes or 1 do
+        local count = {}
+        for c in m:contacts{} do
+            if c.overlap > 0 then
+                local b1 = c.ball1.id
+                count[b1] = (count[b1] or 0) + 1
+                local b2 = c.ball2
+                if b2 then count[b2.id] = (count[b2.id] or 0) + 1 end
+            end
+        end
+        local cellf = 4 * rmax
+        local gnx = math.floor(W / cellf) + 1
+        local g, all = {}, {}
+        for i, bb in ipairs(balls) do
+            if bb.alive then
+                local p = bb.pos
+                local key = math.floor(p[2] / cellf) * gnx + math.floor(p[1] / cellf)
+                g[key] = g[key] or {}
+                table.insert(g[key], i)
+                all[i] = { p[1], p[2], bb.radius }
+            end
+        end
+        local xl, xr = wall_pos(walls[1]), -wall_pos(walls[2])
+        local yb, yt = wall_pos(walls[3]), -wall_pos(walls[4])
+        local n_pass = 0
+        for i, bb in ipairs(balls) do
+            if bb.alive and (count[bb.id] or 0) < min_contacts then
+                local p = all[i]
+                local ds = { p[1] - xl, xr - p[1], p[2] - yb, yt - p[2] }
+                local cx, cy = math.floor(p[1] / cellf), math.floor(p[2] / cellf)
+                for gx = cx - 1, cx + 1 do
+                    for gy = cy - 1, cy + 1 do
+                        for _, j in ipairs(g[gy * gnx + gx] or {}) do
+                            if j ~= i then
+                                local q = all[j]
+                                ds[#ds + 1] = math.sqrt((q[1] - p[1]) ^ 2 + (q[2] - p[2]) ^ 2) - q[3]
+                            end
+                        end
+                    end
+                end
+                table.sort(ds)
+                local rnew = ds[min_contacts] * (1 + 1e-6)
+                if rnew > p[3] then
+                    bb:delete()
+                    radii[i] = rnew
+                    balls[i] = m:ball{ pos = { p[1], p[2] }, radius = rnew, density = rho, group = "rock" }
+                    all[i][3] = rnew
+                    n_pass = n_pass + 1
+                end
+            end
+        end
+        if n_pass == 0 then break end
+        floaters = floaters + n_pass
+        say(string.format("genesis: floater pass %d: %d balls enlarged", pass, n_pass))
+        solve_ratio(m, 1e-2, 5000)
+        scale_to_stress() -- the enlarged floaters pushed their neighbours: back to sigma0
+    end
+    -- what is still a floater after the passes is deleted
+    local deleted = 0
+    do
+        local count = {}
+        for c in m:contacts{} do
+            if c.overlap > 0 then
+                count[c.ball1.id] = (count[c.ball1.id] or 0) + 1
+                local b2 = c.ball2
+                if b2 then count[b2.id] = (count[b2.id] or 0) + 1 end
+            end
+        end
+        for i, bb in ipairs(balls) do
+            if bb.alive and (count[bb.id] or 0) < min_contacts then bb:delete(); deleted = deleted + 1 end
+        end
+        if deleted > 0 then solve_ratio(m, 1e-2, 5000); scale_to_stress() end
+    end
+    timing.floaters = clock() - t0
+
+    local box = { wall_pos(walls[1]), wall_pos(walls[3]), -wall_pos(walls[2]), -wall_pos(walls[4]) }
+    local out = {}
+    for b in m:balls() do
+        local p = b.pos
+        out[#out + 1] = { p[1], p[2], b.radius }
+    end
+    local pk = {
+        balls = out, box = box, stress = stresses(), floaters = floaters, deleted = deleted,
+        steps = m:step(),
+        porosity = porosity_of(out, box[3] - box[1], box[4] - box[2]), density = rho,
+        rmin = rmin, rmax = rmax, timing = timing,
+        genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1 },
+    }
+    say(string.format("genesis: %d balls, %d floater enlargements, %d deleted, porosity %.4f, box %.5g x %.5g m",
+        #out, floaters, deleted, pk.porosity, box[3] - box[1], box[4] - box[2]))
+    return pk
+end
+
+-- ------------------------------------------------------------------ packing files
+
+local function ser(v, ind)
+    if type(v) == "number" then
+        if math.type(v) == "integer" then return tostring(v) end
+        return string.format("%.17g", v)
+    elseif type(v) == "string" then return string.format("%q", v)
+    elseif type(v) == "boolean" then return tostring(v)
+    elseif type(v) == "table" then
+        local parts = {}
+        local n = #v
+        for i = 1, n do parts[#parts + 1] = ser(v[i], ind) end
+        local keys = {}
+        for k in pairs(v) do
+            if not (math.type(k) == "integer" and k >= 1 and k <= n) then keys[#keys + 1] = k end
+        end
+        table.sort(keys, function(a, b) return tostring(a) < tostring(b) end)
+        for _, k in ipairs(keys) do parts[#parts + 1] = "[" .. ser(k) .. "]=" .. ser(v[k], ind) end
+        return "{" .. table.concat(parts, ",") .. "}"
+    end
+    error("material.save_packing: cannot write a " .. type(v))
+end
+
+--- Writes a packing as a Lua file (exact: 17 significant digits).
+function M.save_packing(pk, file)
+    local f = assert(io.open(file, "w"))
+    f:write("return ", ser(pk), "\n")
+    f:close()
+end
+
+function M.load_packing(file)
+    local chunk, err = loadfile(file, "t", {})
+    if not chunk then error("material.load_packing: " .. err, 2) end
+    return chunk()
+end
+
+-- ------------------------------------------------------------------ specimen
+
+--- Builds a model from a packing: the balls (group "rock"), platens at the packing's bottom and
+--- top (group "platen"), side walls when opts.sides (group "side"), the bond model installed at
+--- every ball-ball contact and near-contact within `gap`, then relaxed to the ratio.
+--- mat = { model = "cbond"|"pbond"|..., kn, ks, fric, density, bond = {props of the bond
+---         model, each a number or {mean, sd, dist}}, platen = {kn, ks, fric} (default: kn,
+---         ks of the material, fric 0), damp (0.7), gap (default 1e-3 rmin), seed }
+--- opts = { sides = false, balls = {indices} (a subset, e.g. a disk), relax_ratio = 1e-4,
+---          energy = true }
+function M.specimen(pk, mat, opts)
+    opts = opts or {}
+    local t0 = clock()
+    local m = M.new_model(mat.damp, opts.verbose)
+    local kn, ks = req(mat, "kn", "specimen"), mat.ks or mat.kn
+    local fric = mat.fric or 0
+    local pl = mat.platen or {}
+    local lin = { kn = kn, ks = ks, fric = fric }
+    m:contact_model("linear", lin)
+    m:contact_model("linear", { kn = pl.kn or kn, ks = pl.ks or ks, fric = pl.fric or 0 },
+        { groups = { "platen" } })
+    m:contact_model("linear", { kn = pl.kn or kn, ks = pl.ks or ks, fric = pl.fric or 0 },
+        { groups = { "side" } })
+    local list = pk.balls
+    if opts.balls then
+        list = {}
+        for _, i in ipairs(opts.balls) do list[#list + 1] = pk.balls[i] end
+    end
+    local xmin, xmax, ymin, ymax = math.huge, -math.huge, math.huge, -math.huge
+    for _, p in ipairs(list) do
+        xmin = math.min(xmin, p[1] - p[3]); xmax = math.max(xmax, p[1] + p[3])
+        ymin = math.min(ymin, p[2] - p[3]); ymax = math.max(ymax, p[2] + p[3])
+    end
+    local yb, yt = ymin, ymax
+    local xl, xr = xmin, xmax
+    if not opts.balls then -- the vessel's final walls (the balls press into them under sigma0)
+        xl, yb, xr, yt = pk.box[1], pk.box[2], pk.box[3], pk.box[4]
+    end
+    local W, H = xr - xl, yt - yb
+    local ext = 0.25 * math.max(W, H)
+    local sp = { model = m, packing = pk, mat = mat, timing = {} }
+    local rho = mat.density or pk.density or 2600
+    for _, p in ipairs(list) do
+        m:ball{ pos = { p[1], p[2] }, radius = p[3], density = rho, group = "rock" }
+    end
+    sp.bottom = make_wall(m, { xl - ext, yb }, { xr + ext, yb }, { 0, 1 }, "platen")
+    sp.top = make_wall(m, { xl - ext, yt }, { xr + ext, yt }, { 0, -1 }, "platen")
+    if opts.sides then
+        sp.left = make_wall(m, { xl, yb - ext }, { xl, yt + ext }, { 1, 0 }, "side")
+        sp.right = make_wall(m, { xr, yb - ext }, { xr, yt + ext }, { -1, 0 }, "side")
+    end
+    sp.width, sp.height = xmax - xmin, yt - yb
+    sp.extent = { xmin, ymin, xmax, ymax }
+    if opts.energy ~= false then m:energy{ on = true } end
+    m:cycle(1) -- make the contacts of the packing
+    local gap = mat.gap or 1e-3 * (pk.rmin or 1e-3)
+    sp.bonds = M.install_bonds(m, mat, gap)
+    sp.timing.bond = clock() - t0
+    t0 = clock()
+    local steps, r = solve_ratio(m, opts.relax_ratio or 1e-4, opts.relax_steps or 50000)
+    sp.relax_steps, sp.relax_ratio = steps, r
+    sp.timing.relax = clock() - t0
+    return sp
+end
+
+--- Installs the bond model `mat.model` with the properties mat.bond at the ball-ball contacts
+--- of group "rock" (and near-contacts within gap). With m:bond (issue 9, part B): one call,
+--- reset = true (stress-free start, PFC practice). Without it: a `cbond` rule that bonds the
+--- contacts it creates, applied by recreating the contacts (cb_bond = 1 for one step, then
+--- cb_bond = 0 so no later contact is bonded) and strengths drawn per contact with c:set_prop.
+--- Returns the number of bonds.
+function M.install_bonds(m, mat, gap)
+    local model = mat.model or "cbond"
+    local bond = mat.bond or {}
+    local base = { kn = mat.kn, ks = mat.ks or mat.kn, fric = mat.fric or 0 }
+    if feature(m, "bond") then
+        local props = {}
+        for k, v in pairs(base) do props[k] = v end
+        for k, v in pairs(bond) do props[k] = v end
+        return m:bond{ model = model, props = props, group = "rock", gap = gap, seed = mat.seed or 1,
+                       reset = mat.reset ~= false }
+    end
+    -- stand-in: every existing ball-ball contact is re-made by a bonding rule (cbond's
+    -- cb_bond = 1, or `bonded = 1` of a bond model that has it, e.g. pbond); a contact made by
+    -- the rule is bonded on its first FDlaw (cbond: within cb_gap; others: in overlap only).
+    local info = talus.contact_model_info(model)
+    local has = {}
+    for _, pr in ipairs(info.properties) do has[pr.name] = true end
+    if model ~= "cbond" and not has.bonded then
+        error("material: installing '" .. model .. "' bonds needs m:bond (issue 9) or a model with "
+            .. "a settable 'bonded' property", 3)
+    end
+    local _, draw = drawer(mat.seed or 1)
+    local fixed, drawn = {}, {}
+    for k, v in pairs(bond) do
+        if type(v) == "table" then drawn[k] = v else fixed[k] = v end
+    end
+    -- a deformability form (emod) replaces kn/ks: do not pass both
+    if bond.emod then base.kn, base.ks = nil, nil end
+    local rule = model == "cbond" and { cb_bond = 1, cb_gap = gap } or { bonded = 1 }
+    if has.lin_mode then rule.lin_mode = 1 end -- incremental: PFC practice for bonded specimens
+    for k, v in pairs(base) do rule[k] = v end
+    for k, v in pairs(fixed) do rule[k] = v end
+    for k, v in pairs(drawn) do rule[k] = v.mean end
+    -- existing contacts keep their model, so the balls are re-created in the same order
+    local saved = {}
+    for b in m:balls{ group = "rock" } do
+        saved[#saved + 1] = { pos = b.pos, radius = b.radius, density = b.density }
+        b:delete()
+    end
+    m:contact_model(model, rule, { groups = { "rock", "rock" } })
+    for _, o in ipairs(saved) do
+        m:ball{ pos = o.pos, radius = o.radius, density = o.density, group = "rock" }
+    end
+    m:cycle(1)
+    local off = {}
+    for k, v in pairs(rule) do off[k] = v end
+    if model == "cbond" then off.cb_bond = 0 else off.bonded = 0 end
+    m:contact_model(model, off, { groups = { "rock", "rock" } })
+    local n = 0
+    -- contacts in creation order (deterministic), strengths drawn per contact
+    for c in m:contacts{ model = model } do
+        if c:prop("bonded") == 1 then
+            n = n + 1
+            for k, v in pairs(drawn) do c:set_prop(k, draw(v)) end
+        end
+    end
+    return n
+end
+
+-- ------------------------------------------------------------------ analysis
+
+local function lsq_slope(xs, ys)
+    local n = #xs
+    if n < 2 then return nil end
+    local mx, my = 0, 0
+    for i = 1, n do mx = mx + xs[i]; my = my + ys[i] end
+    mx, my = mx / n, my / n
+    local sxx, sxy = 0, 0
+    for i = 1, n do
+        sxx = sxx + (xs[i] - mx) ^ 2; sxy = sxy + (xs[i] - mx) * (ys[i] - my)
+    end
+    if sxx == 0 then return nil end
+    return sxy / sxx
+end
+
+--- From history rows {ea, sa, el} (axial strain, axial stress, lateral strain) up to the peak:
+--- E = tangent modulus at 50% of peak (ISRM; least-squares slope of the pre-peak rows with
+--- 40% <= stress <= 60% of peak), E50 = secant modulus at 50% of peak, nu = slope of lateral
+--- against axial strain over the same rows.
+function M.analyse(rows, ipeak, lo, hi)
+    lo, hi = lo or 0.4, hi or 0.6
+    local peak = rows[ipeak].sa
+    local xs, ys, ls = {}, {}, {}
+    for i = 1, ipeak do
+        local r = rows[i]
+        if r.sa >= lo * peak and r.sa <= hi * peak then
+            xs[#xs + 1] = r.ea; ys[#ys + 1] = r.sa; ls[#ls + 1] = r.el
+        end
+    end
+    local E = lsq_slope(xs, ys)
+    local nu = lsq_slope(xs, ls)
+    local E50
+    for i = 2, ipeak do
+        local a, b = rows[i - 1], rows[i]
+        if a.sa < 0.5 * peak and b.sa >= 0.5 * peak then
+            local f = (0.5 * peak - a.sa) / (b.sa - a.sa)
+            E50 = 0.5 * peak / (a.ea + f * (b.ea - a.ea))
+            break
+        end
+    end
+    return { E = E, E50 = E50, nu = nu, points = #xs }
+end
+
+function M.write_csv(file, rows, cols)
+    local f = assert(io.open(file, "w"))
+    f:write(table.concat(cols, ","), "\n")
+    for _, r in ipairs(rows) do
+        local cells = {}
+        for i, c in ipairs(cols) do
+            local v = r[c]
+            cells[i] = v == nil and "" or string.format("%.12g", v)
+        end
+        f:write(table.concat(cells, ","), "\n")
+    end
+    f:close()
+end
+
+-- ------------------------------------------------------------------ loading
+
+-- History columns: names with units for scripts/plot_history.py.
+M.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_lateral",
+    "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
+    "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
+    "energy_boundary [J]", "energy_kinetic [J]" }
+
+-- Shared platen loading loop of the UCS, biaxial and Brazilian tests. Platens move toward
+-- each other at +-v/2 each... (velocity of each platen = v), ramped linearly over ramp_steps
+-- (P&C: ramp to the final velocity so the specimen is not hit), rows every `every` steps.
+local function load_platens(sp, opts, measure)
+    local m = sp.model
+    local t0 = clock()
+    local every = opts.every or 50
+    local post = opts.post_peak or 0.8
+    local ramp = opts.ramp_steps or 2000
+    local max_steps = opts.max_steps or 30000
+    local v = opts.velocity
+    local h0 = -wall_pos(sp.top) - wall_pos(sp.bottom)
+    if not v then
+        -- default rate: the axial strain per P-wave crossing of the specimen is 2e-5
+        -- (c = sqrt(E/rho), E estimated by the 2D contact stiffness kn per unit thickness)
+        local c = math.sqrt(sp.mat.kn / (sp.mat.density or 2600))
+        local rate = opts.rate or 2e-5 * c / h0
+        v = 0.5 * rate * h0
+    end
+    local breaks = { tension = 0, shear = 0 }
+    m:on_event("bond_break", function(ev)
+        if ev.mode == "tension" then breaks.tension = breaks.tension + 1
+        elseif ev.mode == "shear" then breaks.shear = breaks.shear + 1 end
+    end)
+    local energy_on = m:energy{}
+    local rows = {}
+    local peak, ipeak = -math.huge, 0
+    local s0 = m:step()
+    local stop_reason = "max_steps"
+    local function row()
+        local h = -wall_pos(sp.top) - wall_pos(sp.bottom)
+        local r = measure(h0, h)
+        r.step = m:step() - s0
+        r.time = m:time()
+        r.breaks_tension, r.breaks_shear = breaks.tension, breaks.shear
+        if energy_on then
+            local e = m:energies()
+            r["energy_bond [J]"], r["energy_strain [J]"] = e.bond, e.strain
+            r["energy_released [J]"], r["energy_slip [J]"] = e.released, e.slip
+            r["energy_boundary [J]"], r["energy_kinetic [J]"] = e.boundary, e.kinetic
+            r["energy_damping [J]"] = e.damping
+        end
+        r.strain_axial, r["stress_axial [Pa]"] = r.ea, r.sa
+        r.strain_lateral, r["stress_lateral [Pa]"] = r.el, r.sl
+        rows[#rows + 1] = r
+        return r
+    end
+    row()
+    while true do
+        local k = m:step() - s0
+        local f = math.min(1, (k + 0.5 * every) / ramp)
+        sp.top.wall.vel = { 0, -v * f }
+        sp.bottom.wall.vel = { 0, v * f }
+        m:cycle(every)
+        local r = row()
+        if r.sa > peak then peak, ipeak = r.sa, #rows end
+        -- post-peak stop only once bonds broke: before the platens touch, a noise "peak" of a
+        -- fraction of a newton followed by a smaller value would stop the test (seen on a
+        -- Brazilian disk whose platens start at the ball extent, not pressed)
+        local failing = (breaks.tension + breaks.shear > 0) or (sp.bonds or 0) == 0
+        if failing and #rows > ipeak and r.sa < post * peak and peak > 0 then
+            stop_reason = "post_peak"; break
+        end
+        if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
+        if m:step() - s0 >= max_steps then break end
+    end
+    sp.top.wall.vel, sp.bottom.wall.vel = { 0, 0 }, { 0, 0 }
+    m:on_event("bond_break", nil)
+    return {
+        rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
+        rate = 2 * v / h0, stop = stop_reason, breaks = breaks, time = clock() - t0,
+    }
+end
+
+-- The balls whose outer edge lies within `band` of the specimen's left or right side, for the
+-- lateral strain (the mean x of each set).
+local function side_sets(m, band)
+    local xmin, xmax = math.huge, -math.huge
+    for b in m:balls{ group = "rock" } do
+        local p, r = b.pos, b.radius
+        xmin = math.min(xmin, p[1] - r); xmax = math.max(xmax, p[1] + r)
+    end
+    local left, right = {}, {}
+    for b in m:balls{ group = "rock" } do
+        local p, r = b.pos, b.radius
+        if p[1] - r < xmin + band then left[#left + 1] = b end
+        if p[1] + r > xmax - band then right[#right + 1] = b end
+    end
+    local function mean_x(set)
+        local s, n = 0, 0
+        for _, b in ipairs(set) do
+            if b.alive then s = s + b.pos[1]; n = n + 1 end
+        end
+        return s / n
+    end
+    return function() return mean_x(right) - mean_x(left) end, xmax - xmin
+end
+
+--- UCS test (opts.confinement = nil) or biaxial test (opts.confinement = sigma_c [Pa], needs a
+--- specimen made with opts.sides = true): platens at +-v after a linear ramp; axial stress =
+--- mean of the two platen forces / specimen width (ball extent at the start); axial strain =
+--- platen gap change / initial gap; lateral strain from the side balls (UCS) or the side walls
+--- (biaxial). Stops when the stress falls below post_peak x peak. Options: velocity (each
+--- platen, m/s) or rate (axial strain rate, 1/s), ramp_steps (2000), every (50), post_peak
+--- (0.8), max_steps, max_strain, csv (history file), band (side band width, default 2 rmax).
+--- Returns { ucs (peak axial stress, Pa; for biaxial the peak axial stress, deviator =
+--- ucs - confinement), E (tangent at 50%), E50 (secant), nu, peak_strain, rows, steps, ... }.
+function M.compress(sp, opts)
+    opts = opts or {}
+    local m = sp.model
+    local width = sp.width
+    local lateral, sv
+    if opts.confinement then
+        if not sp.left then error("material.compress: confinement needs a specimen with sides = true", 2) end
+        local function hlen() return -wall_pos(sp.top) - wall_pos(sp.bottom) end
+        sp.left.len, sp.right.len = hlen, hlen
+        sp.left.target, sp.right.target = opts.confinement, opts.confinement
+        local rmean = 0.5 * ((sp.packing.rmin or 1e-3) + (sp.packing.rmax or 1e-3))
+        -- PFC's alpha 0.5 (the confinement is MPa, far from losing contact as at genesis)
+        sv = servo(m, { sp.left, sp.right }, { kn = sp.mat.kn, rmean = rmean, alpha = opts.alpha or 0.5,
+            vmax = 1e-3 * rmean / m:dt(), lua = opts.lua_servo })
+        -- bring the sides to the confinement first (platens held)
+        for _ = 1, 200 do
+            m:cycle(100); sv.update()
+            local ok = true
+            for _, rec in ipairs({ sp.left, sp.right }) do
+                if math.abs(wall_push(rec) / rec.len() - opts.confinement) > 0.01 * opts.confinement then ok = false end
+            end
+            if ok then break end
+        end
+        lateral = function() return -wall_pos(sp.right) - wall_pos(sp.left) end
+        width = lateral()
+    else
+        local band = opts.band or 2 * (sp.packing.rmax or 1e-3)
+        lateral = side_sets(m, band)
+    end
+    local w0 = lateral()
+    local res = load_platens(sp, opts, function(h0, h)
+        local ft = wall_push(sp.top)
+        local fb = wall_push(sp.bottom)
+        local r = { ea = (h0 - h) / h0, sa = 0.5 * (ft + fb) / width, el = (lateral() - w0) / w0 }
+        if sp.left then r.sl = 0.5 * (wall_push(sp.left) + wall_push(sp.right)) / h end
+        if sv then sv.update() end
+        return r
+    end)
+    if sv then sv.stop() end
+    if opts.csv then M.write_csv(opts.csv, res.rows, M.columns) end
+    local a = M.analyse(res.rows, res.ipeak)
+    res.ucs, res.E, res.E50, res.nu = res.peak, a.E, a.E50, a.nu
+    res.fit_points = a.points
+    res.peak_strain = res.rows[res.ipeak].ea
+    res.width = width
+    res.balls = m:ball_count()
+    res.bonds = sp.bonds
+    return res
+end
+
+-- ------------------------------------------------------------------ Brazilian test
+
+--- Indices of the packing's balls inside a disk of diameter d (default: 0.98 of the smaller
+--- box side) at the box centre; the disk is cut from the packing (P&C cut their specimens
+--- from a larger packing too).
+function M.disk(pk, d)
+    local b = pk.box
+    local cx, cy = 0.5 * (b[1] + b[3]), 0.5 * (b[2] + b[4])
+    d = d or 0.98 * math.min(b[3] - b[1], b[4] - b[2])
+    local idx = {}
+    for i, p in ipairs(pk.balls) do
+        local dist = math.sqrt((p[1] - cx) ^ 2 + (p[2] - cy) ^ 2)
+        if dist + p[3] <= 0.5 * d then idx[#idx + 1] = i end
+    end
+    return idx
+end
+
+--- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })): platens
+--- at the disk's top and bottom; sigma_t = 2 F / (pi D t), F the mean platen force at the
+--- peak, D the disk's diameter (ball extent), t = 1 m. Options as for M.compress.
+function M.brazilian(sp, opts)
+    opts = opts or {}
+    local e = sp.extent
+    local D = 0.5 * ((e[3] - e[1]) + (e[4] - e[2]))
+    local res = load_platens(sp, opts, function(h0, h)
+        local F = 0.5 * (wall_push(sp.top) + wall_push(sp.bottom))
+        return { ea = (h0 - h) / h0, sa = 2 * F / (math.pi * D), el = 0, force = F }
+    end)
+    if opts.csv then M.write_csv(opts.csv, res.rows, M.columns) end
+    res.tensile = res.peak
+    res.force = res.rows[res.ipeak].force
+    res.diameter = D
+    res.balls = sp.model:ball_count()
+    return res
+end
+
+return M
