@@ -116,6 +116,8 @@ private:
 
 /// talus.model{...}
 int newModel(lua_State* L);
+/// Pushes a new model userdata owning `model` (talus.model, talus.restore).
+void pushNewModel(lua_State* L, std::unique_ptr<Model> model);
 
 /// The LuaModel of the model userdata at `index`; throws ScriptError naming `fn` (and hinting
 /// at the m:fn(...) method-call syntax) when it is not one.
@@ -182,6 +184,12 @@ extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_t
 std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.
 void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
+/// m:save, added to the model's method table at `index` (wrap_save.cpp).
+void addSaveMethods(lua_State* L, int methods_index);
+/// talus.restore, added to the module table at the top of the stack (wrap_save.cpp).
+void addSaveFunctions(lua_State* L);
+/// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
+void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
 /// talus.impact and talus.drive, added to the module table at the top of the stack.
 void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
 /// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.
