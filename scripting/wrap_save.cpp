@@ -93,8 +93,8 @@ void applyHostSection(LuaModel& lm, const std::vector<uint8_t>& bytes, const std
             notes.push_back("history '" + h->path + "' is not continued: its column(s) " +
                             joinNames(functions) +
                             " are Lua functions, which a save cannot hold; create it again "
-                            "with m:history{file = \"" + h->path +
-                            "\", append = true, ...} to append to it");
+                            "with m:history{file = \"" +
+                            h->path + "\", append = true, ...} to append to it");
             continue;
         }
         restored.push_back(std::move(h));
@@ -121,11 +121,11 @@ int w_save(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "save");
         if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("save: the file name must be a string (got " + typeName(L, 2) +
-                              ")");
+            throw ScriptError("save: the file name must be a string (got " + typeName(L, 2) + ")");
         if (lm.running)
-            throw ScriptError("save: not from inside a cycle or solve (a callback); save "
-                              "between run calls");
+            throw ScriptError(
+                "save: not from inside a cycle or solve (a callback); save "
+                "between run calls");
         const std::string path = lua_tostring(L, 2);
         // Rows written so far go to the file first: the save and the CSV agree on the step.
         lm.flushHistories();

@@ -6,8 +6,9 @@ set -euo pipefail
 
 # python3-matplotlib: scripts/plot_history.py, the plotting tool (and its test).
 # libopenmpi-dev, openmpi-bin: talus.map across machines (mpirun); optional for the build.
+# clang, libclang-rt-dev: the save-file fuzz target (tests/fuzz, libFuzzer; -DTALUS_FUZZ=ON).
 packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2
-          python3 python3-matplotlib libopenmpi-dev openmpi-bin)
+          python3 python3-matplotlib libopenmpi-dev openmpi-bin clang libclang-rt-dev)
 if [[ "${TALUS_WITH_LAMMPS:-0}" == 1 ]]; then packages+=(lammps); fi
 
 missing=()

@@ -139,7 +139,16 @@ void Broadphase::save(SaveWriter& w) const {
     w.i32(t.*member(InsertTag{}));
     const b2TreeNode* nodes = t.*member(NodesTag{});
     for (int32 i = 0; i < t.*member(CapacityTag{}); ++i) {
-        const b2TreeNode& n = nodes[i];
+        b2TreeNode n = nodes[i];
+        if (n.height == -1) {
+            // A free node: only its link counts; Box2D leaves the rest uninitialised.
+            const int32 next = n.next;
+            n = b2TreeNode{};
+            n.next = next;
+            n.child1 = n.child2 = b2_nullNode;
+            n.height = -1;
+            n.moved = false;
+        }
         w.pod(n.aabb.lowerBound.x), w.pod(n.aabb.lowerBound.y);
         w.pod(n.aabb.upperBound.x), w.pod(n.aabb.upperBound.y);
         w.u32(static_cast<uint32_t>(reinterpret_cast<uintptr_t>(n.userData)));
@@ -228,7 +237,8 @@ void Broadphase::restore(SaveReader& r) {
     m_impl->scale = scale;
     b2DynamicTree& t = m_impl->tree;
     b2Free(t.*member(NodesTag{}));
-    auto* mem = static_cast<b2TreeNode*>(b2Alloc(capacity * static_cast<int32>(sizeof(b2TreeNode))));
+    auto* mem =
+        static_cast<b2TreeNode*>(b2Alloc(capacity * static_cast<int32>(sizeof(b2TreeNode))));
     std::copy(nodes.begin(), nodes.end(), mem);
     t.*member(NodesTag{}) = mem;
     t.*member(RootTag{}) = root;

@@ -88,8 +88,7 @@ std::string SaveReader::peekTag() const {
 }
 
 SaveReader SaveReader::section(const char* tag) {
-    if (left() < 12)
-        fail(std::string("section '") + tag + "' is missing (the file ends early)");
+    if (left() < 12) fail(std::string("section '") + tag + "' is missing (the file ends early)");
     char got[4];
     bytes(got, 4);
     if (std::memcmp(got, tag, 4) != 0) {
@@ -700,8 +699,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         e.groups.g.resize(r.count(sizeof(EnergyBooks::GroupBooks::Group), "group books"));
         for (auto& g : e.groups.g) g = r.pod<EnergyBooks::GroupBooks::Group>();
         const std::size_t ng = e.groups.g.size();
-        if (ng > m.m_group_names.size() ||
-            (ng < 64 && (e.groups.traced >> ng) != 0))
+        if (ng > m.m_group_names.size() || (ng < 64 && (e.groups.traced >> ng) != 0))
             r.fail("group books do not match the groups");
         e.groups.exchange.resize(r.count(100, "exchange records"));
         for (auto& x : e.groups.exchange) {
@@ -768,10 +766,9 @@ void saveModelFile(const Model& model, const std::string& path, const std::vecto
     const std::vector<uint8_t> bytes = saveModelBytes(model, host);
     const std::string tmp = path + ".tmp";
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f)
-        throw InputError("save: cannot write '" + tmp + "': " + std::strerror(errno));
-    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() &&
-                    std::fflush(f) == 0;
+    if (!f) throw InputError("save: cannot write '" + tmp + "': " + std::strerror(errno));
+    const bool ok =
+        std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
     const int err = errno;
     if (std::fclose(f) != 0 || !ok) {
         std::remove(tmp.c_str());
@@ -814,8 +811,7 @@ RestoredModel restoreModelBytes(const uint8_t* data, std::size_t size, const std
     if (len != size - kSaveHeaderSize)
         file.fail(len > size - kSaveHeaderSize
                       ? "truncated: the header announces " + std::to_string(len) +
-                            " bytes of data, the file has " +
-                            std::to_string(size - kSaveHeaderSize)
+                            " bytes of data, the file has " + std::to_string(size - kSaveHeaderSize)
                       : "corrupted: " + std::to_string(size - kSaveHeaderSize - len) +
                             " bytes more than the header announces");
     if (verify_checksum && fnv1a64(data + kSaveHeaderSize, len) != sum)
@@ -845,8 +841,7 @@ RestoredModel restoreModelBytes(const uint8_t* data, std::size_t size, const std
 
 RestoredModel restoreModelFile(const std::string& path, PluginRegistry& registry) {
     std::ifstream f(path, std::ios::binary);
-    if (!f)
-        throw InputError("restore: cannot open '" + path + "': " + std::strerror(errno));
+    if (!f) throw InputError("restore: cannot open '" + path + "': " + std::strerror(errno));
     std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)),
                                std::istreambuf_iterator<char>());
     if (f.bad()) throw InputError("restore: cannot read '" + path + "'");

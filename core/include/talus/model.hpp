@@ -27,7 +27,7 @@
 namespace talus {
 
 class Broadphase;
-class SaveWriter;        // talus/save_file.hpp
+class SaveWriter;  // talus/save_file.hpp
 class SaveReader;
 struct BodyStore;        // core/src/body_store.hpp
 struct ContactStore;     // core/src/contact_store.hpp

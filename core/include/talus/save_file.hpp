@@ -96,8 +96,9 @@ public:
     const std::string& where() const { return m_where; }
 
     void bytes(void* out, std::size_t n) {
-        if (n > left()) fail("truncated (needs " + std::to_string(n) + " more bytes, has " +
-                             std::to_string(left()) + ")");
+        if (n > left())
+            fail("truncated (needs " + std::to_string(n) + " more bytes, has " +
+                 std::to_string(left()) + ")");
         if (n) std::memcpy(out, m_p + m_pos, n);
         m_pos += n;
     }
@@ -137,8 +138,9 @@ public:
     template <class T>
     void array(std::vector<T>& v, std::size_t n, const char* what) {
         array(v, what);
-        if (v.size() != n) fail(std::string(what) + ": " + std::to_string(v.size()) +
-                                " entries where " + std::to_string(n) + " were expected");
+        if (v.size() != n)
+            fail(std::string(what) + ": " + std::to_string(v.size()) + " entries where " +
+                 std::to_string(n) + " were expected");
     }
     void vec2Array(std::vector<Vec2>& v, const char* what) {
         v.resize(count(16, what));
