@@ -142,11 +142,18 @@ public:
         const double du_s = touching_ ? fd.du_s : fd.du_s * onsetFraction(engaged, fd.du_n);
 
         if (bonded == 1.0) {
+            const bool touching_prev = touching_;
             touching_ = true;
             // The forces of the last step: what the springs held and the bodies felt.
             const double fn_old = cb_fn, fs_old = cb_fs;
+            const bool first = !touching_prev;
             cb_fn = kn * (u - u_ref_);
             cb_fs -= ks * du_s;  // no slip while bonded
+            // A bond made at touch (cb_gap = 0) engages inside the step, as an unbonded
+            // contact does: the same onset corner (issue 6, stress seed 2800).
+            if (first && u - u_ref_ > 0.0)
+                corner = linearOnsetCorners(kn, ks, fric, cb_fs, false, fd,
+                                            onsetFraction(u - u_ref_, fd.du_n));
             const bool tension = cb_fn < 0.0 && -cb_fn >= cb_tenf;
             const bool shear = !tension && std::fabs(cb_fs) > 0.0 && std::fabs(cb_fs) >= cb_shearf;
             if (tension || shear) {
@@ -163,7 +170,21 @@ public:
                     // F_old^2/2k minus the work F_old/2 du the spring still took over the
                     // first half of this step, = F_old F_trial / 2k; zero for a bond made and
                     // broken in the same step (F_old = 0).
-                    released = crossEnergy(fn_old, cb_fn, kn) + crossEnergy(fs_old, cb_fs, ks);
+                    if (fn_old > 0.0) {
+                        // The spring went from compression through zero to beyond the
+                        // strength inside this step (a stiff bond, a weak one, or a coarse
+                        // step). It is a separation at the zero crossing, as the unbonded
+                        // branch treats it: the closing corner is owed, and what the bond
+                        // held in tension, at most k du^2/2, is second order and not booked.
+                        // F_old F_trial / 2k would book a negative release here, energy the
+                        // bodies never received (stress seed 2800: 10% of the throughput).
+                        corner = linearClosingCorners(kn, ks, fric, fs_old, false, fd,
+                                                      closingFraction(last_engaged_, u - u_ref_),
+                                                      true);
+                        released = springEnergy(fs_old, ks) - (0.5 * fs_old + corner.shear) * du_s;
+                    } else {
+                        released = crossEnergy(fn_old, cb_fn, kn) + crossEnergy(fs_old, cb_fs, ks);
+                    }
                     cb_fn = 0.0;
                     cb_fs = 0.0;
                 } else if (std::fabs(cb_fs) > fric * cb_fn) {
@@ -176,6 +197,8 @@ public:
                     cb_fs = limited;
                 }
             }
+            last_engaged_ = u - u_ref_;
+            if (bonded == 0.0) touching_ = cb_fn > 0.0;
         } else if (u - u_ref_ > 0.0) {
             // Unbonded: the linear law without tension (accuracy-reference 3.2), with the
             // corner impulses at touch (talus/sdk/corners.hpp).

@@ -1,0 +1,415 @@
+// SPDX-License-Identifier: MIT
+//
+// `pbond`: the linear contact in parallel with a parallel bond, the 2D form of Potyondy &
+// Cundall (2004) as PFC's `linearpbond` defines it (bodies-bonds-rockfall.md 1.1-1.3;
+// docs/models/pbond.md).
+//
+// Linear part (the `linear` model's springs, slider and dashpots, talus/sdk/linear_law.hpp):
+//   normal   F_n^l = kn u_n                    lin_mode 0 (absolute), u_n > 0, else 0
+//            F_n^l <- max(0, F_n^l + kn du_n)  lin_mode 1 (incremental), while u_n > 0
+//   shear    F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l   (slips even while bonded)
+// Bond (a rectangle 2 R_b x t on the contact plane, t = 1; all incremental from bonding):
+//   R_b = pb_rmul min(R_A, R_B)   (ball-wall: the ball's R)
+//   A = 2 R_b t,  I = 2 R_b^3 t / 3
+//   F_n^b <- F_n^b + pb_kn A du_n        (compression +, du_n the overlap increment)
+//   F_s^b <- F_s^b - pb_ks A dU_s
+//   M^b   <- M^b   - pb_kn I dtheta      (moment on end 2; dtheta end 2 minus end 1)
+//   sigma = -F_n^b / A + pb_mcf |M^b| R_b / I         (peak normal stress, tension +)
+//   tau   = |F_s^b| / A
+//   tension break: sigma > 0 and sigma >= pb_ten                       -> pb_state 1
+//   else shear break: tau > 0 and tau >= tau_c,
+//        tau_c = pb_coh - s tan(pb_fa), s = -F_n^b / A, s capped at pb_ten   -> pb_state 2
+//   (PFC's Mohr-Coulomb strength with its tensile cut-off; pb_fa = 0 is P&C 2004's constant
+//   shear strength). A break removes the bond's force, moment and stiffness; the linear part
+//   carries on with its friction.
+// Deformability forms (set > 0 to use): kn = 2 emod min(R)/L, ks = kn/kratio; pb_kn =
+// pb_emod/L, pb_ks = pb_kn/pb_kratio; L = R_A + R_B (ball-wall: the ball's R).
+//
+// Energies: strain = the linear springs' F^2/2k; bond_strain = F_n^2/(2 pb_kn A) +
+// F_s^2/(2 pb_ks A) + M^2/(2 pb_kn I); slip and dashpot from the linear part. On a break the
+// trial forces of the breaking step were never applied (the bodies felt the last step's bond
+// forces, then none), so the energy released is F_old F_trial / (2k) per bond spring, as for
+// cbond (docs/models/cbond.md, Energies): what closes the leapfrog balance.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "talus/contact_model.hpp"
+#include "talus/sdk/corners.hpp"
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/linear_law.hpp"
+#include "talus/sdk/model_base.hpp"
+#include "talus/sdk/shear_spring.hpp"
+
+namespace {
+
+using namespace talus;
+using namespace talus::sdk;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+const char* const kLinModes[] = {"absolute", "incremental", nullptr};
+const char* const kBondFlag[] = {"no", "yes", nullptr};
+// PFC's pb_state numbering (bodies-bonds-rockfall.md 1.2).
+const char* const kStates[] = {"unbonded", "broken_tension", "broken_shear", "bonded", nullptr};
+enum PbState { kUnbonded = 0, kBrokenTension = 1, kBrokenShear = 2, kBonded = 3 };
+
+/// a b / (2 k) [J]: with a = b the energy of a linear spring carrying that force.
+double crossEnergy(double a, double b, double k) { return k > 0.0 ? 0.5 * a * b / k : 0.0; }
+
+class PBond final : public ModelBase<PBond>, public LinearLaw {
+public:
+    static constexpr const char* kName = "pbond";
+
+    // properties (PFC names) besides the linear law's
+    double lin_mode = 0.0;   // 0 absolute, 1 incremental normal force
+    double emod = 0.0;       // linear part's effective modulus [Pa]; 0: kn, ks as given
+    double kratio = 0.0;     // kn / ks with emod [-]
+    double pb_kn = 0.0;      // bond normal stiffness [Pa/m]
+    double pb_ks = 0.0;      // bond shear stiffness [Pa/m]
+    double pb_ten = 0.0;     // tensile strength [Pa] (inf: unbreakable in tension)
+    double pb_coh = 0.0;     // cohesion [Pa] (inf: unbreakable in shear)
+    double pb_fa = 0.0;      // friction angle [deg]
+    double pb_mcf = 1.0;     // moment-contribution factor [-]
+    double pb_rmul = 1.0;    // radius multiplier [-]
+    double pb_emod = 0.0;    // bond modulus [Pa]; 0: pb_kn, pb_ks as given
+    double pb_kratio = 0.0;  // pb_kn / pb_ks with pb_emod [-]
+    double bonded = 0.0;     // 1 while bonded (settable: the bond contract, wave 9)
+    // state (read-only)
+    double pb_state = kUnbonded;
+    double pb_rad = 0.0;    // bond radius R_b [m]
+    double pb_fn = 0.0;     // bond normal force, compression + [N]
+    double pb_fs = 0.0;     // bond shear force along t [N]
+    double pb_m = 0.0;      // bond moment on end 2 [N m]
+    double pb_sigma = 0.0;  // peak normal stress, tension + [Pa] (at failure after a break)
+    double pb_tau = 0.0;    // peak shear stress [Pa] (at failure after a break)
+    // per-contact geometry and derived values
+    double r_min_ = 0.0, r_sum_ = 0.0;  // min(R_A, R_B) and R_A + R_B (ball-wall: R, R) [m]
+    double area_ = 0.0, inertia_ = 0.0;
+    double kbn_ = 0.0, kbs_ = 0.0, kbr_ = 0.0;  // bond stiffnesses [N/m, N/m, N m/rad]
+    bool bond_fresh_ = false;                   // the next FDlaw starts the bond (no increment)
+
+    // One property per entry (clang-format would put every value on its own line).
+    // clang-format off
+    static const PropTable<PBond>& Table() {
+        static const PropTable<PBond> t = [] {
+            PropTable<PBond> rows = linearSettableProps<PBond>();
+            const PropTable<PBond> own = {
+                {{"lin_mode", "-", kPropInteger, 0.0, "linear normal force: 0 absolute, 1 incremental", kLinModes},
+                 &PBond::lin_mode, 0.0, 1.0},
+                {{"emod", "Pa", 0, 0.0, "effective modulus of the linear part (> 0: kn = 2 emod min(R)/L)", nullptr},
+                 &PBond::emod, 0.0, kStiffnessMax},
+                {{"kratio", "-", 0, 0.0, "kn/ks with emod", nullptr}, &PBond::kratio, 0.0},
+                {{"pb_kn", "Pa/m", 0, 0.0, "bond normal stiffness (stress/displacement)", nullptr},
+                 &PBond::pb_kn, 0.0, kStiffnessMax},
+                {{"pb_ks", "Pa/m", 0, 0.0, "bond shear stiffness (stress/displacement)", nullptr},
+                 &PBond::pb_ks, 0.0, kStiffnessMax},
+                {{"pb_ten", "Pa", 0, 0.0, "bond tensile strength (inf: unbreakable)", nullptr},
+                 &PBond::pb_ten, 0.0},
+                {{"pb_coh", "Pa", 0, 0.0, "bond cohesion (inf: unbreakable in shear)", nullptr},
+                 &PBond::pb_coh, 0.0},
+                {{"pb_fa", "deg", 0, 0.0, "bond friction angle", nullptr}, &PBond::pb_fa, 0.0, 89.0},
+                {{"pb_mcf", "-", 0, 1.0, "moment-contribution factor", nullptr}, &PBond::pb_mcf, 0.0, 1.0},
+                {{"pb_rmul", "-", 0, 1.0, "bond radius multiplier", nullptr}, &PBond::pb_rmul, 0.0, 1e6, true},
+                {{"pb_emod", "Pa", 0, 0.0, "bond modulus (> 0: pb_kn = pb_emod/L)", nullptr},
+                 &PBond::pb_emod, 0.0, kStiffnessMax},
+                {{"pb_kratio", "-", 0, 0.0, "pb_kn/pb_ks with pb_emod", nullptr}, &PBond::pb_kratio, 0.0},
+                {{"bonded", "-", kPropInteger | kPropState, 0.0, "1: bonded (set 1 to bond, 0 to unbond)", kBondFlag},
+                 &PBond::bonded, 0.0, 1.0},
+                {{"pb_state", "-", kPropReadOnly | kPropState | kPropInteger, 0.0, "bond state", kStates},
+                 &PBond::pb_state},
+                {{"pb_rad", "m", kPropReadOnly | kPropState, 0.0, "bond radius", nullptr}, &PBond::pb_rad},
+                {{"pb_fn", "N", kPropReadOnly | kPropState, 0.0, "bond normal force (compression +)", nullptr},
+                 &PBond::pb_fn},
+                {{"pb_fs", "N", kPropReadOnly | kPropState, 0.0, "bond shear force", nullptr}, &PBond::pb_fs},
+                {{"pb_m", "N m", kPropReadOnly | kPropState, 0.0, "bond moment on end 2", nullptr}, &PBond::pb_m},
+                {{"pb_sigma", "Pa", kPropReadOnly | kPropState, 0.0, "peak normal stress (tension +)", nullptr},
+                 &PBond::pb_sigma},
+                {{"pb_tau", "Pa", kPropReadOnly | kPropState, 0.0, "peak shear stress", nullptr}, &PBond::pb_tau},
+            };
+            for (const auto& r : own) rows.push_back(r);
+            for (const auto& r : linearStateProps<PBond>()) rows.push_back(r);
+            return rows;
+        }();
+        return t;
+    }
+    // clang-format on
+
+    int32_t AcceptProp(int32_t index, double value) override {
+        const auto& t = Table();
+        if (index < 0 || index >= PropCount()) return ModelBase<PBond>::AcceptProp(index, value);
+        const auto& spec = t[static_cast<std::size_t>(index)];
+        // Strengths may be infinite (an unbreakable bond); nothing else may.
+        if (std::isinf(value) && spec.member != &PBond::pb_ten && spec.member != &PBond::pb_coh)
+            return fail(std::string("pbond: '") + spec.info.name + "' must be finite (got " +
+                        (value > 0 ? "inf" : "-inf") + ")");
+        if (spec.member != &PBond::bonded) return ModelBase<PBond>::AcceptProp(index, value);
+        const double before = bonded;
+        if (const int32_t rc = ModelBase<PBond>::AcceptProp(index, value)) return rc;
+        if (value == 1.0 && before != 1.0) {
+            // Bond at the current geometry: force and moment start from zero, and the next
+            // FDlaw's increment (from the geometry the host saw last) is not counted.
+            pb_state = kBonded;
+            pb_fn = pb_fs = pb_m = pb_sigma = pb_tau = 0.0;
+            bond_fresh_ = true;
+        } else if (value == 0.0 && before == 1.0) {
+            // Unbond silently (m:unbond): no event, no energy booked as released.
+            pb_state = kUnbonded;
+            pb_fn = pb_fs = pb_m = pb_sigma = pb_tau = 0.0;
+            bond_fresh_ = false;
+        }
+        return 0;
+    }
+
+    const char* PreCycle(const PropBlock& pb) override {
+        if (const char* why = ModelBase<PBond>::PreCycle(pb)) return why;
+        if (emod > 0.0 && !(kratio > 0.0))
+            errorText() = "pbond: 'kratio' must be > 0 when 'emod' is set (ks = kn/kratio)";
+        else if (pb_emod > 0.0 && !(pb_kratio > 0.0))
+            errorText() =
+                "pbond: 'pb_kratio' must be > 0 when 'pb_emod' is set (pb_ks = pb_kn/pb_kratio)";
+        else
+            return nullptr;
+        return errorText().c_str();
+    }
+
+    bool inherit(const PropBlock& pb) {
+        linearInherit(pb);
+        const bool wall = pb.end2_type == kEndWall || !(pb.radius[1] > 0.0);
+        r_min_ = wall ? pb.radius[0] : std::min(pb.radius[0], pb.radius[1]);
+        r_sum_ = wall ? pb.radius[0] : pb.radius[0] + pb.radius[1];
+        refresh();
+        return true;
+    }
+    void onPropChanged() { refresh(); }
+
+    /// Stiffnesses from the deformability forms, the bond's geometry and the cached values.
+    void refresh() {
+        if (r_min_ > 0.0 && r_sum_ > 0.0) {
+            // 2D deformability (bodies-bonds-rockfall.md 1.2): kn = A E / L with A = 2 min(R) t.
+            if (emod > 0.0 && kratio > 0.0) {
+                kn = 2.0 * emod * r_min_ / r_sum_;
+                ks = kn / kratio;
+            }
+            // P&C 2004: pb_kn = E_bar / (R_A + R_B).
+            if (pb_emod > 0.0 && pb_kratio > 0.0) {
+                pb_kn = pb_emod / r_sum_;
+                pb_ks = pb_kn / pb_kratio;
+            }
+            pb_rad = pb_rmul * r_min_;
+        }
+        area_ = 2.0 * pb_rad;                             // t = 1
+        inertia_ = 2.0 * pb_rad * pb_rad * pb_rad / 3.0;  // (2/3) R_b^3 t
+        kbn_ = pb_kn * area_;
+        kbs_ = pb_ks * area_;
+        kbr_ = pb_kn * inertia_;
+        linearRefresh();
+    }
+
+    bool isBonded() const { return bonded == 1.0; }
+
+    /// The linear part of the step (talus/sdk/linear_law.hpp's law with lin_mode and the entry
+    /// forces of the bond contract); writes lin_* and dp_*, returns the forces and energies.
+    struct LinOut {
+        double fn = 0.0, fs = 0.0;
+        double strain = 0.0, slip = 0.0, dash = 0.0;
+    };
+    LinOut linearPart(FdBlock& fd) {
+        LinOut out;
+        if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
+        const double dt = fd.tdel;
+        const bool incremental = lin_mode == 1.0;
+        if (fd.flags & kFdFirstCall) {
+            // The bond contract: on a first call the forces on entry are the old contact's
+            // (m:bond; zero for a contact the engine just made). A contact that was already in
+            // overlap at the last step carries on from them: its shear force always, its normal
+            // force in incremental mode (absolute mode recomputes kn u_n).
+            const double last = fd.u_n - fd.du_n;
+            if (last > 0.0) {
+                touching_ = true;
+                last_overlap_ = last;
+                lin_fn = std::max(0.0, fd.n_force);
+                lin_fs = fd.s_force;
+            }
+        }
+        const DashpotLoad other = cn_ > 0.0 || cs_ > 0.0
+                                      ? history_.observe(fd, cn_ > 0.0 ? inv_mass_eff_ : 0.0,
+                                                         cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0)
+                                      : DashpotLoad{};
+        if (fd.u_n <= 0.0) {
+            // Separated (the bond may still hold the ends): what the last contact step owed,
+            // as linearLaw. In incremental mode the normal force need not have come down to
+            // zero at u_n = 0, so no normal corner is paid there.
+            if (touching_) {
+                const double frac = closingFraction(last_overlap_, fd.u_n);
+                const bool normal_corner = !incremental && (!noTension() || cn_ <= 0.0);
+                const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
+                                                       frac, normal_corner);
+                const double dn = normal_corner
+                                      ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
+                                      : 0.0;
+                const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
+                out.fn = k.normal + dn;
+                out.fs = k.shear - ds;
+                out.dash = dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
+                out.slip = springEnergy(lin_fs, ks);  // the shear spring lets go
+            }
+            touching_ = false;
+            lin_fn = lin_fs = dp_fn = dp_fs = lin_slip = 0.0;
+            last_overlap_ = fd.u_n;
+            return out;
+        }
+
+        const bool first = !touching_;
+        const double lead = first ? onsetFraction(fd.u_n, fd.du_n) : 0.5;
+        const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
+        // Incremental: from the last force; at a touch inside this step both forms give kn u_n.
+        lin_fn = (incremental && !first) ? std::max(0.0, lin_fn + kn * fd.du_n) : kn * fd.u_n;
+        const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
+        lin_slip = sr.sliding ? 1.0 : 0.0;
+
+        const double dn =
+            dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead, other.normal);
+        dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
+        double ds = 0.0;
+        if (!(sr.sliding && noShearDashpotWhileSliding()))
+            ds =
+                dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead, other.shear);
+        dp_fs = -ds;
+        const Corners corner =
+            first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
+        out.fn = lin_fn + dp_fn + corner.normal;
+        out.fs = lin_fs + dp_fs + corner.shear;
+        if (sr.sliding) fd.flags |= kFdSliding;
+        out.strain = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
+        out.slip = sr.slip_work;
+        out.dash = dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
+        touching_ = true;
+        last_overlap_ = fd.u_n;
+        return out;
+    }
+
+    /// Peak stresses of the bond now (P&C 2004 eq. for the 2D rectangle; PFC pbSMax).
+    void bondStresses() {
+        if (area_ <= 0.0) {
+            pb_sigma = pb_tau = 0.0;
+            return;
+        }
+        const double bend = inertia_ > 0.0 ? pb_mcf * std::fabs(pb_m) * pb_rad / inertia_ : 0.0;
+        pb_sigma = -pb_fn / area_ + bend;
+        pb_tau = std::fabs(pb_fs) / area_;
+    }
+
+    /// Shear strength tau_c = pb_coh - s tan(pb_fa), s = -F_n/A the mean normal stress (tension
+    /// +) capped at pb_ten: PFC's Mohr-Coulomb envelope with its tensile cut-off.
+    double shearStrength() const {
+        if (pb_fa == 0.0 || area_ <= 0.0) return pb_coh;
+        const double s = std::min(-pb_fn / area_, pb_ten);
+        return pb_coh - s * std::tan(pb_fa * M_PI / 180.0);
+    }
+
+    void fdlaw(FdBlock& fd) {
+        const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        const LinOut lin = linearPart(fd);
+        double released = 0.0;
+        if (isBonded()) {
+            if (bond_fresh_) {
+                // Bonded at the geometry the host saw last (this call's u_n): no increment.
+                bond_fresh_ = false;
+                pb_fn = pb_fs = pb_m = 0.0;
+            } else {
+                const double fn_old = pb_fn, fs_old = pb_fs, m_old = pb_m;
+                pb_fn += kbn_ * fd.du_n;
+                pb_fs -= kbs_ * fd.du_s;
+                pb_m -= kbr_ * fd.dtheta;
+                bondStresses();
+                const bool tension = pb_sigma > 0.0 && pb_sigma >= pb_ten;
+                const bool shear = !tension && pb_tau > 0.0 && pb_tau >= shearStrength();
+                if (tension || shear) {
+                    // The bond material goes with its force, moment and stiffness. The trial
+                    // forces of this step were never applied: released closes the leapfrog
+                    // balance (header comment; cbond's rule), zero for a bond made and broken
+                    // in one step.
+                    released = crossEnergy(fn_old, pb_fn, kbn_) + crossEnergy(fs_old, pb_fs, kbs_) +
+                               crossEnergy(m_old, pb_m, kbr_);
+                    bonded = 0.0;
+                    pb_state = tension ? kBrokenTension : kBrokenShear;
+                    pb_fn = pb_fs = pb_m = 0.0;
+                    fd.flags |= kFdBroken;
+                    fd.break_mode = tension ? kBreakTension : kBreakShear;
+                }
+            }
+            if (isBonded()) bondStresses();
+        }
+        fd.n_force = lin.fn + pb_fn;
+        fd.s_force = lin.fs + pb_fs;
+        fd.moment = pb_m;
+        const bool b = isBonded();
+        // The time step sees the bond's springs beside the linear ones (PFC adds k_n A, k_s A,
+        // k_n I); the dashpot factor is applied to the sum, which over-estimates (safe): the
+        // dashpots are sized on kn and ks alone.
+        fd.knest = knest_ + (b ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0);
+        fd.ksest = ksest_ + (b ? kbs_ * dashpotStiffnessFactor(dp_sratio) : 0.0);
+        fd.krest = b ? kbr_ : 0.0;
+        if (b) fd.flags |= kFdBonded | kFdKeep;
+        if (energy) {
+            fd.energy[kEnergyStrain] = lin.strain;
+            fd.energy[kEnergySlip] = lin.slip;
+            fd.energy[kEnergyDashpot] = lin.dash;
+            fd.energy[kEnergyBondStrain] = bondEnergy();
+            fd.energy[kEnergyReleased] = released;
+        }
+    }
+
+    /// Strain energy in the bond [J]: F_n^2/(2 kn A) + F_s^2/(2 ks A) + M^2/(2 kn I).
+    double bondEnergy() const {
+        return springEnergy(pb_fn, kbn_) + springEnergy(pb_fs, kbs_) + springEnergy(pb_m, kbr_);
+    }
+
+    // Version 1: the first layout.
+    void saveRestoreState(ModelSaveObject& so) {
+        linearSaveRestore(so, 1);
+        so.Double(pb_state);
+        so.Double(pb_rad);
+        so.Double(pb_fn);
+        so.Double(pb_fs);
+        so.Double(pb_m);
+        so.Double(pb_sigma);
+        so.Double(pb_tau);
+        so.Double(r_min_);
+        so.Double(r_sum_);
+        so.Bool(bond_fresh_);
+    }
+
+    int32_t Version() const override { return 1; }
+    double KnEstimate() const override {
+        return linearKnEstimate() + (isBonded() ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0);
+    }
+    double KsEstimate() const override {
+        return linearKsEstimate() + (isBonded() ? kbs_ * dashpotStiffnessFactor(dp_sratio) : 0.0);
+    }
+    /// Half period of the fastest undamped mode the contact has: normal kn + pb_kn A, shear
+    /// 3 (ks + pb_ks A) (a disk's tangential mobility 3/m*, as linearContactDuration), and
+    /// bending pb_kn I against the ends' rotational inertia, at least m* min(R)^2 / 2 for disks:
+    /// an equivalent stiffness 2 pb_kn I / min(R)^2 (faster than the normal mode once pb_rmul
+    /// exceeds about 1.2).
+    double ContactDuration(double mass_eff, double) const override {
+        const bool b = isBonded();
+        const double kn_t = kn + (b ? kbn_ : 0.0);
+        const double ks_t = ks + (b ? kbs_ : 0.0);
+        const double kr_t = (b && r_min_ > 0.0) ? 2.0 * kbr_ / (r_min_ * r_min_) : 0.0;
+        const double k = std::max({kn_t, 3.0 * ks_t, kr_t});
+        return kn_t > 0.0 ? M_PI * std::sqrt(mass_eff / k) : HUGE_VAL;
+    }
+    bool OKToDelete() const override { return !isBonded(); }
+    uint32_t Traits() const override { return kTraitThreadSafe | kTraitBond; }
+};
+
+ContactModel* createPrototype(int32_t index) { return index == 0 ? new PBond() : nullptr; }
+void destroyPrototype(ContactModel* p) { delete static_cast<PBond*>(p); }
+
+const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, destroyPrototype);
+
+}  // namespace
+
+TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
