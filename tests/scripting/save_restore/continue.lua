@@ -18,7 +18,7 @@ local function rand()
     return seed / 2147483648
 end
 
-local N = { dense = 1500, bonded = 1500, rockfall = 2000 }
+local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000 }
 
 local scenes = {}
 
@@ -54,6 +54,26 @@ function scenes.bonded(m)
         end
     end
     m:wall{ points = {{2, 0.75}, {-1, 0.75}}, vel = {0, -0.5} }
+end
+
+-- The same specimen with parallel bonds (pbond, bonded by a rule with bonded = 1): the balls
+-- overlap by a hair so that the rule's contacts exist (activity distance 0).
+function scenes.pbond(m)
+    m:gravity({0, -9.81})
+    m:contact_model("linear", { kn = 1e8, ks = 5e7, fric = 0.5, dp_nratio = 0.1 })
+    m:contact_model("pbond", { emod = 1e8, kratio = 2.0, fric = 0.5, pb_emod = 1e8,
+                               pb_kratio = 2.0, pb_ten = 3e4, pb_coh = 4e4, pb_fa = 30,
+                               pb_mcf = 1, pb_rmul = 1, dp_nratio = 0.1, bonded = 1 },
+                    { groups = {"rock", "rock"} })
+    m:wall{ points = {{-1, 0}, {2, 0}} }
+    for i = 0, 11 do
+        for j = 0, 7 do
+            local x = 0.05 + 0.0999 * i + ((j % 2 == 1) and 0.04995 or 0)
+            local y = 0.05 + 0.0865159 * j
+            m:ball{ pos = {x, y}, radius = 0.05, density = 2600, group = "rock" }
+        end
+    end
+    m:wall{ points = {{2, 0.7}, {-1, 0.7}}, vel = {0, -0.5} }
 end
 
 -- A rockfall: clump rocks (a template, scaled and turned) and loose balls down a slope of
