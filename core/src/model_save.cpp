@@ -7,6 +7,7 @@
 // decides the last bits of every result: a restored model continues bit-identically
 // (tests/scripting/save_restore/). The reader checks every count, index and enum before use.
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -542,6 +543,11 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             auto rule = std::make_unique<Rule>();
             const bool has = r.boolean();
             rule->model_name = r.str();
+            // A model name becomes a library name (libtalus_<name>.so) in the plugin search:
+            // only names a plugin can have, never a path.
+            for (char ch : rule->model_name)
+                if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-')
+                    r.fail("rule " + std::to_string(i) + ": invalid contact model name");
             if (has) {
                 const std::string plugin_version = r.str();
                 const int32_t version = r.i32();
@@ -679,13 +685,20 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         }
         r.array(cs.moved_balls, "moved balls"), r.array(cs.moved_segments, "moved segments");
         r.array(cs.ball_moved, "ball flags"), r.array(cs.segment_moved, "segment flags");
+        // The force loop reads a flag per ball and per segment, and the detection clears the
+        // flags of the listed bodies: sizes and entries must match the bodies.
+        if (cs.broadphase_ready ? (cs.ball_moved.size() != b.size() ||
+                                   cs.segment_moved.size() != bs.segments.size())
+                                : (!cs.moved_balls.empty() || !cs.moved_segments.empty()))
+            r.fail("moved-body flags do not match the bodies");
         for (uint32_t s : cs.moved_balls)
             if (s >= cs.ball_moved.size()) r.fail("a moved ball is out of range");
         for (uint32_t s : cs.moved_segments)
             if (s >= cs.segment_moved.size()) r.fail("a moved segment is out of range");
-        if (cs.broadphase_ready &&
-            (cs.ball_moved.size() > b.size() || cs.segment_moved.size() > bs.segments.size()))
-            r.fail("moved flags out of range");
+        for (uint8_t f : cs.ball_moved)
+            if (f > 1) r.fail("invalid moved flag");
+        for (uint8_t f : cs.segment_moved)
+            if (f > 1) r.fail("invalid moved flag");
         r.expectEnd();
     }
     {
