@@ -163,6 +163,8 @@ struct BallRef {
     BallId id;
 };
 BallRef* testBall(lua_State* L, int index);
+/// w:servo{...} / w:servo() for wall `id`, options at stack index 2 (wrap_servo.cpp).
+int servoWall(lua_State* L, LuaModel& lm, WallId id);
 
 // ------------------------------------------------------------------ open functions
 
@@ -180,6 +182,15 @@ extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
 extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
 extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
+extern const luaL_Reg kMeasureMethods[];       // wrap_measure.cpp: measure, unbalanced
+/// m:solve{...}'s options (wrap_timestep.cpp). `time_only`: only `time` was given, and the run
+/// is Model::solveTime as before the other criteria existed. The `until` function stays at
+/// its stack slot (the option table's) for the duration of the run.
+struct SolveRequest {
+    SolveSpec spec;
+    bool time_only = false;
+};
+SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index);
 /// Lower-case copy of `s` (names compared without case).
 std::string lower(std::string s);
 /// Model methods implemented in other files, added to the model's method table at `index`.

@@ -267,11 +267,16 @@ int w_cycle(lua_State* L) {
 int w_solve(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "solve");
-        const Options o(L, 2, "solve", {"time"});
-        if (!o.has("time")) throw ScriptError("solve: 'time' is required (simulated seconds)");
-        const double t = o.number("time", 0.0);
-        runModel(L, lm, [&](Model& m) { m.solveTime(t); });
-        return 0;
+        const SolveRequest req = readSolveOptions(L, lm, 2);  // wrap_timestep.cpp
+        SolveStop stop = SolveStop::Time;
+        runModel(L, lm, [&](Model& m) {
+            if (req.time_only)
+                m.solveTime(req.spec.time);
+            else
+                stop = m.solve(req.spec);
+        });
+        lua_pushstring(L, solveStopName(stop));
+        return 1;
     });
 }
 
@@ -391,7 +396,7 @@ const luaL_Reg kModelMethods[] = {
 /// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
 const luaL_Reg* const kModelMethodTables[] = {
     kModelMethods, kModelBodyMethods, kContactModelMethods, kTimestepMethods,
-    kGuardMethods, kEnergyMethods,    kClumpMethods};
+    kGuardMethods, kEnergyMethods,    kClumpMethods,        kMeasureMethods};
 
 int w_index_unknown(lua_State* L) {
     // __index of the method table's metatable: an unknown method name is an error that lists

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "lua_bindings.hpp"
 #include "talus/errors.hpp"
@@ -90,6 +91,62 @@ void readTimestepOptions(const Options& o, TimestepSettings& ts) {
         throw ScriptError("timestep: 'max' must be > 0 [s] (got " + numberText(ts.max) + ")");
     if (!(ts.growth > 1.0))
         throw ScriptError("timestep: 'growth' must be > 1 (got " + numberText(ts.growth) + ")");
+}
+
+SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index) {
+    index = lua_absindex(L, index);
+    const Options o(L, index, "solve",
+                    {"time", "steps", "ratio", "until", "max_steps", "max_time"});
+    SolveRequest r;
+    SolveSpec& s = r.spec;
+    if (o.has("time")) s.time = o.number("time", 0.0);
+    if (o.has("steps")) {
+        const long long n = o.integer("steps", 0);
+        if (n < 0) throw ScriptError("solve: 'steps' must be >= 0 (got " + std::to_string(n) + ")");
+        s.steps = n;
+    }
+    // Ranges of ratio and max_time: Model::solve checks them.
+    if (o.has("ratio")) s.ratio = o.number("ratio", 0.0);
+    if (o.has("max_steps")) {
+        const long long n = o.integer("max_steps", 0);
+        if (n < 1)
+            throw ScriptError("solve: 'max_steps' must be >= 1 (got " + std::to_string(n) + ")");
+        s.max_steps = n;
+    }
+    if (o.has("max_time")) s.max_time = o.number("max_time", 0.0);
+    if (o.has("until")) {
+        if (o.push("until") != LUA_TFUNCTION) {
+            const std::string got = typeName(L, -1);
+            lua_pop(L, 1);
+            throw ScriptError("solve: 'until' must be a function(m) returning true to stop (got " +
+                              got + ")");
+        }
+        // The function stays on this stack (the caller's thread, which runs the callbacks)
+        // until the binding returns, after the run.
+        const int fn = lua_gettop(L);
+        LuaModel* lmp = &lm;
+        s.until = [L, fn, lmp](Model&) {
+            const int base = lua_gettop(L);
+            lua_pushvalue(L, fn);
+            pushModel(L, *lmp);
+            if (lua_pcall(L, 1, 1, 0) != LUA_OK) {
+                std::string msg = errorText(L, -1);
+                lua_settop(L, base);
+                throw CallbackError(msg);
+            }
+            const bool stop = lua_toboolean(L, -1);
+            lua_settop(L, base);
+            return stop;
+        };
+    }
+    if (!o.has("time") && !o.has("steps") && !o.has("ratio") && !o.has("until") &&
+        !o.has("max_steps") && !o.has("max_time"))
+        throw ScriptError(
+            "solve: give a criterion: time = t, steps = n, ratio = r, [\"until\"] = "
+            "fn (and caps max_steps = n, max_time = s)");
+    r.time_only = o.has("time") && !o.has("steps") && !o.has("ratio") && !o.has("until") &&
+                  !o.has("max_steps") && !o.has("max_time");
+    return r;
 }
 
 }  // namespace talus::lua

@@ -35,7 +35,8 @@ std::string knownFields(bool writable_only) {
     std::vector<std::string> names;
     for (const FieldInfo& f : kFields)
         if (f.writable || !writable_only) names.push_back(f.name);
-    if (!writable_only) names.push_back("set()"), names.push_back("add_group()");
+    if (!writable_only)
+        names.push_back("set()"), names.push_back("add_group()"), names.push_back("servo()");
     return joinNames(names);
 }
 
@@ -149,7 +150,7 @@ int w_index(lua_State* L) {
     return catchexcept(L, [&] {
         WallRef& w = checkWall(L, 1, "index");
         const std::string key = fieldKey(L, 2);
-        if (key == "set" || key == "add_group") {
+        if (key == "set" || key == "add_group" || key == "servo") {
             lua_pushstring(L, key.c_str());
             lua_rawget(L, lua_upvalueindex(1));
             return 1;
@@ -204,9 +205,17 @@ int w_add_group(lua_State* L) {
     });
 }
 
+int w_servo(lua_State* L) {
+    return catchexcept(L, [&] {
+        WallRef& w = checkWall(L, 1, "servo");
+        return servoWall(L, *w.lm, w.id);  // wrap_servo.cpp
+    });
+}
+
 const luaL_Reg kWallMethods[] = {
     {"set", w_set},
     {"add_group", w_add_group},
+    {"servo", w_servo},
     {nullptr, nullptr},
 };
 

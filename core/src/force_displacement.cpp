@@ -107,7 +107,7 @@ void Model::forceLoop() {
     auto& to_remove = m_contacts->to_remove;
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
     std::fill(b.moment.begin(), b.moment.end(), 0.0);
-    for (auto& w : walls) w.force.setZero(), w.moment = 0.0;
+    for (auto& w : walls) w.force.setZero(), w.moment = 0.0, w.knest = 0.0;
     if constexpr (kAuto) {
         std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
         std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
@@ -295,6 +295,7 @@ void Model::forceLoop() {
             WallData& w = walls[segments[p.end2].wall];
             w.force += f;
             w.moment += cross(g.point - w.center, f) + fd.moment;
+            w.knest += fd.knest;
         }
 
         // ---- extras

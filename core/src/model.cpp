@@ -139,6 +139,8 @@ void Model::runSteps(int64_t steps) {
         computeTimestep();
         if (prof)
             t1 = Clock::now(), m_profile.timestep += duration<double>(t1 - t0).count(), t0 = t1;
+        // Servo walls set their velocity from the last force loop and this step's dt.
+        if (m_servos_on) servoWalls();
         lawOfMotion();
         moveWalls();
         if (prof) t1 = Clock::now(), m_profile.motion += duration<double>(t1 - t0).count(), t0 = t1;

@@ -75,6 +75,9 @@ struct Model::WallData {
     double kn = kNotSet, ks = kNotSet, fric = kNotSet;
     Vec2 force{0.0, 0.0};  // force the balls exert on the wall, last step [N]
     double moment = 0.0;   // about `center` [N m]
+    double knest = 0.0;    // sum of the contacts' knest, last step [N/m] (the servo's gain)
+    bool has_servo = false;
+    WallServoState servo;  // wall_servo.cpp (used when has_servo)
 };
 
 /// A broadphase candidate pair. Every pair owns a model object (cloned from its rule's

@@ -222,7 +222,15 @@ void Model::saveState(SaveWriter& w) const {
         w.u32(wd.first_vertex), w.u32(wd.vertex_count);
         w.vec2(wd.vel), w.f64(wd.spin), w.vec2(wd.center), w.u64(wd.groups);
         w.f64(wd.kn), w.f64(wd.ks), w.f64(wd.fric), w.vec2(wd.force), w.f64(wd.moment);
+        // Servo (wall_servo.cpp): settings with dir and length resolved, and its last step.
+        w.f64(wd.knest), w.boolean(wd.has_servo);
+        const WallServoState& sv = wd.servo;
+        w.boolean(sv.settings.on), w.boolean(sv.settings.stress), w.f64(sv.settings.target);
+        w.f64(sv.settings.length), w.f64(sv.settings.gain), w.f64(sv.settings.alpha);
+        w.f64(sv.settings.vmax), w.vec2(sv.settings.dir);
+        w.f64(sv.force), w.f64(sv.stress), w.f64(sv.vel), w.f64(sv.gain), w.f64(sv.knest);
     }
+    w.i32(m_servos_on);
     w.u64(m_bodies->segments.size());
     for (const Segment& s : m_bodies->segments) {
         w.u32(s.wall), w.u32(s.a), w.u32(s.b), w.i32(s.prev), w.i32(s.next), w.i32(s.proxy);
@@ -496,7 +504,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
     }
     {
         SaveReader r = in.section("WALL");
-        const std::size_t nw = r.count(100, "walls");
+        const std::size_t nw = r.count(200, "walls");
         bs.walls.resize(nw);
         for (WallData& wd : bs.walls) {
             wd.generation = r.u32(), wd.alive = r.boolean(), wd.closed = r.boolean();
@@ -505,7 +513,19 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             wd.vel = r.vec2(), wd.spin = r.f64(), wd.center = r.vec2(), wd.groups = r.u64();
             wd.kn = r.f64(), wd.ks = r.f64(), wd.fric = r.f64();
             wd.force = r.vec2(), wd.moment = r.f64();
+            wd.knest = r.f64(), wd.has_servo = r.boolean();
+            WallServoState& sv = wd.servo;
+            sv.settings.on = r.boolean(), sv.settings.stress = r.boolean();
+            sv.settings.target = r.f64(), sv.settings.length = r.f64();
+            sv.settings.gain = r.f64(), sv.settings.alpha = r.f64(), sv.settings.vmax = r.f64();
+            sv.settings.dir = r.vec2();
+            sv.force = r.f64(), sv.stress = r.f64(), sv.vel = r.f64(), sv.gain = r.f64();
+            sv.knest = r.f64();
         }
+        m.m_servos_on = r.i32();
+        int servos = 0;
+        for (const WallData& wd : bs.walls)
+            servos += wd.alive && wd.has_servo && wd.servo.settings.on;
         bs.segments.resize(r.count(56, "segments"));
         for (Segment& s : bs.segments) {
             s.wall = r.u32(), s.a = r.u32(), s.b = r.u32();
@@ -514,6 +534,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         }
         r.vec2Array(bs.vertices, "vertices");
         r.expectEnd();
+        if (servos != m.m_servos_on) r.fail("the count of servos switched on does not match");
         const uint64_t ns = bs.segments.size(), nv = bs.vertices.size();
         for (const WallData& wd : bs.walls)
             if (uint64_t(wd.first_segment) + wd.segment_count > ns ||

@@ -375,12 +375,16 @@ void Model::computeTimestep() {
         }
         for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
             const WallData& wd = m_bodies->walls[w];
-            if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0)) continue;
+            // A servo sets its velocity after this phase: bound it by vmax (wall_servo.cpp).
+            const double servo_v =
+                wd.has_servo && wd.servo.settings.on ? wd.servo.settings.vmax : 0.0;
+            if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0 && servo_v == 0.0))
+                continue;
             double reach = 0.0;
             for (uint32_t k = 0; k < wd.vertex_count; ++k)
                 reach =
                     std::max(reach, (m_bodies->vertices[wd.first_vertex + k] - wd.center).norm());
-            const double v = wd.vel.norm() + std::fabs(wd.spin) * reach;
+            const double v = wd.vel.norm() + servo_v + std::fabs(wd.spin) * reach;
             for (uint32_t k = 0; k < wd.segment_count; ++k) {
                 const uint32_t sg = wd.first_segment + k;
                 const double room = roomInside(m_bodies->segments[sg].fat, segmentBox(sg));

@@ -27,6 +27,7 @@
 namespace talus {
 
 class Broadphase;
+class Model;
 class SaveWriter;  // talus/save_file.hpp
 class SaveReader;
 struct BodyStore;        // core/src/body_store.hpp
@@ -104,6 +105,76 @@ struct WallDef {
     std::vector<std::string> groups;
     double kn = kNotSet, ks = kNotSet, fric = kNotSet;
 };
+
+/// Wall servo (PFC "wall servo"; core/src/wall_servo.cpp, docs/lua-api.md "Servo walls").
+/// Each step, before the walls move, the wall's velocity along `dir` is set to
+/// v = G (target - measured), capped at |v| <= vmax, where `measured` is the compressive force
+/// the balls exert on the wall along -dir (or that force over `length`), and the gain is PFC's
+/// G = alpha L / (sum of the wall's contacts' knest * dt) (stress form; force form without L).
+struct WallServoSettings {
+    bool on = true;
+    bool stress = false;         ///< the target is a stress [Pa = N/m in 2D]; else a force [N]
+    double target = 0.0;         ///< [N] or [Pa]; compression positive
+    double length = kNotSet;     ///< [m] the stress form's length; NaN: the wall chain's length
+    double gain = kNotSet;       ///< a fixed gain [m/s per N or per Pa]; NaN: PFC's formula
+    double alpha = 0.5;          ///< PFC's relaxation factor, in (0, 2)
+    double vmax = 1.0;           ///< [m/s] speed cap
+    Vec2 dir{kNotSet, kNotSet};  ///< direction into the material; NaN: the wall's normal (below)
+};
+
+/// A wall servo's settings (dir and length resolved) and its state at the last step.
+struct WallServoState {
+    WallServoSettings settings;
+    double force = 0.0;   ///< compressive force on the wall along -dir [N] (last force loop)
+    double stress = 0.0;  ///< force / length [Pa]
+    double vel = 0.0;     ///< velocity along dir the servo set for the step [m/s]
+    double gain = 0.0;    ///< gain of that step (inf: no contact stiffness, moved at vmax)
+    double knest = 0.0;   ///< sum of knest over the wall's contacts [N/m]
+};
+
+/// A measurement region (PFC measurement circle; core/src/measure.cpp).
+struct MeasureRegion {
+    bool circle = true;
+    Vec2 center{0.0, 0.0};  ///< circle
+    double radius = 0.0;
+    Vec2 lo{0.0, 0.0}, hi{0.0, 0.0};  ///< box corners (xmin, ymin), (xmax, ymax)
+};
+
+/// What a measurement region measures (docs/lua-api.md "Measurement").
+struct MeasureResult {
+    double area = 0.0;          ///< region area [m^2]
+    double solid = 0.0;         ///< area of the balls' parts inside [m^2]
+    double porosity = 0.0;      ///< 1 - solid / area
+    double coordination = 0.0;  ///< contacts per ball over the balls whose centre is inside
+    double stress_xx = 0.0, stress_yy = 0.0, stress_xy = 0.0;  ///< [Pa], tension positive
+    double rate_xx = 0.0, rate_yy = 0.0, rate_xy = 0.0;  ///< strain rate [1/s] (sym. part of L)
+    double rate_spin = 0.0;  ///< antisymmetric part (L_yx - L_xy)/2 [rad/s]
+    int64_t balls = 0;       ///< balls whose centre is inside
+    int64_t contacts = 0;    ///< touching contacts whose contact point is inside
+};
+
+/// Unbalanced force (PFC's mechanical ratio; core/src/measure.cpp).
+struct UnbalancedForce {
+    double mean_unbalanced = 0.0;  ///< mean |net force| over the free bodies [N]
+    double max_unbalanced = 0.0;
+    double mean_contact = 0.0;  ///< mean |contact force| over the contacts that carry one [N]
+    double ratio = 0.0;         ///< mean_unbalanced / mean_contact (inf: no contact force)
+    int64_t bodies = 0, contacts = 0;
+};
+
+/// m:solve's criteria (Model::solve, core/src/solve.cpp). Unset ones (NaN, -1, empty) are off;
+/// after each step the first criterion reached ends the run, targets before caps.
+struct SolveSpec {
+    double time = kNotSet;  ///< [s] simulated, landed on exactly as solveTime does
+    int64_t steps = -1;
+    double ratio = kNotSet;             ///< UnbalancedForce::ratio at or below this
+    std::function<bool(Model&)> until;  ///< true stops
+    int64_t max_steps = -1;             ///< cap: ends with a warning
+    double max_time = kNotSet;          ///< cap on wall-clock seconds: ends with a warning
+    std::function<bool()> interrupted;  ///< e.g. a SIGINT flag
+};
+enum class SolveStop { Time, Steps, Ratio, Until, MaxSteps, MaxTime, Interrupted };
+const char* solveStopName(SolveStop s);
 
 /// A named property value for a contact model.
 struct PropValue {
@@ -323,6 +394,10 @@ public:
     void setWallContactProp(WallId id, const std::string& name, double v);
     std::vector<std::string> wallGroups(WallId id) const;
     void addWallGroup(WallId id, const std::string& group);
+    /// Sets (or replaces) the wall's servo; dir and length are resolved here (WallServoSettings).
+    void setWallServo(WallId id, const WallServoSettings& s);
+    /// The servo of a wall; false when it has none.
+    bool wallServo(WallId id, WallServoState& out) const;
 
     // ------------------------------------------------------------------ contact models
     /// Sets the model new contacts get by default, with properties by name.
@@ -351,6 +426,13 @@ public:
     /// Cycles until the simulated time has advanced by `duration` (the last step is shortened
     /// to land on it exactly).
     void solveTime(double duration);
+
+    /// Cycles until the first of the criteria is reached (SolveSpec); returns which.
+    SolveStop solve(const SolveSpec& spec);
+    /// Unbalanced force of the last step (PFC's ratio; UnbalancedForce).
+    UnbalancedForce unbalanced() const;
+    /// Porosity, coordination, stress and strain rate in a region (MeasureResult).
+    MeasureResult measure(const MeasureRegion& region) const;
 
     double time() const { return m_time; }
     int64_t step() const { return m_step; }
@@ -440,6 +522,7 @@ private:
     void gatherClumpForces();  // law_of_motion.cpp: pebble forces summed to the centroids
     void placePebbles(const ClumpData& c);
     void moveWalls();          // law_of_motion.cpp
+    void servoWalls();         // wall_servo.cpp: servo velocities, before the walls move
     void detectContacts();     // contact_detection.cpp
     void forceDisplacement();  // force_displacement.cpp
     void bookkeeping();        // bookkeeping.cpp
@@ -584,6 +667,7 @@ private:
     bool m_dt_idle = false;   // the last automatic step was idle: nothing moved or accelerated
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
+    int m_servos_on = 0;  // walls with a servo switched on (wall_servo.cpp)
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).
     struct StepLimits {

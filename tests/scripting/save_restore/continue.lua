@@ -18,7 +18,7 @@ local function rand()
     return seed / 2147483648
 end
 
-local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000 }
+local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000, servo = 1500 }
 
 local scenes = {}
 
@@ -76,6 +76,21 @@ function scenes.pbond(m)
     m:wall{ points = {{2, 0.7}, {-1, 0.7}}, vel = {0, -0.5} }
 end
 
+-- A pack compressed by a servo-controlled top wall (PFC wall servo): the servo's gain follows
+-- the wall's contacts, so its state and the wall's velocity must survive the restore.
+function scenes.servo(m)
+    m:contact_model("linear", { kn = 1e7, ks = 5e6, fric = 0.3, dp_nratio = 0.2 })
+    m:wall{ points = {{0, 1.4}, {0, 0}, {1.0, 0}, {1.0, 1.4}} }
+    for i = 0, 8 do
+        for j = 0, 9 do
+            m:ball{ pos = {0.07 + 0.107 * i, 0.07 + 0.11 * j}, radius = 0.04 + 0.012 * rand(),
+                    density = 2600, vel = {rand() - 0.5, rand() - 0.5}, group = "left" }
+        end
+    end
+    local top = m:wall{ points = {{-0.1, 1.15}, {1.1, 1.15}} }
+    top:servo{ stress = 2e5, vmax = 0.5 }
+end
+
 -- A rockfall: clump rocks (a template, scaled and turned) and loose balls down a slope of
 -- segments, rolling resistance (rrlinear) and dashpots.
 function scenes.rockfall(m)
@@ -125,6 +140,13 @@ local function dump(m, path)
     for b in m:balls() do
         line("ball", b.id, fmt(b.pos), fmt(b.vel), fmt(b.spin), fmt(b.angle), fmt(b.force),
              fmt(b.moment))
+    end
+    for w in m:walls() do
+        local pts = {}
+        for _, p in ipairs(w.points) do pts[#pts + 1] = fmt(p) end
+        line("wall", w.id, fmt(w.vel), table.concat(pts, " "))
+        local sv = w:servo()
+        if sv then line("servo", w.id, fmt(sv.force), fmt(sv.stress), fmt(sv.vel), fmt(sv.gain)) end
     end
     for c in m:clumps() do
         line("clump", c.id, fmt(c.pos), fmt(c.vel), fmt(c.spin), fmt(c.angle))
