@@ -182,6 +182,7 @@ extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
 extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
 extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
+extern const luaL_Reg kBondMethods[];          // wrap_bond.cpp: bond, unbond
 extern const luaL_Reg kMeasureMethods[];       // wrap_measure.cpp: measure, unbalanced
 /// m:solve{...}'s options (wrap_timestep.cpp). `time_only`: only `time` was given, and the run
 /// is Model::solveTime as before the other criteria existed. The `until` function stays at

@@ -383,6 +383,19 @@ void Model::resetPair(Pair& p) {
     p.model->Destroy();
     p.rule->pool->release(p.model);
     p.model = nullptr;
+    if (p.rule->installed) {
+        // A contact bonded by m:bond ended (its bond broke or was removed, and it separated):
+        // the next touch gets the ordinary rules, never the bond (model_bonds.cpp).
+        m_contacts->cold[pairIndex(p)].rules_version = m_contacts->rules_version;
+        const auto& b = m_bodies->balls;
+        const uint64_t g2 =
+            p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].groups : b.groups[p.end2];
+        Rule* rule = const_cast<Rule*>(&ruleFor(b.groups[p.end1], g2));
+        if (rule->prototype) {
+            p.rule = rule;
+            p.activity = rule->activity;
+        }
+    }
     p.model = cloneFor(p);
     p.active = p.sliding = p.bonded = p.loading = false;
     p.steps = 0;

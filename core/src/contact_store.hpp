@@ -48,6 +48,10 @@ struct ContactStore {
     std::vector<uint32_t> moved_balls, moved_segments;
     std::vector<uint8_t> ball_moved, segment_moved;
     std::vector<uint32_t> to_remove;  // scratch for the force loop
+    // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
+    // handle is not mistaken for the pair): no bond on touch for them again (model_bonds.cpp).
+    // Empty, and never looked at, in a model without bonds.
+    std::unordered_map<uint64_t, uint64_t> unbonded;
 
     Pair* pairByKey(ContactKey key);
     const Pair* pairByKey(ContactKey key) const;

@@ -249,7 +249,7 @@ void Model::forceLoop() {
         const Vec2 t = perp(g.normal);
         bool first = false;
         if (!p.active) first = activate(p, cold[i], g, vrel);
-        fd.flags = (first ? kFdFirstCall : 0u) | (kEnergy ? kFdEnergyOn : 0u);
+        fd.flags = (first ? kFdFirstCall | m_activation_flags : 0u) | (kEnergy ? kFdEnergyOn : 0u);
         fd.status = 0;
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
@@ -423,6 +423,9 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
     if (p.wall && adoptWallContact(pairIndex(p))) return false;
     if (c.rules_version != m_contacts->rules_version) refreshRule(p);
+    // A pair whose bond broke or was removed is not bonded again by a rule (model_bonds.cpp);
+    // the lookup runs only in a model where that happened.
+    m_activation_flags = m_contacts->unbonded.empty() ? 0u : autoBondFlags(p, c);
     p.active = true;
     ++m_profile.contacts_created;
     c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
@@ -554,6 +557,7 @@ void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_af
 }
 
 void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode) {
+    forgetBond(i);
     Event ev;
     ev.kind = EventKind::BondBreak;
     ev.time = m_time;

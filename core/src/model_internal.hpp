@@ -51,6 +51,9 @@ struct Model::Rule {
     std::unique_ptr<ObjectPool> pool;
     bool warned_no_stiffness = false;          // Model::activate warns once per rule
     bool warned_negative_dissipation = false;  // the force loop warns once per rule
+    /// Made by m:bond for the objects it installs (model_bonds.cpp): never matched by ruleFor;
+    /// a pair whose contact ends goes back to the ordinary rules (resetPair).
+    bool installed = false;
 };
 
 struct Model::Segment {

@@ -259,6 +259,7 @@ void Model::saveState(SaveWriter& w) const {
         w.i32(r.group_a), w.i32(r.group_b), w.i32(r.specificity), w.i32(r.order);
         w.f64(r.activity);
         w.boolean(r.warned_no_stiffness), w.boolean(r.warned_negative_dissipation);
+        w.boolean(r.installed);
     }
     w.u32(m_contacts->rules_version);
     w.f64(m_contacts->max_activity);
@@ -289,6 +290,13 @@ void Model::saveState(SaveWriter& w) const {
         w.boolean(p.model != nullptr);
         if (p.model) writeModelState(w, *p.model);
     }
+    // Pairs whose bond broke or was removed (model_bonds.cpp), sorted by key: the map is only
+    // looked up, so its order is no state, and sorting makes the file independent of it.
+    std::vector<std::pair<uint64_t, uint64_t>> unbonded(m_contacts->unbonded.begin(),
+                                                        m_contacts->unbonded.end());
+    std::sort(unbonded.begin(), unbonded.end());
+    w.u64(unbonded.size());
+    for (const auto& [key, gens] : unbonded) w.u64(key), w.u64(gens);
     w.endSection();
 
     w.beginSection("BRPH");
@@ -602,6 +610,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             rule->activity = r.f64();
             rule->warned_no_stiffness = r.boolean();
             rule->warned_negative_dissipation = r.boolean();
+            rule->installed = r.boolean();
             const auto group_ok = [&](int g) {
                 return g >= -1 && g < static_cast<int>(m.m_group_names.size());
             };
@@ -670,6 +679,11 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             }
             applyModelState(r, *q.model, state, rule_versions[rule],
                             at + " ('" + q.rule->model_name + "')");
+        }
+        const std::size_t nu = r.count(16, "unbonded pairs");
+        for (std::size_t i = 0; i < nu; ++i) {
+            const uint64_t key = r.u64();
+            if (!cs.unbonded.emplace(key, r.u64()).second) r.fail("an unbonded pair repeats");
         }
         r.expectEnd();
     }

@@ -13,10 +13,19 @@
 //                                     |F_s| <= fric F_n, else F_s is scaled to fric max(F_n, 0)
 //                                     (and a tensile F_n goes to zero: no bond, no tension)
 //
-// Bond creation. There is no bond command yet (a later issue adds `bond{}`). A rule with
-// cb_bond = 1 bonds each contact it creates on the contact's first FDlaw, if the ends touch or
-// are within cb_gap; the activity distance is then cb_gap, so that the engine creates contacts
-// within the gap. A bond formed at a gap is force-free there: u_ref = min(0, u_n at bonding).
+// Bond creation, two ways (docs/models/cbond.md, "Bonding"):
+//  - m:bond{model = "cbond"} (the bond contract, docs/plugin-abi.md): the host writes
+//    `bonded` = 1 and calls FDlaw with kFdFirstCall and the old contact's forces on entry (zero
+//    with reset). The bond adopts them: u_ref = u_prev - F_n/kn, F_s kept, so the contact goes
+//    on with the forces it had (or starts stress-free at its current overlap). Writing
+//    `bonded` = 1 on a live contact does the same with the model's own forces; writing 0 removes
+//    the bond silently (no event, nothing released: the forces stay and the unbonded law
+//    takes over at the next step).
+//  - a rule with cb_bond = 1 bonds each contact it creates on the contact's first FDlaw, if the
+//    ends touch or are within cb_gap; the activity distance is then cb_gap, so that the engine
+//    creates contacts within the gap. A bond formed at a gap is force-free there: u_ref =
+//    min(0, u_n at bonding). Not when the host sets kFdNoAutoBond: the bond of this pair broke
+//    (or was removed) before, and a contact that re-forms after a break is not bonded again.
 //
 // Energies: strain = F_n^2/(2 kn) + F_s^2/(2 ks) (bonded or not). On a break:
 //  - the strain reported on the breaking step is the value after the break (zero for a contact
@@ -70,6 +79,7 @@ public:
     bool started_ = false;
     bool touching_ = false;
     bool sliding_ = false;       // the slider slid at the last contact step
+    bool adopt_ = false;         // `bonded` was written 1: bond at the next FDlaw
     double last_engaged_ = 0.0;  // u_n - u_ref at the last contact step [m]
 
     // One property per entry (clang-format would put every value on its own line).
@@ -89,8 +99,9 @@ public:
              &CBond::cb_bond, 0.0, 1.0},
             {{"cb_gap", "m", 0, 0.0, "largest gap at which a contact is bonded", nullptr},
              &CBond::cb_gap, 0.0},
-            {{"bonded", "-", kPropReadOnly | kPropState, 0.0, "1 while bonded", nullptr},
-             &CBond::bonded},
+            {{"bonded", "-", kPropState | kPropInteger, 0.0,
+              "1 while bonded; write 1 to bond at the current forces, 0 to unbond", kBondFlag},
+             &CBond::bonded, 0.0, 1.0},
             {{"cb_state", "-", kPropReadOnly | kPropState | kPropInteger, 0.0, "bond state",
               kStates},
              &CBond::cb_state},
@@ -112,7 +123,16 @@ public:
                 return fail(std::string("cbond: '") + t[static_cast<std::size_t>(index)].info.name +
                             "' must be finite");
         }
-        return ModelBase<CBond>::AcceptProp(index, value);
+        const bool bond_flag = index >= 0 && index < PropCount() &&
+                               t[static_cast<std::size_t>(index)].member == &CBond::bonded;
+        if (const int32_t r = ModelBase<CBond>::AcceptProp(index, value); r != 0 || !bond_flag)
+            return r;
+        // The bond contract: 1 bonds at the next FDlaw (adopting the forces), 0 unbonds
+        // silently. Either way the user decided: the cb_bond rule no longer applies.
+        started_ = true;
+        adopt_ = bonded == 1.0;
+        cb_state = bonded == 1.0 ? kBonded : kUnbonded;
+        return 0;
     }
 
     bool inherit(const PropBlock& pb) {
@@ -124,9 +144,21 @@ public:
 
     void fdlaw(FdBlock& fd) {
         const double u = fd.u_n;
+        if (adopt_) {
+            // Bonded by the host (or a write of `bonded` = 1): go on with the forces of the last
+            // step, the entry forces at a first call (the replaced contact's, zero after a
+            // reset), else this object's own. u_ref puts F_n at the previous overlap u - du_n.
+            adopt_ = false;
+            const bool first = (fd.flags & kFdFirstCall) != 0;
+            const double fn0 = first ? fd.n_force : cb_fn;
+            cb_fs = first ? fd.s_force : cb_fs;
+            u_ref_ = (u - fd.du_n) - (kn > 0.0 ? fn0 / kn : 0.0);
+            cb_fn = kn > 0.0 ? fn0 : 0.0;
+            touching_ = true;  // the springs are engaged: the whole shear increment loads
+        }
         if (!started_) {
             started_ = true;
-            if (cb_bond == 1.0 && u >= -cb_gap) {
+            if (cb_bond == 1.0 && u >= -cb_gap && !(fd.flags & kFdNoAutoBond)) {
                 bonded = 1.0;
                 cb_state = kBonded;
                 u_ref_ = std::min(u, 0.0);  // force-free at the bonding gap
@@ -178,9 +210,9 @@ public:
                         // held in tension, at most k du^2/2, is second order and not booked.
                         // F_old F_trial / 2k would book a negative release here, energy the
                         // bodies never received (stress seed 2800: 10% of the throughput).
-                        corner = linearClosingCorners(kn, ks, fric, fs_old, false, fd,
-                                                      closingFraction(last_engaged_, u - u_ref_),
-                                                      true);
+                        corner =
+                            linearClosingCorners(kn, ks, fric, fs_old, false, fd,
+                                                 closingFraction(last_engaged_, u - u_ref_), true);
                         released = springEnergy(fs_old, ks) - (0.5 * fs_old + corner.shear) * du_s;
                     } else {
                         released = crossEnergy(fn_old, cb_fn, kn) + crossEnergy(fs_old, cb_fs, ks);
@@ -256,9 +288,19 @@ public:
         so.Bool(touching_);
         so.Bool(sliding_);
         so.Double(last_engaged_);
+        if (so.IsSaving() || so.DataVersion() >= 3) so.Bool(adopt_);
     }
 
-    int32_t Version() const override { return 2; }
+    int32_t Version() const override { return 3; }
+    /// Version 3 made `bonded` settable, so it is among the saved properties; a version-2
+    /// stream has the properties without it (bonded comes with the state, as before).
+    void SaveRestore(ModelSaveObject& so) override {
+        if (so.IsSaving() || so.DataVersion() >= 3) return ModelBase<CBond>::SaveRestore(so);
+        for (const auto& p : Table())
+            if (!(p.info.flags & kPropReadOnly) && p.member != &CBond::bonded)
+                so.Double(this->*(p.member));
+        saveRestoreState(so);
+    }
     double KnEstimate() const override { return kn; }
     double KsEstimate() const override { return ks; }
     double ContactDuration(double mass_eff, double) const override {

@@ -329,15 +329,19 @@ TEST_CASE("cbond: bonded strain energy and the drive through a tensile break", "
         }
     }
     CHECK(broke);
-    // After the break the contact was deleted at the gap; the new touch is a fresh contact that
-    // bonds again (cb_bond = 1 bonds every contact it creates; see the rule test below).
+    // After the break the contact was deleted at the gap; the new touch is a fresh object. This
+    // driver is a bare host that does not remember the pair, so it bonds again; the engine sets
+    // kFdNoAutoBond and it does not (the rule test below, bond_rebond.lua).
     CHECK(r.strain == Approx(0.5 * std::pow(kKn * d.overlap.back(), 2) / kKn +
                              0.5 * std::pow(r.trace.back().shear_force, 2) / kKs)
                           .epsilon(1e-9));
 }
 
-TEST_CASE("cbond: a cb_bond rule re-bonds re-formed contacts, a later cb_bond = 0 rule stops it",
+TEST_CASE("cbond: a cb_bond rule does not re-bond a contact that re-forms after a break",
           "[cbond]") {
+    // The engine remembers the pair whose bond broke and sets kFdNoAutoBond at its next first
+    // FDlaw (issue 9; before, the rule bonded it again and a later cb_bond = 0 rule was the
+    // workaround, which still works).
     for (bool retire : {false, true}) {
         Model m;
         m.timestep().automatic = false;
@@ -355,8 +359,8 @@ TEST_CASE("cbond: a cb_bond rule re-bonds re-formed contacts, a later cb_bond = 
         m.cycle(1);
         REQUIRE(m.contactCount() == 1);
         if (retire) {
-            // The documented workaround until bond{} exists: contacts made from now on are
-            // not bonded; the existing bond keeps its object.
+            // The old workaround: contacts made from now on are not bonded; the existing bond
+            // keeps its object.
             std::vector<PropValue> plain = bondProps(1e3, kInf);
             plain.push_back({"cb_bond", 0.0});
             m.addContactModelRule("cbond", plain, "rock", "rock");
@@ -370,7 +374,7 @@ TEST_CASE("cbond: a cb_bond rule re-bonds re-formed contacts, a later cb_bond = 
         for (int i = 0; i < 400 && m.contactCount() == 0; ++i) m.cycle(1);
         REQUIRE(m.contactCount() == 1);
         const auto c = m.contacts()[0];
-        CHECK(m.contactProp(c.key, "bonded") == (retire ? 0.0 : 1.0));
+        CHECK(m.contactProp(c.key, "bonded") == 0.0);
     }
 }
 
@@ -393,7 +397,8 @@ TEST_CASE("cbond: property errors", "[cbond]") {
     CHECK_THAT(err({{"cb_gap", -1e-3}}), Contains("'cb_gap' must be >= 0"));
     CHECK_THAT(err({{"cb_gap", kInf}}), Contains("'cb_gap' must be finite"));
     CHECK_THAT(err({{"kn", kInf}}), Contains("'kn' must be finite"));
-    CHECK_THAT(err({{"bonded", 1.0}}), Contains("'bonded' is read-only"));
+    // `bonded` is settable (the bond contract), 0 or 1.
+    CHECK_THAT(err({{"bonded", 2.0}}), Contains("'bonded' must be one of 0 = no, 1 = yes"));
     CHECK_THAT(err({{"cb_state", 0.0}}), Contains("read-only"));
     // The activity distance includes the bonding gap only when bonding.
     auto& reg = PluginRegistry::global();

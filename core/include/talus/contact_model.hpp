@@ -82,10 +82,14 @@ enum EndType : int32_t { kEndBall = 0, kEndWall = 1 };
 enum FdFlags : uint32_t {
     kFdFirstCall = 1u << 0,  ///< in: first FDlaw of this contact (it just became active)
     kFdEnergyOn = 1u << 1,   ///< in: energy tracing is on; write FdBlock::energy
-    kFdSliding = 1u << 8,    ///< out: the contact slid this step (PFC bSliding)
-    kFdBonded = 1u << 9,     ///< out: a bond is present (reported by contact queries)
-    kFdBroken = 1u << 10,    ///< out: a bond broke this step (raises a bond_break event)
-    kFdKeep = 1u << 11,      ///< out: do not delete this contact even when separated
+    /// in, with kFdFirstCall: the bond of this pair (the same two bodies) broke or was removed
+    /// earlier; a model that bonds contacts by itself on touch (cbond's cb_bond) must not bond
+    /// it again. A bond installed by the host (`bonded` = 1) is not affected.
+    kFdNoAutoBond = 1u << 2,
+    kFdSliding = 1u << 8,  ///< out: the contact slid this step (PFC bSliding)
+    kFdBonded = 1u << 9,   ///< out: a bond is present (reported by contact queries)
+    kFdBroken = 1u << 10,  ///< out: a bond broke this step (raises a bond_break event)
+    kFdKeep = 1u << 11,    ///< out: do not delete this contact even when separated
 };
 
 /// Bits of ContactModel::Traits().

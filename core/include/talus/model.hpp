@@ -182,6 +182,27 @@ struct PropValue {
     double value = 0.0;
 };
 
+/// m:bond{...} (core/src/model_bonds.cpp; docs/lua-api.md, "Bonds"): one property of the bond
+/// model, a fixed value or drawn per contact from a distribution (truncated at zero).
+struct BondProp {
+    enum Dist { Fixed, Normal, Uniform };
+    std::string name;
+    Dist dist = Fixed;
+    double mean = 0.0;  ///< the value when Fixed
+    double sd = 0.0;    ///< standard deviation (Uniform: mean +- sd sqrt 3)
+};
+
+/// Which contacts m:bond / m:unbond act on and what m:bond installs.
+struct BondSettings {
+    std::string model;                ///< a model whose Traits() have kTraitBond
+    std::vector<BondProp> props;      ///< given properties (others carry over from the old model)
+    std::vector<std::string> groups;  ///< none: all; one: both ends in it; two: one end in each
+    double gap = 0.0;                 ///< near-contacts with a gap <= gap are bonded too [m]
+    bool walls = false;               ///< ball-wall contacts too (else ball-ball only)
+    bool reset = false;               ///< start stress-free: zero forces, lin_mode = 1
+    uint64_t seed = 1;                ///< for the drawn properties
+};
+
 /// Time-step control (docs/physics/timestep.md). Automatic by default: the step is the smallest
 /// of the stability rule, the resolution rule, the free-flight (kinematic) rule and `max`.
 struct TimestepSettings {
@@ -419,6 +440,15 @@ public:
     /// Sets the stored normal/shear force of an active contact (PFC "contact force" write).
     void setContactForce(ContactKey key, double normal_force, double shear_force);
 
+    // ------------------------------------------------------------------ bonds
+    /// Installs a fresh clone of a bond model at the selected contacts and near-contacts (the
+    /// old model's same-named properties carry over), bonded at their current geometry;
+    /// returns how many (core/src/model_bonds.cpp). Throws InputError naming what is wrong.
+    std::size_t bond(const BondSettings& s);
+    /// Removes the bonds of the selected contacts (their model's `bonded` = 0; only contacts of
+    /// model `model` unless empty); returns how many. Uses s.groups, s.walls (s.model: filter).
+    std::size_t unbond(const BondSettings& s);
+
     // ------------------------------------------------------------------ running
     /// Advances `steps` cycles. Throws NumericalError / PluginError on a fault; the model stays
     /// at the step that failed (nothing earlier is lost).
@@ -584,6 +614,14 @@ private:
     Pair* pairByKey(ContactKey key);
     const Pair* pairByKey(ContactKey key) const;
     std::size_t pairIndex(const Pair& p) const;  // index of a pair in m_pairs
+    // Bonds (model_bonds.cpp): which pairs a bond call selects, and the memory of pairs whose
+    // bond broke or was removed (a rule that bonds on touch, cbond's cb_bond, must not bond
+    // them again: kFdNoAutoBond at their next first FDlaw).
+    bool bondSelects(const Pair& p, const BondSettings& s, int ga, int gb) const;
+    void forgetBond(std::size_t index);
+    uint32_t autoBondFlags(const Pair& p, const PairCold& c) const;
+    uint32_t m_activation_flags = 0;  // FdFlags for the contact activate() just made
+
     void sortBalls();
     void repackContactObjects();
     void compactDeleted();

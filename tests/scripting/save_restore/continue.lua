@@ -18,7 +18,8 @@ local function rand()
     return seed / 2147483648
 end
 
-local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000, servo = 1500 }
+local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000, servo = 1500,
+            mbond = 1500 }
 
 local scenes = {}
 
@@ -89,6 +90,27 @@ function scenes.servo(m)
     end
     local top = m:wall{ points = {{-0.1, 1.15}, {1.1, 1.15}} }
     top:servo{ stress = 2e5, vmax = 0.5 }
+end
+
+-- Bonds installed by m:bond (pbond, drawn strengths, stress-free start) on a specimen whose
+-- contacts the linear rule made; broken pairs are remembered (never re-bonded).
+function scenes.mbond(m)
+    m:gravity({0, -9.81})
+    m:contact_model("linear", { kn = 1e8, ks = 5e7, fric = 0.5, dp_nratio = 0.1 })
+    m:wall{ points = {{-1, 0}, {2, 0}} }
+    for i = 0, 11 do
+        for j = 0, 7 do
+            local x = 0.05 + 0.0999 * i + ((j % 2 == 1) and 0.04995 or 0)
+            m:ball{ pos = {x, 0.05 + 0.0865159 * j}, radius = 0.05, density = 2600,
+                    group = "rock" }
+        end
+    end
+    m:cycle(1)
+    m:bond{ model = "pbond", group = "rock", reset = true, seed = 7,
+            props = { emod = 1e8, kratio = 2.0, pb_emod = 1e8, pb_kratio = 2.0,
+                      pb_ten = { mean = 3e4, sd = 1e4, dist = "normal" }, pb_coh = 4e4,
+                      pb_fa = 30 } }
+    m:wall{ points = {{2, 0.7}, {-1, 0.7}}, vel = {0, -0.5} }
 end
 
 -- A rockfall: clump rocks (a template, scaled and turned) and loose balls down a slope of
