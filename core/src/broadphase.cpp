@@ -148,6 +148,11 @@ void Broadphase::save(SaveWriter& w) const {
             n.child1 = n.child2 = b2_nullNode;
             n.height = -1;
             n.moved = false;
+        } else if (n.child1 != b2_nullNode) {
+            // An inner node: its body and moved flag mean nothing, and Box2D may leave them
+            // uninitialised; a fixed value keeps a save's bytes a function of the state.
+            n.userData = nullptr;
+            n.moved = false;
         }
         w.pod(n.aabb.lowerBound.x), w.pod(n.aabb.lowerBound.y);
         w.pod(n.aabb.upperBound.x), w.pod(n.aabb.upperBound.y);

@@ -8,6 +8,7 @@
 // format version, the other byte order, a missing plugin, a model data version too new.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -77,7 +78,24 @@ TEST_CASE("a restored model saves to the same bytes and continues identically") 
     RestoredModel r =
         restoreModelBytes(bytes.data(), bytes.size(), "round trip", PluginRegistry::global());
     // Every section is written from the restored state: equal bytes mean equal state.
-    CHECK(saveModelBytes(*r.model) == bytes);
+    const std::vector<uint8_t> again = saveModelBytes(*r.model);
+    CHECK(again == bytes);
+    for (std::size_t k = 0; k < std::min(again.size(), bytes.size()); ++k)
+        if (k >= kSaveHeaderSize && again[k] != bytes[k]) {
+            // Name the section of the first difference (the last tag before it).
+            std::string tag = "?";
+            for (std::size_t j = k; j-- > kSaveHeaderSize + 3;)
+                if (std::isupper(bytes[j - 3]) && std::isupper(bytes[j - 2]) &&
+                    std::isupper(bytes[j - 1]) && std::isupper(bytes[j])) {
+                    tag = std::string(bytes.begin() + long(j) - 3, bytes.begin() + long(j) + 1) +
+                          " at " + std::to_string(j - 3) + ": " + std::to_string(bytes[k]) +
+                          " vs " + std::to_string(again[k]);
+                    break;
+                }
+            FAIL_CHECK("first difference at byte " << k << " of " << bytes.size() << ", after tag "
+                                                   << tag);
+            break;
+        }
     CHECK(r.notes.empty());
     m->cycle(200);
     r.model->cycle(200);
