@@ -138,6 +138,8 @@ private:
 
 /// talus.model{...}
 int newModel(lua_State* L);
+/// Pushes a new model userdata owning `model` (talus.model, talus.restore).
+void pushNewModel(lua_State* L, std::unique_ptr<Model> model);
 
 /// Runs `step` on lm's model as one run call (m:cycle, m:solve): `L` runs the callbacks, the
 /// histories are flushed whatever happens, the outermost call shows the progress line
@@ -231,6 +233,12 @@ void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
 void addVtkMethods(lua_State* L, int methods_index);      // wrap_vtk.cpp: vtk
 void addPictureMethods(lua_State* L, int methods_index);  // wrap_picture.cpp: picture
 void openOutputs(lua_State* L);                           // wrap_vtk.cpp: series userdata
+/// m:save, added to the model's method table at `index` (wrap_save.cpp).
+void addSaveMethods(lua_State* L, int methods_index);
+/// talus.restore, added to the module table at the top of the stack (wrap_save.cpp).
+void addSaveFunctions(lua_State* L);
+/// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
+void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
 /// talus.impact and talus.drive, added to the module table at the top of the stack.
 void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
 /// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.

@@ -116,6 +116,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     luaL_newlib(L, kModuleFunctions);
     addImpactFunctions(L);
     addMapFunctions(L);
+    addSaveFunctions(L);
     lua_pushliteral(L, TALUS_VERSION);
     lua_setfield(L, -2, "version");
     return 1;

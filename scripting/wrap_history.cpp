@@ -162,7 +162,7 @@ HistoryRef& checkHistory(lua_State* L, int index, const char* fn) {
 int w_history(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "history");
-        const Options o(L, 2, "history", {"file", "every", "columns"});
+        const Options o(L, 2, "history", {"file", "every", "columns", "append"});
         auto h = std::make_unique<History>();
         h->path = o.string("file", "");
         if (h->path.empty()) throw ScriptError("history: 'file' is required (a CSV path)");
@@ -248,14 +248,18 @@ int w_history(lua_State* L) {
                 throw ScriptError("history: column '" + c.name +
                                   "' needs energy tracing; call m:energy{on = true} first");
 
-        h->file = std::fopen(h->path.c_str(), "w");
+        // append = true (after a restore): continue an existing file; the header is written
+        // only when the file is new or empty.
+        const bool append = o.boolean("append", false);
+        h->file = std::fopen(h->path.c_str(), append ? "a" : "w");
         if (!h->file)
             throw ScriptError("history: cannot write '" + h->path + "' (" + std::strerror(errno) +
                               ")");
         std::string header;
         for (std::size_t i = 0; i < h->columns.size(); ++i)
             header += (i ? "," : "") + csvCell(h->columns[i].name);
-        if (std::fprintf(h->file, "%s\n", header.c_str()) < 0)
+        if ((!append || std::ftell(h->file) == 0) &&
+            std::fprintf(h->file, "%s\n", header.c_str()) < 0)
             h->fail(lm, "writing the header", errno);
 
         History* hp = h.get();
@@ -458,6 +462,19 @@ void History::closeQuietly(LuaModel& lm) {
     } catch (const std::exception& e) {
         std::fprintf(stderr, "talus: error: %s\n", e.what());
     }
+}
+
+void reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
+    // A restored history continues its file: no header, no first row (the saving run wrote the
+    // row of the saved step if it was due), then a row every `every` steps as before.
+    h->file = std::fopen(h->path.c_str(), "a");
+    if (!h->file)
+        throw ScriptError("restore: history '" + h->path + "': cannot append (" +
+                          std::strerror(errno) + ")");
+    History* hp = h.get();
+    LuaModel* lmp = &lm;
+    lm.histories.push_back(std::move(h));
+    hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
 }
 
 void addHistoryMethods(lua_State* L, int methods_index) {

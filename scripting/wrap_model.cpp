@@ -126,30 +126,36 @@ int w_newModel(lua_State* L) {
         def.gravity = o.vec("gravity", Vec2(0.0, 0.0));
         def.mass_mode =
             o.choice("mass", 0, {"disk", "sphere"}) == 0 ? MassMode::Disk : MassMode::Sphere;
-        auto model = std::make_unique<Model>(def);
-
-        void* mem = lua_newuserdatauv(L, sizeof(LuaModel), 1);
-        LuaModel* lm = new (mem) LuaModel();
-        lm->model = std::move(model);
-        // Callbacks outside a run call use the main thread, which lives as long as the state
-        // (a coroutine that created the model may be collected before the model).
-        lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_MAINTHREAD);
-        lm->L = lua_tothread(L, -1);
-        lua_pop(L, 1);
-        luaL_setmetatable(L, kModelType);
-        lua_newtable(L);
-        lua_setiuservalue(L, -2, 1);
-        // Register in the weak table so callbacks can find the userdata from the LuaModel.
-        lua_rawgetp(L, LUA_REGISTRYINDEX, &kModelsKey);
-        lua_pushvalue(L, -2);
-        lua_rawsetp(L, -2, lm);
-        lua_pop(L, 1);
-
-        lm->model->setWarningHandler([lm](const std::string& text) { deliverWarning(*lm, text); });
-        lm->model->setEventHandler([lm](const Event& ev) { deliverEvent(*lm, ev); });
+        pushNewModel(L, std::make_unique<Model>(def));
         return 1;
     });
 }
+
+}  // namespace
+
+void pushNewModel(lua_State* L, std::unique_ptr<Model> model) {
+    void* mem = lua_newuserdatauv(L, sizeof(LuaModel), 1);
+    LuaModel* lm = new (mem) LuaModel();
+    lm->model = std::move(model);
+    // Callbacks outside a run call use the main thread, which lives as long as the state
+    // (a coroutine that created the model may be collected before the model).
+    lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_MAINTHREAD);
+    lm->L = lua_tothread(L, -1);
+    lua_pop(L, 1);
+    luaL_setmetatable(L, kModelType);
+    lua_newtable(L);
+    lua_setiuservalue(L, -2, 1);
+    // Register in the weak table so callbacks can find the userdata from the LuaModel.
+    lua_rawgetp(L, LUA_REGISTRYINDEX, &kModelsKey);
+    lua_pushvalue(L, -2);
+    lua_rawsetp(L, -2, lm);
+    lua_pop(L, 1);
+
+    lm->model->setWarningHandler([lm](const std::string& text) { deliverWarning(*lm, text); });
+    lm->model->setEventHandler([lm](const Event& ev) { deliverEvent(*lm, ev); });
+}
+
+namespace {
 
 int w_gc(lua_State* L) {
     auto* lm = static_cast<LuaModel*>(testUserdata(L, 1, kModelType));
@@ -582,6 +588,7 @@ void openModel(lua_State* L) {
     addHistoryMethods(L, lua_gettop(L));
     addVtkMethods(L, lua_gettop(L));
     addPictureMethods(L, lua_gettop(L));
+    addSaveMethods(L, lua_gettop(L));
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);
     lua_setfield(L, -2, "__index");

@@ -17,6 +17,11 @@
 #include "talus/vec.hpp"
 
 namespace talus {
+class SaveWriter;
+class SaveReader;
+}  // namespace talus
+
+namespace talus {
 
 class Broadphase {
 public:
@@ -36,6 +41,18 @@ public:
     uint32_t user(int32_t proxy) const;
     /// Appends the proxies whose fat boxes overlap `box` (in tree order).
     void query(const Box& box, std::vector<int32_t>& out) const;
+
+    /// Saves the tree node for node (docs/save-format.md): a restored tree answers queries in
+    /// the same order, so contacts are created in the same order and a continued run stays
+    /// bit-identical.
+    void save(SaveWriter& w) const;
+    /// Restores a tree written by save(), checking its structure (every node in range, reached
+    /// once, heights and the free list consistent); throws InputError through `r` otherwise.
+    void restore(SaveReader& r);
+    /// True when `proxy` is a leaf of the tree (a body's proxy).
+    bool isLeaf(int32_t proxy) const;
+    /// Number of leaves (bodies) in the tree.
+    std::size_t leafCount() const;
 
 private:
     struct Impl;

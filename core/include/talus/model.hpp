@@ -28,6 +28,8 @@ namespace talus {
 
 class Broadphase;
 class Model;
+class SaveWriter;  // talus/save_file.hpp
+class SaveReader;
 struct BodyStore;        // core/src/body_store.hpp
 struct ContactStore;     // core/src/contact_store.hpp
 struct ContactGeometry;  // narrowphase.hpp
@@ -522,6 +524,16 @@ public:
     // Group names share one table (bit index); up to 64 groups per model.
     int groupIndex(const std::string& name, bool create);
     const std::vector<std::string>& groupNames() const { return m_group_names; }
+
+    // ------------------------------------------------------------------ save and restore
+    /// Writes every section of the model's state (core/src/model_save.cpp; the file around it:
+    /// talus/save_file.hpp, docs/save-format.md). Hooks and handlers are not state: the host
+    /// re-registers them.
+    void saveState(SaveWriter& w) const;
+    /// A model from sections written by saveState; throws InputError naming the section and what
+    /// is inconsistent. `notes` receives what the user should know (plugin versions differ).
+    static std::unique_ptr<Model> restoreState(SaveReader& r, PluginRegistry& registry,
+                                               std::vector<std::string>& notes);
 
     // Internal types (core/src/model_internal.hpp).
     struct BallArrays;
