@@ -44,3 +44,11 @@ local png = outdir .. "/ucs_stress_strain.png"
 local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 'stress_axial [Pa]' "
     .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
 if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
+
+-- A picture of the crushed specimen with its force chains (m:picture, docs/output.md).
+local ok_pic, why = pcall(function()
+    sp.model:picture{ file = outdir .. "/ucs_specimen.png", size = {600, 1000}, contacts = "force",
+                      title = string.format("UCS specimen at %d%% post-peak (%d bond breaks)",
+                          80, r.breaks.tension + r.breaks.shear) }
+end)
+print(ok_pic and ("picture: " .. outdir .. "/ucs_specimen.png") or ("picture: failed (" .. tostring(why) .. ")"))
