@@ -86,10 +86,10 @@ enum FdFlags : uint32_t {
     /// earlier; a model that bonds contacts by itself on touch (cbond's cb_bond) must not bond
     /// it again. A bond installed by the host (`bonded` = 1) is not affected.
     kFdNoAutoBond = 1u << 2,
-    kFdSliding = 1u << 8,    ///< out: the contact slid this step (PFC bSliding)
-    kFdBonded = 1u << 9,     ///< out: a bond is present (reported by contact queries)
-    kFdBroken = 1u << 10,    ///< out: a bond broke this step (raises a bond_break event)
-    kFdKeep = 1u << 11,      ///< out: do not delete this contact even when separated
+    kFdSliding = 1u << 8,  ///< out: the contact slid this step (PFC bSliding)
+    kFdBonded = 1u << 9,   ///< out: a bond is present (reported by contact queries)
+    kFdBroken = 1u << 10,  ///< out: a bond broke this step (raises a bond_break event)
+    kFdKeep = 1u << 11,    ///< out: do not delete this contact even when separated
     /// out, with kFdBroken: FdBlock::reserved[0] and [1] hold the bond's peak normal stress
     /// (tension +) and shear stress at failure [Pa] (the bond_break event's sigma and tau).
     kFdBreakStress = 1u << 12,
