@@ -180,6 +180,9 @@ local function cases(out_dir)
         end
         add("history", opt, function(env, v)
             local d = { file = out_dir .. "/stress_history.csv", columns = { "time", "kinetic" } }
+            -- A fresh file for each case: `append = true` (a valid value) would otherwise add
+            -- to the rows of an earlier case or run, and the row count would not match.
+            os.remove(d.file)
             d[opt] = v
             local ok, e, line = attempt(env.m.history, env.m, d)
             if ok then env.history = e end
