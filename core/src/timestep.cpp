@@ -345,7 +345,12 @@ void Model::computeTimestep() {
             const double a = acc.norm(), v = b.vel[s].norm();
             if (a == 0.0 && v == 0.0) continue;
             const double room = roomInside(b.fat[s], ballBox(static_cast<uint32_t>(s)));
-            const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * std::max(room, 0.0));
+            // A ball already outside its box was moved or grown by the script between cycles
+            // (b.radius, b.pos): this cycle's detection, after the motion, boxes it again and
+            // finds its pairs. Limiting the step by a room of zero stopped the run ("automatic
+            // step became 0 (kinematic rule)", met by material.lua's radius expansion).
+            if (room <= 0.0) continue;
+            const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * room);
             if (d < dt)
                 dt = d, rule = StepRule::Kinematic,
                 where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
@@ -365,8 +370,8 @@ void Model::computeTimestep() {
                     const double v = b.vel[s].norm();
                     if (a == 0.0 && v == 0.0) continue;
                     const double room = roomInside(b.fat[s], ballBox(s));
-                    const double d =
-                        stepForDisplacement(a, v + a * half_prev, 0.5 * std::max(room, 0.0));
+                    if (room <= 0.0) continue;  // re-boxed by this cycle's detection (above)
+                    const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * room);
                     if (d < dt)
                         dt = d, rule = StepRule::Kinematic,
                         where = StepWhere{StepWhere::Ball, s, 0};
