@@ -305,10 +305,11 @@ def _size(text: str):
     return (w, h)
 
 
-def _ensure_matplotlib() -> None:
+def ensure_matplotlib(script: str) -> None:
     """Debian's python3-matplotlib is visible to Debian's /usr/bin/python3 only. When another
-    python3 comes first on PATH (pyenv, a venv) and has no matplotlib, run this script again
-    with /usr/bin/python3 (once: the environment variable stops a loop)."""
+    python3 comes first on PATH (pyenv, a venv) and has no matplotlib, run `script` (the
+    calling tool's __file__) again with /usr/bin/python3 (once: the environment variable stops a
+    loop). Shared with plot_rockfall.py."""
     try:
         import matplotlib  # noqa: F401
         return
@@ -319,7 +320,7 @@ def _ensure_matplotlib() -> None:
             and os.path.realpath(sys.executable) != os.path.realpath(system)):
         os.environ["TALUS_PLOT_REEXEC"] = "1"
         sys.stdout.flush()
-        os.execv(system, [system, os.path.abspath(__file__)] + sys.argv[1:])
+        os.execv(system, [system, os.path.abspath(script)] + sys.argv[1:])
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -363,5 +364,5 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    _ensure_matplotlib()
+    ensure_matplotlib(__file__)
     sys.exit(main())

@@ -33,6 +33,8 @@ import os
 import sys
 from typing import Dict, List, Optional, Sequence
 
+from plot_history import ensure_matplotlib  # the same tools directory
+
 OUTPUT_TYPES = (".png", ".pdf", ".svg")
 REQUIRED = ("endpoints", "endpoint_hist", "reach")
 OPTIONAL = ("endpoint_percentiles", "envelopes", "collectors", "barriers", "profile",
@@ -229,23 +231,6 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
     return output
 
 
-def _ensure_matplotlib() -> None:
-    """Debian's python3-matplotlib is visible to Debian's /usr/bin/python3 only. When another
-    python3 comes first on PATH (pyenv, a venv) and has no matplotlib, run this script again
-    with /usr/bin/python3 (once: the environment variable stops a loop)."""
-    try:
-        import matplotlib  # noqa: F401
-        return
-    except ImportError:
-        pass
-    system = "/usr/bin/python3"
-    if (os.environ.get("TALUS_PLOT_REEXEC") != "1" and os.path.exists(system)
-            and os.path.realpath(sys.executable) != os.path.realpath(system)):
-        os.environ["TALUS_PLOT_REEXEC"] = "1"
-        sys.stdout.flush()
-        os.execv(system, [system, os.path.abspath(__file__)] + sys.argv[1:])
-
-
 def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(
         prog="plot_rockfall.py",
@@ -260,7 +245,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     p.add_argument("--dpi", type=int, default=120)
     a = p.parse_args(argv)
     if argv is None:
-        _ensure_matplotlib()
+        ensure_matplotlib(__file__)
     try:
         results = load_results(a.dir)
         out = plot(results, a.output or os.path.join(a.dir, "rockfall.png"), a.title,
