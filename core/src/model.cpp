@@ -182,7 +182,7 @@ void Model::cycle(int64_t steps) {
     flushWarnings();
 }
 
-void Model::solveTime(double duration) {
+void Model::requireReachableTime(double duration) const {
     if (!(duration >= 0.0) || !std::isfinite(duration))
         throw InputError("solve: time must be >= 0 (got " + messageNumber(duration) + ")");
     // A duration no run can reach is refused rather than cycled for ever with no sign of life
@@ -195,11 +195,15 @@ void Model::solveTime(double duration) {
         throw InputError("solve: time " + messageNumber(duration) + " s needs " +
                          messageNumber(duration / m_timestep.fixed) + " steps of the fixed step " +
                          messageNumber(m_timestep.fixed) + " s (more than 1e12)");
+}
+
+void Model::solveTime(double duration) {
+    requireReachableTime(duration);
     prepareRun();
     const double end = m_time + duration;
     try {
         // Land exactly on `end`: cap each step by the time left.
-        while (end - m_time > 1e-12 * std::max(1.0, std::fabs(end))) {
+        while (!reached(end)) {
             m_step_cap = end - m_time;
             runSteps(1);
         }

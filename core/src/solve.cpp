@@ -44,20 +44,7 @@ SolveStop Model::solve(const SolveSpec& s) {
     if (!has_time && s.steps < 0 && !has_ratio && !s.until && s.max_steps < 0 && !has_max_time)
         throw InputError(
             "solve: give at least one of time, steps, ratio, until, max_steps, max_time");
-    if (has_time) {
-        // The same limits as solveTime.
-        if (!(s.time >= 0.0) || !std::isfinite(s.time))
-            throw InputError("solve: time must be >= 0 (got " + messageNumber(s.time) + ")");
-        if (s.time > 1e9)
-            throw InputError("solve: time " + messageNumber(s.time) +
-                             " s cannot be reached in a sane number of steps (at most 1e9 s per "
-                             "solve; call solve repeatedly for longer runs)");
-        if (!m_timestep.automatic && m_timestep.fixed > 0.0 && s.time / m_timestep.fixed > 1e12)
-            throw InputError("solve: time " + messageNumber(s.time) + " s needs " +
-                             messageNumber(s.time / m_timestep.fixed) +
-                             " steps of the fixed step " + messageNumber(m_timestep.fixed) +
-                             " s (more than 1e12)");
-    }
+    if (has_time) requireReachableTime(s.time);
     // A ratio below the rounding of the force sums (about 1e-16 of a contact force per body)
     // may never be reached, and a wall-clock cap beyond any run is none: refused, as a time no
     // run can reach is (solveTime), rather than cycled for ever.
@@ -80,7 +67,7 @@ SolveStop Model::solve(const SolveSpec& s) {
         for (;;) {
             const int64_t taken = m_step - first;
             // Targets. Ratio and until are judged on a state this run produced (a step taken).
-            if (has_time && !(end - m_time > 1e-12 * std::max(1.0, std::fabs(end)))) {
+            if (has_time && reached(end)) {
                 stop = SolveStop::Time;
                 break;
             }

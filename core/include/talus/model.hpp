@@ -548,6 +548,12 @@ public:
     const BallArrays& balls() const;
 
 private:
+    /// Refuses a solve time no run can reach (solveTime and solve{time}).
+    void requireReachableTime(double duration) const;
+    /// Whether the simulated time has landed on `end` (to round-off).
+    bool reached(double end) const {
+        return !(end - m_time > 1e-12 * std::max(1.0, std::fabs(end)));
+    }
     void prepareRun();
     void runSteps(int64_t steps);
 
