@@ -35,13 +35,7 @@ local res = talus.map(n, function(i)
              nu = r.nu, rmean = rm, k = r.ucs * rm / Fn, tension = r.breaks.tension,
              shear = r.breaks.shear }
 end)
-local function stats(key)
-    local s, s2 = 0, 0
-    for _, r in ipairs(res) do s = s + r[key] end
-    local mean = s / #res
-    for _, r in ipairs(res) do s2 = s2 + (r[key] - mean) ^ 2 end
-    return mean, #res > 1 and math.sqrt(s2 / (#res - 1)) or 0
-end
+local function stats(key) return M.mean_sd(res, key) end
 print("seed balls porosity  UCS[MPa]  E[GPa]  E50[GPa]  nu     UCS*R/Fn  breaks(t/s)")
 for _, r in ipairs(res) do
     print(string.format("%4d %5d  %.3f   %7.2f  %6.2f  %6.2f  %.3f  %.4f   %d/%d", r.seed, r.balls,

@@ -42,13 +42,7 @@ local res = talus.map(n, function(k)
     return { seed = i, balls = #pk.balls, porosity = pk.porosity, ucs = u.ucs, E = u.E, nu = u.nu,
              tensile = b.tensile, ratio = u.ucs / b.tensile }
 end)
-local function stats(key)
-    local s, s2 = 0, 0
-    for _, r in ipairs(res) do s = s + r[key] end
-    local mean = s / #res
-    for _, r in ipairs(res) do s2 = s2 + (r[key] - mean) ^ 2 end
-    return mean, #res > 1 and math.sqrt(s2 / (#res - 1)) or 0
-end
+local function stats(key) return M.mean_sd(res, key) end
 print("seed balls porosity UCS[MPa] E[GPa]  nu     sigma_t[MPa] UCS/sigma_t")
 for _, r in ipairs(res) do
     print(string.format("%4d %5d  %.3f   %7.1f %6.1f  %.3f  %7.2f     %.1f", r.seed, r.balls, r.porosity,

@@ -988,4 +988,14 @@ function M.brazilian(sp, opts)
     return res
 end
 
+--- Mean and sample standard deviation of field `key` over a list of result tables (the
+--- scatter over seeds that the examples report); sd = 0 for a single result.
+function M.mean_sd(results, key)
+    local n, s, s2 = #results, 0, 0
+    for _, r in ipairs(results) do s = s + r[key] end
+    local mean = s / n
+    for _, r in ipairs(results) do s2 = s2 + (r[key] - mean) ^ 2 end
+    return mean, n > 1 and math.sqrt(s2 / (n - 1)) or 0
+end
+
 return M
