@@ -211,17 +211,9 @@ public:
 
     bool isBonded() const { return bonded == 1.0; }
 
-    /// The linear part of the step (talus/sdk/linear_law.hpp's law with lin_mode and the entry
-    /// forces of the bond contract); writes lin_* and dp_*, returns the forces and energies.
-    struct LinOut {
-        double fn = 0.0, fs = 0.0;
-        double strain = 0.0, slip = 0.0, dash = 0.0;
-    };
-    LinOut linearPart(FdBlock& fd) {
-        LinOut out;
-        if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
-        const double dt = fd.tdel;
-        const bool incremental = lin_mode == 1.0;
+    /// The linear part of the step: talus/sdk/linear_law.hpp's law in PFC's lin_mode, after
+    /// the bond contract's first call; writes lin_* and dp_*, returns the forces and energies.
+    LinearLaw::Forces linearPart(FdBlock& fd) {
         if (fd.flags & kFdFirstCall) {
             // The bond contract: on a first call the forces on entry are the old contact's
             // (m:bond; zero for a contact the engine just made). A contact that was already in
@@ -235,61 +227,7 @@ public:
                 lin_fs = fd.s_force;
             }
         }
-        const DashpotLoad other = cn_ > 0.0 || cs_ > 0.0
-                                      ? history_.observe(fd, cn_ > 0.0 ? inv_mass_eff_ : 0.0,
-                                                         cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0)
-                                      : DashpotLoad{};
-        if (fd.u_n <= 0.0) {
-            // Separated (the bond may still hold the ends): what the last contact step owed,
-            // as linearLaw. In incremental mode the normal force need not have come down to
-            // zero at u_n = 0, so no normal corner is paid there.
-            if (touching_) {
-                const double frac = closingFraction(last_overlap_, fd.u_n);
-                const bool normal_corner = !incremental && (!noTension() || cn_ <= 0.0);
-                const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
-                                                       frac, normal_corner);
-                const double dn = normal_corner
-                                      ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
-                                      : 0.0;
-                const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
-                out.fn = k.normal + dn;
-                out.fs = k.shear - ds;
-                out.dash = dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
-                out.slip = springEnergy(lin_fs, ks);  // the shear spring lets go
-            }
-            touching_ = false;
-            lin_fn = lin_fs = dp_fn = dp_fs = lin_slip = 0.0;
-            last_overlap_ = fd.u_n;
-            return out;
-        }
-
-        const bool first = !touching_;
-        const double lead = first ? onsetFraction(fd.u_n, fd.du_n) : 0.5;
-        const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
-        // Incremental: from the last force; at a touch inside this step both forms give kn u_n.
-        lin_fn = (incremental && !first) ? std::max(0.0, lin_fn + kn * fd.du_n) : kn * fd.u_n;
-        const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
-        lin_slip = sr.sliding ? 1.0 : 0.0;
-
-        const double dn =
-            dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead, other.normal);
-        dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
-        double ds = 0.0;
-        if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds =
-                dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead, other.shear);
-        dp_fs = -ds;
-        const Corners corner =
-            first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
-        out.fn = lin_fn + dp_fn + corner.normal;
-        out.fs = lin_fs + dp_fs + corner.shear;
-        if (sr.sliding) fd.flags |= kFdSliding;
-        out.strain = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
-        out.slip = sr.slip_work;
-        out.dash = dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
-        touching_ = true;
-        last_overlap_ = fd.u_n;
-        return out;
+        return linearForces(fd, lin_mode == 1.0);
     }
 
     /// Peak stresses of the bond now (P&C 2004 eq. for the 2D rectangle; PFC pbSMax).
@@ -356,7 +294,7 @@ public:
 
     void fdlaw(FdBlock& fd) {
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
-        const LinOut lin = linearPart(fd);
+        const LinearLaw::Forces lin = linearPart(fd);
         double released = 0.0;
         struct {
             double n = 0.0, s = 0.0, m = 0.0;

@@ -101,12 +101,21 @@ public:
     bool noTension() const { return no_tension_; }
     bool noShearDashpotWhileSliding() const { return no_shear_dp_sliding_; }
 
-    /// The linear force-displacement law: writes n_force, s_force, moment = 0, the estimates
-    /// (krest = 0) and, with energy tracing on, strain, slip and dashpot energies.
-    Step linearLaw(FdBlock& fd) {
+    /// The linear law's forces (n, s) and, with energy tracing on, its strain, slip and dashpot
+    /// energies, without writing them to fd (it sets kFdSliding). `incremental` is PFC's
+    /// lin_mode 1: the normal force is updated by kn du_n from its last value (no tension) and
+    /// need not come down to zero where the overlap does, so no normal corner is paid at
+    /// separation; `linear` and `rrlinear` use the absolute form kn u_n.
+    struct Forces {
+        double fn = 0.0, fs = 0.0;
+        double strain = 0.0, slip = 0.0, dash = 0.0;
+        Step step;
+    };
+    Forces linearForces(FdBlock& fd, bool incremental = false) {
         if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
         const double dt = fd.tdel;
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        Forces out;
         // Gravity, the other contacts and the rest, as seen in the rates (sdk/dashpot.hpp);
         // followed on every call, touching or not, so that it is current at the next touch.
         const DashpotLoad other = cn_ > 0.0 || cs_ > 0.0
@@ -120,36 +129,25 @@ public:
             // the dashpots and the shear spring act until separation; the normal spring's force
             // falls to zero there (a corner). With the no-tension limit and a normal dashpot the
             // normal force had already reached zero before the overlap did: nothing is owed.
-            double closing_n = 0.0, closing_s = 0.0, released_shear = 0.0, dash = 0.0;
             if (touching_) {
                 const double frac = closingFraction(last_overlap_, fd.u_n);
-                const bool normal_corner = !noTension() || cn_ <= 0.0;
+                const bool normal_corner = !incremental && (!noTension() || cn_ <= 0.0);
                 const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
                                                        frac, normal_corner);
                 const double dn = normal_corner
                                       ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
                                       : 0.0;
                 const double ds = dashpotClosingForce(cs_, fd.u_dot_s, last_overlap_, fd.u_n);
-                closing_n = k.normal + dn;
-                closing_s = k.shear - ds;
-                dash += dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;
+                out.fn = k.normal + dn;
+                out.fs = k.shear - ds;
+                out.dash = dn * fd.u_dot_n * dt + ds * fd.u_dot_s * dt;  // impulse times rate
                 // The shear spring lets go as the contact ends: its energy goes to friction.
-                released_shear = springEnergy(lin_fs, ks);
+                out.slip = springEnergy(lin_fs, ks);
             }
             touching_ = false;
-            lin_fn = lin_fs = dp_fs = lin_slip = 0.0;
-            dp_fn = 0.0;
-            fd.n_force = closing_n;
-            fd.s_force = closing_s;
-            fd.moment = 0.0;
-            if (energy) {
-                fd.energy[kEnergyStrain] = 0.0;
-                fd.energy[kEnergySlip] = released_shear;
-                fd.energy[kEnergyDashpot] = dash;  // impulse times rate
-            }
-            writeLinearEstimates(fd);
+            lin_fn = lin_fs = dp_fn = dp_fs = lin_slip = 0.0;
             last_overlap_ = fd.u_n;
-            return Step{};
+            return out;
         }
 
         const bool first = !touching_;
@@ -157,7 +155,8 @@ public:
         // On the first step only the part of the shear increment after touch loads the spring.
         const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
 
-        lin_fn = kn * fd.u_n;
+        // Incremental: from the last force; at a touch inside this step both forms give kn u_n.
+        lin_fn = (incremental && !first) ? std::max(0.0, lin_fn + kn * fd.du_n) : kn * fd.u_n;
         const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
         lin_slip = sr.sliding ? 1.0 : 0.0;
 
@@ -174,20 +173,35 @@ public:
         // a sliding shear force follows the normal spring's corner (Coulomb).
         const Corners corner =
             first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
-        fd.n_force = lin_fn + dp_fn + corner.normal;
-        fd.s_force = lin_fs + dp_fs + corner.shear;
-        fd.moment = 0.0;
+        out.fn = lin_fn + dp_fn + corner.normal;
+        out.fs = lin_fs + dp_fs + corner.shear;
         if (sr.sliding) fd.flags |= kFdSliding;
-        writeLinearEstimates(fd);
         if (energy) {
-            fd.energy[kEnergyStrain] = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
-            fd.energy[kEnergySlip] = sr.slip_work;
-            fd.energy[kEnergyDashpot] =
+            out.strain = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
+            out.slip = sr.slip_work;
+            out.dash =
                 dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
         }
         touching_ = true;
         last_overlap_ = fd.u_n;
-        return Step{true, first, lead};
+        out.step = Step{true, first, lead};
+        return out;
+    }
+
+    /// The linear force-displacement law: writes n_force, s_force, moment = 0, the estimates
+    /// (krest = 0) and, with energy tracing on, strain, slip and dashpot energies.
+    Step linearLaw(FdBlock& fd) {
+        const Forces f = linearForces(fd);
+        fd.n_force = f.fn;
+        fd.s_force = f.fs;
+        fd.moment = 0.0;
+        writeLinearEstimates(fd);
+        if (fd.flags & kFdEnergyOn) {
+            fd.energy[kEnergyStrain] = f.strain;
+            fd.energy[kEnergySlip] = f.slip;
+            fd.energy[kEnergyDashpot] = f.dash;
+        }
+        return f.step;
     }
 
     void writeLinearEstimates(FdBlock& fd) const {
