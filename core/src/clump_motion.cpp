@@ -112,11 +112,14 @@ void Model::moveClumps(double& kinetic, double& body, double& damping, double& d
             const double work = ((m * g + cl.fapp).dot(v) + cl.mapp * om) * dt;
             kinetic += ke;
             body += work;
+            // Local damping on the velocity at t, viscous on the mean of the half steps, as
+            // for a ball (law_of_motion.cpp, the damping's work).
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
-            const Vec2 dmp = fd - m * Vec2(cx * v_mid.x(), cy * v_mid.y());
-            const double mdmp = md - cw * inertia * om_mid;
-            const double damp = -w * (dmp.dot(v_mid) + mdmp * om_mid);
+            const double damp =
+                -w * (fd.dot(v_now) + md * om_now -
+                      m * (cx * v_mid.x() * v_mid.x() + cy * v_mid.y() * v_mid.y()) -
+                      cw * inertia * om_mid * om_mid);
             damping += damp;
             double react = 0.0;
             if (fix) {
