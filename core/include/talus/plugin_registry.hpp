@@ -4,6 +4,7 @@
 // while objects it made are alive); prototypes are destroyed first, by the library's own code.
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,7 +60,9 @@ public:
 private:
     struct Library;
     std::vector<std::unique_ptr<Library>> m_libraries;
-    std::vector<ModelFactory> m_models;
+    // A deque: loading another plugin appends without moving the factories, so a contact
+    // rule's pointer to its factory stays valid (Model::Rule::factory).
+    std::deque<ModelFactory> m_models;
     std::vector<std::string> m_dirs;
 };
 
