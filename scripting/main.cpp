@@ -90,7 +90,8 @@ void installInterruptHandler() {
 /// FILE as m:save would (histories flushed, temporary file and rename), at the end of the step
 /// where it stopped, before the error goes on to the script. Each model once: a later run call
 /// that Ctrl-C refuses (beforeStart) finds it saved. A second model stopped in the same process
-/// (an on_cycle callback that cycles another model) goes to FILE.2, FILE.3, ... A nested run
+/// (an on_cycle callback that cycles another model: the inner one first) goes to FILE.2,
+/// FILE.3, ... A nested run
 /// call of the same model leaves the save to its outermost call, and a talus.map worker (a
 /// fork: another pid) saves nothing, so that workers do not overwrite the caller's file.
 void installSaveOnInterrupt(const std::string& file) {
