@@ -4,14 +4,17 @@
 --   talus run --save-on-interrupt DIR/int.talus interrupt_scene.lua run DIR
 --       an endless m:cycle with a history and a ParaView series; after step 300 it writes
 --       DIR/marker (the test then sends SIGINT)
---   talus run interrupt_scene.lua resume DIR S K
---       talus.restore(DIR/int.talus): it must be at step S; runs K more steps
+--   talus run --save-on-interrupt DIR/solve.talus interrupt_scene.lua run_solve DIR
+--       the same with an endless m:solve, which returns "interrupted" (the save is taken
+--       before it returns); the script prints the step and ends
+--   talus run interrupt_scene.lua resume DIR S K [FILE]
+--       talus.restore(DIR/FILE or DIR/int.talus): it must be at step S; runs K more steps
 --   talus run interrupt_scene.lua straight DIR S K
 --       the same scene without an interrupt: S steps, then K more
 -- Both write DIR/PHASE_start.txt (time and step where the second part starts) and
 -- DIR/PHASE.txt (the state after it, every number with %a), and the test requires them, the
 -- CSV histories and the .pvd collections to be equal byte for byte.
-local phase, dir, S, K = ...
+local phase, dir, S, K, file = ...
 assert(phase and dir, "usage: interrupt_scene.lua run|resume|straight DIR [S K]")
 S, K = tonumber(S), tonumber(K)
 
@@ -82,24 +85,32 @@ local function dump(m, tag)
     write(dir .. "/" .. tag .. ".txt", table.concat(out, "\n") .. "\n")
 end
 
-if phase == "run" then
-    local m = scene("split")
+if phase == "run" or phase == "run_solve" then
+    local solve = phase == "run_solve"
+    local m = scene(solve and "solve" or "split")
     -- The marker says "under way" to the test; an on_cycle callback only reads the model.
     m:on_cycle(function(_, step)
         if step == 300 then write(dir .. "/marker", "300\n") end
     end, 10)
+    if solve then
+        local why = m:solve{ ["until"] = function() return false end }
+        print(string.format("solve returned %s at step %d", why, m:step()))
+        return
+    end
     m:cycle(2000000000)
     error("the cycle ended without an interrupt")
 elseif phase == "resume" then
-    local m, notes = talus.restore(dir .. "/int.talus", { quiet = true })
+    local m, notes = talus.restore(dir .. "/" .. (file or "int.talus"), { quiet = true })
+    local tag = file and "solve" or "split"
     local text = table.concat(notes, "\n")
-    assert(text:find("history '" .. dir .. "/split.csv' continues", 1, true), text)
-    assert(text:find("vtk series '" .. dir .. "/vtk_split/talus.pvd' continues", 1, true), text)
+    assert(text:find("history '" .. dir .. "/" .. tag .. ".csv' continues", 1, true), text)
+    assert(text:find("vtk series '" .. dir .. "/vtk_" .. tag .. "/talus.pvd' continues", 1,
+                     true), text)
     assert(m:step() == S, "restored at step " .. m:step() .. ", stopped at " .. S)
-    start(m, "resumed")
+    start(m, "resumed" .. (file and "_solve" or ""))
     m:cycle(K)
     m:close_history()
-    dump(m, "resumed")
+    dump(m, "resumed" .. (file and "_solve" or ""))
 elseif phase == "straight" then
     local m = scene("straight")
     m:cycle(S)
