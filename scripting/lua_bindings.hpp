@@ -237,6 +237,10 @@ void openOutputs(lua_State* L);                           // wrap_vtk.cpp: serie
 void addSaveMethods(lua_State* L, int methods_index);
 /// talus.restore, added to the module table at the top of the stack (wrap_save.cpp).
 void addSaveFunctions(lua_State* L);
+/// What m:save does (wrap_save.cpp): flushes the histories and saves the model with the Lua
+/// layer's section (histories, output series) to `path` through a temporary file and a rename.
+/// Also `talus run --save-on-interrupt FILE` (main.cpp). Throws talus::Error naming the file.
+void saveLuaModel(LuaModel& lm, const std::string& path);
 /// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
 void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
 /// talus.impact and talus.drive, added to the module table at the top of the stack.

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The talus command: runs a Lua script with the `talus` module preloaded.
 //
-//   talus run [--traceback] [--quiet] script.lua [args...]   args arrive in `arg` (arg[0] =
-//                                                           script) and `...`
+//   talus run [--traceback] [--quiet] [--save-on-interrupt FILE] script.lua [args...]
+//             args arrive in `arg` (arg[0] = script) and `...`
 //   talus --help | --version
 //
 // Exit status: 0 on success, 1 when the script fails (missing file, syntax error, runtime or
@@ -10,11 +10,13 @@
 // when Ctrl-C stopped the run (docs/output.md, "Ctrl-C").
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <lua.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,7 +32,7 @@
 namespace {
 
 const char* const kUsage =
-    "usage: talus run [--traceback] [--quiet] script.lua [args...]\n"
+    "usage: talus run [--traceback] [--quiet] [--save-on-interrupt FILE] script.lua [args...]\n"
     "       talus --help | --version\n"
     "\n"
     "Runs a Lua 5.4 script with the Talus module preloaded as the global `talus`\n"
@@ -40,6 +42,8 @@ const char* const kUsage =
     "options:\n"
     "  --traceback   on error, also print the Lua stack traceback\n"
     "  --quiet       no progress line (it is shown only on a terminal anyway)\n"
+    "  --save-on-interrupt FILE\n"
+    "                on Ctrl-C, save the model whose run stopped to FILE (as m:save does)\n"
     "\n"
     "Ctrl-C stops a running cycle/solve at the end of its step (histories are flushed) and\n"
     "ends the script with exit status 130; a second Ctrl-C kills at once.\n"
@@ -80,6 +84,36 @@ void installInterruptHandler() {
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;  // a read/write in progress goes on; the run stops at the step end
     ::sigaction(SIGINT, &sa, nullptr);
+}
+
+/// --save-on-interrupt FILE: when Ctrl-C stops a run call, the model it was cycling is saved to
+/// FILE as m:save would (histories flushed, temporary file and rename), at the end of the step
+/// where it stopped, before the error goes on to the script. Each model once: a later run call
+/// that Ctrl-C refuses (beforeStart) finds it saved. A second model stopped in the same process
+/// (an on_cycle callback that cycles another model: the inner one first) goes to FILE.2,
+/// FILE.3, ... A nested run
+/// call of the same model leaves the save to its outermost call, and a talus.map worker (a
+/// fork: another pid) saves nothing, so that workers do not overwrite the caller's file.
+void installSaveOnInterrupt(const std::string& file) {
+    const pid_t owner = ::getpid();
+    auto saved = std::make_shared<std::vector<const talus::lua::LuaModel*>>();
+    talus::lua::setInterruptHook([file, owner, saved](lua_State*, talus::lua::LuaModel& lm,
+                                                      const talus::Interrupted&) {
+        if (::getpid() != owner || lm.running > 0 || !lm.model) return;
+        if (std::find(saved->begin(), saved->end(), &lm) != saved->end()) return;
+        const std::string path =
+            saved->empty() ? file : file + "." + std::to_string(saved->size() + 1);
+        try {
+            talus::lua::saveLuaModel(lm, path);
+            saved->push_back(&lm);
+            talus::lua::clearProgressLine();
+            std::fprintf(stderr, "talus: saved the model at step %lld (t = %.9g s) to %s\n",
+                         static_cast<long long>(lm.model->step()), lm.model->time(), path.c_str());
+        } catch (const std::exception& e) {
+            // The interrupt goes on (exit 130); the failed save is said, not hidden.
+            std::fprintf(stderr, "talus: --save-on-interrupt: %s\n", e.what());
+        }
+    });
 }
 
 /// print() that first erases the progress line, so the script's output never lands on it.
@@ -231,11 +265,18 @@ int main(int argc, char** argv) {
     std::size_t i = 1;
     bool traceback = false;
     bool quiet = false;
+    std::string save_on_interrupt;
     while (i < a.size() && a[i].size() > 1 && a[i][0] == '-' && a[i][1] == '-') {
         if (a[i] == "--traceback") {
             traceback = true;
         } else if (a[i] == "--quiet") {
             quiet = true;
+        } else if (a[i] == "--save-on-interrupt") {
+            if (i + 1 >= a.size() || a[i + 1].empty()) {
+                std::fprintf(stderr, "talus: --save-on-interrupt needs a file name\n\n%s", kUsage);
+                return 2;
+            }
+            save_on_interrupt = a[++i];
         } else if (a[i] == "--") {
             ++i;
             break;
@@ -256,6 +297,7 @@ int main(int argc, char** argv) {
     g_stderr_tty = ::isatty(STDERR_FILENO) == 1;
     talus::lua::setProgressEnabled(!quiet && g_stderr_tty);
     installInterruptHandler();
+    if (!save_on_interrupt.empty()) installSaveOnInterrupt(save_on_interrupt);
     int status = 1;
     try {
         status = runScript(script, args, traceback, argv[0]);

@@ -169,6 +169,34 @@ int w_picture(lua_State* L) {
 
 }  // namespace
 
+std::vector<SavedPictureSeries> pictureSeriesStates(const LuaModel& lm) {
+    std::vector<SavedPictureSeries> out;
+    for (const auto& o : lm.outputs)
+        if (const auto* p = dynamic_cast<const PictureOutput*>(o.get());
+            p && p->open && p->numbered) {
+            SavedPictureSeries s;
+            s.file = p->file;
+            s.every = p->every;
+            s.speed = p->speed;
+            s.function = !p->functions.empty();
+            s.settings = p->settings;
+            s.files = p->written_files;
+            out.push_back(std::move(s));
+        }
+    return out;
+}
+
+void resumePictureSeries(lua_State* L, LuaModel& lm, const SavedPictureSeries& state) {
+    auto out = std::make_unique<PictureOutput>();
+    out->settings = state.settings;
+    out->file = state.file;
+    out->numbered = true;
+    out->speed = state.speed;
+    out->every = static_cast<int>(state.every);
+    out->written_files = state.files;  // the next frame is numbered after them
+    registerOutput(L, lm, std::move(out), false);
+}
+
 void addPictureMethods(lua_State* L, int methods_index) {
     lua_pushcfunction(L, w_picture);
     lua_setfield(L, methods_index, "picture");

@@ -96,11 +96,15 @@ void addVtkMethods(lua_State* L, int methods_index) {
     lua_setfield(L, methods_index, "vtk");
 }
 
-std::vector<vtk::SeriesState> vtkSeriesStates(const LuaModel& lm) {
-    std::vector<vtk::SeriesState> out;
+std::vector<SavedVtkSeries> vtkSeriesStates(const LuaModel& lm) {
+    std::vector<SavedVtkSeries> out;
     for (const auto& o : lm.outputs)
-        if (const auto* v = dynamic_cast<const VtkOutput*>(o.get()); v && v->open)
-            out.push_back(v->series.state());
+        if (const auto* v = dynamic_cast<const VtkOutput*>(o.get()); v && v->open) {
+            SavedVtkSeries s;
+            s.state = v->series.state();
+            for (const auto& f : v->functions) s.functions.push_back(f.first);
+            out.push_back(std::move(s));
+        }
     return out;
 }
 

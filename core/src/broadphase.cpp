@@ -141,9 +141,17 @@ void Broadphase::save(SaveWriter& w) const {
     for (int32 i = 0; i < t.*member(CapacityTag{}); ++i) {
         b2TreeNode n = nodes[i];
         if (n.height == -1) {
-            // A free node: only its link counts; Box2D leaves the rest uninitialised.
+            // A free node: only its link counts; Box2D leaves the rest uninitialised. So does
+            // b2TreeNode{} for the box: b2Vec2's default constructor is user-provided and sets
+            // nothing, so value-initialisation leaves x and y indeterminate. The optimised
+            // build happened to write equal bytes for a model and its restored copy; under ASan
+            // the temporary held stack garbage (half a pointer, read as a denormal float), so a
+            // restored model saved other bytes. Zero it: a save is a function of the state.
             const int32 next = n.next;
             n = b2TreeNode{};
+            n.aabb.lowerBound.SetZero();
+            n.aabb.upperBound.SetZero();
+            n.userData = nullptr;
             n.next = next;
             n.child1 = n.child2 = b2_nullNode;
             n.height = -1;
