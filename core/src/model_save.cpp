@@ -249,8 +249,8 @@ void Model::saveState(SaveWriter& w) const {
         w.boolean(r.prototype != nullptr);
         w.str(r.model_name);
         if (r.prototype) {
-            // Rule::factory points into the registry's list, which moves when another plugin
-            // is loaded: look the model up again.
+            // The plugin version as the registry has it now, looked up by name as the restore
+            // does.
             const ModelFactory* f = m_registry.tryFind(r.model_name);
             w.str(f ? f->plugin_version : std::string());
             w.i32(r.prototype->Version());
