@@ -38,7 +38,13 @@ local res = talus.map(n, function(k)
     m.seed = i
     local u = M.compress(M.specimen(pk, m), { post_peak = 0.8, csv = outdir .. "/ldb_ucs_" .. i .. ".csv" })
     local pd = genesis(0.0317 * scale, 0.0317 * scale, 100 + i)
-    local b = M.brazilian(M.specimen(pd, m, { balls = M.disk(pd) }), { post_peak = 0.5 })
+    -- Brazilian platens with friction 0.5 (as scripts/examples/brazilian.lua): between smooth
+    -- platens a disk held at one ball each slid or rolled out sideways instead of splitting
+    -- (seeds 1-5 at half size: sigma_t 0.6-22 MPa, docs/material.md)
+    local md = {}
+    for k, v in pairs(m) do md[k] = v end
+    md.platen = { kn = mat.platen.kn, ks = mat.platen.ks, fric = 0.5 }
+    local b = M.brazilian(M.specimen(pd, md, { balls = M.disk(pd) }), { post_peak = 0.5 })
     return { seed = i, balls = #pk.balls, porosity = pk.porosity, ucs = u.ucs, E = u.E, nu = u.nu,
              tensile = b.tensile, ratio = u.ucs / b.tensile }
 end)
