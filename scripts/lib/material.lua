@@ -1119,7 +1119,11 @@ local function load_platens(sp, opts, measure)
         -- fraction of a newton followed by a smaller value would stop the test (seen on a
         -- Brazilian disk whose platens start at the ball extent, not pressed)
         local failing = (breaks.tension + breaks.shear > 0) or (sp.bonds or 0) == 0
-        if failing and #rows > ipeak and r.sa < post * peak and peak > 0 then
+        -- `confirm`: the drop counts only once the strain is (1 + confirm) x the peak's, so a
+        -- load that comes back is not cut (Brazilian: one break under a platen halves the force
+        -- for a while; the split comes later)
+        local confirmed = r.ea >= (1 + (opts.confirm or 0)) * rows[ipeak].ea
+        if failing and #rows > ipeak and r.sa < post * peak and peak > 0 and confirmed then
             stop_reason = "post_peak"; break
         end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
@@ -1238,6 +1242,13 @@ end
 --- peak, D the disk's diameter (ball extent), t = 1 m. Options as for M.compress.
 function M.brazilian(sp, opts)
     opts = opts or {}
+    if opts.confirm == nil then
+        -- a copy, the caller's table untouched; see load_platens
+        local o = {}
+        for k, v in pairs(opts) do o[k] = v end
+        o.confirm = 0.5
+        opts = o
+    end
     local e = sp.extent
     local D = 0.5 * ((e[3] - e[1]) + (e[4] - e[2]))
     local res = load_platens(sp, opts, function(h0, h)
