@@ -3,7 +3,7 @@
 -- ucs_5000.lua: timing of the UCS workflow on a ~5000-ball bonded specimen, per phase
 -- (issue 9 "Speed"; docs/benchmarks.md "UCS"). One process, one core.
 --
---   talus run scripts/bench/ucs_5000.lua [outdir] [width] [height] [floater_passes]
+--   talus run scripts/bench/ucs_5000.lua [outdir] [width] [height] [floater_passes] [v (verbose genesis)]
 --
 -- R 0.5-0.83 mm, about 470 balls per 20 x 40 mm: width 0.065 m, height 0.13 m gives ~5000
 -- balls (the defaults, 32.5 x 65 mm, ~1200 balls, are a quicker check).
@@ -14,7 +14,8 @@ local W, H = tonumber(arg[2] or "0.0325"), tonumber(arg[3] or "0.065")
 local c0 = os.clock()
 local pk = M.genesis{ width = W, height = H, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
                       kn = 6.4e10, ks = 9.6e9, density = 2600, seed = 1,
-                      floater_passes = tonumber(arg[4]) } -- default 3 move/grow passes; 0: rattlers deleted only
+                      floater_passes = tonumber(arg[4]), -- default 3 move/grow passes; 0: rattlers deleted only
+                      verbose = arg[5] == "v" }
 local c1 = os.clock()
 local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
                             bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 } })
