@@ -31,3 +31,5 @@ print(string.format("genesis %.1f s (place %.2f, expand %.1f, stress %.1f, float
 print(string.format("bond+relax %.1f s (%d relax steps)", c2 - c1, sp.relax_steps))
 print(string.format("test %.1f s (%d steps, stop: %s)", c3 - c2, r.steps, r.stop))
 print(string.format("total %.1f s; UCS %.2f MPa E %.2f GPa nu %.3f", c3 - c0, r.ucs / 1e6, r.E / 1e9, r.nu))
+print("genesis engine profile:\n" .. pk.profile)
+print("bond + relax + test engine profile:\n" .. sp.model:profile())
