@@ -751,7 +751,7 @@ function M.genesis(opts)
         if n_pass == 0 then return false end
         floaters = floaters + n_pass
         local sg = mean_stress()
-        -- relaxed with the servo walls on, to 2 ratio, at most 1 500 steps: with the walls
+        -- relaxed with the servo walls on, to twice `ratio`, at most 1 500 steps: with the walls
         -- held the packing crept as it settled (5 000 balls: the wall stress fell from 0.91 to
         -- 0.74 sigma0 over three passes, and 15% more balls were deleted in the end)
         for _, rec in ipairs(walls) do rec.target = sigma0 end
