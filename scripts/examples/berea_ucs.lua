@@ -4,11 +4,12 @@
 -- kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600, contact-bond strengths normal : shear =
 -- 1e9 : 1e10 N. Thesis result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
 --
---   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [contact|ball]
+--   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [ball|contact]
 --
--- "contact" (default): kn, ks are the contacts' stiffnesses. "ball": they are the balls'
--- stiffnesses, as PFC2D 3.x reads `ball kn` (the contact gets the two balls' springs in series,
--- kn/2 and ks/2 for equal balls; docs/lua-api.md, "inherited ... springs in series").
+-- "ball" (default): kn, ks are the balls' stiffnesses, as PFC2D 3.x reads them (the contact gets
+-- the two balls' springs in series, kn/2 and ks/2 for equal balls; docs/lua-api.md, "inherited
+-- ... springs in series"); docs/material.md says why this is the thesis's reading. "contact":
+-- the same numbers as the contacts' stiffnesses (twice as stiff), for comparison.
 --
 -- The thesis does not give its ball size (seed digest section 7) and uses clumps of up to three
 -- balls; we use single balls, R 0.5-0.83 mm. In 2D with unit thickness a bond strength F is a
@@ -20,7 +21,7 @@ local outdir = arg[1] or "out"
 local n = tonumber(arg[2] or "5")
 talus.mkdir(outdir)
 local Fn = 4.6e4
-local mode = arg[3] or "contact"
+local mode = arg[3] or "ball"
 local kn, ks = 6.4e10, 9.6e9
 if mode == "ball" then kn, ks = kn / 2, ks / 2 end
 local res = talus.map(n, function(i)

@@ -21,7 +21,7 @@ local pk = M.genesis{ width = 0.02, height = 0.04, rmin = 0.5e-3, rmax = 0.83e-3
                       kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
 M.save_packing(pk, outdir .. "/ucs_packing.lua") -- reuse: M.load_packing(file)
 local t_gen = os.clock() - t0
-print(string.format("genesis: %d balls, porosity %.3f, %d floaters enlarged, %d deleted, %.1f s",
+print(string.format("genesis: %d balls, porosity %.3f, %d floaters moved/grown, %d deleted, %.1f s",
     #pk.balls, pk.porosity, pk.floaters, pk.deleted, t_gen))
 
 t0 = os.clock()

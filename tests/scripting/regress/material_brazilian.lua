@@ -9,8 +9,11 @@ local pk = M.genesis{ width = 0.014, height = 0.014, rmin = 0.5e-3, rmax = 0.83e
                       kn = 6.4e10, ks = 9.6e9, seed = 5 }
 local d = 0.0125
 local idx = M.disk(pk, d)
+-- platens with friction 0.5, as in scripts/examples/brazilian.lua: a disk held between smooth
+-- platens at one ball each may slide or roll out sideways instead of splitting (docs/material.md
+-- "Brazilian test"; seen here on the packing of the move/grow genesis: no break in 60 000 steps)
 local mat = { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
-              bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 } }
+              bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 }, platen = { fric = 0.5 } }
 local sp = M.specimen(pk, mat, { balls = idx })
 T.check(sp.model:ball_count() == #idx, "disk balls")
 local r = M.brazilian(sp, { post_peak = 0.7 })
