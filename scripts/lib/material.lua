@@ -19,6 +19,8 @@
 --                             installed and relaxed
 --   M.compress(sp, opts)      UCS test (no side walls) or biaxial test (opts.confinement)
 --   M.disk(pk) / M.brazilian(sp, opts)   Brazilian test on a disk cut from a packing
+--   M.group_grains(nbrs, k, u01)  touching balls grouped into grains of up to k (genesis
+--                             option grains = {clump_max = k}: clumped grains, thesis A app. B)
 --   M.analyse(rows, peak)     E (tangent at 50% of peak), secant E50, nu, from a history
 --   M.write_csv(file, rows, cols)
 --
@@ -396,7 +398,7 @@ end
 function M.genesis(opts)
     check_known(opts, set_of { "width", "height", "rmin", "rmax", "porosity", "density", "kn",
         "ks", "seed", "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts",
-        "verbose", "lua_servo", "floater_passes", "floater_rounds", "check_every" }, "genesis")
+        "verbose", "lua_servo", "floater_passes", "floater_rounds", "check_every", "grains" }, "genesis")
     local W, H = req(opts, "width", "genesis"), req(opts, "height", "genesis")
     local rmin, rmax = req(opts, "rmin", "genesis"), req(opts, "rmax", "genesis")
     local n_target = opts.porosity or 0.16
@@ -411,6 +413,17 @@ function M.genesis(opts)
     local min_contacts = opts.min_contacts or 3
     local say = opts.verbose and print or function() end
     if not (rmin > 0 and rmax >= rmin) then error("material.genesis: need 0 < rmin <= rmax", 2) end
+    local clump_max = 1
+    if opts.grains ~= nil then
+        if type(opts.grains) ~= "table" then
+            error("material.genesis: 'grains' must be a table {clump_max = k}", 2)
+        end
+        check_known(opts.grains, set_of { "clump_max" }, "genesis: grains")
+        clump_max = opts.grains.clump_max or 3
+        if math.type(clump_max) ~= "integer" or clump_max < 1 then
+            error("material.genesis: grains.clump_max must be an integer >= 1 (got " .. tostring(clump_max) .. ")", 2)
+        end
+    end
     if not (n_target > 0.08 and n_target < 0.5) then
         error("material.genesis: porosity must be in (0.08, 0.5) for a random disk packing (got "
             .. n_target .. ")", 2)
@@ -818,10 +831,34 @@ function M.genesis(opts)
     timing.stress = timing.stress + clock() - t0
 
     local box = { wall_pos(walls[1]), wall_pos(walls[3]), -wall_pos(walls[2]), -wall_pos(walls[4]) }
-    local out = {}
+    local out, index_of = {}, {}
     for b in m:balls() do
         local p = b.pos
         out[#out + 1] = { p[1], p[2], b.radius }
+        index_of[b.id] = #out
+    end
+
+    -- 6. grains (opts.grains, thesis A appendix B: "randomly placed clumps of up to 3 balls"):
+    -- the balls touching at sigma0 (overlap > 0) are grouped, seeded, into clumps of up to
+    -- clump_max; M.specimen makes them rigid (m:clump{balls}) before the bonds go in. Grouping
+    -- balls that are each in equilibrium needs no relaxation: the forces between them cancel
+    -- in the clump's sum, and the specimen starts stress-free anyway (m:bond reset).
+    local clumps, grain_counts
+    if clump_max > 1 then
+        local nbrs = {}
+        for i = 1, #out do nbrs[i] = {} end
+        for c in m:contacts{} do
+            local b2 = c.ball2
+            if b2 and c.overlap > 0 then
+                local i, j = index_of[c.ball1.id], index_of[b2.id]
+                if i and j then
+                    nbrs[i][#nbrs[i] + 1] = j; nbrs[j][#nbrs[j] + 1] = i
+                end
+            end
+        end
+        -- its own stream, so the grouping does not shift the other draws of the genesis
+        local cu01 = drawer(((opts.seed or 1) * 1000003) ~ 0x636C756D70)
+        clumps, grain_counts = M.group_grains(nbrs, clump_max, cu01)
     end
     local pk = {
         balls = out, box = box, stress = stresses(), floaters = floaters, deleted = deleted,
@@ -830,11 +867,61 @@ function M.genesis(opts)
         porosity = porosity_of(out, box[3] - box[1], box[4] - box[2]), density = rho,
         rmin = rmin, rmax = rmax, timing = timing,
         profile = m:profile(), -- the engine's time per cycle phase over the whole genesis
-        genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1 },
+        genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1,
+                    clump_max = clump_max },
+        clumps = clumps, grain_counts = grain_counts,
     }
+    if clumps then
+        local f = {}
+        for k = 1, clump_max do f[#f + 1] = string.format("%d: %.3f", k, (grain_counts[k] or 0) * k / #out) end
+        say("genesis: grains: fraction of balls in clumps of " .. table.concat(f, ", "))
+    end
     say(string.format("genesis: %d balls, %d floater enlargements, %d deleted, porosity %.4f, box %.5g x %.5g m",
         #out, floaters, deleted, pk.porosity, box[3] - box[1], box[4] - box[2]))
     return pk
+end
+
+-- ------------------------------------------------------------------ grains
+
+--- Groups balls into grains of at most kmax touching balls. nbrs[i] lists the balls touching
+--- ball i (indices 1..n, any order); u01 a uniform generator. The balls are visited in a
+--- random order (Fisher-Yates); a ball not yet in a grain starts one and takes up to kmax - 1
+--- of its touching neighbours that are not in a grain either, drawn at random. So every member
+--- of a grain touches its first ball, and no ball is in two grains. Returns the grains of two or
+--- more balls (lists of indices, ascending; in the order they were made) and counts[k] = the
+--- number of grains of k balls (singles included).
+function M.group_grains(nbrs, kmax, u01)
+    local n = #nbrs
+    local order = {}
+    for i = 1, n do order[i] = i end
+    for i = n, 2, -1 do
+        local j = 1 + math.floor(u01() * i)
+        order[i], order[j] = order[j], order[i]
+    end
+    local owner, grains, counts = {}, {}, {}
+    for _, i in ipairs(order) do
+        if not owner[i] then
+            local free, seen = {}, {}
+            for _, j in ipairs(nbrs[i]) do
+                if not owner[j] and j ~= i and not seen[j] then free[#free + 1] = j; seen[j] = true end
+            end
+            table.sort(free) -- the neighbour lists' order (contact order) does not matter
+            local g = { i }
+            for k = 1, math.min(kmax - 1, #free) do
+                local r = k + math.floor(u01() * (#free - k + 1))
+                free[k], free[r] = free[r], free[k]
+                g[#g + 1] = free[k]
+            end
+            for _, j in ipairs(g) do owner[j] = true end
+            counts[#g] = (counts[#g] or 0) + 1
+            if #g > 1 then
+                table.sort(g)
+                grains[#grains + 1] = g
+            end
+        end
+    end
+    for k = 1, kmax do counts[k] = counts[k] or 0 end
+    return grains, counts
 end
 
 -- ------------------------------------------------------------------ packing files
@@ -875,14 +962,16 @@ end
 
 -- ------------------------------------------------------------------ specimen
 
---- Builds a model from a packing: the balls (group "rock"), platens at the packing's bottom and
---- top (group "platen"), side walls when opts.sides (group "side"), the bond model installed at
---- every ball-ball contact and near-contact within `gap`, then relaxed to the ratio.
+--- Builds a model from a packing: the balls (group "rock"; the packing's grains made clumps
+--- when it has them), platens at the packing's bottom and top (group "platen"), side walls when
+--- opts.sides (group "side"), the bond model installed at every contact and near-contact
+--- within `gap` between two different bodies (balls or clumps), then relaxed to the ratio.
 --- mat = { model = "cbond"|"pbond"|..., kn, ks, fric, density, bond = {props of the bond
 ---         model, each a number or {mean, sd, dist}}, platen = {kn, ks, fric} (default: kn,
 ---         ks of the material, fric 0), damp (0.7), gap (default 1e-3 rmin), seed }
 --- opts = { sides = false, balls = {indices} (a subset, e.g. a disk), relax_ratio = 1e-4,
----          energy = true }
+---          energy = true, clumps = true (false: the packing's grains stay single balls) }
+--- sp.balls lists every ball (pebbles too), sp.clumps the clumps.
 function M.specimen(pk, mat, opts)
     opts = opts or {}
     local t0 = clock()
@@ -897,9 +986,12 @@ function M.specimen(pk, mat, opts)
     m:contact_model("linear", { kn = pl.kn or kn, ks = pl.ks or ks, fric = pl.fric or 0 },
         { groups = { "side" } })
     local list = pk.balls
+    local sub -- packing index -> index in list (a subset)
     if opts.balls then
-        list = {}
-        for _, i in ipairs(opts.balls) do list[#list + 1] = pk.balls[i] end
+        list, sub = {}, {}
+        for _, i in ipairs(opts.balls) do
+            list[#list + 1] = pk.balls[i]; sub[i] = #list
+        end
     end
     local xmin, xmax, ymin, ymax = math.huge, -math.huge, math.huge, -math.huge
     for _, p in ipairs(list) do
@@ -915,8 +1007,27 @@ function M.specimen(pk, mat, opts)
     local ext = 0.25 * math.max(W, H)
     local sp = { model = m, packing = pk, mat = mat, timing = {} }
     local rho = mat.density or pk.density or 2600
+    sp.balls = {} -- every ball of the specimen, pebbles included (m:balls() skips pebbles)
     for _, p in ipairs(list) do
-        m:ball{ pos = { p[1], p[2] }, radius = p[3], density = rho, group = "rock" }
+        sp.balls[#sp.balls + 1] = m:ball{ pos = { p[1], p[2] }, radius = p[3], density = rho, group = "rock" }
+    end
+    -- grains (genesis option `grains`): the packing's groups of touching balls become rigid
+    -- clumps before any contact exists, so pebbles of one clump never get a contact (nor a
+    -- bond). Mass mode "sum" (PFC 3.x, the thesis's code): the clump's mass is the sum of its
+    -- disks' (the lens overlaps of ~1e-6 R are counted twice: up to 2e-8 relative above the
+    -- union's, measured). A subset (a disk) keeps the members it has; a grain cut to one ball is a ball.
+    sp.clumps = {}
+    if pk.clumps and opts.clumps ~= false then
+        for _, g in ipairs(pk.clumps) do
+            local members = {}
+            for _, i in ipairs(g) do
+                local k = sub and sub[i] or (not sub and i)
+                if k then members[#members + 1] = sp.balls[k] end
+            end
+            if #members > 1 then
+                sp.clumps[#sp.clumps + 1] = m:clump{ balls = members, mass_mode = "sum", density = rho }
+            end
+        end
     end
     sp.bottom = make_wall(m, { xl - ext, yb }, { xr + ext, yb }, { 0, 1 }, "platen")
     sp.top = make_wall(m, { xl - ext, yt }, { xr + ext, yt }, { 0, -1 }, "platen")
@@ -972,6 +1083,9 @@ function M.install_bonds(m, mat, gap)
     end
     -- a deformability form (emod) replaces kn/ks: do not pass both
     if bond.emod then base.kn, base.ks = nil, nil end
+    if feature(m, "clump_count") and m:clump_count() > 0 then
+        error("material: a specimen of clumped grains needs m:bond (issue 9) to install its bonds", 3)
+    end
     local rule = model == "cbond" and { cb_bond = 1, cb_gap = gap } or { bonded = 1 }
     if has.lin_mode then rule.lin_mode = 1 end -- incremental: PFC practice for bonded specimens
     for k, v in pairs(base) do rule[k] = v end
@@ -1151,14 +1265,16 @@ end
 
 -- The balls whose outer edge lies within `band` of the specimen's left or right side, for the
 -- lateral strain (the mean x of each set).
-local function side_sets(m, band)
+-- `balls`: the specimen's balls, pebbles of clumped grains included (their handles read the
+-- pebble's position).
+local function side_sets(balls, band)
     local xmin, xmax = math.huge, -math.huge
-    for b in m:balls{ group = "rock" } do
+    for _, b in ipairs(balls) do
         local p, r = b.pos, b.radius
         xmin = math.min(xmin, p[1] - r); xmax = math.max(xmax, p[1] + r)
     end
     local left, right = {}, {}
-    for b in m:balls{ group = "rock" } do
+    for _, b in ipairs(balls) do
         local p, r = b.pos, b.radius
         if p[1] - r < xmin + band then left[#left + 1] = b end
         if p[1] + r > xmax - band then right[#right + 1] = b end
@@ -1209,7 +1325,12 @@ function M.compress(sp, opts)
         width = lateral()
     else
         local band = opts.band or 2 * (sp.packing.rmax or 1e-3)
-        lateral = side_sets(m, band)
+        local balls = sp.balls
+        if not balls then
+            balls = {}
+            for b in m:balls{ group = "rock" } do balls[#balls + 1] = b end
+        end
+        lateral = side_sets(balls, band)
     end
     local w0 = lateral()
     local res = load_platens(sp, opts, function(h0, h)
@@ -1227,7 +1348,8 @@ function M.compress(sp, opts)
     res.fit_points = a.points
     res.peak_strain = res.rows[res.ipeak].ea
     res.width = width
-    res.balls = m:ball_count()
+    res.balls = sp.balls and #sp.balls or m:ball_count()
+    res.clumps = #(sp.clumps or {})
     res.bonds = sp.bonds
     return res
 end
@@ -1271,7 +1393,7 @@ function M.brazilian(sp, opts)
     res.tensile = res.peak
     res.force = res.rows[res.ipeak].force
     res.diameter = D
-    res.balls = sp.model:ball_count()
+    res.balls = sp.balls and #sp.balls or sp.model:ball_count()
     return res
 end
 
