@@ -14,19 +14,11 @@
 // moves bit for bit as the same ball (tests/core/test_clumps.cpp).
 #include <cmath>
 
+#include "body_damping.hpp"
 #include "body_store.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
-
-namespace {
-
-inline double localDamping(double alpha, double force, double vel) {
-    if (vel == 0.0) return 0.0;
-    return -alpha * std::fabs(force) * (vel > 0.0 ? 1.0 : -1.0);
-}
-
-}  // namespace
 
 void Model::gatherClumpForces() {
     const auto& b = m_bodies->balls;
@@ -112,14 +104,11 @@ void Model::moveClumps(double& kinetic, double& body, double& damping, double& d
             const double work = ((m * g + cl.fapp).dot(v) + cl.mapp * om) * dt;
             kinetic += ke;
             body += work;
-            // Local damping on the velocity at t, viscous on the mean of the half steps, as
-            // for a ball (law_of_motion.cpp, the damping's work).
+            // As for a ball (body_damping.hpp).
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
             const double damp =
-                -w * (fd.dot(v_now) + md * om_now -
-                      m * (cx * v_mid.x() * v_mid.x() + cy * v_mid.y() * v_mid.y()) -
-                      cw * inertia * om_mid * om_mid);
+                dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
             damping += damp;
             double react = 0.0;
             if (fix) {

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <string>
 
+#include "body_damping.hpp"
 #include "body_store.hpp"
 #include "contact_store.hpp"
 #include "model_internal.hpp"
@@ -30,11 +31,6 @@
 namespace talus {
 
 namespace {
-
-inline double localDamping(double alpha, double force, double vel) {
-    if (vel == 0.0) return 0.0;
-    return -alpha * std::fabs(force) * (vel > 0.0 ? 1.0 : -1.0);
-}
 
 std::string text(double v) { return messageNumber(v); }
 
@@ -134,25 +130,12 @@ void Model::moveBalls() {
             const double work = ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
             kinetic += ke;
             body += work;
-            // Work of the damping impulses over the window around t. Local damping is a force
-            // fixed at t (from the unbalanced force at t and the sign of the old velocity), so
-            // its impulse works on the velocity at t, the snapshot's v_now: with it a damped body
-            // in free flight balances to round-off for any step sequence, the first cycle
-            // included (there v_now is the given velocity). The mean of the half-step
-            // velocities, used before, equals v_now only for a steady step after the first
-            // cycle; a changing step, or the first cycle's half window against a load, left
-            // about D G dt^2/(8m) unbooked (stress seed 1440: local damping 0.88 reversing a
-            // ball in its first 0.023 s step, 0.47 J = 1.6% of the throughput). Viscous
-            // damping is implicit, F = -c m v_mid, and the scheme removes exactly
-            // w F . v_mid from the half-step kinetic energy; booked on v_mid it stays closer
-            // for strong damping and changing steps (c dt ~ 0.5: 2% against 5-11% on v_now;
-            // docs/physics/energy.md). It acts on translation and spin alike (M = -c I w).
+            // Local damping on the velocity at t, viscous on the mean of the half steps
+            // (body_damping.hpp).
             const Vec2 v_mid = 0.5 * (v_old + v);
             const double om_mid = 0.5 * (w_old + om);
             const double damp =
-                -w * (fd.dot(v_now) + md * om_now -
-                      m * (cx * v_mid.x() * v_mid.x() + cy * v_mid.y() * v_mid.y()) -
-                      cw * inertia * om_mid * om_mid);
+                dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
             damping += damp;
             double react = 0.0;
             if (fix) {
