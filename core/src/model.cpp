@@ -198,22 +198,10 @@ void Model::requireReachableTime(double duration) const {
 }
 
 void Model::solveTime(double duration) {
-    requireReachableTime(duration);
-    prepareRun();
-    const double end = m_time + duration;
-    try {
-        // Land exactly on `end`: cap each step by the time left.
-        while (!reached(end)) {
-            m_step_cap = end - m_time;
-            runSteps(1);
-        }
-    } catch (...) {
-        m_step_cap = 0.0;
-        flushWarnings();
-        throw;
-    }
-    m_step_cap = 0.0;
-    flushWarnings();
+    // solve{time} alone lands exactly on the end time (solve.cpp).
+    SolveSpec spec;
+    spec.time = duration;
+    solve(spec);
 }
 
 std::string Model::lastStepReason() const {

@@ -4,8 +4,7 @@
 // After every step the criteria are checked in a fixed order, targets before caps:
 // time, steps, ratio, until, interrupted, max_steps, max_time; the first one reached ends the
 // run and is returned. The unbalanced force is computed only when a ratio is asked for, and the
-// `until` function is called only when given: a solve with time alone does exactly the work of
-// solveTime (same steps, same landing on the end time).
+// `until` function is called only when given: solveTime is a solve with time alone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
