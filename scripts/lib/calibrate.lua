@@ -22,7 +22,7 @@
 --   C.fit_linear_dp_nratio{...}  linear's damping ratio for a restitution (rig and closed form)
 --   C.follow{...}                what a fixed parameter set gives over a table (auto exp modes)
 --   C.runout_rig{...}, C.fit_runout{...}  a property (rrlinear's rr_fric, ...) from a run-out
---   C.print_table(rows, cols), C.write_csv(file, rows, cols)
+--   C.print_table(rows, cols), C.write_csv(file, rows, cols [, number_format])
 
 local C = {}
 
@@ -559,15 +559,17 @@ function C.print_table(rows, cols, out)
     end
 end
 
---- Writes rows as CSV (numbers at full precision, missing values empty).
-function C.write_csv(file, rows, cols)
+--- Writes rows as CSV (numbers at full precision unless `number_format` is given, strings quoted,
+--- missing values empty).
+function C.write_csv(file, rows, cols, number_format)
+    number_format = number_format or "%.17g"
     local f = assert(io.open(file, "w"))
     f:write(table.concat(cols, ","), "\n")
     for _, r in ipairs(rows) do
         local cells = {}
         for i, k in ipairs(cols) do
             local x = r[k]
-            cells[i] = x == nil and "" or (type(x) == "number" and string.format("%.17g", x)
+            cells[i] = x == nil and "" or (type(x) == "number" and string.format(number_format, x)
                 or '"' .. tostring(x):gsub('"', '""') .. '"')
         end
         f:write(table.concat(cells, ","), "\n")

@@ -1161,18 +1161,9 @@ function M.analyse(rows, ipeak, lo, hi)
     return { E = E, E50 = E50, nu = nu, points = #xs }
 end
 
+-- CSV with 12 significant digits (calibrate.lua's writer).
 function M.write_csv(file, rows, cols)
-    local f = assert(io.open(file, "w"))
-    f:write(table.concat(cols, ","), "\n")
-    for _, r in ipairs(rows) do
-        local cells = {}
-        for i, c in ipairs(cols) do
-            local v = r[c]
-            cells[i] = v == nil and "" or string.format("%.12g", v)
-        end
-        f:write(table.concat(cells, ","), "\n")
-    end
-    f:close()
+    return require("calibrate").write_csv(file, rows, cols, "%.12g")
 end
 
 -- ------------------------------------------------------------------ loading
