@@ -41,6 +41,26 @@ end
 --- Name of this test script as it appears in error positions (the chunk name).
 function T.script() return debug.getinfo(2, "S").short_src end
 
+--- A value written exactly: numbers as hexadecimal floats (%a), arrays as {a,b,...}; for state
+--- dumps compared byte for byte (save/restore continuation).
+function T.hex(v)
+    if type(v) == "number" then return string.format("%a", v) end
+    if type(v) == "table" then
+        local parts = {}
+        for i = 1, #v do parts[#parts + 1] = T.hex(v[i]) end
+        return "{" .. table.concat(parts, ",") .. "}"
+    end
+    return tostring(v)
+end
+
+--- The keys of a table, sorted.
+function T.sorted_keys(t)
+    local keys = {}
+    for k in pairs(t) do keys[#keys + 1] = k end
+    table.sort(keys)
+    return keys
+end
+
 function T.done(name)
     print(string.format("%s: %d checks passed", name, T.checks))
 end

@@ -137,22 +137,8 @@ local function setup(m)
     m:energy{ on = true }
 end
 
-local function fmt(v)
-    if type(v) == "number" then return string.format("%a", v) end
-    if type(v) == "table" then
-        local parts = {}
-        for i = 1, #v do parts[#parts + 1] = fmt(v[i]) end
-        return "{" .. table.concat(parts, ",") .. "}"
-    end
-    return tostring(v)
-end
-
-local function sortedKeys(t)
-    local keys = {}
-    for k in pairs(t) do keys[#keys + 1] = k end
-    table.sort(keys)
-    return keys
-end
+local T = require("testlib")
+local fmt, sortedKeys = T.hex, T.sorted_keys
 
 local function dump(m, path)
     local out = {}

@@ -44,15 +44,8 @@ local function scene(tag)
     return m
 end
 
-local function fmt(v)
-    if type(v) == "number" then return string.format("%a", v) end
-    if type(v) == "table" then
-        local parts = {}
-        for i = 1, #v do parts[#parts + 1] = fmt(v[i]) end
-        return "{" .. table.concat(parts, ",") .. "}"
-    end
-    return tostring(v)
-end
+local T = require("testlib")
+local fmt, sortedKeys = T.hex, T.sorted_keys
 
 local function write(path, text)
     local f = assert(io.open(path, "w"))
@@ -78,10 +71,7 @@ local function dump(m, tag)
                                        fmt(c.overlap) }, " ")
     end
     local e = m:energies()
-    local keys = {}
-    for k in pairs(e) do keys[#keys + 1] = k end
-    table.sort(keys)
-    for _, k in ipairs(keys) do out[#out + 1] = "energy " .. k .. " " .. fmt(e[k]) end
+    for _, k in ipairs(sortedKeys(e)) do out[#out + 1] = "energy " .. k .. " " .. fmt(e[k]) end
     write(dir .. "/" .. tag .. ".txt", table.concat(out, "\n") .. "\n")
 end
 
