@@ -213,6 +213,7 @@ void openHistory(lua_State* L);  // wrap_history.cpp
 extern const luaL_Reg kModelBodyMethods[];     // wrap_bodies.cpp: ball, wall, iterators, counts
 extern const luaL_Reg kContactModelMethods[];  // wrap_contact_model.cpp
 extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
+extern const luaL_Reg kForceLoopMethods[];     // wrap_force_loop.cpp: batched_law, threads
 extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
 extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps

@@ -452,7 +452,7 @@ const luaL_Reg kModelMethods[] = {
 /// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
 const luaL_Reg* const kModelMethodTables[] = {
     kModelMethods,  kModelBodyMethods, kContactModelMethods, kTimestepMethods, kGuardMethods,
-    kEnergyMethods, kClumpMethods,     kMeasureMethods,      kBondMethods};
+    kEnergyMethods, kClumpMethods,     kMeasureMethods,      kBondMethods,     kForceLoopMethods};
 
 int w_index_unknown(lua_State* L) {
     // __index of the method table's metatable: an unknown method name is an error that lists

@@ -27,6 +27,27 @@ namespace talus {
 namespace {
 
 constexpr std::size_t kPrefetchAhead = 4;
+/// Pairs per block of the force loop (below): the block's FdBlocks (about 13 kB) stay in L1.
+constexpr std::size_t kBlock = 64;
+
+/// What pass 1 of the force loop found for a pair.
+enum class PairStep : uint8_t {
+    Apart,      // not touching (nor within the model's activity distance)
+    Elsewhere,  // a wall pair whose ball is in a neighbouring segment's region, no contact
+    Contact,    // an active contact: its law runs
+    Touch,      // touching for the first time: to activate (rare, alone)
+    HandOver,   // an active wall contact whose point crossed a vertex (rare, alone)
+};
+
+/// Pass 1's result for one pair of a block.
+struct BlockEntry {
+    ContactGeometry g;
+    Vec2 x2;    // centre of end 2: the ball's, or the wall's (moment arms)
+    Vec2 vrel;  // contact-point velocity of end 2 relative to end 1 (activation)
+    uint32_t pair;
+    uint32_t block;  // index of the contact's FdBlock
+    PairStep step;
+};
 /// Steps in contact the guard follows a contact for (docs/physics/guard.md).
 constexpr uint32_t kGuardWatch = 400;
 
@@ -93,6 +114,18 @@ void Model::forceDisplacement() {
     }
 }
 
+// The loop runs over the pairs in blocks of up to kBlock, in three passes per block, so that the
+// model's law is called once per run of contacts of one model (the batched FDlaw) and what a
+// block's passes hand on stays in the L1 cache:
+//   1. geometry: the pair's narrowphase and, for a contact, its FdBlock (no side effects);
+//   2. the law: the model's batched FDlaw over each run of contacts of one model, or FDlaw;
+//   3. finish, in pair order: forces onto the ends, the time-step notes, the books, the guard.
+// A pair whose processing reaches beyond itself (a contact to activate, a wall contact crossing
+// a vertex to its neighbour's pair) ends the block: the block is finished, then that pair is
+// processed alone, then the next block starts after it. So every pair's pass 3 runs after the
+// earlier pairs' (partial force sums, lists, events and sums are built in pair order), and the
+// result is bit for bit that of one pass per pair, for any block size and with or without the
+// batched law (docs/architecture.md, "Force loop").
 template <bool kAuto, bool kEnergy, bool kGuard>
 void Model::forceLoop() {
     // References to the stores' arrays, taken once: the loop body reads them as it read the
@@ -115,9 +148,10 @@ void Model::forceLoop() {
         m_limits_stale = false;
     }
     const double dt = m_dt;
-    FdBlock fd = m_fd_template;
-    fd.tdel = dt;
-    fd.time = m_time;
+    FdBlock fd_template = m_fd_template;
+    fd_template.tdel = dt;
+    fd_template.time = m_time;
+    fd_template.flags = kEnergy ? kFdEnergyOn : 0u;
     double strain_now = 0.0, bond_now = 0.0;
     double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
     double finite_check = 0.0;
@@ -130,53 +164,31 @@ void Model::forceLoop() {
     const double* spin = b.spin.data();
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
+    const bool batched = m_batched_law;
 
-    const std::size_t npairs = pairs.size();
-    for (std::size_t i = 0; i < npairs; ++i) {
-        Pair& p = pairs[i];
-        // The contact objects live apart from the pairs, which only point to them: ask for the
-        // first three cache lines of the object a few pairs ahead (the shipped models' objects
-        // are 88 to 184 bytes).
-        if (i + kPrefetchAhead < npairs) {
-            const Pair& ahead = pairs[i + kPrefetchAhead];
-            if (ahead.active) {
-                const char* obj = reinterpret_cast<const char*>(ahead.model);
-                __builtin_prefetch(obj);
-                __builtin_prefetch(obj + 64);
-                __builtin_prefetch(obj + 128);
-            }
-        }
+    // ---- pass 1: the geometry of pair i into `e` and, for a contact, its FdBlock `fd`
+    auto geometry = [&](std::size_t i, BlockEntry& e, FdBlock& fd) -> PairStep {
+        const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
         const Vec2 x1 = pos[s1];
         const double r1 = radius[s1];
-        ContactGeometry g;
-        Vec2 v2c, x2;
+        ContactGeometry& g = e.g;
+        Vec2 v2c;
         double spin2;
         double shear_mid = 0.0;  // ball-ball: the shear rate's half-step correction (below)
-
         if (!p.wall) {
             const uint32_t s2 = p.end2;
-            x2 = pos[s2];
+            const Vec2 x2 = pos[s2];
             const Vec2 d = x2 - x1;
             const double rsum = r1 + radius[s2];
             const double dist2 = d.squaredNorm();
             const double reach = rsum + p.activity;
-            if (!p.active && dist2 >= reach * reach) {
-                if constexpr (kAuto) {
-                    const double dist = std::sqrt(dist2);
-                    const Vec2 arel = (force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
-                                      (force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-                    noteApproach(p, cold[i], dist - rsum, vel[s2] - vel[s1], arel.norm(),
-                                 dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
-                }
-                if ((ball_moved[s1] | ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
-                    to_remove.push_back(static_cast<uint32_t>(i));
-                continue;
-            }
+            if (!p.active && dist2 >= reach * reach) return PairStep::Apart;
             const double dist = std::sqrt(dist2);
             g.normal = dist > 0.0 ? Vec2(d * (1.0 / dist)) : Vec2(0.0, 1.0);
             g.overlap = rsum - dist;
             g.point = x1 + (r1 - 0.5 * g.overlap) * g.normal;
+            e.x2 = x2;
             v2c = vel[s2] + spinCross(spin[s2], g.point - x2);
             spin2 = spin[s2];
             // The shear rate at the half step. The centre line's sweep dv . t, seen from the new
@@ -197,32 +209,12 @@ void Model::forceLoop() {
                     -0.5 * q * (dv.dot(perp(g.normal)) / dist_old + 0.5 * (spin[s1] + spin[s2]));
             }
         } else {
-            const Segment& sg = segments[p.end2];
-            if (!segmentGeometry(p.end2, x1, r1, g)) {
-                // The ball is in a neighbouring segment's region: that segment holds the contact.
-                if (p.active) {
-                    // The contact crossed a convex vertex and moves, state and all, to the
-                    // holder's pair, which now sits in slot i: process slot i again (p, sg may
-                    // dangle, a pair may have been created).
-                    if (handOverWallContact(i)) {
-                        --i;  // wraps at 0; the loop's ++i restores it
-                        continue;
-                    }
-                    // No pair can take it (no holder, or one with a contact of its own): the
-                    // contact ends here, and what it still stores is released.
-                    if constexpr (kEnergy) {
-                        m_books.acc.released += cold[i].strain + cold[i].bond;
-                        if (groups) bookReleasedToGroups(p, cold[i].strain + cold[i].bond);
-                    }
-                    endContact(p, cold[i], kGuard);
-                }
-                if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
-                    to_remove.push_back(static_cast<uint32_t>(i));
-                continue;
-            }
-            const WallData& wall = walls[sg.wall];
-            x2 = wall.center;
-            v2c = wall.vel + spinCross(wall.spin, g.point - x2);
+            // The ball is in a neighbouring segment's region: that segment holds the contact.
+            if (!segmentGeometry(p.end2, x1, r1, g))
+                return p.active ? PairStep::HandOver : PairStep::Elsewhere;
+            const WallData& wall = walls[segments[p.end2].wall];
+            e.x2 = wall.center;
+            v2c = wall.vel + spinCross(wall.spin, g.point - wall.center);
             spin2 = wall.spin;
             // The spin part of the shear rate at the half step, as for two balls (above): the
             // lever arm to the contact point shrinks by du_n / 2 over the step, and the arm at
@@ -230,67 +222,87 @@ void Model::forceLoop() {
             // pump energy through its shear spring (a bonded ball in a V: stress seed 2266,
             // -2.7% of its input). The mean arm adds (du_n / 4) (w1 + w2) / dt.
             shear_mid = -0.25 * (vel[s1] - v2c).dot(g.normal) * dt * (spin[s1] + spin2);
-            if (!p.active && g.overlap <= -p.activity) {
-                if constexpr (kAuto) {
-                    const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-                    noteApproach(p, cold[i], -g.overlap, v2c - vel[s1], a1.norm(), g.normal);
-                }
-                if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
-                    to_remove.push_back(static_cast<uint32_t>(i));
-                continue;
-            }
+            if (!p.active && g.overlap <= -p.activity) return PairStep::Apart;
         }
-
-        // ---- the pair is a contact this step
-        const double mass_eff = p.mass_eff;
-        const Vec2 r1c = g.point - x1;
-        const Vec2 v1c = vel[s1] + spinCross(spin[s1], r1c);
+        const Vec2 v1c = vel[s1] + spinCross(spin[s1], g.point - x1);
         const Vec2 vrel = v2c - v1c;
-        const Vec2 t = perp(g.normal);
-        bool first = false;
-        if (!p.active) first = activate(p, cold[i], g, vrel);
-        fd.flags = (first ? kFdFirstCall | m_activation_flags : 0u) | (kEnergy ? kFdEnergyOn : 0u);
+        e.vrel = vrel;
+        // The block's FdBlocks start as copies of the template (below): only what changes from
+        // contact to contact is written here, as when one FdBlock served every contact.
+        fd.flags = fd_template.flags;
         fd.status = 0;
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
-        fd.u_dot_s = vrel.dot(t) + shear_mid;
+        fd.u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
         fd.t_dot_rel = spin2 - spin[s1];
         fd.du_n = fd.u_dot_n * dt;
         fd.du_s = fd.u_dot_s * dt;
         fd.dtheta = fd.t_dot_rel * dt;
-        fd.mass_eff = mass_eff;
+        fd.mass_eff = p.mass_eff;
         fd.inv_mass_eff_s = p.inv_mass_eff_s;
-        const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
-        fd.n_force = fn_old;
-        fd.s_force = fs_old;
-        fd.moment = m_old;
+        fd.n_force = p.n_force;
+        fd.s_force = p.s_force;
+        fd.moment = p.moment;
         fd.knest = fd.ksest = fd.krest = 0.0;
         if constexpr (kEnergy)
-            for (double& e : fd.energy) e = 0.0;
+            for (double& en : fd.energy) en = 0.0;
+        return p.active ? PairStep::Contact : PairStep::Touch;
+    };
 
-        try {
-            p.model->FDlaw(fd);
-        } catch (const std::exception& e) {
-            // A model without the SDK's barrier threw (docs/plugin-abi.md, "Exceptions").
-            fd.status = 1;
-            m_plugin_error = e.what();
-            fd.error = m_plugin_error.c_str();
-        } catch (...) {
-            fd.status = 1;
-            fd.error = "unknown exception";
+    // ---- pass 3 for a pair that is not a contact this step (Apart or Elsewhere)
+    auto finishApart = [&](std::size_t i, const BlockEntry& e, PairStep step) {
+        const Pair& p = pairs[i];
+        const uint32_t s1 = p.end1;
+        if (!p.wall) {
+            const uint32_t s2 = p.end2;
+            if constexpr (kAuto) {
+                const Vec2 d = pos[s2] - pos[s1];
+                const double dist = d.norm();
+                const Vec2 arel = (force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
+                                  (force[s1] + b.fapp[s1]) * b.inv_mass[s1];
+                noteApproach(p, cold[i], dist - (radius[s1] + radius[s2]), vel[s2] - vel[s1],
+                             arel.norm(), dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
+            }
+            if ((ball_moved[s1] | ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
+                to_remove.push_back(static_cast<uint32_t>(i));
+            return;
         }
+        const Segment& sg = segments[p.end2];
+        if constexpr (kAuto) {
+            if (step == PairStep::Apart) {
+                const WallData& wall = walls[sg.wall];
+                const Vec2 v2c = wall.vel + spinCross(wall.spin, e.g.point - wall.center);
+                const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
+                noteApproach(p, cold[i], -e.g.overlap, v2c - vel[s1], a1.norm(), e.g.normal);
+            }
+        }
+        if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
+            to_remove.push_back(static_cast<uint32_t>(i));
+    };
+
+    // ---- pass 3 for a contact: its law has run on `fd`
+    // (Inlined into both callers: through the closure, every array above costs a load.)
+    auto finishContact = [&](std::size_t i, const BlockEntry& e, FdBlock& fd, bool first)
+        __attribute__((always_inline)) {
+        Pair& p = pairs[i];
+        const ContactGeometry& g = e.g;
+        const uint32_t s1 = p.end1;
+        const Vec2 x1 = pos[s1];
+        const double r1 = radius[s1];
         if (fd.status != 0) reportFailedLaw(p, fd);
         if (first && cold[i].born_overlapped) notePlacement(p, cold[i], g.overlap, fd, kEnergy);
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
         finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
+        const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
 
         // ---- forces onto the ends
-        const Vec2 f = fd.n_force * g.normal + fd.s_force * t;
+        const Vec2 r1c = g.point - x1;
+        const Vec2 f = fd.n_force * g.normal + fd.s_force * perp(g.normal);
         force[s1] -= f;
         moment[s1] -= cross(r1c, f) + fd.moment;
         if (!p.wall) {
             force[p.end2] += f;
-            moment[p.end2] += cross(g.point - x2, f) + fd.moment;
+            moment[p.end2] += cross(g.point - e.x2, f) + fd.moment;
         } else {
             WallData& w = walls[segments[p.end2].wall];
             w.force += f;
@@ -306,7 +318,7 @@ void Model::forceLoop() {
             if constexpr (kAuto) {
                 c.krest = fd.krest;
                 noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
-                            p.wall ? 0.0 : (g.point - x2).squaredNorm(), mass_eff);
+                            p.wall ? 0.0 : (g.point - e.x2).squaredNorm(), p.mass_eff);
             }
             if constexpr (kEnergy) {
                 // The plugin's partitions against the ABI's contract (rare path when broken).
@@ -398,6 +410,123 @@ void Model::forceLoop() {
             const Box& fat2 = p.wall ? segments[p.end2].fat : b.fat[p.end2];
             if (!b.fat[s1].overlaps(fat2)) to_remove.push_back(static_cast<uint32_t>(i));
         }
+    };
+
+    // ---- the law for one contact, FDlaw through the vtable (a rare pair, or no batched law)
+    auto law = [&](ContactModel* model, FdBlock& fd) {
+        try {
+            model->FDlaw(fd);
+        } catch (const std::exception& e) {
+            // A model without the SDK's barrier threw (docs/plugin-abi.md, "Exceptions").
+            fd.status = 1;
+            m_plugin_error = e.what();
+            fd.error = m_plugin_error.c_str();
+        } catch (...) {
+            fd.status = 1;
+            fd.error = "unknown exception";
+        }
+    };
+
+    BlockEntry entries[kBlock];
+    FdBlock blocks[kBlock];
+    std::fill(blocks, blocks + kBlock, fd_template);
+    ContactModel* models[kBlock];
+    BatchFdLawFn laws[kBlock];
+    const std::size_t npairs = pairs.size();
+    std::size_t i = 0;
+    while (i < npairs) {
+        // pass 1, up to a rare pair
+        std::size_t n = 0, ncontacts = 0;
+        PairStep rare = PairStep::Contact;
+        for (; i < npairs && n < kBlock; ++i) {
+            // The contact objects live apart from the pairs, which only point to them: ask for
+            // the first three cache lines of the object a few pairs ahead (the shipped models'
+            // objects are 88 to 184 bytes).
+            if (i + kPrefetchAhead < npairs) {
+                const Pair& ahead = pairs[i + kPrefetchAhead];
+                if (ahead.active) {
+                    const char* obj = reinterpret_cast<const char*>(ahead.model);
+                    __builtin_prefetch(obj);
+                    __builtin_prefetch(obj + 64);
+                    __builtin_prefetch(obj + 128);
+                }
+            }
+            BlockEntry& e = entries[n];
+            const PairStep step = geometry(i, e, blocks[ncontacts]);
+            if (step == PairStep::Touch || step == PairStep::HandOver) {
+                rare = step;
+                break;
+            }
+            e.pair = static_cast<uint32_t>(i);
+            e.step = step;
+            if (step == PairStep::Contact) {
+                const Pair& p = pairs[i];
+                models[ncontacts] = p.model;
+                laws[ncontacts] = batched ? p.rule->factory->batch : nullptr;
+                e.block = static_cast<uint32_t>(ncontacts++);
+            }
+            ++n;
+        }
+        // pass 2: runs of contacts of one batched law in one call each, the rest one by one
+        for (std::size_t k = 0; k < ncontacts;) {
+            std::size_t end = k + 1;
+            if (laws[k]) {
+                while (end < ncontacts && laws[end] == laws[k]) ++end;
+                laws[k](models + k, blocks + k, static_cast<int32_t>(end - k));
+                m_profile.batched_laws += static_cast<int64_t>(end - k);
+            } else {
+                law(models[k], blocks[k]);
+            }
+            k = end;
+        }
+        // pass 3, in pair order
+        for (std::size_t k = 0; k < n; ++k) {
+            const BlockEntry& e = entries[k];
+            if (e.step == PairStep::Contact)
+                finishContact(e.pair, e, blocks[e.block], false);
+            else
+                finishApart(e.pair, e, e.step);
+        }
+        if (rare == PairStep::Contact) continue;  // the block was full, or the pairs are done
+
+        // The rare pair, alone (i points to it; pass 1 left its geometry in entries[n] and
+        // its FdBlock in blocks[ncontacts], which passes 2 and 3 did not touch).
+        BlockEntry& e = entries[n];
+        FdBlock& fd = blocks[ncontacts];
+        if (rare == PairStep::HandOver) {
+            // The contact crossed a convex vertex and moves, state and all, to the holder's
+            // pair, which now sits in slot i: process slot i again (a pair may have been
+            // created).
+            if (handOverWallContact(i)) continue;
+            // No pair can take it (no holder, or one with a contact of its own): the contact
+            // ends here, and what it still stores is released.
+            Pair& p = pairs[i];
+            if constexpr (kEnergy) {
+                m_books.acc.released += cold[i].strain + cold[i].bond;
+                if (groups) bookReleasedToGroups(p, cold[i].strain + cold[i].bond);
+            }
+            endContact(p, cold[i], kGuard);
+            e.g = ContactGeometry{};
+            finishApart(i, e, PairStep::Elsewhere);
+            ++i;
+            continue;
+        }
+        // A pair touching for the first time: activate it, then its law (FDlaw, and the first
+        // call's flags), then its finish.
+        Pair& p = pairs[i];
+        const bool first = activate(p, cold[i], e.g, e.vrel);
+        if (first) {
+            fd.flags |= kFdFirstCall | m_activation_flags;
+        } else {
+            // A wall pair that took over its chain's contact from a neighbouring segment's pair
+            // (activate, adoptWallContact): the forces are that contact's.
+            fd.n_force = p.n_force;
+            fd.s_force = p.s_force;
+            fd.moment = p.moment;
+        }
+        law(p.model, fd);
+        finishContact(i, e, fd, first);
+        ++i;
     }
 
     if (!std::isfinite(finite_check)) findNonFiniteContact();

@@ -256,6 +256,10 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
                           (info->create_prototype ? "destroy_prototype" : "create_prototype") +
                           " is null");
 
+    // Optional (ABI 1.1): batched laws. A library without the entry has none.
+    auto batch_entry =
+        reinterpret_cast<TalusPluginBatchFn>(::dlsym(handle, TALUS_PLUGIN_BATCH_ENTRY));
+
     auto lib = std::make_unique<Library>();
     lib->path = path;
     lib->handle = handle;
@@ -287,6 +291,7 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         f.index = i;
         f.info = info;
         f.reference = proto;
+        f.batch = batch_entry ? batch_entry(i) : nullptr;
         added.push_back(f);
     }
     std::vector<std::string> names;

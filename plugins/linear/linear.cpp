@@ -56,3 +56,9 @@ const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, des
 }  // namespace
 
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
+
+// The batched law (docs/plugin-abi.md, "Batched FDlaw"): the host calls it once per block of
+// contacts instead of FDlaw per contact; same law, same bits.
+TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index) {
+    return index == 0 ? &Linear::BatchFDlaw : nullptr;
+}

@@ -30,7 +30,7 @@
 #include <cstdint>
 
 #define TALUS_ABI_MAJOR 1
-#define TALUS_ABI_MINOR 0
+#define TALUS_ABI_MINOR 1
 #define TALUS_DIM 2
 
 #if defined(__GNUC__) || defined(__clang__)
@@ -274,7 +274,21 @@ struct PluginInfo {
     void (*destroy_prototype)(ContactModel* prototype);
 };
 
+/// The batched force-displacement law (ABI 1.1, optional): the FDlaw of `count` contacts of one
+/// model in one call, `models[k]` the contact's object (in host-owned storage, laid out by the
+/// model) and `blocks[k]` its FdBlock, filled exactly as for FDlaw. It must do to each pair what
+/// FDlaw(blocks[k]) does, bit for bit: the host calls whichever it likes (docs/plugin-abi.md,
+/// "Batched FDlaw"). A failure is reported per contact in blocks[k].status / error; nothing may
+/// escape as an exception.
+using BatchFdLawFn = void (*)(ContactModel* const* models, FdBlock* blocks, int32_t count);
+
 }  // namespace talus
+
+/// Name of the optional second entry point: a library that offers a batched law for some of its
+/// models exports TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index),
+/// returning the law of model `index` (the index of PluginInfo::create_prototype) or nullptr.
+#define TALUS_PLUGIN_BATCH_ENTRY "talus_plugin_batch"
+using TalusPluginBatchFn = talus::BatchFdLawFn (*)(int32_t);
 
 /// Name of the single entry point every plugin library exports.
 #define TALUS_PLUGIN_ENTRY "talus_plugin_info"

@@ -520,6 +520,11 @@ public:
     /// Re-orders the balls in memory along a space-filling curve every `every` steps (0 = never)
     /// so that neighbours are close in memory.
     void setSortInterval(int64_t every) { m_sort_every = every; }
+    /// Calls the batched FDlaw of the models that offer one (docs/plugin-abi.md, "Batched
+    /// FDlaw"; default on). Off: FDlaw per contact. Both give the same bits; the switch is for
+    /// tests and measurements.
+    void setBatchedLaw(bool on) { m_batched_law = on; }
+    bool batchedLaw() const { return m_batched_law; }
 
     // Group names share one table (bit index); up to 64 groups per model.
     int groupIndex(const std::string& name, bool create);
@@ -721,6 +726,7 @@ private:
     bool m_dt_idle = false;   // the last automatic step was idle: nothing moved or accelerated
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
+    bool m_batched_law = true;
     int m_servos_on = 0;  // walls with a servo switched on (wall_servo.cpp)
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).

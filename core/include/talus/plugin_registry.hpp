@@ -22,6 +22,8 @@ struct ModelFactory {
     const PluginInfo* info = nullptr;
     /// Read-only prototype for metadata (property names, defaults); never cloned.
     ContactModel* reference = nullptr;
+    /// The model's batched FDlaw (talus_plugin_batch), or nullptr: FDlaw per contact.
+    BatchFdLawFn batch = nullptr;
 };
 
 class PluginRegistry {

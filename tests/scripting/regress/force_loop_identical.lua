@@ -1,0 +1,119 @@
+-- SPDX-License-Identifier: MIT
+-- The force loop's ways of running give the same bits (issue 11; docs/architecture.md, "Force
+-- loop"): the batched FDlaw against FDlaw per contact (`m:batched_law`). One scene with what the
+-- loop does beyond the plain contact: `linear` with every dashpot mode (normal and shear
+-- dashpots, no tension, no shear dashpot while sliding) and without dashpots, another model
+-- (hertz, which has no batched law) in the same blocks, the automatic step (stability,
+-- resolution and approach notes, which read the partial force sums in pair order), energy
+-- tracing with groups, cbond bonds that break on impact, clumps, and a wall chain with convex
+-- vertices the balls roll over (contact hand-over between segments, which ends a block).
+-- The states must agree to the bit: positions, velocities, spins, every contact's forces and
+-- moment, the wall forces, every energy item of the model and of each group, the steps. No
+-- tolerance: both paths run the same inline law on the same FdBlocks, in the same order.
+local T = require("testlib")
+
+local function scene(batched)
+    local m = talus.model{ gravity = {0, -9.81} }
+    T.check(m:batched_law(batched) == batched, "m:batched_law(on) returns the setting")
+    m:on_warning(function() end)  -- guard findings of the pour are not this test's topic
+    m:contact_model("linear", { kn = 2e6, ks = 1e6, fric = 0.4, dp_nratio = 0.2,
+                                dp_sratio = 0.1 })
+    m:contact_model("linear", { kn = 2e6, ks = 1e6, fric = 0.3, dp_nratio = 0.3, dp_mode = 3 },
+                    { groups = {"a", "a"} })
+    m:contact_model("linear", { kn = 3e6, ks = 1e6, fric = 0.5, dp_sratio = 0.2, dp_mode = 2 },
+                    { groups = {"b", "b"} })
+    m:contact_model("hertz", { hz_shear = 3e8, hz_poiss = 0.25, fric = 0.4 }, { groups = {"a", "b"} })
+    m:contact_model("linear", { kn = 2e6, ks = 1e6, fric = 0.4 }, { groups = {"bonded"} })
+    -- A box whose floor is a saw of convex and concave vertices (hand-over at the crests).
+    local floor = {{0, 2}, {0, 0}}
+    for k = 1, 8 do
+        floor[#floor + 1] = {0.25 * k - 0.125, 0.04 + 0.01 * (k % 3)}
+        floor[#floor + 1] = {0.25 * k, 0}
+    end
+    floor[#floor + 1] = {2, 2}
+    m:wall{ points = floor, group = "box" }
+    -- Loose balls, two groups, given velocities and spins (fixed pseudo-random sequence).
+    local seed = 12345
+    local function rnd()
+        seed = (seed * 1103515245 + 12345) % 2147483648
+        return seed / 2147483648
+    end
+    for j = 0, 7 do
+        for i = 0, 17 do
+            m:ball{ pos = {0.1 + 0.1 * i + 0.02 * rnd(), 0.2 + 0.1 * j + 0.02 * rnd()},
+                    radius = 0.03 + 0.015 * rnd(), density = 2600,
+                    vel = {rnd() - 0.5, rnd() - 0.5}, spin = 4 * (rnd() - 0.5),
+                    group = (i + j) % 2 == 0 and "a" or "b" }
+        end
+    end
+    local t = m:clump_template{ pebbles = {{0, 0, 0.04}, {0.05, 0, 0.035}, {0.02, 0.045, 0.03}} }
+    for k = 0, 5 do
+        m:clump{ template = t, pos = {0.2 + 0.3 * k, 1.2}, angle = 0.4 * k, density = 2600,
+                 group = "a" }
+    end
+    -- A bonded block of touching balls that hits the pile and breaks up.
+    for j = 0, 3 do
+        for i = 0, 3 do
+            m:ball{ pos = {0.8 + 0.05 * i, 1.5 + 0.05 * j}, radius = 0.025, density = 2600,
+                    vel = {0, -2}, groups = {"bonded", "b"} }
+        end
+    end
+    m:bond{ model = "cbond", group = "bonded", gap = 1e-4,
+            props = { kn = 2e6, ks = 1e6, fric = 0.4, cb_tenf = 40, cb_shearf = 40 } }
+    m:energy{ on = true }
+    local breaks = 0
+    m:on_event("bond_break", function() breaks = breaks + 1 end)
+    m:solve{ time = 0.5 }
+    return m, breaks
+end
+
+local function digest(m)
+    local out = {}
+    local function put(...) for _, v in ipairs({...}) do out[#out + 1] = T.hex(v) end end
+    for b in m:balls() do put(b.pos[1], b.pos[2], b.vel[1], b.vel[2], b.spin, b.angle) end
+    local contacts = 0
+    for c in m:contacts{} do
+        contacts = contacts + 1
+        out[#out + 1] = tostring(c.key)
+        put(c.normal_force, c.shear_force, c.moment, c.overlap)
+    end
+    for w in m:walls() do put(w.force[1], w.force[2]) end
+    local items = {"body", "boundary", "kinetic", "strain", "bond", "slip", "dashpot", "plastic",
+                   "damping", "released", "placement", "balance_error"}
+    for _, g in ipairs({false, "a", "b", "bonded", "box"}) do
+        local e = g and m:energies(g) or m:energies()
+        for _, k in ipairs(items) do put(e[k]) end
+        if g then put(e.exchanged) end
+    end
+    put(m:time(), (m:dt()))
+    out[#out + 1] = tostring(m:step())
+    return table.concat(out, " "), contacts
+end
+
+local function batchedLaws(m)
+    return tonumber(m:profile():match("batched laws (%d+)"))
+end
+
+local ref_m, ref_breaks = scene(false)
+local ref, ref_contacts = digest(ref_m)
+-- The scene must exercise what it claims, and the reference must not have used the batch.
+T.check(ref_contacts > 100, "a pile in contact: " .. ref_contacts .. " contacts")
+T.check(ref_breaks > 0 and ref_breaks < 40, "some bonds broke: " .. ref_breaks)
+T.check(ref_m:clump_count() == 6, "clumps present")
+T.check(ref_m:timestep().rule ~= "fixed", "automatic step")
+T.check(batchedLaws(ref_m) == 0, "m:batched_law(false): no batched call")
+
+local m, breaks = scene(true)
+local d, contacts = digest(m)
+-- The pile settles into ~200 contacts, most of them linear: the batch was the usual path (at
+-- least ten contacts per step on average, over a run that starts with balls in flight).
+T.check(batchedLaws(m) > 10 * m:step(),
+        "batched laws " .. batchedLaws(m) .. " over " .. m:step() .. " steps")
+T.check(breaks == ref_breaks, "batched: " .. breaks .. " breaks, per contact: " .. ref_breaks)
+T.check(m:step() == ref_m:step(), "same step count")
+T.check(d == ref, "batched: state differs from FDlaw per contact (" .. contacts ..
+        " contacts against " .. ref_contacts .. ")")
+
+T.fails(function() m:batched_law(1) end, {"batched_law: expected true or false"}, "not a boolean")
+
+T.done("force_loop_identical")
