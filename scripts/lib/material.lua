@@ -1490,11 +1490,14 @@ end
 ---     of the band: how far the crack runs along the diameter;
 ---   angle: the orientation of the breaks' principal axis (second moments of their positions),
 ---     degrees from the loaded diameter (0: along it);
----   jaw_first: how many of the breaks up to the peak lie within 0.1 D of a jaw's apex
----     (x = cx, y = cy +- D/2), and pre_peak the number of breaks up to the peak;
+---   pre_peak: the number of breaks up to the peak; jaw_first: how many of the first
+---     max(pre_peak, 1) breaks (those up to the peak, or the one that ended it) lie at a jaw:
+---     within 0.1 D of the disk's surface (distance from the centre >= 0.4 D) and within 35
+---     degrees of the loaded diameter (the curved jaws span +-31 degrees of the disk; a jaw's
+---     first contact may be 20 degrees off the diameter);
 ---   split: band >= 0.5 and cover >= 0.5 (most breaks on the loaded diameter, and the crack
----     spans at least half of it); crush: not split, and at least half of the breaks up to the
----     peak near a jaw (the failure of the flat platens: bonds under the point load).
+---     spans at least half of it); crush: not split, and at least half of those first breaks
+---     at a jaw (the failure of the flat platens: bonds under the point load).
 --- The thresholds are set a priori (not fitted to runs): the band is the central fifth of the
 --- disk, a split at a 50% post-peak stop is expected to reach well past the centre.
 function M.fracture(breaks, center, D, t_peak)
@@ -1505,7 +1508,17 @@ function M.fracture(breaks, center, D, t_peak)
     for _, b in ipairs(breaks) do sx = sx + b[1]; sy = sy + b[2] end
     local mx, my = sx / math.max(n, 1), sy / math.max(n, 1)
     local cxx, cyy, cxy = 0, 0, 0
-    local pre, near = 0, 0
+    local pre = 0
+    for _, b in ipairs(breaks) do
+        if t_peak and b[3] <= t_peak then pre = pre + 1 end
+    end
+    local first = math.min(n, math.max(pre, 1))
+    local near = 0
+    for k = 1, first do
+        local dx, dy = breaks[k][1] - cx, breaks[k][2] - cy
+        local rr = math.sqrt(dx * dx + dy * dy)
+        if rr >= 0.4 * D and math.deg(math.atan(math.abs(dx), math.abs(dy))) <= 35 then near = near + 1 end
+    end
     for _, b in ipairs(breaks) do
         local dx, dy = b[1] - cx, b[2] - cy
         if math.abs(dx) <= 0.1 * D then
@@ -1514,11 +1527,6 @@ function M.fracture(breaks, center, D, t_peak)
             if k >= 0 and k < 20 then bins[k] = true end
         end
         cxx = cxx + (b[1] - mx) ^ 2; cyy = cyy + (b[2] - my) ^ 2; cxy = cxy + (b[1] - mx) * (b[2] - my)
-        if t_peak and b[3] <= t_peak then
-            pre = pre + 1
-            local da = math.min(math.sqrt(dx * dx + (dy - 0.5 * D) ^ 2), math.sqrt(dx * dx + (dy + 0.5 * D) ^ 2))
-            if da <= 0.1 * D then near = near + 1 end
-        end
     end
     local nbins = 0
     for _ in pairs(bins) do nbins = nbins + 1 end
@@ -1530,7 +1538,7 @@ function M.fracture(breaks, center, D, t_peak)
     local cover = nbins / 20
     local split = n > 0 and band >= 0.5 and cover >= 0.5
     return { n = n, band = band, cover = cover, angle = n > 1 and angle or nil, pre_peak = pre,
-             jaw_first = near, split = split, crush = (not split) and pre > 0 and near >= 0.5 * pre }
+             jaw_first = near, split = split, crush = (not split) and n > 0 and near >= 0.5 * first }
 end
 
 --- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })), between

@@ -161,6 +161,9 @@ T.check(fl.angle < 2, "crack along the diameter: " .. fl.angle)
 local crush = { { 0.02, 0.46, 0.5 }, { -0.03, 0.45, 0.6 }, { 0.05, 0.47, 0.9 }, { 0.3, -0.1, 2 }, { -0.3, 0.1, 2 } }
 local fc = M.fracture(crush, { 0, 0 }, 1, 1)
 T.check(fc.crush and not fc.split and fc.jaw_first == 3 and fc.pre_peak == 3, "breaks at a jaw before the peak: crushing")
+-- one break 13 degrees off the diameter at the surface, after the peak, ends the test: crushing
+local fo = M.fracture({ { 0.48 * math.sin(math.rad(13)), -0.48 * math.cos(math.rad(13)), 2 } }, { 0, 0 }, 1, 1)
+T.check(fo.crush and fo.jaw_first == 1 and fo.pre_peak == 0, "a lone break at an off-axis jaw contact: crushing")
 -- a crack across the diameter (horizontal): not a split, 90 degrees off
 local across = {}
 for k = 0, 19 do across[#across + 1] = { -0.475 + 0.05 * k, 0.0, 2 } end
