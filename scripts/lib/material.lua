@@ -1430,9 +1430,10 @@ end
 --- than itself and whose sagitta is below 1e-3 of a ball radius at LdB sizes), spanning
 --- +-`angle` about the jaw's centre (default 20 degrees: +-0.51 R across, about +-31 degrees
 --- of the disk; the jaw clears the disk's surface by 0.05 R at its ends, far more than the
---- jaw travel at failure). Each jaw is placed where it just touches the outermost ball: the
---- top jaw's centre at yc = max_i (y_i - sqrt((Rj - r_i)^2 - (x_i - cx)^2)), the lowest
---- centre for which every ball lies inside the jaw's circle; the bottom one mirrored.
+--- jaw travel at failure). Each jaw is placed where it just touches the outermost ball it can
+--- reach: the top jaw's centre at yc = max_i (y_i - sqrt((Rj - r_i)^2 - (x_i - cx)^2)) over
+--- the balls within its span, the lowest centre for which they all lie inside the jaw's
+--- circle; the bottom one mirrored.
 --- Sets sp.top, sp.bottom (wall records, apex positions), sp.disk = {center, D, Rj, angle,
 --- segments, top_center, bottom_center, first_contact}.
 --- Measured limit (docs/material.md): on a disk cut from a box packing (M.disk) the surface is
@@ -1460,13 +1461,20 @@ function M.make_jaws(sp, list, center, angle_deg, segments)
     if type(n) ~= "number" or n < 1 or n ~= math.floor(n) then
         error(string.format("material.specimen: jaw_segments = %s (a positive integer)", tostring(segments)), 3)
     end
+    -- Only the balls the arc can touch count: those seen from the jaw's centre within the
+    -- jaw's span widened by the ball's own angular half-width r / (Rj - r) (a ball further out
+    -- passes beside the jaw's end; counting it would leave a narrow jaw short of the disk).
+    -- The jaw's centre is at about cy -+ (Rj - R) below/above the disk's centre (R = D/2) for
+    -- this angular test; the height then follows from the selected balls exactly.
     local yt, yb = -math.huge, math.huge
     local it, ib -- the balls the jaws touch first
+    local R = 0.5 * D
     for i, p in ipairs(list) do
         local dx = p[1] - cx
         local h = math.sqrt((Rj - p[3]) ^ 2 - dx * dx) -- Rj > R >= |dx| + r: real
-        if p[2] - h > yt then yt, it = p[2] - h, i end
-        if p[2] + h < yb then yb, ib = p[2] + h, i end
+        local w = phi + p[3] / (Rj - p[3])
+        if math.abs(math.atan(dx, p[2] - (cy - (Rj - R)))) <= w and p[2] - h > yt then yt, it = p[2] - h, i end
+        if math.abs(math.atan(dx, (cy + (Rj - R)) - p[2])) <= w and p[2] + h < yb then yb, ib = p[2] + h, i end
     end
     local function jaw(yc, side)
         local pts = M.jaw_points(cx, yc, Rj, phi, n, side)

@@ -55,7 +55,8 @@ for _, jaw in ipairs({ { rec = sp.top, c = dk.top_center, side = 1 }, { rec = sp
     end
     -- the jaw's first vertex at -angle, last at +angle about the vertical
     T.near(math.atan(pts[1][1] - c[1], jaw.side * (pts[1][2] - c[2])), -phi, 1e-12, "first vertex angle")
-    -- placed touching: every ball of the packing inside the jaw circle, one on it
+    -- placed touching: every ball inside the jaw circle, one on it (M.make_jaws counts the
+    -- balls within the jaw's span; on this disk, as on the LdB ones, that makes no difference)
     local slack = math.huge
     for _, b in ipairs(balls) do
         local s = dk.Rj - math.sqrt((b[1] - c[1]) ^ 2 + (b[2] - c[2]) ^ 2) - b[3]
