@@ -3,27 +3,33 @@
 -- brazilian.lua: Brazilian (diametral compression) test on a bonded disk cut from a P&C
 -- packing; sigma_t = 2 F / (pi D t), t = 1 m (bodies-bonds-rockfall.md 2.3; docs/material.md).
 --
---   talus run scripts/examples/brazilian.lua [outdir] [seed]
+--   talus run scripts/examples/brazilian.lua [outdir] [seed] [jaws]
 --
+-- jaws = curved (default: the ISRM jaws of radius 1.5 R, M.make_jaws) or flat (platens).
 -- Same micro-properties as scripts/examples/ucs.lua (thesis A appendix B contact bonds,
 -- strength scaled to the ball size).
 local M = require("material")
 local outdir = arg[1] or "out"
 local seed = tonumber(arg[2] or "1")
+local jaws = arg[3] or "curved"
 talus.mkdir(outdir)
 local pk = M.genesis{ width = 0.03, height = 0.03, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
                       kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
 local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
                             bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 }, seed = seed,
-                            -- platen friction: with smooth platens the disk, held at two single
-                            -- balls, slid out sideways after the first break under a platen
+                            -- jaw/platen friction: with smooth flat platens the disk, held at two
+                            -- single balls, slid out sideways after the first break under a platen
                             platen = { fric = 0.5 } },
-                      { balls = M.disk(pk) })
+                      { balls = M.disk(pk), jaws = jaws })
 local csv = outdir .. "/brazilian_history.csv"
 -- post_peak 0.5: a single bond under a platen may break first and drop the force by ~30%
 -- before the disk splits (seen with seed 1); the split drops it much further
 local r = M.brazilian(sp, { post_peak = 0.5, csv = csv })
-print(string.format("disk D = %.2f mm, %d balls, %d bonds", r.diameter * 1e3, r.balls, sp.bonds))
+print(string.format("disk D = %.2f mm, %d balls, %d bonds, %s jaws", r.diameter * 1e3, r.balls, sp.bonds, r.jaws))
 print(string.format("peak force %.4g N per m of thickness -> tensile strength 2F/(pi D t) = %.3f MPa",
     r.force, r.tensile / 1e6))
 print(string.format("%d steps, breaks: %d tension, %d shear", r.steps, r.breaks.tension, r.breaks.shear))
+local f = r.fracture
+print(string.format("fracture: %d breaks, %.0f%% within 0.1 D of the loaded diameter, crack along %.0f%% of it, " ..
+    "%.1f degrees off it: %s", f.n, 100 * f.band, 100 * f.cover, f.angle or 0 / 0,
+    f.split and "split" or (f.crush and "crushed at a jaw" or "not a split")))

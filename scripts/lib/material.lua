@@ -18,7 +18,9 @@
 --   M.specimen(pk, mat, opts) a model with the packing's balls, platens (and side walls), bonds
 --                             installed and relaxed
 --   M.compress(sp, opts)      UCS test (no side walls) or biaxial test (opts.confinement)
---   M.disk(pk) / M.brazilian(sp, opts)   Brazilian test on a disk cut from a packing
+--   M.disk(pk) / M.brazilian(sp, opts)   Brazilian test on a disk cut from a packing, between
+--                             the ISRM curved jaws (radius 1.5 R, M.make_jaws; default) or flat
+--                             platens (M.specimen opts.jaws = "flat"); M.fracture: where it broke
 --   M.group_grains(nbrs, k, u01)  touching balls grouped into grains of up to k (genesis
 --                             option grains = {clump_max = k}: clumped grains, thesis A app. B)
 --   M.analyse(rows, peak)     E (tangent at 50% of peak), secant E50, nu, from a history
@@ -161,9 +163,12 @@ local function make_wall(m, a, b, n, group, props)
 end
 
 -- Position of a wall along its inward normal (signed distance of its line from the origin).
+-- A curved jaw (Brazilian test) is a chain whose first vertex is not its apex: rec.apex is the
+-- apex's offset from that vertex along n (constant, the jaw translates rigidly), so the
+-- position is the apex's.
 local function wall_pos(rec)
     local p = rec.wall.points[1]
-    return p[1] * rec.n[1] + p[2] * rec.n[2]
+    return p[1] * rec.n[1] + p[2] * rec.n[2] + (rec.apex or 0)
 end
 
 -- Compressive force on a wall: the balls push it against its inward normal.
@@ -970,7 +975,9 @@ end
 ---         model, each a number or {mean, sd, dist}}, platen = {kn, ks, fric} (default: kn,
 ---         ks of the material, fric 0), damp (0.7), gap (default 1e-3 rmin), seed }
 --- opts = { sides = false, balls = {indices} (a subset, e.g. a disk), relax_ratio = 1e-4,
----          energy = true, clumps = true (false: the packing's grains stay single balls) }
+---          energy = true, clumps = true (false: the packing's grains stay single balls),
+---          jaws = "curved" | "flat" (a disk of M.disk only; default "curved": the Brazilian
+---          loading walls, see M.make_jaws), jaw_angle, jaw_segments (M.make_jaws) }
 --- sp.balls lists every ball (pebbles too), sp.clumps the clumps.
 function M.specimen(pk, mat, opts)
     opts = opts or {}
@@ -1029,8 +1036,33 @@ function M.specimen(pk, mat, opts)
             end
         end
     end
-    sp.bottom = make_wall(m, { xl - ext, yb }, { xr + ext, yb }, { 0, 1 }, "platen")
-    sp.top = make_wall(m, { xl - ext, yt }, { xr + ext, yt }, { 0, -1 }, "platen")
+    -- a disk cut by M.disk gets the Brazilian loading walls (opts.jaws, default curved jaws)
+    local jaws = opts.jaws
+    if jaws ~= nil and not (opts.balls and opts.balls.cut) then
+        error("material.specimen: option 'jaws' is for a disk (balls = M.disk(pk, D))", 2)
+    end
+    if opts.balls and opts.balls.cut then jaws = jaws or "curved" end
+    if jaws ~= nil and jaws ~= "curved" and jaws ~= "flat" then
+        error(string.format("material.specimen: jaws = '%s' (known: 'curved', 'flat')", tostring(jaws)), 2)
+    end
+    if jaws == "curved" then
+        sp.jaws = "curved"
+        M.make_jaws(sp, list, opts.balls.center, opts.jaw_angle, opts.jaw_segments)
+    else
+        sp.jaws = jaws -- nil for a block, "flat" for a disk between flat platens
+        if jaws then
+            -- flat platens touch the highest and the lowest ball first
+            local it, ib, yt1, yb1 = 1, 1, -math.huge, math.huge
+            for i, p in ipairs(list) do
+                if p[2] + p[3] > yt1 then yt1, it = p[2] + p[3], i end
+                if p[2] - p[3] < yb1 then yb1, ib = p[2] - p[3], i end
+            end
+            local c = opts.balls.center
+            sp.disk = { center = c, first_contact = M.contact_angles(list, c[1], c[2], it, ib) }
+        end
+        sp.bottom = make_wall(m, { xl - ext, yb }, { xr + ext, yb }, { 0, 1 }, "platen")
+        sp.top = make_wall(m, { xl - ext, yt }, { xr + ext, yt }, { 0, -1 }, "platen")
+    end
     if opts.sides then
         sp.left = make_wall(m, { xl, yb - ext }, { xl, yt + ext }, { 1, 0 }, "side")
         sp.right = make_wall(m, { xr, yb - ext }, { xr, yt + ext }, { -1, 0 }, "side")
@@ -1196,9 +1228,11 @@ local function load_platens(sp, opts, measure)
         v = 0.5 * rate * h0
     end
     local breaks = { tension = 0, shear = 0 }
+    local on_break = opts.on_break -- the Brazilian test keeps where the bonds broke
     m:on_event("bond_break", function(ev)
         if ev.mode == "tension" then breaks.tension = breaks.tension + 1
         elseif ev.mode == "shear" then breaks.shear = breaks.shear + 1 end
+        if on_break then on_break(ev) end
     end)
     local energy_on = m:energy{}
     local rows = {}
@@ -1349,12 +1383,13 @@ end
 
 --- Indices of the packing's balls inside a disk of diameter d (default: 0.98 of the smaller
 --- box side) at the box centre; the disk is cut from the packing (P&C cut their specimens
---- from a larger packing too).
+--- from a larger packing too). The list also carries `center` = {x, y} and `cut` = d, so
+--- M.specimen knows it is a disk and gives it the Brazilian jaws.
 function M.disk(pk, d)
     local b = pk.box
     local cx, cy = 0.5 * (b[1] + b[3]), 0.5 * (b[2] + b[4])
     d = d or 0.98 * math.min(b[3] - b[1], b[4] - b[2])
-    local idx = {}
+    local idx = { center = { cx, cy }, cut = d }
     for i, p in ipairs(pk.balls) do
         local dist = math.sqrt((p[1] - cx) ^ 2 + (p[2] - cy) ^ 2)
         if dist + p[3] <= 0.5 * d then idx[#idx + 1] = i end
@@ -1362,21 +1397,183 @@ function M.disk(pk, d)
     return idx
 end
 
---- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })): platens
---- at the disk's top and bottom; sigma_t = 2 F / (pi D t), F the mean platen force at the
---- peak, D the disk's diameter (ball extent), t = 1 m. Options as for M.compress.
+--- Where the loading walls first touch a disk: the angles [degrees] from the loaded diameter,
+--- seen from the disk's centre (cx, cy), of the balls it and ib of `list` (top and bottom).
+--- A cut disk's surface is as rough as a ball radius, so the first contact may lie well off
+--- the diameter (docs/material.md "Brazilian test").
+function M.contact_angles(list, cx, cy, it, ib)
+    local function ang(p, side) return math.deg(math.atan(p[1] - cx, side * (p[2] - cy))) end
+    return { ang(list[it], 1), ang(list[ib], -1) }
+end
+
+--- Vertices of a curved jaw: n + 1 points on the circle of radius Rj about (cx, yc), from
+--- -phi to +phi about the vertical; side = 1 for the top jaw (the arc is the circle's top,
+--- concave downward onto the disk), -1 for the bottom jaw. Every vertex lies on the circle,
+--- so each segment is a chord; its midpoint lies Rj (1 - cos(phi / n)) inside the circle
+--- (the sagitta, L^2 / (8 Rj) for a chord of length L).
+function M.jaw_points(cx, yc, Rj, phi, n, side)
+    local pts = {}
+    for k = 0, n do
+        local a = -phi + 2 * phi * k / n
+        pts[#pts + 1] = { cx + Rj * math.sin(a), yc + side * Rj * math.cos(a) }
+    end
+    return pts
+end
+
+--- The curved jaws of the ISRM suggested method for the Brazilian test (ISRM 1978): each jaw
+--- is an arc of radius Rj = 1.5 R (R = D / 2, D the disk's ball extent as M.brazilian measures
+--- it), so the load spreads over a contact arc (about 10 degrees at failure in the rock test)
+--- instead of the point load of a flat platen, which in a bonded-ball disk is one ball: that
+--- ball's bonds crush first and the disk may never split (docs/material.md "Brazilian test").
+--- A jaw is one wall, a chain of `segments` chords of the arc (default: chords no longer than
+--- half the smallest ball radius, so a ball meets a concave polygon whose flats are shorter
+--- than itself and whose sagitta is below 1e-3 of a ball radius at LdB sizes), spanning
+--- +-`angle` about the jaw's centre (default 20 degrees: +-0.51 R across, about +-31 degrees
+--- of the disk; the jaw clears the disk's surface by 0.05 R at its ends, far more than the
+--- jaw travel at failure). Each jaw is placed where it just touches the outermost ball it can
+--- reach: the top jaw's centre at yc = max_i (y_i - sqrt((Rj - r_i)^2 - (x_i - cx)^2)) over
+--- the balls within its span, the lowest centre for which they all lie inside the jaw's
+--- circle; the bottom one mirrored.
+--- Sets sp.top, sp.bottom (wall records, apex positions), sp.disk = {center, D, Rj, angle,
+--- segments, top_center, bottom_center, first_contact}.
+--- Measured limit (docs/material.md): on a disk cut from a box packing (M.disk) the surface is
+--- as rough as a ball radius, far rougher than the jaw's departure from the disk's circle
+--- (R theta^2 / 6), so the jaw first touches one ball up to ~20 degrees off the diameter and
+--- the LdB disks split no more often than between flat platens.
+function M.make_jaws(sp, list, center, angle_deg, segments)
+    local m = sp.model
+    local cx, cy = center[1], center[2]
+    local xmin, xmax, ymin, ymax, rmin = math.huge, -math.huge, math.huge, -math.huge, math.huge
+    for _, p in ipairs(list) do
+        xmin = math.min(xmin, p[1] - p[3]); xmax = math.max(xmax, p[1] + p[3])
+        ymin = math.min(ymin, p[2] - p[3]); ymax = math.max(ymax, p[2] + p[3])
+        rmin = math.min(rmin, p[3])
+    end
+    local D = 0.5 * ((xmax - xmin) + (ymax - ymin))
+    local Rj = 1.5 * 0.5 * D
+    angle_deg = angle_deg or 20
+    if type(angle_deg) ~= "number" or angle_deg <= 0 or angle_deg > 60 then
+        error(string.format("material.specimen: jaw_angle = %s degrees (0 < angle <= 60)", tostring(angle_deg)), 3)
+    end
+    local phi = math.rad(angle_deg)
+    -- an even count puts a vertex at the apex (the jaw symmetric about the loaded diameter)
+    local n = segments or 2 * math.max(4, math.ceil(phi * Rj / (0.5 * rmin)))
+    if type(n) ~= "number" or n < 1 or n ~= math.floor(n) then
+        error(string.format("material.specimen: jaw_segments = %s (a positive integer)", tostring(segments)), 3)
+    end
+    -- Only the balls the arc can touch count: those seen from the jaw's centre within the
+    -- jaw's span widened by the ball's own angular half-width r / (Rj - r) (a ball further out
+    -- passes beside the jaw's end; counting it would leave a narrow jaw short of the disk).
+    -- The jaw's centre is at about cy -+ (Rj - R) below/above the disk's centre (R = D/2) for
+    -- this angular test; the height then follows from the selected balls exactly.
+    local yt, yb = -math.huge, math.huge
+    local it, ib -- the balls the jaws touch first
+    local R = 0.5 * D
+    for i, p in ipairs(list) do
+        local dx = p[1] - cx
+        local h = math.sqrt((Rj - p[3]) ^ 2 - dx * dx) -- Rj > R >= |dx| + r: real
+        local w = phi + p[3] / (Rj - p[3])
+        if math.abs(math.atan(dx, p[2] - (cy - (Rj - R)))) <= w and p[2] - h > yt then yt, it = p[2] - h, i end
+        if math.abs(math.atan(dx, (cy + (Rj - R)) - p[2])) <= w and p[2] + h < yb then yb, ib = p[2] + h, i end
+    end
+    local function jaw(yc, side)
+        local pts = M.jaw_points(cx, yc, Rj, phi, n, side)
+        local w = m:wall{ points = pts, group = "platen" }
+        -- inward normal -side (the top jaw presses down); apex offset from the first vertex
+        return { wall = w, n = { 0, -side }, apex = -Rj * (1 - math.cos(phi)) }
+    end
+    sp.top = jaw(yt, 1)
+    sp.bottom = jaw(yb, -1)
+    sp.disk = { center = { cx, cy }, D = D, Rj = Rj, angle = angle_deg, segments = n,
+                top_center = { cx, yt }, bottom_center = { cx, yb },
+                first_contact = M.contact_angles(list, cx, cy, it, ib) }
+end
+
+--- Where the bonds of a Brazilian disk broke, against the loaded diameter (the vertical line
+--- x = cx). breaks = {{x, y, t}, ...}; D the disk's diameter; t_peak the time of the peak.
+--- Returns:
+---   n, band: the number of breaks and the fraction within |x - cx| <= 0.1 D (a band of 0.2 D
+---     about the loaded diameter; breaks spread evenly over the disk would give 0.25 of them);
+---   cover: the fraction of the loaded diameter's 20 bins (of 0.05 D along y) holding a break
+---     of the band: how far the crack runs along the diameter;
+---   angle: the orientation of the breaks' principal axis (second moments of their positions),
+---     degrees from the loaded diameter (0: along it);
+---   pre_peak: the number of breaks up to the peak; jaw_first: how many of the first
+---     max(pre_peak, 1) breaks (those up to the peak, or the one that ended it) lie at a jaw:
+---     within 0.1 D of the disk's surface (distance from the centre >= 0.4 D) and within 35
+---     degrees of the loaded diameter (the curved jaws span +-31 degrees of the disk; a jaw's
+---     first contact may be 20 degrees off the diameter);
+---   split: band >= 0.5 and cover >= 0.5 (most breaks on the loaded diameter, and the crack
+---     spans at least half of it); crush: not split, and at least half of those first breaks
+---     at a jaw (the failure of the flat platens: bonds under the point load).
+--- The thresholds are set a priori (not fitted to runs): the band is the central fifth of the
+--- disk, a split at a 50% post-peak stop is expected to reach well past the centre.
+function M.fracture(breaks, center, D, t_peak)
+    local cx, cy = center[1], center[2]
+    local n, nb = #breaks, 0
+    local bins = {}
+    local sx, sy = 0, 0
+    for _, b in ipairs(breaks) do sx = sx + b[1]; sy = sy + b[2] end
+    local mx, my = sx / math.max(n, 1), sy / math.max(n, 1)
+    local cxx, cyy, cxy = 0, 0, 0
+    local pre = 0
+    for _, b in ipairs(breaks) do
+        if t_peak and b[3] <= t_peak then pre = pre + 1 end
+    end
+    local first = math.min(n, math.max(pre, 1))
+    local near = 0
+    for k = 1, first do
+        local dx, dy = breaks[k][1] - cx, breaks[k][2] - cy
+        local rr = math.sqrt(dx * dx + dy * dy)
+        if rr >= 0.4 * D and math.deg(math.atan(math.abs(dx), math.abs(dy))) <= 35 then near = near + 1 end
+    end
+    for _, b in ipairs(breaks) do
+        local dx, dy = b[1] - cx, b[2] - cy
+        if math.abs(dx) <= 0.1 * D then
+            nb = nb + 1
+            local k = math.floor((dy / D + 0.5) * 20)
+            if k >= 0 and k < 20 then bins[k] = true end
+        end
+        cxx = cxx + (b[1] - mx) ^ 2; cyy = cyy + (b[2] - my) ^ 2; cxy = cxy + (b[1] - mx) * (b[2] - my)
+    end
+    local nbins = 0
+    for _ in pairs(bins) do nbins = nbins + 1 end
+    -- principal axis of the 2x2 second-moment tensor: 0.5 atan2(2 cxy, cxx - cyy) from x;
+    -- from the vertical (the loaded diameter) that is 90 degrees less, folded into [0, 90]
+    local theta = 0.5 * math.atan(2 * cxy, cxx - cyy)
+    local angle = math.abs(90 - math.abs(math.deg(theta)))
+    local band = n > 0 and nb / n or 0
+    local cover = nbins / 20
+    local split = n > 0 and band >= 0.5 and cover >= 0.5
+    return { n = n, band = band, cover = cover, angle = n > 1 and angle or nil, pre_peak = pre,
+             jaw_first = near, split = split, crush = (not split) and n > 0 and near >= 0.5 * first }
+end
+
+--- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })), between
+--- the curved jaws of the ISRM suggested method (the default, M.make_jaws) or flat platens
+--- (M.specimen's opts.jaws = "flat"); sigma_t = 2 F / (pi D t), F the mean of the two jaws'
+--- forces at the peak, D the disk's diameter (ball extent), t = 1 m. Options as for
+--- M.compress, plus `jaws` (optional: it must match the specimen's, a check that the
+--- specimen was made for what the caller means to run). The result also has `fracture`
+--- (M.fracture of the bond breaks), `jaws`, `breaks_at` (the breaks {x, y, time}).
 function M.brazilian(sp, opts)
     opts = opts or {}
-    if opts.confirm == nil then
-        -- a copy, the caller's table untouched; see load_platens
-        local o = {}
-        for k, v in pairs(opts) do o[k] = v end
-        o.confirm = 0.5
-        opts = o
+    if opts.jaws ~= nil and opts.jaws ~= (sp.jaws or "flat") then
+        error(string.format("material.brazilian: jaws = '%s' but the specimen has %s (give jaws to " ..
+            "M.specimen: M.specimen(pk, mat, { balls = M.disk(pk), jaws = '%s' })",
+            tostring(opts.jaws), sp.jaws and ("'" .. sp.jaws .. "'") or "flat platens", tostring(opts.jaws)), 2)
     end
+    -- a copy, the caller's table untouched
+    local o = {}
+    for k, v in pairs(opts) do o[k] = v end
+    o.jaws = nil
+    -- see load_platens: a load that comes back after a break under a platen is not cut
+    if o.confirm == nil then o.confirm = 0.5 end
+    local at = {}
+    o.on_break = function(ev) at[#at + 1] = { ev.pos[1], ev.pos[2], ev.time } end
     local e = sp.extent
     local D = 0.5 * ((e[3] - e[1]) + (e[4] - e[2]))
-    local res = load_platens(sp, opts, function(h0, h)
+    local res = load_platens(sp, o, function(h0, h)
         local F = 0.5 * (wall_push(sp.top) + wall_push(sp.bottom))
         return { ea = (h0 - h) / h0, sa = 2 * F / (math.pi * D), el = 0, force = F }
     end)
@@ -1385,6 +1582,10 @@ function M.brazilian(sp, opts)
     res.force = res.rows[res.ipeak].force
     res.diameter = D
     res.balls = sp.balls and #sp.balls or sp.model:ball_count()
+    res.jaws = sp.jaws or "flat"
+    res.breaks_at = at
+    local c = sp.disk and sp.disk.center or { 0.5 * (e[1] + e[3]), 0.5 * (e[2] + e[4]) }
+    res.fracture = M.fracture(at, c, D, res.rows[res.ipeak].time)
     return res
 end
 
