@@ -32,7 +32,8 @@
 namespace {
 
 const char* const kUsage =
-    "usage: talus run [--traceback] [--quiet] [--save-on-interrupt FILE] script.lua [args...]\n"
+    "usage: talus run [--traceback] [--quiet] [--save-on-interrupt FILE] [--threads N]\n"
+    "                 script.lua [args...]\n"
     "       talus --help | --version\n"
     "\n"
     "Runs a Lua 5.4 script with the Talus module preloaded as the global `talus`\n"
@@ -44,6 +45,8 @@ const char* const kUsage =
     "  --quiet       no progress line (it is shown only on a terminal anyway)\n"
     "  --save-on-interrupt FILE\n"
     "                on Ctrl-C, save the model whose run stopped to FILE (as m:save does)\n"
+    "  --threads N   threads of every model's force loop (default 1, or TALUS_THREADS);\n"
+    "                results are the same for any N; m:threads(n) sets one model's\n"
     "\n"
     "Ctrl-C stops a running cycle/solve at the end of its step (histories are flushed) and\n"
     "ends the script with exit status 130; a second Ctrl-C kills at once.\n"
@@ -271,6 +274,16 @@ int main(int argc, char** argv) {
             traceback = true;
         } else if (a[i] == "--quiet") {
             quiet = true;
+        } else if (a[i] == "--threads") {
+            // Every model's default (Model::threads) through TALUS_THREADS.
+            char* end = nullptr;
+            const long n = i + 1 < a.size() ? std::strtol(a[i + 1].c_str(), &end, 10) : 0;
+            if (i + 1 >= a.size() || *end != '\0' || n < 1 || n > 1024) {
+                std::fprintf(stderr, "talus: --threads needs a thread count from 1 to 1024\n\n%s",
+                             kUsage);
+                return 2;
+            }
+            ::setenv("TALUS_THREADS", a[++i].c_str(), 1);
         } else if (a[i] == "--save-on-interrupt") {
             if (i + 1 >= a.size() || a[i + 1].empty()) {
                 std::fprintf(stderr, "talus: --save-on-interrupt needs a file name\n\n%s", kUsage);

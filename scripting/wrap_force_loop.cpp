@@ -25,10 +25,40 @@ int w_batched_law(lua_State* L) {
     });
 }
 
+/// m:threads(n [, grain]) sets the force loop's threads, m:threads() reads them.
+int w_threads(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "threads");
+        if (!lua_isnoneornil(L, 2)) {
+            if (!lua_isinteger(L, 2))
+                throw ScriptError(std::string("threads: the thread count must be an integer "
+                                              "from 1 to 1024 (got ") +
+                                  luaL_tolstring(L, 2, nullptr) + ")");
+            const lua_Integer n = lua_tointeger(L, 2);
+            if (n < 1 || n > 1024)
+                throw ScriptError("threads: the thread count must be from 1 to 1024 (got " +
+                                  std::to_string(n) + ")");
+            lua_Integer grain = Model::kDefaultThreadGrain;
+            if (!lua_isnoneornil(L, 3)) {
+                if (!lua_isinteger(L, 3) || lua_tointeger(L, 3) < 1 ||
+                    lua_tointeger(L, 3) > 1000000000)
+                    throw ScriptError(std::string("threads: the grain (fewest pairs per thread) "
+                                                  "must be an integer >= 1 (got ") +
+                                      luaL_tolstring(L, 3, nullptr) + ")");
+                grain = lua_tointeger(L, 3);
+            }
+            lm.model->setThreads(static_cast<int>(n), static_cast<int>(grain));
+        }
+        lua_pushinteger(L, lm.model->threads());
+        return 1;
+    });
+}
+
 }  // namespace
 
 extern const luaL_Reg kForceLoopMethods[] = {
     {"batched_law", w_batched_law},
+    {"threads", w_threads},
     {nullptr, nullptr},
 };
 

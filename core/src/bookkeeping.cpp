@@ -222,7 +222,8 @@ std::string Profile::report(std::size_t balls) const {
     line("bookkeeping", bookkeeping);
     line("total", tot);
     os << "  broadphase re-insertions " << proxy_moves << ", pairs created " << pairs_created
-       << ", contacts created " << contacts_created << ", batched laws " << batched_laws << "\n";
+       << ", contacts created " << contacts_created << ", batched laws " << batched_laws
+       << ", threaded steps " << threaded_steps << "\n";
     return os.str();
 }
 

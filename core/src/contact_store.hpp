@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "broadphase.hpp"
+#include "force_block.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
@@ -48,6 +49,7 @@ struct ContactStore {
     std::vector<uint32_t> moved_balls, moved_segments;
     std::vector<uint8_t> ball_moved, segment_moved;
     std::vector<uint32_t> to_remove;  // scratch for the force loop
+    ForceScratch force_scratch;       // the force loop's blocks (force_block.hpp)
     // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
     // handle is not mistaken for the pair): no bond on touch for them again (model_bonds.cpp).
     // Empty, and never looked at, in a model without bonds.

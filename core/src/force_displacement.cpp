@@ -10,10 +10,15 @@
 // Frame: n from end 1 to end 2, t = perp(n); the model's forces act on end 2, end 1 gets the
 // opposite; torques are (contact point - centre) x force, plus the model's moment.
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <limits>
+#include <string>
+#include <thread>
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
@@ -22,32 +27,39 @@
 #include "talus/errors.hpp"
 #include "talus/sdk/dashpot.hpp"
 
+#ifdef TALUS_HAVE_OPENMP
+#include <omp.h>
+#endif
+
 namespace talus {
 
 namespace {
 
 constexpr std::size_t kPrefetchAhead = 4;
-/// Pairs per block of the force loop (below): the block's FdBlocks (about 13 kB) stay in L1.
-constexpr std::size_t kBlock = 64;
+/// Spins of a waiting thread between yields (threads, below).
+constexpr int kSpinsBeforeYield = 64;
 
-/// What pass 1 of the force loop found for a pair.
-enum class PairStep : uint8_t {
-    Apart,      // not touching (nor within the model's activity distance)
-    Elsewhere,  // a wall pair whose ball is in a neighbouring segment's region, no contact
-    Contact,    // an active contact: its law runs
-    Touch,      // touching for the first time: to activate (rare, alone)
-    HandOver,   // an active wall contact whose point crossed a vertex (rare, alone)
-};
+void spinPause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
 
-/// Pass 1's result for one pair of a block.
-struct BlockEntry {
-    ContactGeometry g;
-    Vec2 x2;    // centre of end 2: the ball's, or the wall's (moment arms)
-    Vec2 vrel;  // contact-point velocity of end 2 relative to end 1 (activation)
-    uint32_t pair;
-    uint32_t block;  // index of the contact's FdBlock
-    PairStep step;
-};
+/// The law of one contact through the vtable (a model without a batched law, or a rare pair).
+/// A model without the SDK's barrier may throw (docs/plugin-abi.md, "Exceptions"): caught here,
+/// its text kept in `error` (the block's: each thread has its own).
+void callLaw(ContactModel* model, FdBlock& fd, std::string& error) {
+    try {
+        model->FDlaw(fd);
+    } catch (const std::exception& e) {
+        fd.status = 1;
+        error = e.what();
+        fd.error = error.c_str();
+    } catch (...) {
+        fd.status = 1;
+        fd.error = "unknown exception";
+    }
+}
 /// Steps in contact the guard follows a contact for (docs/physics/guard.md).
 constexpr uint32_t kGuardWatch = 400;
 
@@ -412,37 +424,34 @@ void Model::forceLoop() {
         }
     };
 
-    // ---- the law for one contact, FDlaw through the vtable (a rare pair, or no batched law)
-    auto law = [&](ContactModel* model, FdBlock& fd) {
-        try {
-            model->FDlaw(fd);
-        } catch (const std::exception& e) {
-            // A model without the SDK's barrier threw (docs/plugin-abi.md, "Exceptions").
-            fd.status = 1;
-            m_plugin_error = e.what();
-            fd.error = m_plugin_error.c_str();
-        } catch (...) {
-            fd.status = 1;
-            fd.error = "unknown exception";
-        }
+    ForceScratch& scratch = m_contacts->force_scratch;
+    const std::size_t npairs = pairs.size();
+    const int nthreads = forceThreads(npairs);
+    prepareForceScratch(nthreads, fd_template);
+    // In the threads' pipeline the consumer pauses the producers around what may move the
+    // pairs in memory (a new pair for a wall contact's hand-over, when the vector is full).
+    std::atomic<bool> pause{false};
+    std::atomic<int> busy{0};
+    auto holdProducers = [&](bool hold) {
+        if (nthreads <= 1) return;
+        pause.store(hold, std::memory_order_seq_cst);
+        if (hold)
+            while (busy.load(std::memory_order_seq_cst) != 0) std::this_thread::yield();
     };
 
-    BlockEntry entries[kBlock];
-    FdBlock blocks[kBlock];
-    std::fill(blocks, blocks + kBlock, fd_template);
-    ContactModel* models[kBlock];
-    BatchFdLawFn laws[kBlock];
-    const std::size_t npairs = pairs.size();
-    std::size_t i = 0;
-    while (i < npairs) {
-        // pass 1, up to a rare pair
+    // ---- pass 1 and 2 for the pairs from `i` to at most `end` into `blk`: stops before a rare
+    // pair (blk.stop names it) or, for the threads' producers (`serial_walls`), before any wall
+    // pair, which only the consumer may process (below). No side effect outside `blk` and the
+    // contacts' own model objects.
+    auto produce = [&](std::size_t i, std::size_t end, ForceBlock& blk, bool serial_walls) {
         std::size_t n = 0, ncontacts = 0;
-        PairStep rare = PairStep::Contact;
-        for (; i < npairs && n < kBlock; ++i) {
+        blk.stop = PairStep::Contact;
+        blk.batched = 0;
+        for (; i < end && n < kBlock; ++i) {
             // The contact objects live apart from the pairs, which only point to them: ask for
             // the first three cache lines of the object a few pairs ahead (the shipped models'
             // objects are 88 to 184 bytes).
-            if (i + kPrefetchAhead < npairs) {
+            if (i + kPrefetchAhead < end && !(serial_walls && scratch.wall[i + kPrefetchAhead])) {
                 const Pair& ahead = pairs[i + kPrefetchAhead];
                 if (ahead.active) {
                     const char* obj = reinterpret_cast<const char*>(ahead.model);
@@ -451,53 +460,71 @@ void Model::forceLoop() {
                     __builtin_prefetch(obj + 128);
                 }
             }
-            BlockEntry& e = entries[n];
-            const PairStep step = geometry(i, e, blocks[ncontacts]);
+            if (serial_walls && scratch.wall[i]) {
+                blk.stop = PairStep::Elsewhere;  // "a wall pair": the consumer takes over here
+                break;
+            }
+            BlockEntry& e = blk.entries[n];
+            const PairStep step = geometry(i, e, blk.fd[ncontacts]);
             if (step == PairStep::Touch || step == PairStep::HandOver) {
-                rare = step;
+                blk.stop = step;
                 break;
             }
             e.pair = static_cast<uint32_t>(i);
             e.step = step;
             if (step == PairStep::Contact) {
                 const Pair& p = pairs[i];
-                models[ncontacts] = p.model;
-                laws[ncontacts] = batched ? p.rule->factory->batch : nullptr;
+                blk.models[ncontacts] = p.model;
+                blk.laws[ncontacts] = batched ? p.rule->factory->batch : nullptr;
                 e.block = static_cast<uint32_t>(ncontacts++);
             }
             ++n;
         }
+        blk.n = n;
+        blk.ncontacts = ncontacts;
+        blk.next = i;
         // pass 2: runs of contacts of one batched law in one call each, the rest one by one
         for (std::size_t k = 0; k < ncontacts;) {
-            std::size_t end = k + 1;
-            if (laws[k]) {
-                while (end < ncontacts && laws[end] == laws[k]) ++end;
-                laws[k](models + k, blocks + k, static_cast<int32_t>(end - k));
-                m_profile.batched_laws += static_cast<int64_t>(end - k);
+            std::size_t last = k + 1;
+            if (blk.laws[k]) {
+                while (last < ncontacts && blk.laws[last] == blk.laws[k]) ++last;
+                blk.laws[k](blk.models + k, blk.fd + k, static_cast<int32_t>(last - k));
+                blk.batched += static_cast<int64_t>(last - k);
             } else {
-                law(models[k], blocks[k]);
+                callLaw(blk.models[k], blk.fd[k], blk.error);
             }
-            k = end;
+            k = last;
         }
-        // pass 3, in pair order
-        for (std::size_t k = 0; k < n; ++k) {
-            const BlockEntry& e = entries[k];
+    };
+
+    // ---- pass 3 of a block, in pair order
+    auto consume = [&](ForceBlock& blk) {
+        m_profile.batched_laws += blk.batched;
+        for (std::size_t k = 0; k < blk.n; ++k) {
+            const BlockEntry& e = blk.entries[k];
             if (e.step == PairStep::Contact)
-                finishContact(e.pair, e, blocks[e.block], false);
+                finishContact(e.pair, e, blk.fd[e.block], false);
             else
                 finishApart(e.pair, e, e.step);
         }
-        if (rare == PairStep::Contact) continue;  // the block was full, or the pairs are done
+    };
 
-        // The rare pair, alone (i points to it; pass 1 left its geometry in entries[n] and
-        // its FdBlock in blocks[ncontacts], which passes 2 and 3 did not touch).
-        BlockEntry& e = entries[n];
-        FdBlock& fd = blocks[ncontacts];
-        if (rare == PairStep::HandOver) {
+    // ---- the rare pair that stopped `blk` (blk.next), alone; returns the next pair to process.
+    // Pass 1 left its geometry in entries[n] and its FdBlock in fd[ncontacts], which passes 2
+    // and 3 did not touch.
+    auto processRare = [&](ForceBlock& blk) -> std::size_t {
+        const std::size_t i = blk.next;
+        BlockEntry& e = blk.entries[blk.n];
+        FdBlock& fd = blk.fd[blk.ncontacts];
+        if (blk.stop == PairStep::HandOver) {
             // The contact crossed a convex vertex and moves, state and all, to the holder's
             // pair, which now sits in slot i: process slot i again (a pair may have been
             // created).
-            if (handOverWallContact(i)) continue;
+            const bool full = pairs.size() == pairs.capacity();
+            if (full) holdProducers(true);
+            const bool moved = handOverWallContact(i);
+            if (full) holdProducers(false);
+            if (moved) return i;
             // No pair can take it (no holder, or one with a contact of its own): the contact
             // ends here, and what it still stores is released.
             Pair& p = pairs[i];
@@ -506,10 +533,8 @@ void Model::forceLoop() {
                 if (groups) bookReleasedToGroups(p, cold[i].strain + cold[i].bond);
             }
             endContact(p, cold[i], kGuard);
-            e.g = ContactGeometry{};
             finishApart(i, e, PairStep::Elsewhere);
-            ++i;
-            continue;
+            return i + 1;
         }
         // A pair touching for the first time: activate it, then its law (FDlaw, and the first
         // call's flags), then its finish.
@@ -524,9 +549,103 @@ void Model::forceLoop() {
             fd.s_force = p.s_force;
             fd.moment = p.moment;
         }
-        law(p.model, fd);
+        callLaw(p.model, fd, blk.error);
         finishContact(i, e, fd, first);
-        ++i;
+        return i + 1;
+    };
+
+    // ---- one thread: blocks of consecutive pairs, each ended by a rare pair or full
+    auto serialRange = [&](std::size_t i, std::size_t end, ForceBlock& blk) {
+        while (i < end) {
+            produce(i, end, blk, false);
+            consume(blk);
+            i = blk.stop == PairStep::Contact ? blk.next : processRare(blk);
+        }
+    };
+
+    if (nthreads <= 1) {
+        serialRange(0, npairs, *scratch.ring[0]);
+    } else {
+#ifdef TALUS_HAVE_OPENMP
+        // Threads (docs/architecture.md, "Threads"): a pipeline over the fixed blocks of kBlock
+        // pairs. Producers (every thread, the consumer too while it waits) claim blocks in order
+        // and run passes 1 and 2 into a ring of ForceBlocks; thread 0, the consumer, runs pass 3
+        // of block after block in pair order, and the rest of a block that stopped (a rare pair
+        // or a wall pair) serially, as one thread would. A block's production reads only the
+        // positions and velocities, its own pairs and their model objects, which nothing else
+        // touches until the consumer reaches it; so every result is the one-thread result, bit
+        // for bit, for any thread count. Wall pairs are the consumer's alone because a rare
+        // wall pair may swap another wall pair's state (adoptWallContact, handOverWallContact).
+        ++m_profile.threaded_steps;
+        const std::size_t nblocks = (npairs + kBlock - 1) / kBlock;
+        const std::size_t ring = scratch.ring.size();
+        std::atomic<std::size_t> claim{0};     // the next block to produce
+        std::atomic<std::size_t> consumed{0};  // blocks whose pass 3 is done
+        std::atomic<bool> finished{false};
+        for (std::size_t k = 0; k < ring; ++k) scratch.ready[k].store(0, std::memory_order_relaxed);
+        // Room for the pairs a hand-over may add, so that the producers' pairs do not move
+        // (holdProducers covers the case that it is not enough).
+        pairs.reserve(npairs + npairs / 8 + 64);
+        cold.reserve(npairs + npairs / 8 + 64);
+        auto tryProduce = [&]() -> bool {
+            if (pause.load(std::memory_order_seq_cst)) return false;
+            busy.fetch_add(1, std::memory_order_seq_cst);
+            bool done = false;
+            if (!pause.load(std::memory_order_seq_cst)) {
+                std::size_t k = claim.load(std::memory_order_relaxed);
+                if (k < nblocks && k < consumed.load(std::memory_order_acquire) + ring &&
+                    claim.compare_exchange_strong(k, k + 1, std::memory_order_acq_rel)) {
+                    const std::size_t first = k * kBlock;
+                    produce(first, std::min(first + kBlock, npairs), *scratch.ring[k % ring], true);
+                    scratch.ready[k % ring].store(k + 1, std::memory_order_release);
+                    done = true;
+                }
+            }
+            busy.fetch_sub(1, std::memory_order_seq_cst);
+            return done;
+        };
+        auto wait = [](int& spins) {
+            if (++spins < kSpinsBeforeYield) {
+                spinPause();
+            } else {
+                spins = 0;
+                std::this_thread::yield();
+            }
+        };
+        std::exception_ptr failure;
+#pragma omp parallel num_threads(nthreads)
+        {
+            if (omp_get_thread_num() == 0) {
+                try {
+                    for (std::size_t k = 0; k < nblocks; ++k) {
+                        ForceBlock& blk = *scratch.ring[k % ring];
+                        int spins = 0;
+                        while (scratch.ready[k % ring].load(std::memory_order_acquire) != k + 1)
+                            if (!tryProduce()) wait(spins);
+                        consume(blk);
+                        if (blk.stop != PairStep::Contact) {
+                            // The block's rest, serially: the stop (a rare pair or a wall pair)
+                            // and the pairs after it up to the block's end.
+                            serialRange(blk.next, std::min((k + 1) * kBlock, npairs),
+                                        *scratch.remainder);
+                        }
+                        consumed.store(k + 1, std::memory_order_release);
+                    }
+                } catch (...) {
+                    failure = std::current_exception();
+                }
+                finished.store(true, std::memory_order_release);
+            } else {
+                int spins = 0;
+                while (!finished.load(std::memory_order_acquire) &&
+                       claim.load(std::memory_order_relaxed) < nblocks)
+                    if (!tryProduce()) wait(spins);
+            }
+        }
+        if (failure) std::rethrow_exception(failure);
+#else
+        serialRange(0, npairs, *scratch.ring[0]);
+#endif
     }
 
     if (!std::isfinite(finite_check)) findNonFiniteContact();
@@ -543,6 +662,78 @@ void Model::forceLoop() {
             m_books.strain_baseline_pending = false;
         }
     }
+}
+
+// ------------------------------------------------------------------------ threads
+
+void Model::setThreads(int n, int grain) {
+    if (n < 1 || n > 1024)
+        throw InputError("threads: the thread count must be from 1 to 1024 (got " +
+                         std::to_string(n) + ")");
+    if (grain < 1)
+        throw InputError("threads: the grain (fewest pairs per thread) must be >= 1 (got " +
+                         std::to_string(grain) + ")");
+    m_threads = n;
+    m_thread_grain = grain;
+}
+
+int Model::threads() const {
+    if (m_threads > 0) return m_threads;
+    // TALUS_THREADS (talus run --threads N sets it): a bad value is the CLI's to refuse; here
+    // it falls back to one thread.
+    const char* env = std::getenv("TALUS_THREADS");
+    if (!env || !*env) return 1;
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    return (*end == '\0' && n >= 1 && n <= 1024) ? static_cast<int>(n) : 1;
+}
+
+int Model::threadGrain() const {
+    if (m_thread_grain > 0) return m_thread_grain;
+    // TALUS_THREAD_GRAIN: for tests that run small scenes on threads (stress suite).
+    const char* env = std::getenv("TALUS_THREAD_GRAIN");
+    if (!env || !*env) return kDefaultThreadGrain;
+    char* end = nullptr;
+    const long g = std::strtol(env, &end, 10);
+    return (*end == '\0' && g >= 1 && g <= 1000000000) ? static_cast<int>(g) : kDefaultThreadGrain;
+}
+
+int Model::forceThreads(std::size_t npairs) const {
+#ifdef TALUS_HAVE_OPENMP
+    const int wanted = threads();
+    if (wanted <= 1) return 1;
+    const std::size_t by_grain = npairs / static_cast<std::size_t>(threadGrain());
+    const int n =
+        static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));
+    if (n < 2) return 1;
+    for (const auto& rule : m_contacts->rules)
+        if (rule->prototype && !(rule->prototype->Traits() & kTraitThreadSafe)) return 1;
+    return n;
+#else
+    (void)npairs;
+    return 1;
+#endif
+}
+
+void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
+    ForceScratch& s = m_contacts->force_scratch;
+    // Four blocks per thread in the ring: a producer that finished its block can take the next
+    // while the consumer is still one or two behind.
+    const std::size_t ring = nthreads <= 1 ? 1 : 4 * static_cast<std::size_t>(nthreads);
+    while (s.ring.size() < ring) s.ring.push_back(std::make_unique<ForceBlock>());
+    auto fill = [&](ForceBlock& blk) { std::fill(blk.fd, blk.fd + kBlock, tmpl); };
+    fill(*s.ring[0]);
+    if (nthreads <= 1) return;
+    if (!s.remainder) s.remainder = std::make_unique<ForceBlock>();
+    fill(*s.remainder);
+    for (auto& blk : s.ring) fill(*blk);
+    if (s.ready_size < s.ring.size()) {
+        s.ready = std::make_unique<std::atomic<std::size_t>[]>(s.ring.size());
+        s.ready_size = s.ring.size();
+    }
+    const auto& pairs = m_contacts->pairs;
+    s.wall.resize(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) s.wall[i] = pairs[i].wall;
 }
 
 // The rare paths of the loop, kept out of it so that its body stays small.

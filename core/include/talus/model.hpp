@@ -525,6 +525,17 @@ public:
     /// tests and measurements.
     void setBatchedLaw(bool on) { m_batched_law = on; }
     bool batchedLaw() const { return m_batched_law; }
+    /// Threads of the force loop (docs/architecture.md, "Threads"), n >= 1; results are
+    /// bit-identical for any n. The default is the environment's TALUS_THREADS, else 1. A step
+    /// runs on one thread in a build without OpenMP, with a contact model that lacks
+    /// kTraitThreadSafe, or with fewer than `grain` pairs per thread (a thread for fewer costs
+    /// more in its start and its waits than it saves).
+    void setThreads(int n, int grain = kDefaultThreadGrain);
+    int threads() const;
+    int threadGrain() const;  // set by setThreads, else TALUS_THREAD_GRAIN, else the default
+    static constexpr int kDefaultThreadGrain = 2000;
+    /// Threads the force loop uses for `npairs` pairs this step.
+    int forceThreads(std::size_t npairs) const;
 
     // Group names share one table (bit index); up to 64 groups per model.
     int groupIndex(const std::string& name, bool create);
@@ -580,6 +591,7 @@ private:
 
     template <bool kAuto, bool kEnergy, bool kGuard>
     void forceLoop();  // force_displacement.cpp
+    void prepareForceScratch(int nthreads, const FdBlock& tmpl);
     // time-step limits gathered per pair (timestep.cpp)
     void noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel, double accel,
                       const Vec2& normal);
@@ -727,7 +739,9 @@ private:
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
     bool m_batched_law = true;
-    int m_servos_on = 0;  // walls with a servo switched on (wall_servo.cpp)
+    int m_threads = 0;       // setThreads; 0 = TALUS_THREADS or 1
+    int m_thread_grain = 0;  // setThreads; 0 = TALUS_THREAD_GRAIN or kDefaultThreadGrain
+    int m_servos_on = 0;     // walls with a servo switched on (wall_servo.cpp)
 
     // Limits gathered by the force loop for the next automatic step (timestep.cpp).
     struct StepLimits {
@@ -829,7 +843,6 @@ private:
     Profile m_profile;
     std::function<void(const Model&)> m_step_observer;  // setStepObserver
     FdBlock m_fd_template{};
-    std::string m_plugin_error;  // text of an exception caught at the plugin boundary
 };
 
 }  // namespace talus

@@ -18,7 +18,8 @@ struct Profile {
     int64_t proxy_moves = 0;  ///< broadphase re-insertions
     int64_t pairs_created = 0;
     int64_t contacts_created = 0;
-    int64_t batched_laws = 0;  ///< contact laws run through a model's batched FDlaw
+    int64_t batched_laws = 0;    ///< contact laws run through a model's batched FDlaw
+    int64_t threaded_steps = 0;  ///< steps whose force loop ran on more than one thread
     void reset() { *this = Profile{enabled}; }
     double total() const {
         return timestep + motion + detection + force_displacement + bookkeeping;

@@ -1,6 +1,8 @@
 -- SPDX-License-Identifier: MIT
 -- The force loop's ways of running give the same bits (issue 11; docs/architecture.md, "Force
--- loop"): the batched FDlaw against FDlaw per contact (`m:batched_law`). One scene with what the
+-- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), and 1, 2
+-- or 3 threads (`m:threads`; 3 on a machine with 2 cores still runs a producer more than there
+-- are cores, and grain 1 makes even this scene's few hundred pairs use them). One scene with what the
 -- loop does beyond the plain contact: `linear` with every dashpot mode (normal and shear
 -- dashpots, no tension, no shear dashpot while sliding) and without dashpots, another model
 -- (hertz, which has no batched law) in the same blocks, the automatic step (stability,
@@ -9,12 +11,14 @@
 -- vertices the balls roll over (contact hand-over between segments, which ends a block).
 -- The states must agree to the bit: positions, velocities, spins, every contact's forces and
 -- moment, the wall forces, every energy item of the model and of each group, the steps. No
--- tolerance: both paths run the same inline law on the same FdBlocks, in the same order.
+-- tolerance: both paths run the same inline law on the same FdBlocks, and every thread count
+-- the same pass 3 in pair order (docs/architecture.md, "Threads").
 local T = require("testlib")
 
-local function scene(batched)
+local function scene(batched, threads)
     local m = talus.model{ gravity = {0, -9.81} }
     T.check(m:batched_law(batched) == batched, "m:batched_law(on) returns the setting")
+    T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
     m:on_warning(function() end)  -- guard findings of the pour are not this test's topic
     m:contact_model("linear", { kn = 2e6, ks = 1e6, fric = 0.4, dp_nratio = 0.2,
                                 dp_sratio = 0.1 })
@@ -94,7 +98,7 @@ local function batchedLaws(m)
     return tonumber(m:profile():match("batched laws (%d+)"))
 end
 
-local ref_m, ref_breaks = scene(false)
+local ref_m, ref_breaks = scene(false, 1)
 local ref, ref_contacts = digest(ref_m)
 -- The scene must exercise what it claims, and the reference must not have used the batch.
 T.check(ref_contacts > 100, "a pile in contact: " .. ref_contacts .. " contacts")
@@ -103,17 +107,33 @@ T.check(ref_m:clump_count() == 6, "clumps present")
 T.check(ref_m:timestep().rule ~= "fixed", "automatic step")
 T.check(batchedLaws(ref_m) == 0, "m:batched_law(false): no batched call")
 
-local m, breaks = scene(true)
-local d, contacts = digest(m)
--- The pile settles into ~200 contacts, most of them linear: the batch was the usual path (at
--- least ten contacts per step on average, over a run that starts with balls in flight).
-T.check(batchedLaws(m) > 10 * m:step(),
-        "batched laws " .. batchedLaws(m) .. " over " .. m:step() .. " steps")
-T.check(breaks == ref_breaks, "batched: " .. breaks .. " breaks, per contact: " .. ref_breaks)
-T.check(m:step() == ref_m:step(), "same step count")
-T.check(d == ref, "batched: state differs from FDlaw per contact (" .. contacts ..
-        " contacts against " .. ref_contacts .. ")")
+local m
+for _, case in ipairs({{true, 1}, {true, 2}, {true, 3}, {false, 2}}) do
+    local batched, threads = case[1], case[2]
+    local what = (batched and "batched" or "per contact") .. ", " .. threads .. " thread(s)"
+    local breaks
+    m, breaks = scene(batched, threads)
+    local d, contacts = digest(m)
+    if batched then
+        -- The pile settles into ~200 contacts, most of them linear: the batch was the usual
+        -- path (at least ten contacts per step on average, over a run that starts in flight).
+        T.check(batchedLaws(m) > 10 * m:step(),
+                what .. ": batched laws " .. batchedLaws(m) .. " over " .. m:step() .. " steps")
+    end
+    -- More than one thread ran (this suite is built with OpenMP: .ci and scripts/setup.sh).
+    local threaded = tonumber(m:profile():match("threaded steps (%d+)"))
+    T.check((threads > 1) == (threaded > 0.5 * m:step()),
+            what .. ": " .. threaded .. " of " .. m:step() .. " steps on threads")
+    T.check(breaks == ref_breaks, what .. ": " .. breaks .. " breaks, reference " .. ref_breaks)
+    T.check(m:step() == ref_m:step(), what .. ": same step count")
+    T.check(d == ref, what .. ": state differs from the reference (per contact, 1 thread; " ..
+            contacts .. " contacts against " .. ref_contacts .. ")")
+end
 
 T.fails(function() m:batched_law(1) end, {"batched_law: expected true or false"}, "not a boolean")
+T.fails(function() m:threads(0) end, {"threads: the thread count must be from 1 to 1024"},
+        "zero threads")
+T.fails(function() m:threads(1.5) end, {"must be an integer"}, "a fraction")
+T.fails(function() m:threads(2, 0) end, {"grain", ">= 1"}, "grain 0")
 
 T.done("force_loop_identical")
