@@ -23,8 +23,8 @@
 #
 # Settings (environment):
 #   TALUS_SCALING_SIZES      "1000 3000 10000 30000 100000 300000 1000000"
-#   TALUS_SCALING_WORK       1.5e8   particle-steps per timed run: STEPS = WORK / N (>= 100),
-#                                    i.e. 15 s at 100 ns per particle-step
+#   TALUS_SCALING_WORK       1e8     particle-steps per timed run: STEPS = WORK / N (>= 100),
+#                                    i.e. 10 s at 100 ns per particle-step
 #   TALUS_SCALING_STEPS      ""      overrides per size, "N:STEPS N:STEPS ..."
 #   TALUS_SCALING_WARMUP     200     untimed steps before each timed run (all sizes: the same
 #                                    simulated time, about a dozen contact durations)
@@ -46,7 +46,7 @@ cd "$(dirname "$0")/../.."
 root=$(pwd)
 
 sizes=${TALUS_SCALING_SIZES:-"1000 3000 10000 30000 100000 300000 1000000"}
-work=${TALUS_SCALING_WORK:-1.5e8}
+work=${TALUS_SCALING_WORK:-1e8}
 steps_for=${TALUS_SCALING_STEPS:-}
 warmup=${TALUS_SCALING_WARMUP:-200}
 repeats=${TALUS_SCALING_REPEATS:-3}
