@@ -29,7 +29,7 @@
 #   TALUS_SCALING_WARMUP     200     untimed steps before each timed run (all sizes: the same
 #                                    simulated time, about a dozen contact durations)
 #   TALUS_SCALING_REPEATS    3       interleaved repeats (the table takes the minimum)
-#   TALUS_SCALING_SETTLE_MAX 100000  largest N settled from the lattice; larger N are tiled
+#   TALUS_SCALING_SETTLE_MAX 10000   largest N settled from the lattice; larger N are tiled
 #   TALUS_SCALING_CODES      "talus lammps1 lammps2"  which columns to time
 #   TALUS_SCALING_SESSION    (new)   resume that session: runs already in the CSV are skipped
 #   TALUS_SCALING_PLOT       docs/figures/scaling.png ("" = no plot)
@@ -50,7 +50,7 @@ work=${TALUS_SCALING_WORK:-1e8}
 steps_for=${TALUS_SCALING_STEPS:-}
 warmup=${TALUS_SCALING_WARMUP:-200}
 repeats=${TALUS_SCALING_REPEATS:-3}
-settle_max=${TALUS_SCALING_SETTLE_MAX:-100000}
+settle_max=${TALUS_SCALING_SETTLE_MAX:-10000}
 codes=${TALUS_SCALING_CODES:-"talus lammps1 lammps2"}
 build=${TALUS_BENCH_BUILD:-build-bench}
 native=${TALUS_NATIVE:-OFF}
@@ -145,6 +145,11 @@ state_of() {  # the state file of size N
     k=$(tiles_of "$n")
     if ((k == 1)); then echo "$cache/state_n${n}_seed1.txt"; else echo "$cache/state_n${n}_seed1_tiles$k.txt"; fi
 }
+data_of() {  # the LAMMPS data file exported from that state
+    local n=$1 k
+    k=$(tiles_of "$n")
+    if ((k == 1)); then echo "$cache/pack_n${n}.data"; else echo "$cache/pack_n${n}_tiles$k.data"; fi
+}
 tile_args() {  # the options that make (or load) the state of size N
     local n=$1 k
     k=$(tiles_of "$n")
@@ -155,7 +160,7 @@ tile_args() {  # the options that make (or load) the state of size N
 # ---------------------------------------------------------------------------- settle (cached)
 for n in $sizes; do
     state=$(state_of "$n")
-    data="$cache/pack_n${n}.data"
+    data=$(data_of "$n")
     if [[ -s $state && -s $data && ! $data -ot $state ]]; then
         echo "  N=$n: cached ($state)"
         continue
@@ -192,12 +197,12 @@ for rep in $(seq 1 "$repeats"); do
                     >"$log" 2>&1 || { cat "$log" >&2; exit 1; }
                 ;;
             lammps1)
-                lmp -in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data" \
+                lmp -in scripts/bench/lammps/in.dense_pack -var data "$(data_of "$n")" \
                     -var steps "$steps" -var warmup "$warmup" -log "$log" -screen none
                 ;;
             lammps2)
                 "${mpirun_cmd[@]}" lmp -in scripts/bench/lammps/in.dense_pack \
-                    -var data "$cache/pack_n${n}.data" -var steps "$steps" -var warmup "$warmup" \
+                    -var data "$(data_of "$n")" -var steps "$steps" -var warmup "$warmup" \
                     -log "$log" -screen none
                 ;;
             esac
