@@ -216,7 +216,7 @@ def cmd_table(a):
         ax.set_title(title, fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    version = talus["code_version"] if talus else ""
+    version = ", ".join(sorted({r["code_version"] for r in rows if r["code"] == "talus"}))
     fig.suptitle(f"Dense pack, scaling with N (Talus {version}, session {session})", fontsize=10)
     fig.text(0.01, 0.01, f"{rows[0]['cpu']}, load {min(loads):.1f}-{max(loads):.1f}; "
              "minimum over the repeats", fontsize=7, color="0.4")
