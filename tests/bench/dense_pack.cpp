@@ -20,8 +20,15 @@
 //                         (with --energy on: energy traced per group)
 //   --no-profile          time without the per-phase clock reads
 //   --settle-only         stop after settling (and exporting)
+//   --tiles K             for large N (scripts/bench/scaling.sh): instead of settling N disks
+//                         from the lattice, settle N/K disks (aspect A) and lay K copies side by
+//                         side, every other one mirrored, in a box K times as wide, then relax
+//                         that with local damping (see tiledState); the state is of N disks,
+//                         aspect K*A
+//   --tile-state FILE     settled-state cache of the N/K-disk pack (with --tiles)
 // Each timed run prints one machine-readable line starting with "RESULT" (key=value pairs);
 // scripts/bench/dense_pack.sh collects them.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -34,6 +41,7 @@
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
 #include "talus/scenes.hpp"
+#include "talus/splitmix.hpp"
 
 namespace {
 
@@ -55,6 +63,8 @@ struct Options {
     int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
     bool profile = true;
     bool settle_only = false;
+    int tiles = 1;                // > 1: the state is made from K copies of an N/K pack
+    std::string tile_state_path;  // cache of the N/K pack
 };
 
 [[noreturn]] void usage(const char* why) {
@@ -63,7 +73,7 @@ struct Options {
                  "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
                  "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
                  "[--balance on|off] "
-                 "[--no-profile] [--settle-only]\n",
+                 "[--no-profile] [--settle-only] [--tiles K] [--tile-state FILE]\n",
                  why);
     std::exit(2);
 }
@@ -101,6 +111,10 @@ Options parse(int argc, char** argv) {
             o.profile = false;
         else if (a == "--settle-only")
             o.settle_only = true;
+        else if (a == "--tiles")
+            o.tiles = std::atoi(value().c_str());
+        else if (a == "--tile-state")
+            o.tile_state_path = value();
         else if (a.rfind("--", 0) == 0)
             usage(("unknown option " + a).c_str());
         else
@@ -117,6 +131,8 @@ Options parse(int argc, char** argv) {
         usage("--energy on|off, --balance on|off");
     if (o.warmup < 0 || o.sort_interval < 1) usage("bad --warmup or --sort-interval");
     if (o.groups < 0 || o.groups > 64) usage("--groups N needs 0 <= N <= 64");
+    if (o.tiles < 1 || o.n % o.tiles != 0) usage("--tiles K needs K >= 1 dividing N");
+    if (o.tiles == 1 && !o.tile_state_path.empty()) usage("--tile-state needs --tiles K > 1");
     return o;
 }
 
@@ -124,30 +140,130 @@ double seconds(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
 }
 
-/// The settled state: from the cache if it holds this scene, else built and settled now.
-talus::PackState settledState(const Options& o, const talus::DensePackDef& def) {
-    if (!o.state_path.empty() && std::ifstream(o.state_path).good()) {
-        talus::PackState st = talus::loadPackState(o.state_path);
-        if (talus::sameScene(st.def, def) && st.def.shuffle == def.shuffle) {
-            std::printf("state: loaded %s (%zu disks)\n", o.state_path.c_str(), st.balls.size());
-            return st;
-        }
-        std::printf("state: %s holds another scene; settling anew\n", o.state_path.c_str());
+/// Writes through a temporary file and a rename, so an interrupted run never leaves a truncated
+/// cache behind (the next run would stop on it instead of settling again).
+void saveStateAtomically(const talus::PackState& st, const std::string& path) {
+    const std::string tmp = path + ".tmp";
+    talus::savePackState(st, tmp);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+        throw talus::InputError("cannot rename '" + tmp + "' to '" + path + "'");
+}
+
+/// The cached state at `path` if it holds the scene `def`, else nothing.
+bool loadCached(const std::string& path, const talus::DensePackDef& def, talus::PackState& st) {
+    if (path.empty() || !std::ifstream(path).good()) return false;
+    talus::PackState s = talus::loadPackState(path);
+    if (talus::sameScene(s.def, def) && s.def.shuffle == def.shuffle) {
+        std::printf("state: loaded %s (%zu disks)\n", path.c_str(), s.balls.size());
+        st = std::move(s);
+        return true;
     }
+    std::printf("state: %s holds another scene; making it anew\n", path.c_str());
+    return false;
+}
+
+/// The settled state of `def`: from the cache at `path` if it holds this scene, else built from
+/// the lattice and settled now (and written to `path`).
+talus::PackState settledState(const std::string& path, const talus::DensePackDef& def) {
+    talus::PackState cached;
+    if (loadCached(path, def, cached)) return cached;
     const auto t0 = Clock::now();
     talus::Model model;
     const talus::DensePack pack = talus::buildDensePack(model, def);
     const talus::SettleResult sr = talus::settleDensePack(model, pack, def);
     const double wall = seconds(t0, Clock::now());
     std::printf(
-        "settle: %lld steps (%.4f s simulated, %.4f s of it undamped) in %.1f s wall, "
+        "settle: N = %d, %lld steps (%.4f s simulated, %.4f s of it undamped) in %.1f s wall, "
         "KE/disk %.3g J (limit %.3g J)%s\n",
-        static_cast<long long>(sr.steps), sr.time, sr.fall_time, wall, sr.ke_per_ball, sr.ke_limit,
-        sr.converged ? "" : " -- NOT converged (time cap)");
+        def.n, static_cast<long long>(sr.steps), sr.time, sr.fall_time, wall, sr.ke_per_ball,
+        sr.ke_limit, sr.converged ? "" : " -- NOT converged (time cap)");
     std::printf("box %.6g m x %.6g m, weight %.6g N\n", pack.width, pack.height, pack.weight);
     talus::PackState st = talus::capturePackState(model, pack, def);
+    if (!path.empty()) {
+        saveStateAtomically(st, path);
+        std::printf("state: wrote %s\n", path.c_str());
+    }
+    return st;
+}
+
+/// A large settled pack made from K copies of a settled small one (--tiles K). Settling N disks
+/// from the lattice costs about N x (fall + damping steps), and both grow with the pack's height,
+/// so 1M disks would take hours. The copies stand side by side on the floor, tile k at
+/// x + k W0 and mirrored (x -> W0 - x, vx -> -vx, spin -> -spin) when k is odd: at every seam a
+/// pack meets its own mirror image, so each disk that leant on a side wall now leans on its image
+/// at the same place (a ball-ball overlap of twice its wall overlap, micrometres), and nothing
+/// else changes: the height, and so the pressure at every depth, is the small pack's. The copies
+/// are then shuffled (the creation order is random, as for a lattice-built pack) and the whole
+/// relaxed as the second phase of settleDensePack does: PFC local damping 0.7, guard off, at
+/// least kMinRelaxSteps steps (about 60 durations of the shortest contact, 16 steps, for the
+/// seams' overlaps to relax; a disturbance travels at about d sqrt(kn/m) = 22 m/s, 0.2 mm per
+/// step, so what reaches further is left to the energy test), then until the mean kinetic energy
+/// per disk is below the settle's limit. The box is K times as wide, so the scene's aspect is K A;
+/// its def.n is N and the rest of the def is the small pack's.
+talus::PackState tiledState(const Options& o, const talus::DensePackDef& def,
+                            const talus::DensePackDef& tile_def) {
+    talus::PackState cached;
+    if (loadCached(o.state_path, def, cached)) return cached;
+    const talus::PackState tile = settledState(o.tile_state_path, tile_def);
+    const auto t0 = Clock::now();
+    talus::PackState st;
+    st.def = def;
+    st.width = o.tiles * tile.width;
+    st.height = tile.height;
+    st.balls.reserve(static_cast<std::size_t>(def.n));
+    for (int k = 0; k < o.tiles; ++k)
+        for (talus::PackBall b : tile.balls) {
+            if (k % 2 == 1) {
+                b.x = tile.width - b.x;
+                b.vx = -b.vx;
+                b.spin = -b.spin;
+            }
+            b.x += k * tile.width;
+            st.balls.push_back(b);
+        }
+    talus::SplitMix64 rng(def.seed);
+    for (std::size_t i = st.balls.size(); i > 1; --i)  // Fisher-Yates
+        std::swap(st.balls[i - 1], st.balls[rng.below(i)]);
+
+    constexpr int64_t kMinRelaxSteps = 1000;
+    constexpr int64_t kMaxRelaxSteps = 40000;
+    constexpr int64_t kCheckEvery = 200;
+    const talus::SettleSettings settle_rule;  // the same KE limit and damping as the settle
+    talus::Model model;
+    const talus::DensePack pack = talus::buildDensePackFromState(model, st);
+    double mean_mass = 0.0, mean_radius = 0.0;
+    for (const talus::BallId id : pack.balls)
+        mean_mass += model.ballMass(id), mean_radius += model.ballRadius(id);
+    mean_mass /= static_cast<double>(pack.balls.size());
+    mean_radius /= static_cast<double>(pack.balls.size());
+    const double ke_limit = settle_rule.ke_fraction * mean_mass * def.gravity * mean_radius;
+    const talus::GuardSettings saved_guard = model.guard();
+    const double saved_damping = model.damping().local;
+    model.guard() = talus::GuardSettings::allOff();
+    model.damping().local = settle_rule.local_damping;
+    model.setSortInterval(1000);  // as in the timed runs; the order of the saved state is kept
+    int64_t steps = 0;
+    double ke = talus::meanKineticEnergy(model), ke_max = ke;
+    const double ke_first = ke;
+    while (steps < kMaxRelaxSteps) {
+        model.cycle(kCheckEvery);
+        steps += kCheckEvery;
+        ke = talus::meanKineticEnergy(model);
+        ke_max = std::max(ke_max, ke);
+        if (steps >= kMinRelaxSteps && ke < ke_limit) break;
+    }
+    model.damping().local = saved_damping;
+    model.guard() = saved_guard;
+    const double wall = seconds(t0, Clock::now());
+    std::printf(
+        "tile: %d copies of the %d-disk pack (%.6g m x %.6g m), relaxed %lld steps in %.1f s "
+        "wall; KE/disk %.3g J at the start, %.3g J at most, %.3g J at the end (limit %.3g J)%s\n",
+        o.tiles, tile_def.n, tile.width, tile.height, static_cast<long long>(steps), wall, ke_first,
+        ke_max, ke, ke_limit, ke < ke_limit ? "" : " -- NOT converged (step cap)");
+    // capturePackState reads the balls in creation order (pack.balls), whatever the sort did.
+    st = talus::capturePackState(model, pack, def);
     if (!o.state_path.empty()) {
-        talus::savePackState(st, o.state_path);
+        saveStateAtomically(st, o.state_path);
         std::printf("state: wrote %s\n", o.state_path.c_str());
     }
     return st;
@@ -235,7 +351,15 @@ int main(int argc, char** argv) {
         def.n = o.n;
         def.seed = o.seed;
         def.aspect = o.aspect;
-        const talus::PackState st = settledState(o, def);
+        talus::PackState st;
+        if (o.tiles == 1) {
+            st = settledState(o.state_path, def);
+        } else {
+            talus::DensePackDef tile_def = def;
+            tile_def.n = o.n / o.tiles;
+            def.aspect = o.aspect * o.tiles;
+            st = tiledState(o, def, tile_def);
+        }
         if (!o.lammps_path.empty()) {
             talus::writeLammpsData(st, o.lammps_path);
             std::printf("lammps: wrote %s\n", o.lammps_path.c_str());
