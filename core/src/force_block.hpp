@@ -54,10 +54,16 @@ struct ForceBlock {
     std::string error;    // an exception's text caught at the plugin boundary
 };
 
+/// A counter on a cache line of its own: the threads' pipeline polls these, and two of them
+/// on one line would make every poll of one a miss for the writer of the other.
+struct alignas(64) PaddedCounter {
+    std::atomic<std::size_t> value{0};
+};
+
 struct ForceScratch {
-    std::vector<std::unique_ptr<ForceBlock>> ring;      // [0] serves the single-thread loop
-    std::unique_ptr<ForceBlock> remainder;              // the consumer's, for a block's rest
-    std::unique_ptr<std::atomic<std::size_t>[]> ready;  // ring slot -> block + 1 when produced
+    std::vector<std::unique_ptr<ForceBlock>> ring;  // [0] serves the single-thread loop
+    std::unique_ptr<ForceBlock> remainder;          // the consumer's, for a block's rest
+    std::unique_ptr<PaddedCounter[]> ready;         // ring slot -> block + 1 when produced
     std::size_t ready_size = 0;
     std::vector<uint8_t> wall;  // pair -> wall pair, read by the producers (not the pairs)
 };

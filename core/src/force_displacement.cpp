@@ -179,7 +179,8 @@ void Model::forceLoop() {
     const bool batched = m_batched_law;
 
     // ---- pass 1: the geometry of pair i into `e` and, for a contact, its FdBlock `fd`
-    auto geometry = [&](std::size_t i, BlockEntry& e, FdBlock& fd) -> PairStep {
+    auto geometry = [&](std::size_t i, BlockEntry & e, FdBlock & fd) __attribute__((always_inline))
+                        ->PairStep {
         const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
         const Vec2 x1 = pos[s1];
@@ -243,6 +244,8 @@ void Model::forceLoop() {
         // contact to contact is written here, as when one FdBlock served every contact.
         fd.flags = fd_template.flags;
         fd.status = 0;
+        fd.tdel = dt;
+        fd.time = fd_template.time;
         fd.u_n = g.overlap;
         fd.u_dot_n = -vrel.dot(g.normal);
         fd.u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
@@ -262,7 +265,8 @@ void Model::forceLoop() {
     };
 
     // ---- pass 3 for a pair that is not a contact this step (Apart or Elsewhere)
-    auto finishApart = [&](std::size_t i, const BlockEntry& e, PairStep step) {
+    auto finishApart = [&](std::size_t i, const BlockEntry& e, PairStep step)
+        __attribute__((always_inline)) {
         const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
         if (!p.wall) {
@@ -430,20 +434,20 @@ void Model::forceLoop() {
     prepareForceScratch(nthreads, fd_template);
     // In the threads' pipeline the consumer pauses the producers around what may move the
     // pairs in memory (a new pair for a wall contact's hand-over, when the vector is full).
-    std::atomic<bool> pause{false};
-    std::atomic<int> busy{0};
+    PaddedCounter pause, busy;  // pause: 1 while held; busy: producers inside a production
     auto holdProducers = [&](bool hold) {
         if (nthreads <= 1) return;
-        pause.store(hold, std::memory_order_seq_cst);
+        pause.value.store(hold ? 1 : 0, std::memory_order_seq_cst);
         if (hold)
-            while (busy.load(std::memory_order_seq_cst) != 0) std::this_thread::yield();
+            while (busy.value.load(std::memory_order_seq_cst) != 0) std::this_thread::yield();
     };
 
     // ---- pass 1 and 2 for the pairs from `i` to at most `end` into `blk`: stops before a rare
     // pair (blk.stop names it) or, for the threads' producers (`serial_walls`), before any wall
     // pair, which only the consumer may process (below). No side effect outside `blk` and the
     // contacts' own model objects.
-    auto produce = [&](std::size_t i, std::size_t end, ForceBlock& blk, bool serial_walls) {
+    auto produce = [&](std::size_t i, std::size_t end, ForceBlock & blk, bool serial_walls)
+        __attribute__((always_inline)) {
         std::size_t n = 0, ncontacts = 0;
         blk.stop = PairStep::Contact;
         blk.batched = 0;
@@ -498,7 +502,7 @@ void Model::forceLoop() {
     };
 
     // ---- pass 3 of a block, in pair order
-    auto consume = [&](ForceBlock& blk) {
+    auto consume = [&](ForceBlock & blk) __attribute__((always_inline)) {
         m_profile.batched_laws += blk.batched;
         for (std::size_t k = 0; k < blk.n; ++k) {
             const BlockEntry& e = blk.entries[k];
@@ -512,11 +516,9 @@ void Model::forceLoop() {
     // ---- the rare pair that stopped `blk` (blk.next), alone; returns the next pair to process.
     // Pass 1 left its geometry in entries[n] and its FdBlock in fd[ncontacts], which passes 2
     // and 3 did not touch.
-    auto processRare = [&](ForceBlock& blk) -> std::size_t {
-        const std::size_t i = blk.next;
-        BlockEntry& e = blk.entries[blk.n];
-        FdBlock& fd = blk.fd[blk.ncontacts];
-        if (blk.stop == PairStep::HandOver) {
+    auto processRare = [&](std::size_t i, PairStep stop, BlockEntry& e, FdBlock& fd,
+                           std::string& error) -> std::size_t {
+        if (stop == PairStep::HandOver) {
             // The contact crossed a convex vertex and moves, state and all, to the holder's
             // pair, which now sits in slot i: process slot i again (a pair may have been
             // created).
@@ -549,18 +551,50 @@ void Model::forceLoop() {
             fd.s_force = p.s_force;
             fd.moment = p.moment;
         }
-        callLaw(p.model, fd, blk.error);
+        callLaw(p.model, fd, error);
         finishContact(i, e, fd, first);
         return i + 1;
     };
 
-    // ---- one thread: blocks of consecutive pairs, each ended by a rare pair or full
+    // ---- one thread: pair after pair, all three passes at once. Measured: on one thread the
+    // blocks cost more (each contact's FdBlock and geometry go through memory between the
+    // passes) than one batched call per block saves, so here the batched law runs per contact
+    // (count 1: no virtual call, the same bits) and the blocks serve the threads' pipeline.
     auto serialRange = [&](std::size_t i, std::size_t end, ForceBlock& blk) {
+        BlockEntry e;
+        FdBlock fd = blk.fd[0];
+        int64_t batched_count = 0;
         while (i < end) {
-            produce(i, end, blk, false);
-            consume(blk);
-            i = blk.stop == PairStep::Contact ? blk.next : processRare(blk);
+            if (i + kPrefetchAhead < end) {
+                const Pair& ahead = pairs[i + kPrefetchAhead];
+                if (ahead.active) {
+                    const char* obj = reinterpret_cast<const char*>(ahead.model);
+                    __builtin_prefetch(obj);
+                    __builtin_prefetch(obj + 64);
+                    __builtin_prefetch(obj + 128);
+                }
+            }
+            const PairStep step = geometry(i, e, fd);
+            if (step == PairStep::Contact) {
+                Pair& p = pairs[i];
+                const BatchFdLawFn batch = batched ? p.rule->factory->batch : nullptr;
+                if (batch) {
+                    ContactModel* model = p.model;
+                    batch(&model, &fd, 1);
+                    ++batched_count;
+                } else {
+                    callLaw(p.model, fd, blk.error);
+                }
+                finishContact(i, e, fd, false);
+                ++i;
+            } else if (step == PairStep::Apart || step == PairStep::Elsewhere) {
+                finishApart(i, e, step);
+                ++i;
+            } else {
+                i = processRare(i, step, e, fd, blk.error);
+            }
         }
+        m_profile.batched_laws += batched_count;
     };
 
     if (nthreads <= 1) {
@@ -579,29 +613,33 @@ void Model::forceLoop() {
         ++m_profile.threaded_steps;
         const std::size_t nblocks = (npairs + kBlock - 1) / kBlock;
         const std::size_t ring = scratch.ring.size();
-        std::atomic<std::size_t> claim{0};     // the next block to produce
-        std::atomic<std::size_t> consumed{0};  // blocks whose pass 3 is done
+        PaddedCounter claim;     // the next block to produce
+        PaddedCounter consumed;  // blocks whose pass 3 is done
         std::atomic<bool> finished{false};
-        for (std::size_t k = 0; k < ring; ++k) scratch.ready[k].store(0, std::memory_order_relaxed);
+        for (std::size_t k = 0; k < ring; ++k)
+            scratch.ready[k].value.store(0, std::memory_order_relaxed);
         // Room for the pairs a hand-over may add, so that the producers' pairs do not move
         // (holdProducers covers the case that it is not enough).
         pairs.reserve(npairs + npairs / 8 + 64);
         cold.reserve(npairs + npairs / 8 + 64);
+        // Claims block `claim` if it exists and the ring has room for it (plain loads first:
+        // a waiting thread polls this). The busy count around the production lets the consumer
+        // wait for the producers to be out before it moves the pairs (holdProducers).
         auto tryProduce = [&]() -> bool {
-            if (pause.load(std::memory_order_seq_cst)) return false;
-            busy.fetch_add(1, std::memory_order_seq_cst);
+            std::size_t k = claim.value.load(std::memory_order_relaxed);
+            if (k >= nblocks || k >= consumed.value.load(std::memory_order_acquire) + ring ||
+                pause.value.load(std::memory_order_seq_cst) != 0)
+                return false;
+            busy.value.fetch_add(1, std::memory_order_seq_cst);
             bool done = false;
-            if (!pause.load(std::memory_order_seq_cst)) {
-                std::size_t k = claim.load(std::memory_order_relaxed);
-                if (k < nblocks && k < consumed.load(std::memory_order_acquire) + ring &&
-                    claim.compare_exchange_strong(k, k + 1, std::memory_order_acq_rel)) {
-                    const std::size_t first = k * kBlock;
-                    produce(first, std::min(first + kBlock, npairs), *scratch.ring[k % ring], true);
-                    scratch.ready[k % ring].store(k + 1, std::memory_order_release);
-                    done = true;
-                }
+            if (pause.value.load(std::memory_order_seq_cst) == 0 &&
+                claim.value.compare_exchange_strong(k, k + 1, std::memory_order_acq_rel)) {
+                const std::size_t first = k * kBlock;
+                produce(first, std::min(first + kBlock, npairs), *scratch.ring[k % ring], true);
+                scratch.ready[k % ring].value.store(k + 1, std::memory_order_release);
+                done = true;
             }
-            busy.fetch_sub(1, std::memory_order_seq_cst);
+            busy.value.fetch_sub(1, std::memory_order_seq_cst);
             return done;
         };
         auto wait = [](int& spins) {
@@ -620,7 +658,8 @@ void Model::forceLoop() {
                     for (std::size_t k = 0; k < nblocks; ++k) {
                         ForceBlock& blk = *scratch.ring[k % ring];
                         int spins = 0;
-                        while (scratch.ready[k % ring].load(std::memory_order_acquire) != k + 1)
+                        while (scratch.ready[k % ring].value.load(std::memory_order_acquire) !=
+                               k + 1)
                             if (!tryProduce()) wait(spins);
                         consume(blk);
                         if (blk.stop != PairStep::Contact) {
@@ -629,7 +668,7 @@ void Model::forceLoop() {
                             serialRange(blk.next, std::min((k + 1) * kBlock, npairs),
                                         *scratch.remainder);
                         }
-                        consumed.store(k + 1, std::memory_order_release);
+                        consumed.value.store(k + 1, std::memory_order_release);
                     }
                 } catch (...) {
                     failure = std::current_exception();
@@ -638,7 +677,7 @@ void Model::forceLoop() {
             } else {
                 int spins = 0;
                 while (!finished.load(std::memory_order_acquire) &&
-                       claim.load(std::memory_order_relaxed) < nblocks)
+                       claim.value.load(std::memory_order_relaxed) < nblocks)
                     if (!tryProduce()) wait(spins);
             }
         }
@@ -718,17 +757,20 @@ int Model::forceThreads(std::size_t npairs) const {
 void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
     ForceScratch& s = m_contacts->force_scratch;
     // Four blocks per thread in the ring: a producer that finished its block can take the next
-    // while the consumer is still one or two behind.
+    // while the consumer is still one or two behind. A new block's FdBlocks start as copies of
+    // the template; pass 1 writes every field that changes from step to step or contact to
+    // contact, so they are not refilled.
+    auto fresh = [&] {
+        auto blk = std::make_unique<ForceBlock>();
+        std::fill(blk->fd, blk->fd + kBlock, tmpl);
+        return blk;
+    };
     const std::size_t ring = nthreads <= 1 ? 1 : 4 * static_cast<std::size_t>(nthreads);
-    while (s.ring.size() < ring) s.ring.push_back(std::make_unique<ForceBlock>());
-    auto fill = [&](ForceBlock& blk) { std::fill(blk.fd, blk.fd + kBlock, tmpl); };
-    fill(*s.ring[0]);
+    while (s.ring.size() < ring) s.ring.push_back(fresh());
     if (nthreads <= 1) return;
-    if (!s.remainder) s.remainder = std::make_unique<ForceBlock>();
-    fill(*s.remainder);
-    for (auto& blk : s.ring) fill(*blk);
+    if (!s.remainder) s.remainder = fresh();
     if (s.ready_size < s.ring.size()) {
-        s.ready = std::make_unique<std::atomic<std::size_t>[]>(s.ring.size());
+        s.ready = std::make_unique<PaddedCounter[]>(s.ring.size());
         s.ready_size = s.ring.size();
     }
     const auto& pairs = m_contacts->pairs;
