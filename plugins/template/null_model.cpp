@@ -222,5 +222,13 @@ const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, des
 
 }  // namespace
 
-/// The one symbol the library exports. The host calls it once, right after dlopen.
+/// The one symbol the library must export. The host calls it once, right after dlopen.
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
+
+/// Optional (ABI 1.1, docs/plugin-abi.md "Batched FDlaw"): the batched law of model `index`, or
+/// nullptr. The host may then call it over many contacts at once instead of FDlaw per contact;
+/// it must give the same bits, which ModelBase's BatchFDlaw does by running the model's own
+/// fdlaw on each contact without a virtual call. Delete this function and the host calls FDlaw.
+TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index) {
+    return index == 0 ? &Null::BatchFDlaw : nullptr;
+}

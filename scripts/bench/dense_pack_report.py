@@ -34,8 +34,9 @@ def parse_lammps(path, n):
     """The timed run is the last `run` in the log: take the last loop time, section table,
     thermo line and neighbour count."""
     text = open(path).read()
-    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on 1 procs for (\d+) steps with (\d+) atoms"
-                       r"\s+([0-9.]+)% CPU use", text)
+    # (any rank count: `mpirun -n 2 lmp` for the two-rank column)
+    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) "
+                       r"atoms\s+([0-9.]+)% CPU use", text)
     if not loops:
         sys.exit(f"no 'Loop time' in {path} (did LAMMPS fail? see the log)")
     wall, steps, atoms, cpu_pct = loops[-1]

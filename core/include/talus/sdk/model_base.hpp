@@ -175,7 +175,8 @@ public:
     /// The batched law (contact_model.hpp, BatchFdLawFn): FDlaw over an array of contacts,
     /// with the same barrier, without a virtual call per contact. The law is the same inline
     /// code, so both paths give the same bits. A library offers it by exporting
-    /// talus_plugin_batch (contact_model.hpp; plugins/linear/linear.cpp).
+    /// talus_plugin_batch (contact_model.hpp; plugins/linear/linear.cpp). It runs fdlaw()
+    /// inside ModelBase's barrier: a model that overrides FDlaw itself must not offer it.
     static void BatchFDlaw(ContactModel* const* models, FdBlock* blocks, int32_t count) {
         for (int32_t k = 0; k < count; ++k)
             static_cast<Derived*>(models[k])->ModelBase::FDlaw(blocks[k]);
