@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "lua_bindings.hpp"
+#include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 
 #ifndef TALUS_VERSION
@@ -119,5 +120,8 @@ extern "C" int luaopen_talus(lua_State* L) {
     addSaveFunctions(L);
     lua_pushliteral(L, TALUS_VERSION);
     lua_setfield(L, -2, "version");
+    // Whether m:threads(n) can run the force loop on n threads (built with OpenMP).
+    lua_pushboolean(L, talus::Model::threadingAvailable());
+    lua_setfield(L, -2, "openmp");
     return 1;
 }

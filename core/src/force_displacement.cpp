@@ -737,6 +737,14 @@ int Model::threadGrain() const {
     return (*end == '\0' && g >= 1 && g <= 1000000000) ? static_cast<int>(g) : kDefaultThreadGrain;
 }
 
+bool Model::threadingAvailable() {
+#ifdef TALUS_HAVE_OPENMP
+    return true;
+#else
+    return false;
+#endif
+}
+
 int Model::forceThreads(std::size_t npairs) const {
 #ifdef TALUS_HAVE_OPENMP
     const int wanted = threads();

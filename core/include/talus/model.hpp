@@ -534,6 +534,8 @@ public:
     int threads() const;
     int threadGrain() const;  // set by setThreads, else TALUS_THREAD_GRAIN, else the default
     static constexpr int kDefaultThreadGrain = 2000;
+    /// True when this build can run the force loop on several threads (OpenMP).
+    static bool threadingAvailable();
     /// Threads the force loop uses for `npairs` pairs this step.
     int forceThreads(std::size_t npairs) const;
 
