@@ -126,18 +126,18 @@ void Model::forceDisplacement() {
     }
 }
 
-// The loop runs over the pairs in blocks of up to kBlock, in three passes per block, so that the
-// model's law is called once per run of contacts of one model (the batched FDlaw) and what a
-// block's passes hand on stays in the L1 cache:
+// Every pair goes through three passes:
 //   1. geometry: the pair's narrowphase and, for a contact, its FdBlock (no side effects);
-//   2. the law: the model's batched FDlaw over each run of contacts of one model, or FDlaw;
+//   2. the law: the model's batched FDlaw, or FDlaw;
 //   3. finish, in pair order: forces onto the ends, the time-step notes, the books, the guard.
-// A pair whose processing reaches beyond itself (a contact to activate, a wall contact crossing
-// a vertex to its neighbour's pair) ends the block: the block is finished, then that pair is
-// processed alone, then the next block starts after it. So every pair's pass 3 runs after the
-// earlier pairs' (partial force sums, lists, events and sums are built in pair order), and the
-// result is bit for bit that of one pass per pair, for any block size and with or without the
-// batched law (docs/architecture.md, "Force loop").
+// One thread runs them pair after pair (serialRange). Threads run them in blocks of kBlock pairs
+// (passes 1 and 2 of a block on any thread, the batched law once per run of contacts of one
+// model; pass 3 on thread 0, block after block). A pair whose processing reaches beyond itself
+// (a contact to activate, a wall contact crossing a vertex to its neighbour's pair) is processed
+// alone, after everything before it. So every pair's pass 3 runs after the earlier pairs'
+// (partial force sums, lists, events and sums are built in pair order), and the result is bit
+// for bit the same for any thread count and with or without the batched law
+// (docs/architecture.md, "Force-displacement").
 template <bool kAuto, bool kEnergy, bool kGuard>
 void Model::forceLoop() {
     // References to the stores' arrays, taken once: the loop body reads them as it read the
