@@ -24,11 +24,11 @@ constexpr std::size_t kBlock = 64;
 /// What pass 1 found for a pair.
 enum class PairStep : uint8_t {
     Apart,      // not touching (nor within the model's activity distance)
-    Elsewhere,  // a wall pair whose ball is in a neighbouring segment's region, no contact;
-                // as a block's stop: a wall pair, left to the pipeline's consumer
+    Elsewhere,  // a wall pair whose ball is in a neighbouring segment's region, no contact
     Contact,    // an active contact: its law runs; as a block's stop: none (full, or the end)
     Touch,      // touching for the first time: to activate (rare, alone)
     HandOver,   // an active wall contact whose point crossed a vertex (rare, alone)
+    Wall,       // as a block's stop only: a wall pair, left to the threads' consumer
 };
 
 /// Pass 1's result for one pair of a block.
@@ -63,8 +63,7 @@ struct alignas(64) PaddedCounter {
 struct ForceScratch {
     std::vector<std::unique_ptr<ForceBlock>> ring;  // [0] serves the single-thread loop
     std::unique_ptr<ForceBlock> remainder;          // the consumer's, for a block's rest
-    std::unique_ptr<PaddedCounter[]> ready;         // ring slot -> block + 1 when produced
-    std::size_t ready_size = 0;
+    std::vector<PaddedCounter> ready;               // ring slot -> block + 1 when produced
     std::vector<uint8_t> wall;  // pair -> wall pair, read by the producers (not the pairs)
 };
 

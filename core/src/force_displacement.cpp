@@ -442,6 +442,19 @@ void Model::forceLoop() {
             while (busy.value.load(std::memory_order_seq_cst) != 0) std::this_thread::yield();
     };
 
+    // The contact objects live apart from the pairs, which only point to them: ask for the
+    // first three cache lines of the object a few pairs ahead of pair i (the shipped models'
+    // objects are 88 to 184 bytes).
+    auto prefetchModel = [&](std::size_t i, std::size_t end) __attribute__((always_inline)) {
+        if (i + kPrefetchAhead >= end) return;
+        const Pair& ahead = pairs[i + kPrefetchAhead];
+        if (!ahead.active) return;
+        const char* obj = reinterpret_cast<const char*>(ahead.model);
+        __builtin_prefetch(obj);
+        __builtin_prefetch(obj + 64);
+        __builtin_prefetch(obj + 128);
+    };
+
     // ---- pass 1 and 2 for the pairs from `i` to at most `end` into `blk`: stops before a rare
     // pair (blk.stop names it) or, for the threads' producers (`serial_walls`), before any wall
     // pair, which only the consumer may process (below). No side effect outside `blk` and the
@@ -452,20 +465,11 @@ void Model::forceLoop() {
         blk.stop = PairStep::Contact;
         blk.batched = 0;
         for (; i < end && n < kBlock; ++i) {
-            // The contact objects live apart from the pairs, which only point to them: ask for
-            // the first three cache lines of the object a few pairs ahead (the shipped models'
-            // objects are 88 to 184 bytes).
-            if (i + kPrefetchAhead < end && !(serial_walls && scratch.wall[i + kPrefetchAhead])) {
-                const Pair& ahead = pairs[i + kPrefetchAhead];
-                if (ahead.active) {
-                    const char* obj = reinterpret_cast<const char*>(ahead.model);
-                    __builtin_prefetch(obj);
-                    __builtin_prefetch(obj + 64);
-                    __builtin_prefetch(obj + 128);
-                }
-            }
+            // (a producer reads no wall pair: the consumer may be swapping their state)
+            if (!(serial_walls && i + kPrefetchAhead < end && scratch.wall[i + kPrefetchAhead]))
+                prefetchModel(i, end);
             if (serial_walls && scratch.wall[i]) {
-                blk.stop = PairStep::Elsewhere;  // "a wall pair": the consumer takes over here
+                blk.stop = PairStep::Wall;  // the consumer takes over here
                 break;
             }
             BlockEntry& e = blk.entries[n];
@@ -565,15 +569,7 @@ void Model::forceLoop() {
         FdBlock fd = blk.fd[0];
         int64_t batched_count = 0;
         while (i < end) {
-            if (i + kPrefetchAhead < end) {
-                const Pair& ahead = pairs[i + kPrefetchAhead];
-                if (ahead.active) {
-                    const char* obj = reinterpret_cast<const char*>(ahead.model);
-                    __builtin_prefetch(obj);
-                    __builtin_prefetch(obj + 64);
-                    __builtin_prefetch(obj + 128);
-                }
-            }
+            prefetchModel(i, end);
             const PairStep step = geometry(i, e, fd);
             if (step == PairStep::Contact) {
                 Pair& p = pairs[i];
@@ -777,10 +773,7 @@ void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
     while (s.ring.size() < ring) s.ring.push_back(fresh());
     if (nthreads <= 1) return;
     if (!s.remainder) s.remainder = fresh();
-    if (s.ready_size < s.ring.size()) {
-        s.ready = std::make_unique<PaddedCounter[]>(s.ring.size());
-        s.ready_size = s.ring.size();
-    }
+    if (s.ready.size() < s.ring.size()) s.ready = std::vector<PaddedCounter>(s.ring.size());
     const auto& pairs = m_contacts->pairs;
     s.wall.resize(pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) s.wall[i] = pairs[i].wall;
