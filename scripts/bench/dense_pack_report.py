@@ -31,21 +31,23 @@ LAMMPS_PHASES = [("t_pair", "Pair"), ("t_neigh", "Neigh"), ("t_comm", "Comm"),
 
 
 def parse_lammps(path, n):
-    """The timed run is the last `run` in the log: take the last loop time, section table,
-    thermo line and neighbour count."""
+    """The timed run is the last `run` in the log (any rank count: `mpirun -n 2 lmp` too): its
+    loop time, section table, thermo line, neighbour count and the warm-up run's length.
+    Shared with scaling_plot.py."""
     text = open(path).read()
-    # (any rank count: `mpirun -n 2 lmp` for the two-rank column)
-    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) "
+    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) "
                        r"atoms\s+([0-9.]+)% CPU use", text)
     if not loops:
         sys.exit(f"no 'Loop time' in {path} (did LAMMPS fail? see the log)")
-    wall, steps, atoms, cpu_pct = loops[-1]
+    wall, procs, steps, atoms, cpu_pct = loops[-1]
     wall, steps, atoms = float(wall), int(steps), int(atoms)
     if atoms != n:
         sys.exit(f"{path}: {atoms} atoms at the end, expected {n} (particles lost?)")
-    last = text[text.rfind("Loop time of"):]
-    r = {"code": "lammps", "n": n, "steps": steps, "wall_s": f"{wall:.6f}",
-         "cpu_s": f"{wall * float(cpu_pct) / 100:.6f}",
+    head, last = text[:text.rfind("Loop time of")], text[text.rfind("Loop time of"):]
+    # "% CPU use" is the CPU time of the ranks over their wall time, averaged over the ranks.
+    r = {"code": "lammps", "n": n, "steps": steps, "ranks": procs, "wall_s": f"{wall:.6f}",
+         "cpu_s": f"{wall * float(cpu_pct) / 100 * int(procs):.6f}",
+         "cpu_use": f"{float(cpu_pct) / 100:.3f}",
          "ns_per_particle_step": f"{1e9 * wall / (steps * n):.4f}"}
     for key, name in LAMMPS_PHASES:
         m = re.search(rf"^{name}\s*\|\s*([0-9.eE+-]+)\s*\|\s*([0-9.eE+-]+)", last, re.M)
@@ -56,7 +58,6 @@ def parse_lammps(path, n):
             if m:
                 r[key] = f"{float(m.group(1)):.6f}"
     # Thermo: "step atoms ke c_zsum v_cpp", the last line before the last Loop time.
-    head = text[:text.rfind("Loop time of")]
     rows = re.findall(r"^\s*(\d+)\s+(\d+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$",
                       head, re.M)
     if rows:
@@ -68,6 +69,9 @@ def parse_lammps(path, n):
     m = re.search(r"Neighbor list builds = (\d+)", last)
     if m:
         r["neigh_builds"] = m.group(1)
+    m = re.search(r"^run\s+(\d+)\s*$", head, re.M)  # the first run is the warm-up
+    if m:
+        r["warmup"] = m.group(1)
     return r
 
 

@@ -18,6 +18,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from dense_pack_report import parse_lammps  # noqa: E402  (the one LAMMPS log reader)
+
 COLUMNS = [
     "session", "date_utc", "machine", "cpu", "code", "code_version", "compiler", "flags", "build",
     "ranks", "n", "tiles", "steps", "warmup", "rep", "load1", "load1_end", "wall_s", "cpu_s",
@@ -38,39 +41,6 @@ def parse_talus(path, n):
         sys.exit(f"{path}: n={r['n']}, expected {n}")
     r["ranks"] = "1"
     r["cpu_use"] = f"{float(r['cpu_s']) / float(r['wall_s']):.3f}"
-    return r
-
-
-def parse_lammps(path, n):
-    """The timed run is the last `run` of the log: its Loop time, thermo line and neighbours."""
-    text = open(path).read()
-    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) "
-                       r"atoms\s+([0-9.]+)% CPU use", text)
-    if not loops:
-        sys.exit(f"no 'Loop time' in {path} (did LAMMPS fail? see the log)")
-    wall, procs, steps, atoms, cpu_pct = loops[-1]
-    wall, steps, atoms = float(wall), int(steps), int(atoms)
-    if atoms != n:
-        sys.exit(f"{path}: {atoms} atoms at the end, expected {n} (particles lost?)")
-    # "% CPU use" is the CPU time of the ranks over their wall time, averaged over the ranks.
-    r = {"n": str(n), "steps": str(steps), "ranks": procs, "wall_s": f"{wall:.6f}",
-         "cpu_s": f"{wall * float(cpu_pct) / 100 * int(procs):.6f}",
-         "cpu_use": f"{float(cpu_pct) / 100:.3f}",
-         "ns_per_particle_step": f"{1e9 * wall / (steps * n):.4f}"}
-    head, last = text[:text.rfind("Loop time of")], text[text.rfind("Loop time of"):]
-    rows = re.findall(r"^\s*(\d+)\s+(\d+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$",
-                      head, re.M)
-    if rows:  # thermo: step atoms ke c_zsum v_cpp (ball-ball contacts only)
-        r["ball_contacts_per_particle"] = f"{float(rows[-1][4]):.5f}"
-    m = re.search(r"Total # of neighbors = (\d+)", last)
-    if m:
-        r["pairs_per_particle"] = f"{int(m.group(1)) / n:.5f}"
-    m = re.search(r"Neighbor list builds = (\d+)", last)
-    if m:
-        r["neigh_builds"] = m.group(1)
-    m = re.search(r"^run\s+(\d+)\s*$", head, re.M)  # the first run is the warm-up
-    if m:
-        r["warmup"] = m.group(1)
     return r
 
 
