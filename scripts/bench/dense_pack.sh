@@ -47,16 +47,7 @@ cache="$root/$build/bench-cache"
 mkdir -p "$cache" scripts/bench/results
 
 # ---------------------------------------------------------------------------- machine
-cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
-family=$(lscpu | sed -n 's/^CPU family: *//p' | head -1)
-model=$(lscpu | sed -n 's/^Model: *//p' | head -1)
-ncpu=$(nproc)
-machine=${TALUS_BENCH_MACHINE:-$(echo "$cpu-f${family}m${model}-${ncpu}cpu" | tr '[:upper:]' '[:lower:]' |
-    sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//')}
-cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
-compiler="$("$cxx" --version | head -1)"
-flags="$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$build/CMakeCache.txt")"
-[[ $native == ON ]] && flags="$flags -march=native"
+source "$root/scripts/bench/machine.sh"
 talus_version="$(git describe --always --dirty 2>/dev/null || echo unknown)"
 lammps_version=""
 lammps_compiler=""
