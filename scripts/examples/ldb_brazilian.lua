@@ -21,22 +21,14 @@ local jaws = arg[4] or "curved"
 local first = tonumber(arg[5] or "1") - 1
 local jaw_angle = tonumber(arg[6]) -- degrees about the jaw's centre (M.make_jaws; default 20)
 talus.mkdir(outdir)
-local E, kratio = 62e9, 2.5
 -- as ldb_pbond.lua, Brazilian platens/jaws with friction 0.5 (the one change between the two
 -- runs compared in docs/material.md is the jaw shape)
-local mat = {
-    model = "pbond", kn = E, ks = E / kratio, fric = 0.5, density = 2630,
-    platen = { kn = 2 * E, ks = 2 * E / kratio, fric = 0.5 },
-    bond = { emod = E, kratio = kratio, pb_emod = E, pb_kratio = kratio, pb_rmul = 1, pb_mcf = 1,
-             pb_ten = { mean = 157e6, sd = 36e6, dist = "normal" },
-             pb_coh = { mean = 157e6, sd = 36e6, dist = "normal" }, pb_fa = 0 },
-}
+local mat, genesis = M.lac_du_bonnet()
+mat.platen.fric = 0.5
 local res = talus.map(n, function(k)
     local i = first + k
     local t0 = os.clock()
-    local pd = M.genesis{ width = 0.0317 * scale, height = 0.0317 * scale, rmin = 0.27e-3,
-                          rmax = 1.66 * 0.27e-3, porosity = 0.16, kn = E, ks = E / kratio,
-                          density = 2630, seed = 100 + i }
+    local pd = genesis(0.0317 * scale, 0.0317 * scale, 100 + i)
     local md = {}
     for key, v in pairs(mat) do md[key] = v end
     md.seed = i

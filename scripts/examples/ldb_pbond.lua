@@ -17,19 +17,7 @@ local n = tonumber(arg[2] or "5")
 local scale = tonumber(arg[3] or "1")
 local first = tonumber(arg[4] or "1") - 1 -- seeds first .. first + nseeds - 1
 talus.mkdir(outdir)
-local E, kratio = 62e9, 2.5
-local mat = {
-    model = "pbond", kn = E, ks = E / kratio, fric = 0.5, density = 2630,
-    -- platens: a ball-wall contact of the deformability form has length R, area 2R: kn = 2 E
-    platen = { kn = 2 * E, ks = 2 * E / kratio, fric = 0 },
-    bond = { emod = E, kratio = kratio, pb_emod = E, pb_kratio = kratio, pb_rmul = 1, pb_mcf = 1,
-             pb_ten = { mean = 157e6, sd = 36e6, dist = "normal" },
-             pb_coh = { mean = 157e6, sd = 36e6, dist = "normal" }, pb_fa = 0 },
-}
-local function genesis(w, h, seed)
-    return M.genesis{ width = w, height = h, rmin = 0.27e-3, rmax = 1.66 * 0.27e-3, porosity = 0.16,
-                      kn = E, ks = E / kratio, density = 2630, seed = seed }
-end
+local mat, genesis = M.lac_du_bonnet()
 local res = talus.map(n, function(k)
     local i = first + k
     local pk = genesis(0.0317 * scale, 0.0634 * scale, i)
