@@ -4,7 +4,7 @@
 -- kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600, contact-bond strengths normal : shear =
 -- 1e9 : 1e10 N. Thesis result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
 --
---   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [ball|contact] [balls|clumps] [elastic]
+--   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [ball|contact] [balls|clumps|clumpgen] [elastic]
 --
 -- "ball" (default): kn, ks are the balls' stiffnesses, as PFC2D 3.x reads them (the contact gets
 -- the two balls' springs in series, kn/2 and ks/2 for equal balls; docs/lua-api.md, "inherited
@@ -13,7 +13,10 @@
 --
 -- "clumps": the grains are rigid clumps of up to three touching balls, grouped at random after
 -- genesis (M.genesis grains option, docs/material.md), as the thesis's specimen; "balls"
--- (default): single balls. "elastic": unbreakable bonds, loaded to an axial strain of 2e-3 (the
+-- (default): single balls. "clumpgen": the grains are generated AS clumps (M.clump_genesis: rigid
+-- templates of 1, 2 or 3 touching balls, a third of the grains each, placed at random and
+-- compacted as clumps; docs/material.md); "clumpgen:p1,p2,p3" with grain shares p1 : p2 : p3.
+-- "elastic": unbreakable bonds, loaded to an axial strain of 2e-3 (the
 -- thesis's first calibration step, "match E with infinite strengths"): E and nu of the bonded
 -- assembly before any crack.
 --
@@ -30,19 +33,32 @@ local Fn = 4.6e4
 local mode = arg[3] or "ball"
 local grains = arg[4] or "balls"
 -- "clumps" = clumps of up to 3 balls (the thesis's); "clumpsK" = up to K (a sensitivity check)
+-- "clumpgen:p1,p2,p3": the same with grain shares p1 : p2 : p3 (grains of 1, 2, 3 balls)
+local clumpgen = grains == "clumpgen" or grains:match("^clumpgen:") ~= nil
+local shares
+if grains:match("^clumpgen:") then
+    shares = {}
+    for v in grains:sub(10):gmatch("[^,]+") do
+        local x = tonumber(v)
+        if not x then error("berea_ucs: 4th argument: clumpgen:p1,p2,p3 needs numbers (got '" .. v .. "')") end
+        shares[#shares + 1] = x
+    end
+end
 local clump_max = grains == "clumps" and 3 or tonumber(grains:match("^clumps(%d)$") or "")
-if grains ~= "balls" and not clump_max then
-    error("berea_ucs: 4th argument: balls, clumps or clumpsK (up to K balls) (got " .. grains .. ")")
+if grains ~= "balls" and not clump_max and not clumpgen then
+    error("berea_ucs: 4th argument: balls, clumps, clumpsK (up to K balls) clumpgen or clumpgen:p1,p2,p3 (got " .. grains .. ")")
 end
 local elastic = arg[5] == "elastic"
 if arg[5] and not elastic then error("berea_ucs: 5th argument: elastic or nothing (got " .. arg[5] .. ")") end
-local tag = mode .. (clump_max and "_" .. grains or "") .. (elastic and "_elastic" or "")
+local tag = mode .. ((clump_max or clumpgen) and "_" .. grains:gsub("[:,]", "_") or "") .. (elastic and "_elastic" or "")
 local kn, ks = 6.4e10, 9.6e9
 if mode == "ball" then kn, ks = kn / 2, ks / 2 end
 local res = talus.map(n, function(i)
-    local pk = M.genesis{ width = 0.02, height = 0.04, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
-                          kn = kn, ks = ks, density = 2600, seed = i,
-                          grains = clump_max and { clump_max = math.tointeger(clump_max) } or nil }
+    local g = { width = 0.02, height = 0.04, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                kn = kn, ks = ks, density = 2600, seed = i,
+                grains = clump_max and { clump_max = math.tointeger(clump_max) } or nil }
+    g.shares = shares
+    local pk = clumpgen and M.clump_genesis(g) or M.genesis(g)
     local sp = M.specimen(pk, { model = "cbond", kn = kn, ks = ks, fric = 0.5, density = 2600,
                                 bond = elastic and { cb_tenf = math.huge, cb_shearf = math.huge }
                                     or { cb_tenf = Fn, cb_shearf = 10 * Fn }, seed = i })

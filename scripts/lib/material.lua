@@ -929,6 +929,395 @@ function M.group_grains(nbrs, kmax, u01)
     return grains, counts
 end
 
+--- Genesis with grains made AS clumps from the start (thesis A appendix B, "randomly placed
+--- clumps of up to 3 balls", read literally; docs/material.md, section "Thesis A appendix B").
+--- Unlike M.genesis's `grains` (a dense disk packing grouped into clumps afterwards), each grain
+--- is a rigid template of 1, 2 or 3 balls with radii uniform in [rmin, rmax], touching each
+--- other (a pair tangent, a triple mutually tangent: a triangle), drawn with the grain shares
+--- `shares` = {p1, p2, p3} (fractions of the GRAINS; default 1/3 each, "up to 3" with no size
+--- preferred). Until their area reaches (1 - porosity) W H the grains are placed at random
+--- position and orientation without overlap at half size, expanded in `stages` as rigid clumps
+--- (re-made at each scale about their centroids, keeping position, angle and velocity), brought
+--- to the isotropic stress by scaling all grains alike and then the four servo walls, all with
+--- zero friction (P&C 2004), and cleared of rattlers (grains with fewer than `min_contacts`
+--- contacts, walls counting, that carry no force: deleted; a grain can neither be moved into a
+--- cage as M.genesis moves a ball, nor grown alone without overlap). Returns a packing as
+--- M.genesis does (balls = the pebbles {x, y, r}, clumps = lists of ball indices of the grains
+--- of 2 or 3, grain_counts[k] = grains of k balls, box, stress, porosity, deleted, timing), so
+--- M.specimen makes the grains rigid and bonds them as it does for M.genesis's grains.
+--- Options as M.genesis (width, height, rmin, rmax, porosity, density, kn, ks, seed, stress,
+--- damp, ratio, tolerance, stages, max_steps, min_contacts, verbose, lua_servo, check_every,
+--- floater_rounds) plus shares.
+function M.clump_genesis(opts)
+    check_known(opts, set_of { "width", "height", "rmin", "rmax", "porosity", "density", "kn", "ks",
+        "seed", "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts", "verbose",
+        "lua_servo", "check_every", "floater_rounds", "shares" }, "clump_genesis")
+    local W, H = req(opts, "width", "clump_genesis"), req(opts, "height", "clump_genesis")
+    local rmin, rmax = req(opts, "rmin", "clump_genesis"), req(opts, "rmax", "clump_genesis")
+    local n_target = opts.porosity or 0.16
+    local rho = opts.density or 2600
+    local kn = req(opts, "kn", "clump_genesis")
+    local ks = opts.ks or kn
+    local sigma0 = opts.stress or 1e5
+    local ratio = opts.ratio or 1e-3
+    local tol = opts.tolerance or 0.1
+    local stages = opts.stages or 8
+    local max_steps = opts.max_steps or 3000
+    local min_contacts = opts.min_contacts or 3
+    local chunk = opts.check_every or 50
+    local say = opts.verbose and print or function() end
+    if not (rmin > 0 and rmax >= rmin) then error("material.clump_genesis: need 0 < rmin <= rmax", 2) end
+    if not (n_target > 0.08 and n_target < 0.5) then
+        error("material.clump_genesis: porosity must be in (0.08, 0.5) (got " .. tostring(n_target) .. ")", 2)
+    end
+    local shares = opts.shares or { 1 / 3, 1 / 3, 1 / 3 }
+    if type(shares) ~= "table" or #shares < 1 or #shares > 3 then
+        error("material.clump_genesis: 'shares' must be a list {p1, p2, p3} of the fractions of grains of 1, 2 "
+            .. "and 3 balls", 2)
+    end
+    local psum = 0
+    for k, p in ipairs(shares) do
+        if type(p) ~= "number" or not (p >= 0) then
+            error(string.format("material.clump_genesis: shares[%d] must be a number >= 0 (got %s)", k,
+                tostring(p)), 2)
+        end
+        psum = psum + p
+    end
+    if not (psum > 0) then error("material.clump_genesis: the shares sum to 0", 2) end
+    local u01 = drawer(opts.seed or 1)
+    local timing = {}
+    local t0 = clock()
+
+    -- 1. grains: a size k from the shares, k radii, the template (pebble centres relative to the
+    -- area-weighted centroid, which is where m:clump puts `pos`: union = sum, the pebbles only
+    -- touch). Until the pebbles' area reaches (1 - n) W H.
+    local function template(r)
+        local p
+        if #r == 1 then
+            p = { { 0, 0, r[1] } }
+        elseif #r == 2 then
+            p = { { 0, 0, r[1] }, { r[1] + r[2], 0, r[2] } }
+        else
+            -- mutually tangent: |p1 p2| = r1 + r2, |p1 p3| = r1 + r3, |p2 p3| = r2 + r3
+            local d12, d13, d23 = r[1] + r[2], r[1] + r[3], r[2] + r[3]
+            local x3 = (d13 * d13 - d23 * d23 + d12 * d12) / (2 * d12)
+            p = { { 0, 0, r[1] }, { d12, 0, r[2] }, { x3, math.sqrt(d13 * d13 - x3 * x3), r[3] } }
+        end
+        local a, sx, sy = 0, 0, 0
+        for _, q in ipairs(p) do
+            local ai = q[3] * q[3]
+            a = a + ai; sx = sx + ai * q[1]; sy = sy + ai * q[2]
+        end
+        local bound = 0 -- bounding radius about the centroid
+        for _, q in ipairs(p) do
+            q[1], q[2] = q[1] - sx / a, q[2] - sy / a
+            bound = math.max(bound, math.sqrt(q[1] * q[1] + q[2] * q[2]) + q[3])
+        end
+        return p, bound
+    end
+    local target_area = (1 - n_target) * W * H
+    local grains, area = {}, 0
+    while area < target_area do
+        local u, k, acc = u01() * psum, #shares, 0
+        for i, p in ipairs(shares) do
+            acc = acc + p
+            if u < acc then k = i; break end
+        end
+        local r = {}
+        for i = 1, k do
+            r[i] = rmin + (rmax - rmin) * u01()
+            area = area + math.pi * r[i] * r[i]
+        end
+        local base, bound = template(r)
+        grains[#grains + 1] = { base = base, bound = bound }
+    end
+
+    -- 2. random sequential addition at half size: centroid uniform in the box (the grain inside
+    -- it), angle uniform in [0, 2 pi); a pebble is checked against the pebbles of the 3 x 3 grid
+    -- cells around it (cell = the largest pebble diameter, so no overlapping pair is missed)
+    local s = 0.5
+    local cell = 2 * rmax * s
+    local nx, ny = math.max(1, math.floor(W / cell)), math.max(1, math.floor(H / cell))
+    local grid, peb = {}, {}
+    local function cell_of(x, y)
+        return math.min(ny - 1, math.max(0, math.floor(y / H * ny))),
+               math.min(nx - 1, math.max(0, math.floor(x / W * nx)))
+    end
+    for gi, g in ipairs(grains) do
+        local rb = g.bound * s
+        if 2 * rb >= math.min(W, H) then
+            error(string.format("material.clump_genesis: grain %d (bounding radius %.4g m at half size) does not fit "
+                .. "the %.4g x %.4g m box", gi, rb, W, H), 2)
+        end
+        local placed = false
+        for _ = 1, 10000 do
+            local x = rb + (W - 2 * rb) * u01()
+            local y = rb + (H - 2 * rb) * u01()
+            local th = 2 * math.pi * u01()
+            local c, sn = math.cos(th), math.sin(th)
+            local pts, ok = {}, true
+            for _, q in ipairs(g.base) do
+                local px, py = x + s * (c * q[1] - sn * q[2]), y + s * (sn * q[1] + c * q[2])
+                local r = s * q[3]
+                pts[#pts + 1] = { px, py, r }
+                local cy, cx = cell_of(px, py)
+                for gx = math.max(0, cx - 1), math.min(nx - 1, cx + 1) do
+                    for gy = math.max(0, cy - 1), math.min(ny - 1, cy + 1) do
+                        for _, j in ipairs(grid[gy * nx + gx] or {}) do
+                            local p = peb[j]
+                            local dx, dy = p[1] - px, p[2] - py
+                            local rr = p[3] + r
+                            if dx * dx + dy * dy < rr * rr then ok = false; break end
+                        end
+                        if not ok then break end
+                    end
+                    if not ok then break end
+                end
+                if not ok then break end
+            end
+            if ok then
+                for _, p in ipairs(pts) do
+                    peb[#peb + 1] = p
+                    local cy, cx = cell_of(p[1], p[2])
+                    local key = cy * nx + cx
+                    grid[key] = grid[key] or {}
+                    table.insert(grid[key], #peb)
+                end
+                g.pos, g.angle = { x, y }, th
+                placed = true
+                break
+            end
+        end
+        if not placed then
+            error("material.clump_genesis: could not place grain " .. gi .. " without overlap", 2)
+        end
+    end
+    timing.place = clock() - t0
+
+    -- 3. the vessel; the grains as clumps (a grain of one ball too: a one-pebble clump moves as
+    -- a ball bit for bit, docs/physics/clumps.md), mass mode "sum" as M.specimen (PFC 3.x; the
+    -- pebbles only touch, so it equals the union). Growing a clump = re-making it at a larger
+    -- `scale` about its centroid with its angle and velocity: rigid throughout, and its contacts
+    -- (frictionless, so without shear history) are found again in the next step.
+    t0 = clock()
+    local m = M.new_model(opts.damp, opts.verbose)
+    m:contact_model("linear", { kn = kn, ks = ks, fric = 0 })
+    local ext = 0.25 * math.max(W, H)
+    local walls = {
+        make_wall(m, { 0, -ext }, { 0, H + ext }, { 1, 0 }, "vessel"),   -- left
+        make_wall(m, { W, -ext }, { W, H + ext }, { -1, 0 }, "vessel"),  -- right
+        make_wall(m, { -ext, 0 }, { W + ext, 0 }, { 0, 1 }, "vessel"),   -- bottom
+        make_wall(m, { -ext, H }, { W + ext, H }, { 0, -1 }, "vessel"),  -- top
+    }
+    local cur = s -- the common scale of all grains (pebble radius = drawn radius x cur)
+    local function make(g, pos, angle, vel, spin)
+        g.c = m:clump{ pebbles = g.base, pos = pos, angle = angle, scale = cur, density = rho,
+                       mass_mode = "sum", vel = vel, spin = spin, group = "rock" }
+    end
+    for _, g in ipairs(grains) do make(g, g.pos, g.angle, { 0, 0 }, 0) end
+    local function rescale(f)
+        cur = f
+        for _, g in ipairs(grains) do
+            if not g.dead then
+                local c = g.c
+                local p, a, v, w = c.pos, c.angle, c.vel, c.spin
+                c:delete()
+                make(g, p, a, v, w)
+            end
+        end
+    end
+    local steps0 = m:step()
+    for k = 1, stages do
+        rescale(s ^ (1 - k / stages))
+        local n, rr = solve_ratio(m, 1e-2, 2500, chunk)
+        say(string.format("clump_genesis: expansion stage %d: scale %.4f, %d steps, ratio %.3g", k, cur, n, rr))
+    end
+    say(string.format("clump_genesis: %d grains expanded in %d steps", #grains, m:step() - steps0))
+    timing.expand = clock() - t0
+
+    -- 4. isotropic stress: scaling all grains alike (the secant rule of M.genesis, step 3) to
+    -- within a factor 2 of sigma0, then the servo walls
+    t0 = clock()
+    local function xlen() return wall_pos(walls[2]) * -1 - wall_pos(walls[1]) end
+    local function ylen() return wall_pos(walls[4]) * -1 - wall_pos(walls[3]) end
+    walls[1].len, walls[2].len = ylen, ylen
+    walls[3].len, walls[4].len = xlen, xlen
+    local function stresses()
+        local st = {}
+        for i, rec in ipairs(walls) do st[i] = wall_push(rec) / rec.len() end
+        return st
+    end
+    local function mean_stress()
+        local st = stresses()
+        return 0.25 * (st[1] + st[2] + st[3] + st[4])
+    end
+    local ss = m:step()
+    local scale_iter, zero_runs, B_est = 0, 0, nil
+    local prev, s_cum = nil, 0
+    for _ = 1, 25 do
+        local sig = mean_stress()
+        if sig <= 2 * sigma0 and sig >= sigma0 / 2 then break end
+        scale_iter = scale_iter + 1
+        local eps
+        if sig >= 0.2 * sigma0 then
+            local B, half = nil, false
+            if prev and s_cum ~= prev.s then B = (prev.sig - sig) / (s_cum - prev.s) end
+            if B and B > 0 then
+                B_est = B
+            elseif B_est then
+                B = B_est
+            else
+                -- affine estimate from the mean overlap per pebble-radius sum; a grain's contact
+                -- gaps move by more than eps (r1 + r2) when it shrinks about a centroid off the
+                -- pebble's centre, so B may be underestimated: only half the step is taken
+                local rel, nc = 0, 0
+                for c in m:contacts{} do
+                    local b2 = c.ball2
+                    if b2 and c.overlap > 0 then
+                        rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
+                    end
+                end
+                B = (nc > 0 and rel > 0) and sig * nc / rel or nil
+                half = true
+            end
+            if not B then break end
+            local aim = sig > sigma0 and math.max(sigma0, 0.2 * sig) or math.min(sigma0, 5 * sig)
+            eps = (sig - aim) / B * (half and 0.5 or 1)
+            zero_runs = 0
+            prev = { s = s_cum, sig = sig }
+        else
+            -- unjammed: grow by doubling steps (M.genesis, step 3)
+            zero_runs = zero_runs + 1
+            eps = -math.min(2e-3, (B_est and sigma0 / B_est or 1e-5) * 2 ^ (zero_runs - 1))
+            prev = nil
+        end
+        s_cum = s_cum + eps
+        rescale(cur * (1 - eps))
+        local n, rr = solve_ratio(m, 3e-3, 5000, chunk)
+        say(string.format("clump_genesis: scaling %d: stress %.4g Pa, scale %.8f, relaxed in %d steps to ratio %.3g",
+            scale_iter, sig, cur, n, rr))
+    end
+    local rmean = 0.5 * (rmin + rmax) * cur
+    local function servo_to_stress(need_ratio)
+        for _, rec in ipairs(walls) do rec.target = sigma0 end
+        local st, r = stresses(), nil
+        local function within_tol()
+            for i = 1, 4 do
+                if math.abs(st[i] - sigma0) > tol * sigma0 then return false end
+            end
+            return true
+        end
+        if within_tol() then
+            r = unbalanced_ratio(m)
+            if r <= ratio or not need_ratio then return r end
+        end
+        local s0 = m:step()
+        -- the cap and gain of M.genesis (quasi-static walls, no overshoot)
+        local sv = servo(m, walls, { kn = kn, rmean = rmean, vmax = 1e-5 * rmean / m:dt(), alpha = 0.05,
+                                     lua = opts.lua_servo })
+        while true do
+            m:cycle(200)
+            sv.update()
+            st = stresses()
+            if within_tol() then
+                r = unbalanced_ratio(m)
+                if r <= ratio or not need_ratio then break end
+            end
+            if m:step() - s0 > max_steps then
+                r = unbalanced_ratio(m)
+                say(string.format("clump_genesis: isotropic stress not reached in %d steps (stresses %.4g %.4g %.4g %.4g Pa, ratio %.3g)",
+                    max_steps, st[1], st[2], st[3], st[4], r))
+                break
+            end
+        end
+        sv.stop()
+        return r
+    end
+    timing.stress = clock() - t0
+
+    -- 5. floaters: contacts per grain (walls count) and the sum of their normal forces over the
+    -- mean contact force. A grain with fewer than min_contacts that carries (almost) no force
+    -- (<= 1 contact, or forces < 1% of the mean contact force) is a rattler and deleted, which
+    -- cannot unjam the packing; one with 2 loaded contacts is a link of a force chain and kept
+    -- (M.genesis, cleanup).
+    t0 = clock()
+    local deleted, chain_links = 0, 0
+    local function cleanup(round)
+        local count, fsum, fmean, nc = {}, {}, 0, 0
+        for c in m:contacts{} do
+            if c.overlap > 0 then
+                local f = math.abs(c.normal_force)
+                fmean = fmean + f; nc = nc + 1
+                for _, k in ipairs({ c.clump1 or false, c.clump2 or false }) do
+                    if k then
+                        count[k.id] = (count[k.id] or 0) + 1
+                        fsum[k.id] = (fsum[k.id] or 0) + f
+                    end
+                end
+            end
+        end
+        fmean = nc > 0 and fmean / nc or 1
+        local nd, nf = 0, 0
+        chain_links = 0
+        for _, g in ipairs(grains) do
+            local n = not g.dead and (count[g.c.id] or 0)
+            if n and n < min_contacts then
+                nf = nf + 1
+                if n <= 1 or (fsum[g.c.id] or 0) < 1e-2 * fmean then
+                    g.c:delete(); g.dead = true; nd = nd + 1
+                else
+                    chain_links = chain_links + 1
+                end
+            end
+        end
+        deleted = deleted + nd
+        say(string.format("clump_genesis: %s: %d floaters: %d rattlers deleted, %d chain links kept", round, nf, nd,
+            chain_links))
+    end
+    for round = 1, opts.floater_rounds or 2 do
+        servo_to_stress()
+        cleanup("round " .. round)
+    end
+    timing.floaters = clock() - t0
+    t0 = clock()
+    local r = servo_to_stress(true)
+    if (opts.floater_rounds or 2) > 0 then cleanup("final") end
+    say(string.format("clump_genesis: isotropic stress %.4g Pa after %d scalings, %d steps, ratio %.3g", sigma0,
+        scale_iter, m:step() - ss, r))
+    timing.stress = timing.stress + clock() - t0
+
+    -- 6. the packing: every grain's pebbles in world coordinates (the grain's ball indices
+    -- consecutive), the grains of 2 and 3 as index lists for M.specimen
+    local box = { wall_pos(walls[1]), wall_pos(walls[3]), -wall_pos(walls[2]), -wall_pos(walls[4]) }
+    local out, clumps, counts = {}, {}, {}
+    for k = 1, #shares do counts[k] = 0 end
+    for _, g in ipairs(grains) do
+        if not g.dead then
+            local idx = {}
+            for _, p in ipairs(g.c:pebbles()) do
+                out[#out + 1] = { p.pos[1], p.pos[2], p.radius }
+                idx[#idx + 1] = #out
+            end
+            counts[#idx] = (counts[#idx] or 0) + 1
+            if #idx > 1 then clumps[#clumps + 1] = idx end
+        end
+    end
+    local pk = {
+        balls = out, box = box, stress = stresses(), floaters = 0, deleted = deleted, chain_links = chain_links,
+        steps = m:step(), porosity = porosity_of(out, box[3] - box[1], box[4] - box[2]), density = rho,
+        rmin = rmin * cur, rmax = rmax * cur, scale = cur, timing = timing, profile = m:profile(),
+        genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1,
+                    clump_max = #shares, shares = shares, method = "clump_genesis" },
+        clumps = clumps, grain_counts = counts,
+    }
+    local f = {}
+    for k = 1, #shares do f[#f + 1] = string.format("%d: %.3f", k, counts[k] * k / #out) end
+    say("clump_genesis: fraction of balls in grains of " .. table.concat(f, ", "))
+    say(string.format("clump_genesis: %d grains, %d balls, %d deleted, porosity %.4f, box %.5g x %.5g m",
+        #grains - deleted, #out, deleted, pk.porosity, box[3] - box[1], box[4] - box[2]))
+    return pk
+end
+
 -- ------------------------------------------------------------------ packing files
 
 local function ser(v, ind)
