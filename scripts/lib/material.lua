@@ -1444,8 +1444,9 @@ end
 --- circle's bounding box, porosity over the polygon, rmin, rmax, density, ...) plus
 --- vessel = {center, diameter (final circumcircle), apothem, segments}, stress = {vessel =
 --- pressure, measured = mean stress of the whole disk by m:measure, inner = over the circle of
---- 0.8 R}, porosity_inner (m:measure over that circle). M.disk(pk) returns all its balls as the disk (the vessel is not part of
---- the packing: M.specimen builds a model without it, so it is gone when the jaws load).
+--- 0.8 R}, porosity_inner (m:measure over that circle), ratio (the final unbalanced-force
+--- ratio). M.disk(pk) returns all its balls as the disk (the vessel is not part of the
+--- packing: M.specimen builds a model without it, so it is gone when the jaws load).
 function M.genesis_disk(opts)
     check_known(opts, set_of { "diameter", "rmin", "rmax", "porosity", "density", "kn", "ks", "seed",
         "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts", "verbose",
@@ -1478,8 +1479,8 @@ function M.genesis_disk(opts)
     -- circumcircle by at most R (1 - cos(pi/N)), the same to leading order. So the polygon is a
     -- circle to within e rmin (e = `roughness`, 0.01) when N >= pi sqrt(R / (2 e rmin)): 119.1
     -- at the half-size LdB disk (R = 7.77 mm, rmin = 0.27 mm), 168.5 at full size; rounded up to
-    -- a multiple of 4 (a flat centred on each axis): 120 and 172. Against a cut disk's roughness of a ball
-    -- radius this is a hundredth.
+    -- a multiple of 4 (a flat centred on each axis): 120 and 172. A cut disk's rim is rough by
+    -- up to a ball diameter.
     local e_rough = opts.roughness or 0.01
     local N = opts.segments or 4 * math.ceil(math.pi * math.sqrt(R0 / (2 * e_rough * rmin)) / 4)
     if math.type(N) ~= "integer" or N < 8 then
@@ -1787,8 +1788,8 @@ function M.genesis_disk(opts)
         local stop = radial_servo()
         local n, rr = solve_ratio(m, 2 * ratio, 1500, chunk)
         stop()
-        say(string.format("genesis_disk: floater pass %d: %d floaters, %d moved/grown; pressure %.4g Pa (%d steps, ratio %.3g)",
-            pass, n_float, n_pass, pressure(), n, rr))
+        say(string.format("genesis_disk: floater pass %d: %d floaters, %d moved/grown; pressure %.4g Pa " ..
+            "(%d steps, ratio %.3g)", pass, n_float, n_pass, pressure(), n, rr))
         return true
     end
     local function cleanup(round)
@@ -1852,10 +1853,10 @@ function M.genesis_disk(opts)
         genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1,
                     diameter = D0, segments = N },
     }
-    say(string.format("genesis_disk: %d balls (%d floater moves, %d deleted), porosity %.4f (inner %.4f), D %.5g m, %d segments, pressure %.4g Pa, measured %.4g Pa (inner %.4g), %d radius scalings",
+    say(string.format("genesis_disk: %d balls (%d floater moves, %d deleted), porosity %.4f (inner %.4f), " ..
+        "D %.5g m, %d segments, pressure %.4g Pa, measured %.4g Pa (inner %.4g), %d radius scalings, ratio %.3g",
         #out, floaters, deleted, pk.porosity, pk.porosity_inner, 2 * Rc, N, pk.stress.vessel, pk.stress.measured,
-        pk.stress.inner,
-        scale_iter))
+        pk.stress.inner, scale_iter, r_final))
     return pk
 end
 
