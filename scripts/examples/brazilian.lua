@@ -1,20 +1,31 @@
 -- SPDX-License-Identifier: MIT
 --
--- brazilian.lua: Brazilian (diametral compression) test on a bonded disk cut from a P&C
--- packing; sigma_t = 2 F / (pi D t), t = 1 m (bodies-bonds-rockfall.md 2.3; docs/material.md).
+-- brazilian.lua: Brazilian (diametral compression) test on a bonded disk made by P&C's
+-- genesis in a circular vessel (default) or cut from a box packing; sigma_t = 2 F / (pi D t),
+-- t = 1 m (bodies-bonds-rockfall.md 2.3; docs/material.md).
 --
---   talus run scripts/examples/brazilian.lua [outdir] [seed] [jaws]
+--   talus run scripts/examples/brazilian.lua [outdir] [seed] [jaws] [disk]
 --
 -- jaws = curved (default: the ISRM jaws of radius 1.5 R, M.make_jaws) or flat (platens).
+-- disk = vessel (default: M.genesis_disk, a 29.4 mm vessel) or cut (M.disk: the balls of a
+-- 30 x 30 mm box packing inside the 29.4 mm circle, the disk of before).
 -- Same micro-properties as scripts/examples/ucs.lua (thesis A appendix B contact bonds,
 -- strength scaled to the ball size).
 local M = require("material")
 local outdir = arg[1] or "out"
 local seed = tonumber(arg[2] or "1")
 local jaws = arg[3] or "curved"
+local disk = arg[4] or "vessel"
+if disk ~= "vessel" and disk ~= "cut" then error("brazilian.lua: disk = '" .. disk .. "' (known: vessel, cut)") end
 talus.mkdir(outdir)
-local pk = M.genesis{ width = 0.03, height = 0.03, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
-                      kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
+local pk
+if disk == "vessel" then
+    pk = M.genesis_disk{ diameter = 0.98 * 0.03, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                         kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
+else
+    pk = M.genesis{ width = 0.03, height = 0.03, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                    kn = 6.4e10, ks = 9.6e9, density = 2600, seed = seed }
+end
 local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
                             bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 }, seed = seed,
                             -- jaw/platen friction: with smooth flat platens the disk, held at two
@@ -25,7 +36,8 @@ local csv = outdir .. "/brazilian_history.csv"
 -- post_peak 0.5: a single bond under a platen may break first and drop the force by ~30%
 -- before the disk splits (seen with seed 1); the split drops it much further
 local r = M.brazilian(sp, { post_peak = 0.5, csv = csv })
-print(string.format("disk D = %.2f mm, %d balls, %d bonds, %s jaws", r.diameter * 1e3, r.balls, sp.bonds, r.jaws))
+print(string.format("disk (%s) D = %.2f mm, %d balls, %d bonds, %s jaws", disk == "vessel" and "made in a vessel" or "cut",
+    r.diameter * 1e3, r.balls, sp.bonds, r.jaws))
 print(string.format("peak force %.4g N per m of thickness -> tensile strength 2F/(pi D t) = %.3f MPa",
     r.force, r.tensile / 1e6))
 print(string.format("%d steps, breaks: %d tension, %d shear", r.steps, r.breaks.tension, r.breaks.shear))

@@ -18,6 +18,8 @@
 --   M.specimen(pk, mat, opts) a model with the packing's balls, platens (and side walls), bonds
 --                             installed and relaxed
 --   M.compress(sp, opts)      UCS test (no side walls) or biaxial test (opts.confinement)
+--   M.genesis_disk{...}       the genesis in a circular vessel: a disk specimen whose rim balls
+--                             touch its circle (M.disk(pk) takes all of it; Brazilian test)
 --   M.disk(pk) / M.brazilian(sp, opts)   Brazilian test on a disk cut from a packing, between
 --                             the ISRM curved jaws (radius 1.5 R, M.make_jaws; default) or flat
 --                             platens (M.specimen opts.jaws = "flat"); M.fracture: where it broke
@@ -1798,6 +1800,12 @@ end
 --- from a larger packing too). The list also carries `center` = {x, y} and `cut` = d, so
 --- M.specimen knows it is a disk and gives it the Brazilian jaws.
 function M.disk(pk, d)
+    -- a disk made in a circular vessel (M.genesis_disk) is all of the packing
+    if pk.vessel and d == nil then
+        local idx = { center = pk.vessel.center, cut = pk.vessel.diameter }
+        for i = 1, #pk.balls do idx[i] = i end
+        return idx
+    end
     local b = pk.box
     local cx, cy = 0.5 * (b[1] + b[3]), 0.5 * (b[2] + b[4])
     d = d or 0.98 * math.min(b[3] - b[1], b[4] - b[2])
@@ -1807,6 +1815,438 @@ function M.disk(pk, d)
         if dist + p[3] <= 0.5 * d then idx[#idx + 1] = i end
     end
     return idx
+end
+
+--- A disk specimen made in a circular vessel (issue 9; docs/material.md "Disks made in a
+--- circular vessel"), the cure the cut disk's rough surface asks for: a disk whose outer balls
+--- touch its circle. P&C's genesis (M.genesis) with the four walls replaced by a regular
+--- polygon of `segments` walls inscribed in the circle of diameter `diameter` (vertices on the
+--- circle, a flat centred at the top and at the bottom: the loaded diameter). Each segment is
+--- its own wall so the vessel can shrink: in the servo phase every segment moves along its
+--- inward normal at one common speed (a homothetic shrink of the polygon about the centre),
+--- driven by the vessel's mean pressure (the sum of the segments' normal forces over the
+--- perimeter). Steps: radii drawn for (1 - n) of the polygon's area, placed at half size
+--- without overlap, expanded in `stages` with zero friction, scaled uniformly down to within
+--- a factor 2 of `stress` (the secant rule of M.genesis), then the radial servo to `tolerance`
+--- and `ratio`; floaters moved/grown (M.floater_circle, the nearby segments as wall sites) and
+--- rattlers deleted as in M.genesis. Returns a packing like M.genesis's (balls, box = the
+--- circle's bounding box, porosity over the polygon, rmin, rmax, density, ...) plus
+--- vessel = {center, diameter (final circumcircle), apothem, segments}, stress = {vessel =
+--- pressure, measured = mean stress of the whole disk by m:measure, inner = over the circle of
+--- 0.8 R}, porosity_inner (m:measure over that circle), ratio (the final unbalanced-force
+--- ratio). M.disk(pk) returns all its balls as the disk (the vessel is not part of the
+--- packing: M.specimen builds a model without it, so it is gone when the jaws load).
+function M.genesis_disk(opts)
+    check_known(opts, set_of { "diameter", "rmin", "rmax", "porosity", "density", "kn", "ks", "seed",
+        "stress", "damp", "ratio", "tolerance", "stages", "max_steps", "min_contacts", "verbose",
+        "floater_passes", "floater_rounds", "check_every", "segments", "roughness" }, "genesis_disk")
+    local D0 = req(opts, "diameter", "genesis_disk")
+    local rmin, rmax = req(opts, "rmin", "genesis_disk"), req(opts, "rmax", "genesis_disk")
+    local kn = req(opts, "kn", "genesis_disk")
+    local ks = opts.ks or kn
+    local n_target = opts.porosity or 0.16
+    local rho = opts.density or 2600
+    local sigma0 = opts.stress or 1e5
+    local ratio = opts.ratio or 1e-3
+    local tol = opts.tolerance or 0.1
+    local stages = opts.stages or 8
+    local max_steps = opts.max_steps or 3000
+    local min_contacts = opts.min_contacts or 3
+    local chunk = opts.check_every or 50
+    local say = opts.verbose and print or function() end
+    if not (rmin > 0 and rmax >= rmin) then error("material.genesis_disk: need 0 < rmin <= rmax", 2) end
+    if not (D0 > 8 * rmax) then
+        error(string.format("material.genesis_disk: diameter %g m must exceed 8 rmax (%g m)", D0, 8 * rmax), 2)
+    end
+    if not (n_target > 0.08 and n_target < 0.5) then
+        error("material.genesis_disk: porosity must be in (0.08, 0.5) (got " .. n_target .. ")", 2)
+    end
+    local R0 = 0.5 * D0
+    -- Segment count. A ball wedged in a corner of the polygon (touching two flats) has its
+    -- centre (a - r) / cos(pi/N) from the centre, a = the apothem, beyond the circle of radius
+    -- a - r by (a - r)(1/cos(pi/N) - 1) ~ a pi^2 / (2 N^2); the flats lie inside the
+    -- circumcircle by at most R (1 - cos(pi/N)), the same to leading order. So the polygon is a
+    -- circle to within e rmin (e = `roughness`, 0.01) when N >= pi sqrt(R / (2 e rmin)): 119.1
+    -- at the half-size LdB disk (R = 7.77 mm, rmin = 0.27 mm), 168.5 at full size; rounded up to
+    -- a multiple of 4 (a flat centred on each axis): 120 and 172. A cut disk's rim is rough by
+    -- up to a ball diameter.
+    local e_rough = opts.roughness or 0.01
+    local N = opts.segments or 4 * math.ceil(math.pi * math.sqrt(R0 / (2 * e_rough * rmin)) / 4)
+    if math.type(N) ~= "integer" or N < 8 then
+        error("material.genesis_disk: segments must be an integer >= 8 (got " .. tostring(N) .. ")", 2)
+    end
+    local u01 = drawer(opts.seed or 1)
+    local timing = {}
+    local t0 = clock()
+    local cx, cy = R0, R0
+    local half = math.pi / N
+    local apothem0 = R0 * math.cos(half)
+    local poly_area = function(a) return N * a * a * math.tan(half) end
+
+    -- 1. radii for (1 - n) of the polygon's area; placed at half size (area fraction (1-n)/4)
+    -- by random sequential addition, each centre at most (a - r) from the centre (inside
+    -- every flat)
+    local target_area = (1 - n_target) * poly_area(apothem0)
+    local radii, area = {}, 0
+    while area < target_area do
+        local r = rmin + (rmax - rmin) * u01()
+        if area + math.pi * r * r > target_area then
+            r = math.sqrt((target_area - area) / math.pi)
+            if r < rmin then break end
+        end
+        radii[#radii + 1] = r; area = area + math.pi * r * r
+    end
+    local s = 0.5
+    local cell = 2 * rmax * s
+    local ng = math.max(1, math.floor(D0 / cell))
+    local grid, pos = {}, {}
+    for i, r0 in ipairs(radii) do
+        local r = r0 * s
+        local placed = false
+        for _ = 1, 10000 do
+            local x, y = 2 * R0 * u01(), 2 * R0 * u01()
+            local ok = math.sqrt((x - cx) ^ 2 + (y - cy) ^ 2) <= apothem0 - r
+            local gx0, gy0 = math.min(ng - 1, math.floor(x / D0 * ng)), math.min(ng - 1, math.floor(y / D0 * ng))
+            for gx = math.max(0, gx0 - 1), math.min(ng - 1, gx0 + 1) do
+                if not ok then break end
+                for gy = math.max(0, gy0 - 1), math.min(ng - 1, gy0 + 1) do
+                    for _, j in ipairs(grid[gy * ng + gx] or {}) do
+                        local p = pos[j]
+                        if (p[1] - x) ^ 2 + (p[2] - y) ^ 2 < (p[3] + r) ^ 2 then ok = false; break end
+                    end
+                    if not ok then break end
+                end
+            end
+            if ok then
+                pos[i] = { x, y, r }
+                local k = gy0 * ng + gx0
+                grid[k] = grid[k] or {}
+                table.insert(grid[k], i)
+                placed = true
+                break
+            end
+        end
+        if not placed then error("material.genesis_disk: could not place ball " .. i .. " without overlap", 2) end
+    end
+    timing.place = clock() - t0
+
+    -- 2. the vessel: N walls, segment k the chord between the circle's points at angles
+    -- pi/2 - pi/N + 2 pi k/N and the next (k = 0: the top flat), lengthened by a quarter chord
+    -- at each end so that neighbours still meet when the polygon grows (servo retreat) by up to
+    -- a quarter of its apothem; the lengthening lies outside the neighbour's line (convex
+    -- polygon), where no ball is. Frictionless expansion as M.genesis.
+    t0 = clock()
+    local m = M.new_model(opts.damp, opts.verbose)
+    m:contact_model("linear", { kn = kn, ks = ks, fric = 0 })
+    local walls = {}
+    for k = 0, N - 1 do
+        local a1 = 0.5 * math.pi - half + 2 * half * k
+        local a2 = a1 + 2 * half
+        local p1 = { cx + R0 * math.cos(a1), cy + R0 * math.sin(a1) }
+        local p2 = { cx + R0 * math.cos(a2), cy + R0 * math.sin(a2) }
+        local tx, ty = 0.25 * (p2[1] - p1[1]), 0.25 * (p2[2] - p1[2])
+        local am = a1 + half
+        walls[#walls + 1] = make_wall(m, { p1[1] - tx, p1[2] - ty }, { p2[1] + tx, p2[2] + ty },
+            { -math.cos(am), -math.sin(am) }, "vessel")
+    end
+    local function apothem() -- distance of the flats from the centre (all equal: one speed)
+        local rec = walls[1]
+        return -(wall_pos(rec) - (cx * rec.n[1] + cy * rec.n[2]))
+    end
+    local function pressure()
+        local f = 0
+        for _, rec in ipairs(walls) do f = f + wall_push(rec) end
+        local a = apothem()
+        return f / (2 * N * a * math.tan(half))
+    end
+    local balls = {}
+    for i, p in ipairs(pos) do
+        balls[i] = m:ball{ pos = { p[1], p[2] }, radius = p[3], density = rho, group = "rock" }
+    end
+    -- A frictionless packing in a (nearly) circular vessel may turn as a body: the walls push
+    -- only along their normals, so only the polygon's corners resist a rotation (a weak,
+    -- slow mode), and local damping (a force against the velocity proportional to the
+    -- unbalanced force) hardly slows a motion that needs almost no force. Measured (seed 5 of
+    -- the test disk): 98% of the kinetic energy was such a rotation (0.6 rad/s), the balls rode
+    -- over the polygon's corners and the ratio stalled at 3e-3. Zeroing the rotation every 50
+    -- steps did not cure it: the walls' net torque is not zero until the packing has turned to
+    -- its equilibrium angle, and a packing kept from turning stays out of balance (ratio 2e-3).
+    -- So the mode gets kinetic damping (Cundall's): its angular velocity omega = L / I (L, I the
+    -- balls' angular momentum and polar inertia about the centre, mass ~ r^2) is checked every
+    -- 50 steps and taken out of the velocities (v -= omega x (p - c)) when |omega| fell
+    -- since the last check: the rotation's kinetic energy peaked, so the packing passed the
+    -- angle where the torque vanishes, and is stopped there. Nothing else of the motion changes.
+    local om_prev = 0
+    local spin_hook = m:on_cycle(function()
+        local L, I = 0, 0
+        for b in m:balls() do
+            local p, v, w = b.pos, b.vel, b.radius * b.radius
+            local x, y = p[1] - cx, p[2] - cy
+            L = L + w * (x * v[2] - y * v[1]); I = I + w * (x * x + y * y)
+        end
+        if I == 0 then return end
+        local om = L / I
+        if math.abs(om) < math.abs(om_prev) or om * om_prev < 0 then
+            for b in m:balls() do
+                local p, v = b.pos, b.vel
+                b.vel = { v[1] + om * (p[2] - cy), v[2] - om * (p[1] - cx) }
+            end
+            om = 0
+        end
+        om_prev = om
+    end, 50)
+    for k = 1, stages do
+        local f = s ^ (1 - k / stages)
+        for i, b in ipairs(balls) do b.radius = radii[i] * f end
+        local n, rr = solve_ratio(m, 1e-2, 2500, chunk)
+        say(string.format("genesis_disk: expansion stage %d: radius factor %.4f, %d steps, ratio %.3g", k, f, n, rr))
+    end
+    timing.expand = clock() - t0
+
+    -- 3. isotropic stress: uniform radius scaling to within a factor 2 of sigma0 (the secant
+    -- rule of M.genesis, docs/material.md Genesis step 2: sigma = B (s_J - s), each scaling
+    -- aiming at max(sigma0, sigma / 5)), with the vessel fixed
+    t0 = clock()
+    local scale_iter = 0
+    do
+        local prev, s_cum, B_est, zero_runs = nil, 0, nil, 0
+        for _ = 1, 25 do
+            local sig = pressure()
+            if sig <= 2 * sigma0 and sig >= 0.5 * sigma0 then break end
+            scale_iter = scale_iter + 1
+            local eps
+            if sig >= 0.2 * sigma0 then
+                local B
+                if prev and s_cum ~= prev.s then B = (prev.sig - sig) / (s_cum - prev.s) end
+                if B and B > 0 then
+                    B_est = B
+                elseif B_est then
+                    B = B_est
+                else -- affine estimate from the mean relative overlap (overestimates B)
+                    local rel, nc = 0, 0
+                    for c in m:contacts{} do
+                        local b2 = c.ball2
+                        if b2 and c.overlap > 0 then
+                            rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
+                        end
+                    end
+                    B = (nc > 0 and rel > 0) and sig / (rel / nc) or nil
+                end
+                if not B then break end
+                local aim = sig > sigma0 and math.max(sigma0, 0.2 * sig) or math.min(sigma0, 5 * sig)
+                eps = (sig - aim) / B
+                zero_runs = 0
+            else -- unjammed: grow in doubling steps (M.genesis)
+                zero_runs = zero_runs + 1
+                eps = -math.min(2e-3, (B_est and sigma0 / B_est or 1e-5) * 2 ^ (zero_runs - 1))
+            end
+            if sig >= 0.2 * sigma0 then prev = { s = s_cum, sig = sig } else prev = nil end
+            s_cum = s_cum + eps
+            for i, b in ipairs(balls) do
+                if b.alive then radii[i] = radii[i] * (1 - eps); b.radius = radii[i] end
+            end
+            local n, rr = solve_ratio(m, 3e-3, 5000, chunk)
+            say(string.format("genesis_disk: scaling %d: pressure %.4g Pa, radius factor %.8f, %d steps, ratio %.3g",
+                scale_iter, sig, 1 - eps, n, rr))
+        end
+    end
+    timing.stress = clock() - t0
+
+    -- The radial servo: every 4 steps all segments get the inward speed v = G (sigma0 - p),
+    -- p the vessel pressure, G = alpha L / (k_sum dt every) (PFC's gain in stress form, as
+    -- lua_servo: k_sum = kn per ball diameter of vessel perimeter L), alpha 0.05 and the speed
+    -- capped at 1e-5 rmean per step (M.genesis's values, quasi-static). One speed for all keeps
+    -- the polygon regular; a servo per segment would make it wander from the circle.
+    local rmean = 0.5 * (rmin + rmax)
+    local function radial_servo()
+        local every = 4
+        local vmax = 1e-5 * rmean / m:dt()
+        local h = m:on_cycle(function()
+            local v = 0.05 * 2 * rmean * (sigma0 - pressure()) / (kn * m:dt() * every)
+            if v > vmax then v = vmax elseif v < -vmax then v = -vmax end
+            for _, rec in ipairs(walls) do rec.wall.vel = { v * rec.n[1], v * rec.n[2] } end
+        end, every)
+        return function()
+            m:remove_on_cycle(h)
+            for _, rec in ipairs(walls) do rec.wall.vel = { 0, 0 } end
+        end
+    end
+    local function servo_to_stress(need_ratio)
+        local function ok()
+            if math.abs(pressure() - sigma0) > tol * sigma0 then return false end
+            return not need_ratio or unbalanced_ratio(m) <= ratio
+        end
+        if ok() then return unbalanced_ratio(m) end
+        local stop = radial_servo()
+        local s0 = m:step()
+        while m:step() - s0 < max_steps do
+            m:cycle(200)
+            if ok() then break end
+        end
+        stop()
+        local r = unbalanced_ratio(m)
+        if math.abs(pressure() - sigma0) > tol * sigma0 then
+            say(string.format("genesis_disk: pressure %.4g Pa not within %g of %g Pa in %d steps (ratio %.3g)",
+                pressure(), tol, sigma0, max_steps, r))
+        end
+        return r
+    end
+
+    -- 4. floaters (M.genesis step 4): moved/grown onto the empty circle tangent to three
+    -- neighbours (balls or the nearest segments), then the rattlers deleted, chain links kept
+    t0 = clock()
+    local function contact_counts()
+        local count, partners, fsum, fmean, nc = {}, {}, {}, 0, 0
+        local function add(id, key, f)
+            count[id] = (count[id] or 0) + 1
+            partners[id] = partners[id] or {}
+            partners[id][key] = true
+            fsum[id] = (fsum[id] or 0) + f
+        end
+        for c in m:contacts{} do
+            if c.overlap > 0 then
+                local f = math.abs(c.normal_force)
+                fmean = fmean + f; nc = nc + 1
+                local b1, b2 = c.ball1, c.ball2
+                if b2 then add(b1.id, "b" .. b2.id, f); add(b2.id, "b" .. b1.id, f)
+                else add(b1.id, "w" .. c.wall.id, f) end
+            end
+        end
+        fmean = nc > 0 and fmean / nc or 1
+        for id, v in pairs(fsum) do fsum[id] = v / fmean end
+        return count, partners, fsum
+    end
+    local floaters, deleted, chain_links = 0, 0, 0
+    local function move_grow_pass(pass)
+        local count, partners = contact_counts()
+        local cellf = 4 * rmax
+        local gnx = math.floor(D0 / cellf) + 3
+        local g, all = {}, {}
+        for i, bb in ipairs(balls) do
+            if bb.alive then
+                local p = bb.pos
+                local kk = (math.floor(p[2] / cellf) + 1) * gnx + math.floor(p[1] / cellf) + 1
+                g[kk] = g[kk] or {}
+                table.insert(g[kk], i)
+                all[i] = { p[1], p[2], bb.radius }
+            end
+        end
+        local n_float, n_pass = 0, 0
+        for i, bb in ipairs(balls) do
+            if bb.alive and (count[bb.id] or 0) < min_contacts then
+                n_float = n_float + 1
+                local P = all[i]
+                local sites = {}
+                local gx0, gy0 = math.floor(P[1] / cellf) + 1, math.floor(P[2] / cellf) + 1
+                for gx = gx0 - 2, gx0 + 2 do
+                    for gy = gy0 - 2, gy0 + 2 do
+                        for _, j in ipairs(g[gy * gnx + gx] or {}) do
+                            if j ~= i then
+                                local q = all[j]
+                                local x, y = q[1] - P[1], q[2] - P[2]
+                                sites[#sites + 1] = { x = x, y = y, r = q[3], key = "b" .. balls[j].id,
+                                                      gap = math.sqrt(x * x + y * y) - q[3] }
+                            end
+                        end
+                    end
+                end
+                -- the segments whose line passes within 4 rmax (a candidate circle reaches 2 rmax
+                -- from P with a radius up to 2 R)
+                for _, rec in ipairs(walls) do
+                    local w = wall_pos(rec) - (rec.n[1] * P[1] + rec.n[2] * P[2])
+                    if -w < 4 * rmax then
+                        sites[#sites + 1] = { nx = rec.n[1], ny = rec.n[2], w = w, gap = -w, key = "w" .. rec.wall.id }
+                    end
+                end
+                table.sort(sites, function(a, b) return a.gap < b.gap end)
+                local best = M.floater_circle(sites, P[3], 2 * rmax, 8, partners[bb.id])
+                    or M.floater_circle(sites, P[3], 2 * rmax, 8)
+                if best then
+                    local x, y, r = P[1] + best[1], P[2] + best[2], best[3] * (1 + 1e-6)
+                    bb.pos = { x, y }
+                    bb.vel = { 0, 0 }
+                    bb.radius = r
+                    radii[i] = r
+                    all[i][1], all[i][2], all[i][3] = x, y, r
+                    n_pass = n_pass + 1
+                end
+            end
+        end
+        if n_pass == 0 then return false end
+        floaters = floaters + n_pass
+        local stop = radial_servo()
+        local n, rr = solve_ratio(m, 2 * ratio, 1500, chunk)
+        stop()
+        say(string.format("genesis_disk: floater pass %d: %d floaters, %d moved/grown; pressure %.4g Pa " ..
+            "(%d steps, ratio %.3g)", pass, n_float, n_pass, pressure(), n, rr))
+        return true
+    end
+    local function cleanup(round)
+        local count, _, fsum = contact_counts()
+        local nd = 0
+        chain_links = 0
+        for _, bb in ipairs(balls) do
+            local n = bb.alive and (count[bb.id] or 0)
+            if n and n < min_contacts then
+                if n <= 1 or (fsum[bb.id] or 0) < 1e-2 then
+                    bb:delete(); nd = nd + 1
+                else
+                    chain_links = chain_links + 1
+                end
+            end
+        end
+        deleted = deleted + nd
+        say(string.format("genesis_disk: %s: %d rattlers deleted, %d chain links kept", round, nd, chain_links))
+    end
+    for round = 1, opts.floater_rounds or 2 do
+        servo_to_stress()
+        for pass = 1, opts.floater_passes or 3 do
+            if not move_grow_pass(pass) then break end
+        end
+        cleanup("round " .. round)
+    end
+    timing.floaters = clock() - t0
+
+    -- 5. the isotropic stress finished by the radial servo, the last rattlers deleted
+    t0 = clock()
+    local r_final = servo_to_stress(true)
+    if (opts.floater_rounds or 2) > 0 then cleanup("final") end
+    timing.stress = timing.stress + clock() - t0
+
+    m:remove_on_cycle(spin_hook)
+    local a = apothem()
+    local Rc = a / math.cos(half)
+    local out = {}
+    for b in m:balls() do
+        local p = b.pos
+        out[#out + 1] = { p[1], p[2], b.radius }
+    end
+    local solid = 0
+    for _, p in ipairs(out) do solid = solid + math.pi * p[3] * p[3] end
+    -- mean stress over the whole disk (a measurement circle = the circumcircle, every ball
+    -- wholly inside): in equilibrium it equals the vessel pressure exactly, since the mean of
+    -- (sigma_xx + sigma_yy)/2 over the polygon is sum_i F_i a / (2 A) = sum F / L (each flat at
+    -- distance a, area A = L a / 2); m:measure divides by the circle's area, hence the factor.
+    -- And over the inner circle of 0.8 R (the part the test loads, away from the wall layer).
+    local whole = m:measure{ circle = { cx, cy, Rc } }
+    local meas = m:measure{ circle = { cx, cy, 0.8 * Rc } }
+    local pk = {
+        balls = out, box = { cx - Rc, cy - Rc, cx + Rc, cy + Rc },
+        vessel = { center = { cx, cy }, diameter = 2 * Rc, apothem = a, segments = N },
+        stress = { vessel = pressure(),
+                   measured = -0.5 * (whole.stress.xx + whole.stress.yy) * math.pi * Rc * Rc / poly_area(a),
+                   inner = -0.5 * (meas.stress.xx + meas.stress.yy) },
+        porosity = 1 - solid / poly_area(a), porosity_inner = meas.porosity,
+        floaters = floaters, deleted = deleted, chain_links = chain_links, ratio = r_final,
+        steps = m:step(), density = rho, rmin = rmin, rmax = rmax, timing = timing,
+        genesis = { kn = kn, ks = ks, porosity = n_target, stress = sigma0, seed = opts.seed or 1,
+                    diameter = D0, segments = N },
+    }
+    say(string.format("genesis_disk: %d balls (%d floater moves, %d deleted), porosity %.4f (inner %.4f), " ..
+        "D %.5g m, %d segments, pressure %.4g Pa, measured %.4g Pa (inner %.4g), %d radius scalings, ratio %.3g",
+        #out, floaters, deleted, pk.porosity, pk.porosity_inner, 2 * Rc, N, pk.stress.vessel, pk.stress.measured,
+        pk.stress.inner, scale_iter, r_final))
+    return pk
 end
 
 --- Where the loading walls first touch a disk: the angles [degrees] from the loaded diameter,
