@@ -335,6 +335,7 @@ bool Model::makePair(uint32_t s1, uint32_t other, bool other_is_segment) {
     m_contacts->key_index.emplace(cold.key, static_cast<uint32_t>(m_contacts->pairs.size()));
     m_contacts->pairs.push_back(p);
     m_contacts->cold.push_back(cold);
+    ++m_contacts->pairs_version;
     ++m_profile.pairs_created;
     return true;
 }
@@ -362,6 +363,7 @@ void Model::removePair(std::size_t i) {
     }
     m_contacts->pairs.pop_back();
     m_contacts->cold.pop_back();
+    ++m_contacts->pairs_version;
 }
 
 void Model::refreshRule(Pair& p) {
@@ -552,6 +554,7 @@ void Model::sortBalls() {
     }
     m_contacts->pairs.swap(pairs);
     m_contacts->cold.swap(cold);
+    ++m_contacts->pairs_version;
     repackContactObjects();
 }
 

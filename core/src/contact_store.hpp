@@ -32,6 +32,9 @@ struct ContactStore {
     std::vector<Pair> pairs;
     std::vector<PairCold> cold;                        // same index as `pairs`
     std::unordered_map<uint64_t, uint32_t> key_index;  // ContactKey value -> index
+    // Bumped whenever a pair is added or removed or an end's slot changes (the threads'
+    // incidence lists are rebuilt then; force_block.hpp).
+    uint64_t pairs_version = 0;
 
     // --- contact-model rules; [0] is the default rule. Each rule owns the object pool its
     // contacts' model objects are placed in.

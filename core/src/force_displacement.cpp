@@ -10,7 +10,6 @@
 // Frame: n from end 1 to end 2, t = perp(n); the model's forces act on end 2, end 1 gets the
 // opposite; torques are (contact point - centre) x force, plus the model's moment.
 #include <algorithm>
-#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +17,7 @@
 #include <exception>
 #include <limits>
 #include <string>
-#include <thread>
+#include <type_traits>
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
@@ -36,14 +35,6 @@ namespace talus {
 namespace {
 
 constexpr std::size_t kPrefetchAhead = 4;
-/// Spins of a waiting thread between yields (threads, below).
-constexpr int kSpinsBeforeYield = 64;
-
-void spinPause() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-}
 
 /// The law of one contact through the vtable (a model without a batched law, or a rare pair).
 /// A model without the SDK's barrier may throw (docs/plugin-abi.md, "Exceptions"): caught here,
@@ -128,16 +119,19 @@ void Model::forceDisplacement() {
 
 // Every pair goes through three passes:
 //   1. geometry: the pair's narrowphase and, for a contact, its FdBlock (no side effects);
-//   2. the law: the model's batched FDlaw, or FDlaw;
-//   3. finish, in pair order: forces onto the ends, the time-step notes, the books, the guard.
-// One thread runs them pair after pair (serialRange). Threads run them in blocks of kBlock pairs
-// (passes 1 and 2 of a block on any thread, the batched law once per run of contacts of one
-// model; pass 3 on thread 0, block after block). A pair whose processing reaches beyond itself
-// (a contact to activate, a wall contact crossing a vertex to its neighbour's pair) is processed
-// alone, after everything before it. So every pair's pass 3 runs after the earlier pairs'
-// (partial force sums, lists, events and sums are built in pair order), and the result is bit
-// for bit the same for any thread count and with or without the batched law
-// (docs/architecture.md, "Force-displacement").
+//   2. the law: the model's batched FDlaw (one contact per call: no virtual call), or FDlaw;
+//   3. finish: forces onto the ends, the time-step notes, the books, the guard.
+// One thread runs them pair after pair, adding each contact onto its ends at once.
+//
+// Threads (docs/architecture.md, "Threads") own contiguous ranges of pairs and run all three
+// passes on them, with what reaches beyond the pair kept aside: each pair's action on its ends
+// goes into its PairAction, and whatever allocates or frees model objects, raises an event or
+// touches another pair (activation, a wall pair, a break, the end of a contact, a pair to remove)
+// into the thread's list of deferred work, in pair order. Then one thread does the deferred work
+// of all threads in pair order, and the balls gather their pairs' actions in pair order
+// (gatherPairActions). Every sum is thus made of the same terms in the same order as on one
+// thread, the time-step limits take the lowest pair on a tie, and the result is the same bit
+// for bit for any thread count (lua.regress.force_loop_identical).
 template <bool kAuto, bool kEnergy, bool kGuard>
 void Model::forceLoop() {
     // References to the stores' arrays, taken once: the loop body reads them as it read the
@@ -150,14 +144,22 @@ void Model::forceLoop() {
     const auto& ball_moved = m_contacts->ball_moved;
     const auto& segment_moved = m_contacts->segment_moved;
     auto& to_remove = m_contacts->to_remove;
-    std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
-    std::fill(b.moment.begin(), b.moment.end(), 0.0);
+    ForceScratch& scratch = m_contacts->force_scratch;
+    const std::size_t npairs = pairs.size();
+    const int nthreads = forceThreads(npairs);
+    if (nthreads <= 1) {
+        std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
+        std::fill(b.moment.begin(), b.moment.end(), 0.0);
+    }  // (threads: the gather writes every ball)
     for (auto& w : walls) w.force.setZero(), w.moment = 0.0, w.knest = 0.0;
     if constexpr (kAuto) {
-        std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
-        std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
+        if (nthreads <= 1) {
+            std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
+            std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
+        }
         m_limits = StepLimits{};
         m_limits_stale = false;
+        scratch.apart.clear();
     }
     const double dt = m_dt;
     FdBlock fd_template = m_fd_template;
@@ -170,6 +172,9 @@ void Model::forceLoop() {
     to_remove.clear();
     const bool groups = kEnergy && m_books.groups.on;
     if (groups) groupForceLoopStart();
+    // The dissipation totals before this step, for the energy contract's check (the same for
+    // every contact, so for every thread count).
+    const EnergyTotals totals_before = m_books.acc;
     const Vec2* pos = b.pos.data();
     const Vec2* vel = b.vel.data();
     const double* radius = b.radius.data();
@@ -177,9 +182,38 @@ void Model::forceLoop() {
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
     const bool batched = m_batched_law;
+    if (nthreads > 1) prepareForceScratch(nthreads, fd_template);
+    PairAction* actions = scratch.actions.data();
+    PairStiffness* stiffness = kAuto && nthreads > 1 ? scratch.stiffness.data() : nullptr;
+    PairEnergy* energies = kEnergy && nthreads > 1 ? scratch.energies.data() : nullptr;
+
+    // What one contact adds to the books, in the order one thread adds it (PairEnergy).
+    auto bookPairEnergy = [&](const PairEnergy& pe) __attribute__((always_inline)) {
+        if (pe.what & PairEnergy::kPlacement) m_books.acc.placement += pe.placement;
+        if (pe.what & PairEnergy::kContact) {
+            m_books.acc.slip += pe.slip;
+            // The dashpot impulse spans the velocity window around this step: booked at the
+            // next energy snapshot, half before it (law_of_motion.cpp).
+            m_books.dashpot_pending += pe.dashpot;
+            m_books.acc.plastic += pe.plastic;
+            m_books.acc.released += pe.released;
+        }
+        if (pe.what & PairEnergy::kHeld) held_before += pe.held;
+        if (pe.what & (PairEnergy::kEnds | PairEnergy::kHandOver))
+            m_books.acc.released += pe.released_end;
+        if (pe.what & PairEnergy::kStored) {
+            strain_now += pe.strain;
+            bond_now += pe.bond;
+        }
+    };
+
+    // How a finish delivers what reaches beyond its pair (the threads' scheme, above).
+    using Direct = std::integral_constant<int, 0>;    // one thread: onto the ends at once
+    using Serial = std::integral_constant<int, 1>;    // threads, serial part: actions recorded
+    using Parallel = std::integral_constant<int, 2>;  // threads, a range: actions, deferred work
 
     // ---- pass 1: the geometry of pair i into `e` and, for a contact, its FdBlock `fd`
-    auto geometry = [&](std::size_t i, BlockEntry & e, FdBlock & fd) __attribute__((always_inline))
+    auto geometry = [&](std::size_t i, PairEntry & e, FdBlock & fd) __attribute__((always_inline))
                         ->PairStep {
         const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
@@ -240,8 +274,8 @@ void Model::forceLoop() {
         const Vec2 v1c = vel[s1] + spinCross(spin[s1], g.point - x1);
         const Vec2 vrel = v2c - v1c;
         e.vrel = vrel;
-        // The block's FdBlocks start as copies of the template (below): only what changes from
-        // contact to contact is written here, as when one FdBlock served every contact.
+        // Only what changes from contact to contact is written: the rest of the FdBlock is the
+        // step's template (the thread's copy).
         fd.flags = fd_template.flags;
         fd.status = 0;
         fd.tdel = dt;
@@ -265,61 +299,86 @@ void Model::forceLoop() {
     };
 
     // ---- pass 3 for a pair that is not a contact this step (Apart or Elsewhere)
-    auto finishApart = [&](std::size_t i, const BlockEntry& e, PairStep step)
+    auto finishApart = [&](auto mode, std::size_t i, PairStep step, ForceThreadPart* part)
         __attribute__((always_inline)) {
+        constexpr int kMode = decltype(mode)::value;
         const Pair& p = pairs[i];
-        const uint32_t s1 = p.end1;
-        if (!p.wall) {
-            const uint32_t s2 = p.end2;
-            if constexpr (kAuto) {
-                const Vec2 d = pos[s2] - pos[s1];
-                const double dist = d.norm();
-                const Vec2 arel = (force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
-                                  (force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-                noteApproach(p, cold[i], dist - (radius[s1] + radius[s2]), vel[s2] - vel[s1],
-                             arel.norm(), dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0));
-            }
-            if ((ball_moved[s1] | ball_moved[s2]) && !b.fat[s1].overlaps(b.fat[s2]))
-                to_remove.push_back(static_cast<uint32_t>(i));
-            return;
+        if constexpr (kMode != Direct::value) {
+            std::fill(&actions[i].add[0][0], &actions[i].add[0][0] + 6, -0.0);
+            if constexpr (kAuto)
+                std::fill(&stiffness[i].add[0][0], &stiffness[i].add[0][0] + 4, -0.0);
+            if constexpr (kEnergy) energies[i].what = 0;
         }
-        const Segment& sg = segments[p.end2];
+        // The approach limit needs the step's complete forces: noted after the loop.
         if constexpr (kAuto) {
-            if (step == PairStep::Apart) {
-                const WallData& wall = walls[sg.wall];
-                const Vec2 v2c = wall.vel + spinCross(wall.spin, e.g.point - wall.center);
-                const Vec2 a1 = (force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-                noteApproach(p, cold[i], -e.g.overlap, v2c - vel[s1], a1.norm(), e.g.normal);
-            }
+            if (step == PairStep::Apart)
+                (kMode == Parallel::value ? part->apart : scratch.apart)
+                    .push_back(static_cast<uint32_t>(i));
         }
-        if ((ball_moved[s1] | segment_moved[p.end2]) && !b.fat[s1].overlaps(sg.fat))
-            to_remove.push_back(static_cast<uint32_t>(i));
+        const uint32_t s1 = p.end1;
+        const bool moved = p.wall ? (ball_moved[s1] | segment_moved[p.end2]) != 0
+                                  : (ball_moved[s1] | ball_moved[p.end2]) != 0;
+        if (moved && !b.fat[s1].overlaps(p.wall ? segments[p.end2].fat : b.fat[p.end2])) {
+            if constexpr (kMode == Parallel::value)
+                part->items.push_back({static_cast<uint32_t>(i), Deferred::Remove});
+            else
+                to_remove.push_back(static_cast<uint32_t>(i));
+        }
+    };
+
+    // A contact that ended (ends), after the rest of its finish: a fresh model object for its
+    // next touch, and the broadphase check its ends may need.
+    auto endAndCheck = [&](std::size_t i) {
+        Pair& p = pairs[i];
+        endContact(p, cold[i], kGuard);
+        // Its ends may have moved apart while it was a contact (inactive pairs are checked
+        // only when an end is re-inserted).
+        const Box& fat2 = p.wall ? segments[p.end2].fat : b.fat[p.end2];
+        if (!b.fat[p.end1].overlaps(fat2)) to_remove.push_back(static_cast<uint32_t>(i));
     };
 
     // ---- pass 3 for a contact: its law has run on `fd`
-    // (Inlined into both callers: through the closure, every array above costs a load.)
-    auto finishContact = [&](std::size_t i, const BlockEntry& e, FdBlock& fd, bool first)
-        __attribute__((always_inline)) {
+    // (Inlined into its callers: through the closure, every array above costs a load.)
+    auto finishContact = [&](auto mode, std::size_t i, const PairEntry& e, FdBlock& fd, bool first,
+                             ForceThreadPart* part) __attribute__((always_inline)) {
+        constexpr int kMode = decltype(mode)::value;
         Pair& p = pairs[i];
         const ContactGeometry& g = e.g;
         const uint32_t s1 = p.end1;
         const Vec2 x1 = pos[s1];
         const double r1 = radius[s1];
         if (fd.status != 0) reportFailedLaw(p, fd);
-        if (first && cold[i].born_overlapped) notePlacement(p, cold[i], g.overlap, fd, kEnergy);
+        double placed = 0.0;
+        const bool placement = first && cold[i].born_overlapped;
+        if (placement) placed = notePlacement(p, cold[i], g.overlap, fd, kEnergy);
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
-        finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
+        (kMode == Parallel::value ? part->finite_check : finite_check) +=
+            fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
         const double fn_old = p.n_force, fs_old = p.s_force, m_old = p.moment;
 
         // ---- forces onto the ends
         const Vec2 r1c = g.point - x1;
         const Vec2 f = fd.n_force * g.normal + fd.s_force * perp(g.normal);
-        force[s1] -= f;
-        moment[s1] -= cross(r1c, f) + fd.moment;
-        if (!p.wall) {
-            force[p.end2] += f;
-            moment[p.end2] += cross(g.point - e.x2, f) + fd.moment;
+        const double moment1 = cross(r1c, f) + fd.moment;
+        if constexpr (kMode == Direct::value) {
+            force[s1] -= f;
+            moment[s1] -= moment1;
         } else {
+            double* add = actions[i].add[0];
+            add[0] = -f.x(), add[1] = -f.y(), add[2] = -moment1;
+            add[3] = -0.0, add[4] = -0.0, add[5] = -0.0;  // (a wall pair's end 2 is no ball)
+        }
+        if (!p.wall) {
+            const double moment2 = cross(g.point - e.x2, f) + fd.moment;
+            if constexpr (kMode == Direct::value) {
+                force[p.end2] += f;
+                moment[p.end2] += moment2;
+            } else {
+                double* add = actions[i].add[1];
+                add[0] = f.x(), add[1] = f.y(), add[2] = moment2;
+            }
+        } else {
+            // (wall pairs are the serial part's alone when threads run)
             WallData& w = walls[segments[p.end2].wall];
             w.force += f;
             w.moment += cross(g.point - w.center, f) + fd.moment;
@@ -333,8 +392,19 @@ void Model::forceLoop() {
             PairCold& c = cold[i];
             if constexpr (kAuto) {
                 c.krest = fd.krest;
-                noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
-                            p.wall ? 0.0 : (g.point - e.x2).squaredNorm(), p.mass_eff);
+                const double arm2_sq = p.wall ? 0.0 : (g.point - e.x2).squaredNorm();
+                if constexpr (kMode == Direct::value) {
+                    noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(), arm2_sq,
+                                p.mass_eff);
+                } else {
+                    // noteContact's stiffness sums, term by term, for the gather
+                    double* add = stiffness[i].add[0];
+                    add[0] = add[2] = fd.knest + fd.ksest;
+                    add[1] = fd.ksest * r1c.squaredNorm() + fd.krest;
+                    add[3] = fd.ksest * arm2_sq + fd.krest;
+                    noteContactLimits(p, c, fd.knest, p.mass_eff,
+                                      kMode == Parallel::value ? part->limits : m_limits);
+                }
             }
             if constexpr (kEnergy) {
                 // The plugin's partitions against the ABI's contract (rare path when broken).
@@ -345,32 +415,46 @@ void Model::forceLoop() {
                                     fd.energy[4] + fd.energy[5]) ||
                      fd.energy[kEnergySlip] < 0.0 || fd.energy[kEnergyDashpot] < 0.0 ||
                      fd.energy[kEnergyPlastic] < 0.0)) {
-                    checkEnergyContract(p, c, fd, fn_old, fs_old, m_old);
+                    if constexpr (kMode == Parallel::value) {
+                        DeferredItem item{static_cast<uint32_t>(i), Deferred::Contract};
+                        item.flags = static_cast<uint32_t>(part->contracts.size());
+                        part->items.push_back(item);
+                        part->contracts.push_back({fd, fn_old, fs_old, m_old, c.strain, c.bond});
+                    } else {
+                        checkEnergyContract(p, c.strain, c.bond, fd, fn_old, fs_old, m_old,
+                                            totals_before);
+                    }
                 }
-                m_books.acc.slip += fd.energy[kEnergySlip];
-                // The dashpot impulse spans the velocity window around this step: booked at
-                // the next energy snapshot, half before it (law_of_motion.cpp).
-                m_books.dashpot_pending += fd.energy[kEnergyDashpot];
-                m_books.acc.plastic += fd.energy[kEnergyPlastic];
+                PairEnergy pe;
+                pe.what = PairEnergy::kContact;
+                if (placement) pe.what |= PairEnergy::kPlacement, pe.placement = placed;
+                pe.slip = fd.energy[kEnergySlip];
+                pe.dashpot = fd.energy[kEnergyDashpot];
+                pe.plastic = fd.energy[kEnergyPlastic];
                 // A break releases what the bond held (accuracy-reference 3.6, pitfall 2; the
                 // model says how much), and so does the end of a contact that is still loaded.
-                m_books.acc.released += fd.energy[kEnergyReleased];
+                pe.released = fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
-                double held = 0.0;
                 if (m_books.strain_baseline_pending && !first) {
-                    held = storedBefore(fd, fn_old, fs_old, m_old);
-                    held_before += held;
+                    pe.held = storedBefore(fd, fn_old, fs_old, m_old);
+                    pe.what |= PairEnergy::kHeld;
                 }
                 if (ends) {
-                    m_books.acc.released += c.strain + c.bond;
+                    pe.released_end = c.strain + c.bond;
+                    pe.what |= PairEnergy::kEnds;
                 } else {
-                    strain_now += c.strain;
-                    bond_now += c.bond;
+                    pe.strain = c.strain;
+                    pe.bond = c.bond;
+                    pe.what |= PairEnergy::kStored;
                 }
+                if constexpr (kMode == Direct::value)
+                    bookPairEnergy(pe);
+                else
+                    energies[i] = pe;
                 // Group shares and the work across group borders (group_energy.cpp): one
-                // branch per contact, taken only with groups traced.
-                if (groups) bookContactToGroups(i, fd, first, ends, held, f, g.point);
+                // branch per contact, taken only with groups traced (one thread).
+                if (groups) bookContactToGroups(i, fd, first, ends, pe.held, f, g.point);
             }
         }
 
@@ -418,28 +502,23 @@ void Model::forceLoop() {
         p.sliding = (fd.flags & kFdSliding) != 0;
         p.bonded = (fd.flags & kFdBonded) != 0;
         p.steps += g.overlap > 0.0;
-        if (fd.flags & kFdBroken) queueBreak(i, g.point, fd);
-        if (ends) {
-            endContact(p, cold[i], kGuard);
-            // Its ends may have moved apart while it was a contact (inactive pairs are checked
-            // only when an end is re-inserted).
-            const Box& fat2 = p.wall ? segments[p.end2].fat : b.fat[p.end2];
-            if (!b.fat[s1].overlaps(fat2)) to_remove.push_back(static_cast<uint32_t>(i));
+        if constexpr (kMode == Parallel::value) {
+            if (fd.flags & kFdBroken) {
+                DeferredItem item{static_cast<uint32_t>(i), Deferred::Break};
+                item.break_mode = fd.break_mode;
+                item.flags = fd.flags;
+                item.point = g.point;
+                item.sigma = fd.reserved[0];
+                item.tau = fd.reserved[1];
+                part->items.push_back(item);
+            }
+            if (ends) part->items.push_back({static_cast<uint32_t>(i), Deferred::End});
+        } else {
+            if (fd.flags & kFdBroken)
+                queueBreak(i, g.point, fd.break_mode, (fd.flags & kFdBreakStress) != 0,
+                           fd.reserved[0], fd.reserved[1]);
+            if (ends) endAndCheck(i);
         }
-    };
-
-    ForceScratch& scratch = m_contacts->force_scratch;
-    const std::size_t npairs = pairs.size();
-    const int nthreads = forceThreads(npairs);
-    prepareForceScratch(nthreads, fd_template);
-    // In the threads' pipeline the consumer pauses the producers around what may move the
-    // pairs in memory (a new pair for a wall contact's hand-over, when the vector is full).
-    PaddedCounter pause, busy;  // pause: 1 while held; busy: producers inside a production
-    auto holdProducers = [&](bool hold) {
-        if (nthreads <= 1) return;
-        pause.value.store(hold ? 1 : 0, std::memory_order_seq_cst);
-        if (hold)
-            while (busy.value.load(std::memory_order_seq_cst) != 0) std::this_thread::yield();
     };
 
     // The contact objects live apart from the pairs, which only point to them: ask for the
@@ -455,91 +534,45 @@ void Model::forceLoop() {
         __builtin_prefetch(obj + 128);
     };
 
-    // ---- pass 1 and 2 for the pairs from `i` to at most `end` into `blk`: stops before a rare
-    // pair (blk.stop names it) or, for the threads' producers (`serial_walls`), before any wall
-    // pair, which only the consumer may process (below). No side effect outside `blk` and the
-    // contacts' own model objects.
-    auto produce = [&](std::size_t i, std::size_t end, ForceBlock & blk, bool serial_walls)
+    // ---- pass 2 for a contact: the batched law with a count of one (no virtual call, the same
+    // bits as FDlaw), or FDlaw
+    auto runLaw = [&](const Pair& p, FdBlock& fd, std::string& error, int64_t& batched_count)
         __attribute__((always_inline)) {
-        std::size_t n = 0, ncontacts = 0;
-        blk.stop = PairStep::Contact;
-        blk.batched = 0;
-        for (; i < end && n < kBlock; ++i) {
-            // (a producer reads no wall pair: the consumer may be swapping their state)
-            if (!(serial_walls && i + kPrefetchAhead < end && scratch.wall[i + kPrefetchAhead]))
-                prefetchModel(i, end);
-            if (serial_walls && scratch.wall[i]) {
-                blk.stop = PairStep::Wall;  // the consumer takes over here
-                break;
-            }
-            BlockEntry& e = blk.entries[n];
-            const PairStep step = geometry(i, e, blk.fd[ncontacts]);
-            if (step == PairStep::Touch || step == PairStep::HandOver) {
-                blk.stop = step;
-                break;
-            }
-            e.pair = static_cast<uint32_t>(i);
-            e.step = step;
-            if (step == PairStep::Contact) {
-                const Pair& p = pairs[i];
-                blk.models[ncontacts] = p.model;
-                blk.laws[ncontacts] = batched ? p.rule->factory->batch : nullptr;
-                e.block = static_cast<uint32_t>(ncontacts++);
-            }
-            ++n;
-        }
-        blk.n = n;
-        blk.ncontacts = ncontacts;
-        blk.next = i;
-        // pass 2: runs of contacts of one batched law in one call each, the rest one by one
-        for (std::size_t k = 0; k < ncontacts;) {
-            std::size_t last = k + 1;
-            if (blk.laws[k]) {
-                while (last < ncontacts && blk.laws[last] == blk.laws[k]) ++last;
-                blk.laws[k](blk.models + k, blk.fd + k, static_cast<int32_t>(last - k));
-                blk.batched += static_cast<int64_t>(last - k);
-            } else {
-                callLaw(blk.models[k], blk.fd[k], blk.error);
-            }
-            k = last;
+        const BatchFdLawFn batch = batched ? p.rule->factory->batch : nullptr;
+        if (batch) {
+            ContactModel* model = p.model;
+            batch(&model, &fd, 1);
+            ++batched_count;
+        } else {
+            callLaw(p.model, fd, error);
         }
     };
 
-    // ---- pass 3 of a block, in pair order
-    auto consume = [&](ForceBlock & blk) __attribute__((always_inline)) {
-        m_profile.batched_laws += blk.batched;
-        for (std::size_t k = 0; k < blk.n; ++k) {
-            const BlockEntry& e = blk.entries[k];
-            if (e.step == PairStep::Contact)
-                finishContact(e.pair, e, blk.fd[e.block], false);
-            else
-                finishApart(e.pair, e, e.step);
-        }
-    };
-
-    // ---- the rare pair that stopped `blk` (blk.next), alone; returns the next pair to process.
-    // Pass 1 left its geometry in entries[n] and its FdBlock in fd[ncontacts], which passes 2
-    // and 3 did not touch.
-    auto processRare = [&](std::size_t i, PairStep stop, BlockEntry& e, FdBlock& fd,
+    // ---- a rare pair, alone (never in a thread's range); returns the next pair to process.
+    // Pass 1 left its geometry in `e` and its FdBlock in `fd`.
+    auto processRare = [&](auto mode, std::size_t i, PairStep stop, PairEntry& e, FdBlock& fd,
                            std::string& error) -> std::size_t {
         if (stop == PairStep::HandOver) {
             // The contact crossed a convex vertex and moves, state and all, to the holder's
             // pair, which now sits in slot i: process slot i again (a pair may have been
             // created).
-            const bool full = pairs.size() == pairs.capacity();
-            if (full) holdProducers(true);
-            const bool moved = handOverWallContact(i);
-            if (full) holdProducers(false);
-            if (moved) return i;
+            if (handOverWallContact(i)) return i;
             // No pair can take it (no holder, or one with a contact of its own): the contact
             // ends here, and what it still stores is released.
             Pair& p = pairs[i];
+            const double stored = cold[i].strain + cold[i].bond;
             if constexpr (kEnergy) {
-                m_books.acc.released += cold[i].strain + cold[i].bond;
-                if (groups) bookReleasedToGroups(p, cold[i].strain + cold[i].bond);
+                if constexpr (decltype(mode)::value == Direct::value)
+                    m_books.acc.released += stored;
+                if (groups) bookReleasedToGroups(p, stored);
             }
             endContact(p, cold[i], kGuard);
-            finishApart(i, e, PairStep::Elsewhere);
+            finishApart(mode, i, PairStep::Elsewhere, nullptr);
+            if constexpr (kEnergy && decltype(mode)::value != Direct::value) {
+                energies[i] = PairEnergy{};
+                energies[i].what = PairEnergy::kHandOver;
+                energies[i].released_end = stored;
+            }
             return i + 1;
         }
         // A pair touching for the first time: activate it, then its law (FDlaw, and the first
@@ -556,131 +589,126 @@ void Model::forceLoop() {
             fd.moment = p.moment;
         }
         callLaw(p.model, fd, error);
-        finishContact(i, e, fd, first);
+        finishContact(mode, i, e, fd, first, nullptr);
         return i + 1;
     };
 
-    // ---- one thread: pair after pair, all three passes at once. Measured: on one thread the
-    // blocks cost more (each contact's FdBlock and geometry go through memory between the
-    // passes) than one batched call per block saves, so here the batched law runs per contact
-    // (count 1: no virtual call, the same bits) and the blocks serve the threads' pipeline.
-    auto serialRange = [&](std::size_t i, std::size_t end, ForceBlock& blk) {
-        BlockEntry e;
-        FdBlock fd = blk.fd[0];
-        int64_t batched_count = 0;
-        while (i < end) {
-            prefetchModel(i, end);
-            const PairStep step = geometry(i, e, fd);
-            if (step == PairStep::Contact) {
-                Pair& p = pairs[i];
-                const BatchFdLawFn batch = batched ? p.rule->factory->batch : nullptr;
-                if (batch) {
-                    ContactModel* model = p.model;
-                    batch(&model, &fd, 1);
-                    ++batched_count;
-                } else {
-                    callLaw(p.model, fd, blk.error);
-                }
-                finishContact(i, e, fd, false);
-                ++i;
-            } else if (step == PairStep::Apart || step == PairStep::Elsewhere) {
-                finishApart(i, e, step);
-                ++i;
-            } else {
-                i = processRare(i, step, e, fd, blk.error);
-            }
+    // ---- one pair, all three passes, on one thread (Direct) or in the threads' serial part;
+    // returns the next pair to process
+    auto runPair = [&](auto mode, std::size_t i, std::size_t end, PairEntry& e, FdBlock& fd,
+                       std::string& error, int64_t& batched_count) __attribute__((always_inline))
+                       ->std::size_t {
+        prefetchModel(i, end);
+        const PairStep step = geometry(i, e, fd);
+        if (step == PairStep::Contact) {
+            runLaw(pairs[i], fd, error, batched_count);
+            finishContact(mode, i, e, fd, false, nullptr);
+            return i + 1;
         }
-        m_profile.batched_laws += batched_count;
+        if (step == PairStep::Apart || step == PairStep::Elsewhere) {
+            finishApart(mode, i, step, nullptr);
+            return i + 1;
+        }
+        return processRare(mode, i, step, e, fd, error);
     };
 
     if (nthreads <= 1) {
-        serialRange(0, npairs, *scratch.ring[0]);
+        PairEntry e;
+        FdBlock fd = fd_template;
+        int64_t batched_count = 0;
+        for (std::size_t i = 0; i < npairs;)
+            i = runPair(Direct{}, i, npairs, e, fd, scratch.error, batched_count);
+        m_profile.batched_laws += batched_count;
     } else {
 #ifdef TALUS_HAVE_OPENMP
-        // Threads (docs/architecture.md, "Threads"): a pipeline over the fixed blocks of kBlock
-        // pairs. Producers (every thread, the consumer too while it waits) claim blocks in order
-        // and run passes 1 and 2 into a ring of ForceBlocks; thread 0, the consumer, runs pass 3
-        // of block after block in pair order, and the rest of a block that stopped (a rare pair
-        // or a wall pair) serially, as one thread would. A block's production reads only the
-        // positions and velocities, its own pairs and their model objects, which nothing else
-        // touches until the consumer reaches it; so every result is the one-thread result, bit
-        // for bit, for any thread count. Wall pairs are the consumer's alone because a rare
-        // wall pair may swap another wall pair's state (adoptWallContact, handOverWallContact).
         ++m_profile.threaded_steps;
-        const std::size_t nblocks = (npairs + kBlock - 1) / kBlock;
-        const std::size_t ring = scratch.ring.size();
-        PaddedCounter claim;     // the next block to produce
-        PaddedCounter consumed;  // blocks whose pass 3 is done
-        std::atomic<bool> finished{false};
-        for (std::size_t k = 0; k < ring; ++k)
-            scratch.ready[k].value.store(0, std::memory_order_relaxed);
-        // Room for the pairs a hand-over may add, so that the producers' pairs do not move
-        // (holdProducers covers the case that it is not enough).
-        pairs.reserve(npairs + npairs / 8 + 64);
-        cold.reserve(npairs + npairs / 8 + 64);
-        // Claims block `claim` if it exists and the ring has room for it (plain loads first:
-        // a waiting thread polls this). The busy count around the production lets the consumer
-        // wait for the producers to be out before it moves the pairs (holdProducers).
-        auto tryProduce = [&]() -> bool {
-            std::size_t k = claim.value.load(std::memory_order_relaxed);
-            if (k >= nblocks || k >= consumed.value.load(std::memory_order_acquire) + ring ||
-                pause.value.load(std::memory_order_seq_cst) != 0)
-                return false;
-            busy.value.fetch_add(1, std::memory_order_seq_cst);
-            bool done = false;
-            if (pause.value.load(std::memory_order_seq_cst) == 0 &&
-                claim.value.compare_exchange_strong(k, k + 1, std::memory_order_acq_rel)) {
-                const std::size_t first = k * kBlock;
-                produce(first, std::min(first + kBlock, npairs), *scratch.ring[k % ring], true);
-                scratch.ready[k % ring].value.store(k + 1, std::memory_order_release);
-                done = true;
-            }
-            busy.value.fetch_sub(1, std::memory_order_seq_cst);
-            return done;
-        };
-        auto wait = [](int& spins) {
-            if (++spins < kSpinsBeforeYield) {
-                spinPause();
-            } else {
-                spins = 0;
-                std::this_thread::yield();
-            }
-        };
-        std::exception_ptr failure;
+        auto& parts = scratch.parts;
+        // ---- the threads' ranges: contiguous, of equal pair counts
 #pragma omp parallel num_threads(nthreads)
         {
-            if (omp_get_thread_num() == 0) {
-                try {
-                    for (std::size_t k = 0; k < nblocks; ++k) {
-                        ForceBlock& blk = *scratch.ring[k % ring];
-                        int spins = 0;
-                        while (scratch.ready[k % ring].value.load(std::memory_order_acquire) !=
-                               k + 1)
-                            if (!tryProduce()) wait(spins);
-                        consume(blk);
-                        if (blk.stop != PairStep::Contact) {
-                            // The block's rest, serially: the stop (a rare pair or a wall pair)
-                            // and the pairs after it up to the block's end.
-                            serialRange(blk.next, std::min((k + 1) * kBlock, npairs),
-                                        *scratch.remainder);
-                        }
-                        consumed.value.store(k + 1, std::memory_order_release);
+            const int t = omp_get_thread_num();
+            ForceThreadPart& part = parts[static_cast<std::size_t>(t)];
+            const std::size_t lo = npairs * static_cast<std::size_t>(t) / nthreads;
+            const std::size_t hi = npairs * static_cast<std::size_t>(t + 1) / nthreads;
+            std::size_t i = lo;
+            try {
+                PairEntry e;
+                for (; i < hi; ++i) {
+                    prefetchModel(i, hi);
+                    if (pairs[i].wall) {
+                        part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+                        continue;
                     }
-                } catch (...) {
-                    failure = std::current_exception();
+                    const PairStep step = geometry(i, e, part.fd);
+                    if (step == PairStep::Contact) {
+                        runLaw(pairs[i], part.fd, part.error, part.batched);
+                        finishContact(Parallel{}, i, e, part.fd, false, &part);
+                    } else if (step == PairStep::Apart) {
+                        finishApart(Parallel{}, i, step, &part);
+                    } else {  // Touch
+                        part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+                    }
                 }
-                finished.store(true, std::memory_order_release);
-            } else {
-                int spins = 0;
-                while (!finished.load(std::memory_order_acquire) &&
-                       claim.value.load(std::memory_order_relaxed) < nblocks)
-                    if (!tryProduce()) wait(spins);
+            } catch (...) {
+                part.failure = std::current_exception();
+                part.failure_pair = i;
             }
         }
-        if (failure) std::rethrow_exception(failure);
-#else
-        serialRange(0, npairs, *scratch.ring[0]);
+        // ---- the serial part: the threads' deferred work in pair order, up to the first pair
+        // that failed (as one thread would have stopped there)
+        std::size_t failed = SIZE_MAX;
+        const ForceThreadPart* failed_part = nullptr;
+        for (const auto& part : parts)
+            if (part.failure && part.failure_pair < failed)
+                failed = part.failure_pair, failed_part = &part;
+        PairEntry e;
+        FdBlock& fd = parts[0].fd;
+        int64_t batched_count = 0;
+        for (auto& part : parts) {
+            for (const DeferredItem& item : part.items) {
+                const std::size_t i = item.pair;
+                if (i >= failed) break;
+                switch (item.kind) {
+                    case Deferred::Pair:
+                        // (a vertex hand-over leaves the contact's new holder in slot i: again)
+                        for (std::size_t next = i; next == i;)
+                            next =
+                                runPair(Serial{}, i, npairs, e, fd, scratch.error, batched_count);
+                        break;
+                    case Deferred::Break:
+                        queueBreak(i, item.point, item.break_mode,
+                                   (item.flags & kFdBreakStress) != 0, item.sigma, item.tau);
+                        break;
+                    case Deferred::End:
+                        endAndCheck(i);
+                        break;
+                    case Deferred::Remove:
+                        to_remove.push_back(static_cast<uint32_t>(i));
+                        break;
+                    case Deferred::Contract: {
+                        const ContractNote& note = part.contracts[item.flags];
+                        checkEnergyContract(pairs[i], note.strain_old, note.bond_old, note.fd,
+                                            note.fn_old, note.fs_old, note.m_old, totals_before);
+                        break;
+                    }
+                }
+            }
+            finite_check += part.finite_check;
+            batched_count += part.batched;
+            if constexpr (kAuto) m_limits.merge(part.limits);
+        }
+        m_profile.batched_laws += batched_count;
+        if (failed_part) std::rethrow_exception(failed_part->failure);
+        gatherPairActions(nthreads, kAuto);
+        if constexpr (kEnergy)
+            for (std::size_t i = 0; i < npairs; ++i)
+                if (energies[i].what) bookPairEnergy(energies[i]);
 #endif
+    }
+    if constexpr (kAuto) {
+        noteApproaches(scratch.apart, m_limits);
+        if (nthreads > 1)
+            for (const auto& part : scratch.parts) noteApproaches(part.apart, m_limits);
     }
 
     if (!std::isfinite(finite_check)) findNonFiniteContact();
@@ -697,6 +725,98 @@ void Model::forceLoop() {
             m_books.strain_baseline_pending = false;
         }
     }
+}
+
+void Model::noteApproaches(const std::vector<uint32_t>& apart, StepLimits& limits) const {
+    const auto& b = m_bodies->balls;
+    const auto& pairs = m_contacts->pairs;
+    const auto& cold = m_contacts->cold;
+    for (const uint32_t i : apart) {
+        const Pair& p = pairs[i];
+        const uint32_t s1 = p.end1;
+        if (!p.wall) {
+            const uint32_t s2 = p.end2;
+            const Vec2 d = b.pos[s2] - b.pos[s1];
+            const double dist = d.norm();
+            const Vec2 arel = (b.force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
+                              (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1];
+            noteApproach(p, cold[i], dist - (b.radius[s1] + b.radius[s2]), b.vel[s2] - b.vel[s1],
+                         arel.norm(), dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0), limits);
+        } else {
+            // (the pair was Apart: its ball is in this segment's region)
+            ContactGeometry g;
+            if (!segmentGeometry(p.end2, b.pos[s1], b.radius[s1], g)) continue;
+            const WallData& wall = m_bodies->walls[m_bodies->segments[p.end2].wall];
+            const Vec2 v2c = wall.vel + spinCross(wall.spin, g.point - wall.center);
+            const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
+            noteApproach(p, cold[i], -g.overlap, v2c - b.vel[s1], a1.norm(), g.normal, limits);
+        }
+    }
+}
+
+void Model::gatherPairActions(int nthreads, bool automatic) {
+    auto& b = m_bodies->balls;
+    const ForceScratch& s = m_contacts->force_scratch;
+    const PairAction* actions = s.actions.data();
+    const PairStiffness* stiffness = s.stiffness.data();
+    const uint32_t* start = s.incidence_start.data();
+    const uint32_t* incidence = s.incidence.data();
+    Vec2* force = b.force.data();
+    double* moment = b.moment.data();
+    double* k_tran = b.k_tran.data();
+    double* k_rot = b.k_rot.data();
+    const auto nballs = static_cast<std::ptrdiff_t>(b.size());
+    (void)nthreads;
+    // Each ball's sums start from zero and take its pairs in pair order: the additions one
+    // thread makes (finishContact), in its order (PairAction).
+#pragma omp parallel for num_threads(nthreads) schedule(static)
+    for (std::ptrdiff_t k = 0; k < nballs; ++k) {
+        double fx = 0.0, fy = 0.0, m = 0.0;
+        for (uint32_t q = start[k]; q < start[k + 1]; ++q) {
+            const uint32_t code = incidence[q];
+            const double* add = actions[code >> 1].add[code & 1u];
+            fx += add[0];
+            fy += add[1];
+            m += add[2];
+        }
+        force[k] = Vec2(fx, fy);
+        moment[k] = m;
+        if (automatic) {
+            double kt = 0.0, kr = 0.0;
+            for (uint32_t q = start[k]; q < start[k + 1]; ++q) {
+                const uint32_t code = incidence[q];
+                const double* add = stiffness[code >> 1].add[code & 1u];
+                kt += add[0];
+                kr += add[1];
+            }
+            k_tran[k] = kt, k_rot[k] = kr;
+        }
+    }
+}
+
+void Model::buildIncidence() {
+    ForceScratch& s = m_contacts->force_scratch;
+    const auto& pairs = m_contacts->pairs;
+    const std::size_t nballs = m_bodies->balls.size();
+    if (s.incidence_version == m_contacts->pairs_version && s.incidence_start.size() == nballs + 1)
+        return;
+    if (pairs.size() >= (std::size_t{1} << 31))
+        throw InputError("threads: more than 2^31 pairs (run on one thread)");
+    auto& start = s.incidence_start;
+    start.assign(nballs + 1, 0u);
+    for (const Pair& p : pairs) {
+        ++start[p.end1 + 1];
+        if (!p.wall) ++start[p.end2 + 1];
+    }
+    for (std::size_t k = 0; k < nballs; ++k) start[k + 1] += start[k];
+    s.incidence.resize(start[nballs]);
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+        const auto code = static_cast<uint32_t>(i << 1);
+        s.incidence[fill[pairs[i].end1]++] = code;
+        if (!pairs[i].wall) s.incidence[fill[pairs[i].end2]++] = code | 1u;
+    }
+    s.incidence_version = m_contacts->pairs_version;
 }
 
 // ------------------------------------------------------------------------ threads
@@ -749,6 +869,9 @@ int Model::forceThreads(std::size_t npairs) const {
     const int n =
         static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));
     if (n < 2) return 1;
+    // Energy per group books every contact into its groups' sums and border records as it
+    // goes: one thread (docs/architecture.md, "Threads").
+    if (m_books.on && m_books.groups.on) return 1;
     for (const auto& rule : m_contacts->rules)
         if (rule->prototype && !(rule->prototype->Traits() & kTraitThreadSafe)) return 1;
     return n;
@@ -760,23 +883,23 @@ int Model::forceThreads(std::size_t npairs) const {
 
 void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
     ForceScratch& s = m_contacts->force_scratch;
-    // Four blocks per thread in the ring: a producer that finished its block can take the next
-    // while the consumer is still one or two behind. A new block's FdBlocks start as copies of
-    // the template; pass 1 writes every field that changes from step to step or contact to
-    // contact, so they are not refilled.
-    auto fresh = [&] {
-        auto blk = std::make_unique<ForceBlock>();
-        std::fill(blk->fd, blk->fd + kBlock, tmpl);
-        return blk;
-    };
-    const std::size_t ring = nthreads <= 1 ? 1 : 4 * static_cast<std::size_t>(nthreads);
-    while (s.ring.size() < ring) s.ring.push_back(fresh());
-    if (nthreads <= 1) return;
-    if (!s.remainder) s.remainder = fresh();
-    if (s.ready.size() < s.ring.size()) s.ready = std::vector<PaddedCounter>(s.ring.size());
-    const auto& pairs = m_contacts->pairs;
-    s.wall.resize(pairs.size());
-    for (std::size_t i = 0; i < pairs.size(); ++i) s.wall[i] = pairs[i].wall;
+    s.parts.resize(static_cast<std::size_t>(nthreads));
+    for (auto& part : s.parts) {
+        part.fd = tmpl;
+        part.items.clear();
+        part.apart.clear();
+        part.limits = StepLimits{};
+        part.finite_check = 0.0;
+        part.batched = 0;
+        part.failure = nullptr;
+        part.failure_pair = SIZE_MAX;
+    }
+    // (pairs a vertex hand-over adds in this step are not processed in it: npairs is enough)
+    s.actions.resize(m_contacts->pairs.size());
+    if (m_timestep.automatic) s.stiffness.resize(m_contacts->pairs.size());
+    if (m_books.on) s.energies.resize(m_contacts->pairs.size());
+    for (auto& part : s.parts) part.contracts.clear();
+    buildIncidence();
 }
 
 // The rare paths of the loop, kept out of it so that its body stays small.
@@ -857,16 +980,17 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     return true;
 }
 
-void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock& fd, double fn_old,
-                                double fs_old, double m_old) {
-    const double scale = std::fabs(c.strain) + std::fabs(c.bond) +
+void Model::checkEnergyContract(const Pair& p, double strain_old, double bond_old,
+                                const FdBlock& fd, double fn_old, double fs_old, double m_old,
+                                const EnergyTotals& before) {
+    const double scale = std::fabs(strain_old) + std::fabs(bond_old) +
                          std::fabs(fd.energy[kEnergyStrain]) +
                          std::fabs(fd.energy[kEnergyBondStrain]) +
                          (std::fabs(fn_old) + std::fabs(fd.n_force)) * std::fabs(fd.du_n) +
                          (std::fabs(fs_old) + std::fabs(fd.s_force)) * std::fabs(fd.du_s) +
                          (std::fabs(m_old) + std::fabs(fd.moment)) * std::fabs(fd.dtheta);
-    const double totals[kEnergyCount] = {
-        0.0, m_books.acc.slip, m_books.acc.dashpot, m_books.acc.plastic, 0.0, 0.0};
+    const double totals[kEnergyCount] = {0.0, before.slip, before.dashpot, before.plastic,
+                                         0.0, 0.0};
     const std::string why = energyContractViolation(fd, scale, totals);
     if (!why.empty()) {
         const std::string what = "contact model '" + p.rule->model_name + "' at step " +
@@ -882,8 +1006,8 @@ void Model::checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock&
     }
 }
 
-void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
-                          bool energy) {
+double Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
+                            bool energy) {
     // The model's stored energy at its first call includes what the closure within this step
     // put in (activate); the rest was there before the step. Stored energy grows about as the
     // overlap squared (exactly so for a linear spring), so the part that was placed is the fraction
@@ -894,13 +1018,12 @@ void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, cons
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
-    if (energy) m_books.acc.placement += placed;
     m_books.last_placed = placed;
     // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
     // formed by a spin-driven slide, rounding). Booked, not reported.
     const auto& b = m_bodies->balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
-    if (overlap < 1e-3 * r) return;
+    if (overlap < 1e-3 * r) return placed;
     m_guard_state.placed_energy += placed;
     if (m_guard_state.placed++ == 0) {
         m_guard_state.placed_first =
@@ -908,6 +1031,7 @@ void Model::notePlacement(const Pair& p, const PairCold& c, double overlap, cons
             " m (" + num(100.0 * overlap / r) + "% of the smaller radius), stored energy " +
             num(placed) + " J" + (energy ? "" : " (estimated from knest)");
     }
+    return placed;
 }
 
 void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_after) {
@@ -920,17 +1044,23 @@ void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_af
 }
 
 void Model::queueBreak(std::size_t i, const Vec2& point, const FdBlock& fd) {
+    queueBreak(i, point, fd.break_mode, (fd.flags & kFdBreakStress) != 0, fd.reserved[0],
+               fd.reserved[1]);
+}
+
+void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode, bool with_stress,
+                       double sigma, double tau) {
     forgetBond(i);
     Event ev;
     ev.kind = EventKind::BondBreak;
     ev.time = m_time;
     ev.pos = point;
     ev.contact = ContactKey{m_contacts->cold[i].key};
-    ev.mode = fd.break_mode;
+    ev.mode = mode;
     ev.model = m_contacts->pairs[i].rule->model_name;
-    if (fd.flags & kFdBreakStress) {
-        ev.sigma = fd.reserved[0];
-        ev.tau = fd.reserved[1];
+    if (with_stress) {
+        ev.sigma = sigma;
+        ev.tau = tau;
     }
     m_events.push_back(std::move(ev));
 }

@@ -251,6 +251,7 @@ void Model::removeBall(BallId id, bool book_energy) {
             if (p.end1 == last) p.end1 = s;
             if (!p.wall && p.end2 == last) p.end2 = s;
         }
+        ++m_contacts->pairs_version;
     }
     b.resize(last);
     if (m_contacts->ball_moved.size() > last) m_contacts->ball_moved.resize(last);

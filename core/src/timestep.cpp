@@ -139,13 +139,29 @@ double Model::pebbleMassRatio(const Pair& p) const {
     return std::min(1.0, m_eff / p.mass_eff);
 }
 
+namespace {
+/// One limit of StepLimits: the smaller value, the lower pair on a tie (the first in pair order).
+void takeLimit(double& value, uint64_t& key, uint32_t& pair, double v, uint64_t k, uint32_t i) {
+    if (v < value || (v == value && i < pair)) value = v, key = k, pair = i;
+}
+}  // namespace
+
+void Model::StepLimits::merge(const StepLimits& o) {
+    takeLimit(stability, stability_key, stability_pair, o.stability, o.stability_key,
+              o.stability_pair);
+    takeLimit(resolution, resolution_key, resolution_pair, o.resolution, o.resolution_key,
+              o.resolution_pair);
+    takeLimit(approach, approach_key, approach_pair, o.approach, o.approach_key, o.approach_pair);
+}
+
 void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
-                         double accel, const Vec2& normal) {
+                         double accel, const Vec2& normal, StepLimits& limits) const {
     // A pair not yet touching may not close more than half its gap in one step (bounded with
     // the relative acceleration, so that bodies at rest are covered too), unless that step
     // already meets the limits the contact will have once it exists.
     const double t_free = stepForDisplacement(accel, vrel.norm(), 0.5 * std::max(gap, 0.0));
-    if (t_free >= m_limits.approach) return;
+    // (a pair with this bound cannot lower the limit; a tie is settled by the pair index below)
+    if (t_free > limits.approach) return;
     const auto& b = m_bodies->balls;
     const double m1 = b.mass[p.end1];
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
@@ -160,7 +176,8 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
     const double approach = std::max(0.0, -vrel.dot(normal));
     const double duration = approachDuration(p, m_eff, approach, accel, m_dt > 0.0 ? m_dt : 1e-3);
     const double d = std::max(t_free, contactStepLimit(p, m_min, duration, m_timestep));
-    if (d < m_limits.approach) m_limits.approach = d, m_limits.approach_key = c.key;
+    takeLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
+              static_cast<uint32_t>(m_contacts->pairIndex(p)));
 }
 
 void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
@@ -172,6 +189,11 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
         b.k_tran[p.end2] += kn + ks;
         b.k_rot[p.end2] += ks * arm2_sq + kr;
     }
+    noteContactLimits(p, c, kn, mass_eff, m_limits);
+}
+
+void Model::noteContactLimits(const Pair& p, const PairCold& c, double kn, double mass_eff,
+                              StepLimits& limits) const {
     // Every active contact, bonded or not, gets the impact rules below (docs/models/cbond.md,
     // "Time-step contract"): a contact bonded as it touches is an impact all the same (issue 6
     // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
@@ -187,12 +209,12 @@ void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, 
     }
     // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
     // large steps early in an impact: bound the step by `safety` of the impact's time scale.
-    const double stable = m_timestep.safety * duration / M_PI;
-    if (stable < m_limits.stability) m_limits.stability = stable, m_limits.stability_key = c.key;
-    if (m_timestep.resolution > 0.0) {
-        const double d = duration / m_timestep.resolution;
-        if (d < m_limits.resolution) m_limits.resolution = d, m_limits.resolution_key = c.key;
-    }
+    const auto i = static_cast<uint32_t>(m_contacts->pairIndex(p));
+    takeLimit(limits.stability, limits.stability_key, limits.stability_pair,
+              m_timestep.safety * duration / M_PI, c.key, i);
+    if (m_timestep.resolution > 0.0)
+        takeLimit(limits.resolution, limits.resolution_key, limits.resolution_pair,
+                  duration / m_timestep.resolution, c.key, i);
 }
 
 void Model::surveyPairs() {
@@ -236,7 +258,7 @@ void Model::surveyPairs() {
             noteContact(p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
                         p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
         } else {
-            noteApproach(p, cold, -g.overlap, vrel, accel, g.normal);
+            noteApproach(p, cold, -g.overlap, vrel, accel, g.normal, m_limits);
         }
     }
     m_limits_stale = false;

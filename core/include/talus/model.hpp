@@ -561,6 +561,20 @@ public:
     struct WallData;
     struct Rule;
     struct ClumpData;
+    struct ForceThreadPart;  // force_block.hpp
+
+    /// Limits gathered by the force loop for the next automatic step (timestep.cpp): each the
+    /// smallest over the pairs, the lowest pair index on a tie (`*_pair`, not saved), so that
+    /// threads' partial limits merge to what one thread finds in pair order.
+    struct StepLimits {
+        double stability = std::numeric_limits<double>::infinity();
+        double resolution = std::numeric_limits<double>::infinity();
+        double approach = std::numeric_limits<double>::infinity();
+        uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
+        uint32_t stability_pair = UINT32_MAX, resolution_pair = UINT32_MAX,
+                 approach_pair = UINT32_MAX;
+        void merge(const StepLimits& o);
+    };
 
     /// Direct read access for scene builders and diagnostics.
     const BallArrays& balls() const;
@@ -594,11 +608,20 @@ private:
     template <bool kAuto, bool kEnergy, bool kGuard>
     void forceLoop();  // force_displacement.cpp
     void prepareForceScratch(int nthreads, const FdBlock& tmpl);
+    void buildIncidence();  // the balls' pairs in pair order, for the threads' gather
     // time-step limits gathered per pair (timestep.cpp)
     void noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel, double accel,
-                      const Vec2& normal);
+                      const Vec2& normal, StepLimits& limits) const;
     void noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
                      double arm1_sq, double arm2_sq, double mass_eff);
+    /// noteContact's limits alone (its stiffness sums are the caller's).
+    void noteContactLimits(const Pair& p, const PairCold& c, double kn, double mass_eff,
+                           StepLimits& limits) const;
+    /// The approach limits of the pairs that were apart in this force loop, from the step's
+    /// complete forces (force_displacement.cpp).
+    void noteApproaches(const std::vector<uint32_t>& apart, StepLimits& limits) const;
+    /// The per-ball sums of the threads' per-pair actions, in pair order (force_displacement.cpp).
+    void gatherPairActions(int nthreads, bool automatic);
     void surveyPairs();
     /// For a pair with a pebble end off its clump's centroid: the lower bound of the true
     /// effective mass over the pair's (clump) effective mass, <= 1 (timestep.cpp); 1 otherwise.
@@ -637,6 +660,10 @@ private:
     bool adoptWallContact(std::size_t index);
     void swapPairState(std::size_t i, std::size_t j);
     void queueBreak(std::size_t index, const Vec2& point, const FdBlock& fd);
+    /// The same from the FdBlock's fields: the break mode, and the stresses at failure if the
+    /// model gave them (kFdBreakStress).
+    void queueBreak(std::size_t index, const Vec2& point, int32_t mode, bool with_stress,
+                    double sigma, double tau);
     void noteDeepest(const Pair& p, PairCold& c, double force, double rate_after);
     [[noreturn]] void reportFailedLaw(const Pair& p, const FdBlock& fd) const;
     [[noreturn]] void findNonFiniteContact() const;
@@ -662,10 +689,14 @@ private:
     void compactDeleted();
     void flushWarnings();
     void checkBalance();  // bookkeeping.cpp: the run-level energy check
-    void checkEnergyContract(const Pair& p, const PairCold& c, const FdBlock& fd, double fn_old,
-                             double fs_old, double m_old);
-    void notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
-                       bool energy);
+    /// The ABI's energy contract for one FDlaw (rare path). `strain_old`, `bond_old`: what the
+    /// contact stored before it; `totals`: the run's dissipation totals before this step.
+    void checkEnergyContract(const Pair& p, double strain_old, double bond_old, const FdBlock& fd,
+                             double fn_old, double fs_old, double m_old,
+                             const EnergyTotals& totals);
+    /// Notes a contact born overlapping; returns the placement energy to book (tracing on).
+    double notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
+                         bool energy);
     // --- per-group energy books (group_energy.cpp); run only while m_books.groups.on.
     void openGroupBooks();  // tracing switched on (or groups added): size and zero the books
     bool groupBooksOn() const { return m_books.groups.on; }
@@ -745,13 +776,7 @@ private:
     int m_thread_grain = 0;  // setThreads; 0 = TALUS_THREAD_GRAIN or kDefaultThreadGrain
     int m_servos_on = 0;     // walls with a servo switched on (wall_servo.cpp)
 
-    // Limits gathered by the force loop for the next automatic step (timestep.cpp).
-    struct StepLimits {
-        double stability = std::numeric_limits<double>::infinity();
-        double resolution = std::numeric_limits<double>::infinity();
-        double approach = std::numeric_limits<double>::infinity();
-        uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
-    } m_limits;
+    StepLimits m_limits;  // for the next automatic step (timestep.cpp)
 
     // --- energy books (docs/physics/energy.md). Every energy sum of the model is accumulated
     // in this one struct: body, damping, boundary and kinetic by the law of motion

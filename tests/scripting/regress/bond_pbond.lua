@@ -55,7 +55,8 @@ do
     end
     m:cycle(1)
     local e1 = m:energies()
-    T.near(e1.released - e0.released, e0.strain, 1e-6, "the linear strain energy is released")
+    -- (the packing's one-step change of strain: bound as in bond_install.lua, section 3)
+    T.near(e1.released - e0.released, e0.strain, 5e-6, "the linear strain energy is released")
     m:cycle(300)
     local e2 = m:energies()
     local vmax = 0
