@@ -147,6 +147,7 @@ void Model::forceLoop() {
     ForceScratch& scratch = m_contacts->force_scratch;
     const std::size_t npairs = pairs.size();
     const int nthreads = forceThreads(npairs);
+    m_step_threads = nthreads;
     if (nthreads <= 1) {
         std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
         std::fill(b.moment.begin(), b.moment.end(), 0.0);
@@ -769,7 +770,7 @@ void Model::gatherPairActions(int nthreads, bool automatic) {
     (void)nthreads;
     // Each ball's sums start from zero and take its pairs in pair order: the additions one
     // thread makes (finishContact), in its order (PairAction).
-#pragma omp parallel for num_threads(nthreads) schedule(static)
+    TALUS_OMP(omp parallel for num_threads(nthreads) schedule(static))
     for (std::ptrdiff_t k = 0; k < nballs; ++k) {
         double fx = 0.0, fy = 0.0, m = 0.0;
         for (uint32_t q = start[k]; q < start[k + 1]; ++q) {

@@ -66,8 +66,14 @@ void Model::moveBalls() {
     const double* inv_mass = b.inv_mass.data();
     const double* inv_inertia = b.inv_inertia.data();
 
+    // Every ball's update is its own: with threads (as many as the force loop took, over the
+    // same static ranges of balls as its gather, so each thread reads the forces it wrote) the
+    // result is the same bit for bit. With energy tracing the sums stay on one thread.
+    const int threads = m_step_threads;
+    (void)threads;
     if constexpr (!kGeneral) {
         bool finite = true;
+        TALUS_OMP(omp parallel for num_threads(threads) schedule(static) reduction(&& : finite) if (threads > 1))
         for (std::size_t s = 0; s < n; ++s) {
             const Vec2 v = vel[s] + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
             const double om = spin[s] + (moment[s] + mapp[s]) * inv_inertia[s] * w;
@@ -75,7 +81,7 @@ void Model::moveBalls() {
             spin[s] = om;
             pos[s] += v * dt;
             angle[s] += om * dt;
-            finite &= std::isfinite(v.x() + v.y() + om);
+            finite = finite && std::isfinite(v.x() + v.y() + om);
         }
         if (!finite) reportNonFiniteBall();
         return;

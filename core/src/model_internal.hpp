@@ -14,6 +14,14 @@
 
 namespace talus {
 
+/// An OpenMP directive where the build has OpenMP (core/CMakeLists.txt, TALUS_OPENMP), else
+/// nothing: TALUS_OMP(omp parallel for ...) in place of the #pragma.
+#ifdef TALUS_HAVE_OPENMP
+#define TALUS_OMP(directive) _Pragma(#directive)
+#else
+#define TALUS_OMP(directive)
+#endif
+
 constexpr uint32_t kDeadSlot = 0xffffffffu;
 constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
 

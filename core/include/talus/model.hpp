@@ -774,6 +774,7 @@ private:
     bool m_batched_law = true;
     int m_threads = 0;       // setThreads; 0 = TALUS_THREADS or 1
     int m_thread_grain = 0;  // setThreads; 0 = TALUS_THREAD_GRAIN or kDefaultThreadGrain
+    int m_step_threads = 1;  // threads of the last force loop; the law of motion takes as many
     int m_servos_on = 0;     // walls with a servo switched on (wall_servo.cpp)
 
     StepLimits m_limits;  // for the next automatic step (timestep.cpp)
