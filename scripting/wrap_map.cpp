@@ -19,10 +19,11 @@
 // every result by decoding the bytes, including when it ran fn(i) itself (jobs = 1): the
 // decoded tables are built the same way on every path.
 //
-// Threads: the engine and its plugins run no threads (no OpenMP, no std::thread; checked with
-// grep when this was written), so fork() copies a consistent, single-threaded process. If an
-// engine part ever starts threads, a worker must fork before they start or map must fall back
-// to jobs = 1 (docs/lua-api.md, talus.map).
+// Threads: the engine starts OpenMP threads only for m:threads(n > 1) (the force loop and the
+// law of motion; plugins start none), and between steps they only wait in libgomp's pool, so
+// fork() copies a consistent process; but the pool does not survive the fork, so a worker keeps
+// every model on one thread (Model::singleThreadedProcess): its runs are the same bits anyway
+// (docs/architecture.md, "Threads"), and the workers are the parallelism.
 //
 // Workers end with _exit() after flushing their own stdio buffers: the caller's atexit
 // handlers, destructors and (under MPI) MPI's shutdown must run once, in the caller.
@@ -45,6 +46,7 @@
 #include "lua_bindings.hpp"
 #include "map_codec.hpp"
 #include "mpi_world.hpp"
+#include "talus/model.hpp"
 
 namespace talus::lua {
 
@@ -314,6 +316,7 @@ void runForked(lua_State* L, int fn, int64_t lo, int64_t hi, int64_t jobs, Outco
                                      std::strerror(err));
         }
         if (pid == 0) {
+            talus::Model::singleThreadedProcess();
             ::close(fds[0]);
             for (int64_t j = 0; j < k; ++j) ::close(ws.w[static_cast<std::size_t>(j)].fd);
             workerMain(L, fn, x.lo, x.hi, fds[1]);

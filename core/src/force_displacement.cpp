@@ -854,6 +854,12 @@ int Model::threadGrain() const {
     return (*end == '\0' && g >= 1 && g <= 1000000000) ? static_cast<int>(g) : kDefaultThreadGrain;
 }
 
+namespace {
+bool g_single_threaded_process = false;  // Model::singleThreadedProcess
+}  // namespace
+
+void Model::singleThreadedProcess() { g_single_threaded_process = true; }
+
 bool Model::threadingAvailable() {
 #ifdef TALUS_HAVE_OPENMP
     return true;
@@ -865,7 +871,7 @@ bool Model::threadingAvailable() {
 int Model::forceThreads(std::size_t npairs) const {
 #ifdef TALUS_HAVE_OPENMP
     const int wanted = threads();
-    if (wanted <= 1) return 1;
+    if (wanted <= 1 || g_single_threaded_process) return 1;
     const std::size_t by_grain = npairs / static_cast<std::size_t>(threadGrain());
     const int n =
         static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));

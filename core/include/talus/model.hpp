@@ -536,6 +536,10 @@ public:
     static constexpr int kDefaultThreadGrain = 2000;
     /// True when this build can run the force loop on several threads (OpenMP).
     static bool threadingAvailable();
+    /// Keeps every model of this process on one thread: for a process forked from one whose
+    /// OpenMP threads may exist (a talus.map worker): libgomp's thread pool does not survive a
+    /// fork, and a worker's parallel region could wait for threads it does not have.
+    static void singleThreadedProcess();
     /// Threads the force loop uses for `npairs` pairs this step.
     int forceThreads(std::size_t npairs) const;
 
