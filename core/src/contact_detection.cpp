@@ -203,9 +203,21 @@ void Model::detectContacts() {
     }
     m_contacts->moved_balls.clear();
     m_contacts->moved_segments.clear();
+    // Which balls left their fat boxes: a read-only test per ball, on the force loop's threads
+    // (over the same ranges of balls as the law of motion); the tree is then updated for them
+    // in slot order, as one thread does it.
+    auto& leaving = m_contacts->leaving;
+    const auto nballs = static_cast<std::ptrdiff_t>(b.size());
+    leaving.resize(b.size());
+    const int threads = m_step_threads;
+    (void)threads;
+    TALUS_OMP(omp parallel for num_threads(threads) schedule(static) if (threads > 1))
+    for (std::ptrdiff_t s = 0; s < nballs; ++s)
+        leaving[s] =
+            !b.fat[s].contains(grow(ballBox(static_cast<uint32_t>(s)), m_contacts->margin));
     for (std::size_t s = 0; s < b.size(); ++s) {
+        if (!leaving[s]) continue;
         const Box want = grow(ballBox(static_cast<uint32_t>(s)), m_contacts->margin);
-        if (b.fat[s].contains(want)) continue;
         if (m_contacts->broadphase->move(b.proxy[s], want)) {
             b.fat[s] = m_contacts->broadphase->fatBox(b.proxy[s]);
             m_contacts->moved_balls.push_back(static_cast<uint32_t>(s));

@@ -51,6 +51,7 @@ struct ContactStore {
     // Bodies re-inserted this step: only their pairs can have stopped overlapping.
     std::vector<uint32_t> moved_balls, moved_segments;
     std::vector<uint8_t> ball_moved, segment_moved;
+    std::vector<uint8_t> leaving;     // scratch: ball slot -> left its fat box this step
     std::vector<uint32_t> to_remove;  // scratch for the force loop
     ForceScratch force_scratch;       // the force loop's blocks (force_block.hpp)
     // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
