@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# Threads against ranks on the dense pack (docs/benchmarks.md, "Threads by ownership"): per
+# repeat and size, in turn, Talus on 1 and on 2 threads and LAMMPS on 1 and on 2 MPI ranks, from
+# the settled states of scripts/bench/dense_pack.sh (run that first: it builds and caches them).
+#
+#   scripts/bench/threads.sh            # 3 repeats, 10k (2000 steps) and 50k (600 steps)
+#
+# Settings (environment): TALUS_BENCH_BUILD (build-bench), TALUS_BENCH_REPEATS (3),
+# TALUS_BENCH_WARMUP (300). Prints one line per run; compare minima (the host is noisy).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${TALUS_BENCH_BUILD:-build-bench}
+repeats=${TALUS_BENCH_REPEATS:-3}
+warmup=${TALUS_BENCH_WARMUP:-300}
+bench=$build/tests/bench/talus_bench_dense_pack
+cache=$build/bench-cache
+[[ -x $bench ]] || { echo "no $bench: run scripts/bench/dense_pack.sh first" >&2; exit 1; }
+export TALUS_PLUGIN_PATH=$build/plugins
+root_flag=()
+[[ $(id -u) == 0 ]] && root_flag=(--allow-run-as-root)
+for rep in $(seq 1 "$repeats"); do
+    for n in 10000 50000; do
+        steps=2000
+        [[ $n == 50000 ]] && steps=600
+        [[ -f $cache/state_n${n}_seed1.txt ]] || { echo "no settled state for $n" >&2; exit 1; }
+        for th in 1 2; do
+            r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th "$bench" "$n" "$steps" sorted \
+                --state "$cache/state_n${n}_seed1.txt" --warmup "$warmup" --no-profile 2>&1 |
+                grep -o "ns_per_particle_step=[^ ]*")
+            echo "rep=$rep n=$n talus threads=$th $r load=$(cut -d' ' -f1 /proc/loadavg)"
+        done
+        for np in 1 2; do
+            log=$(mktemp)
+            args=(-in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data"
+                  -var steps "$steps" -var warmup "$warmup" -log "$log" -screen none)
+            if [[ $np == 1 ]]; then
+                OMP_NUM_THREADS=1 lmp "${args[@]}"
+            else
+                OMP_NUM_THREADS=1 mpirun "${root_flag[@]}" -n 2 --bind-to none lmp "${args[@]}"
+            fi
+            r=$(python3 scripts/bench/dense_pack_report.py lammps-log "$log" "$n" |
+                grep -o "ns_per_particle_step=[^ ]*")
+            rm -f "$log"
+            echo "rep=$rep n=$n lammps ranks=$np $r"
+        done
+    done
+done
