@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "broadphase.hpp"
-#include "force_block.hpp"
+#include "force_scratch.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
@@ -33,7 +33,7 @@ struct ContactStore {
     std::vector<PairCold> cold;                        // same index as `pairs`
     std::unordered_map<uint64_t, uint32_t> key_index;  // ContactKey value -> index
     // Bumped whenever a pair is added or removed or an end's slot changes (the threads'
-    // incidence lists are rebuilt then; force_block.hpp).
+    // incidence lists are rebuilt then; force_scratch.hpp).
     uint64_t pairs_version = 0;
 
     // --- contact-model rules; [0] is the default rule. Each rule owns the object pool its
@@ -53,7 +53,7 @@ struct ContactStore {
     std::vector<uint8_t> ball_moved, segment_moved;
     std::vector<uint8_t> leaving;     // scratch: ball slot -> left its fat box this step
     std::vector<uint32_t> to_remove;  // scratch for the force loop
-    ForceScratch force_scratch;       // the force loop's blocks (force_block.hpp)
+    ForceScratch force_scratch;       // the force loop's scratch (force_scratch.hpp)
     // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
     // handle is not mistaken for the pair): no bond on touch for them again (model_bonds.cpp).
     // Empty, and never looked at, in a model without bonds.

@@ -565,7 +565,7 @@ public:
     struct WallData;
     struct Rule;
     struct ClumpData;
-    struct ForceThreadPart;  // force_block.hpp
+    struct ForceThreadPart;  // force_scratch.hpp
 
     /// Limits gathered by the force loop for the next automatic step (timestep.cpp): each the
     /// smallest over the pairs, the lowest pair index on a tie (`*_pair`, not saved), so that
