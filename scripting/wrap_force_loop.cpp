@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law and m:threads. Neither
-// changes a result: they are for measurements and for tests that prove it.
+// How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law, m:lanes and m:threads.
+// None changes a result: they are for measurements and for tests that prove it.
 #include <string>
 
 #include "lua_bindings.hpp"
@@ -21,6 +21,21 @@ int w_batched_law(lua_State* L) {
             lm.model->setBatchedLaw(lua_toboolean(L, 2) != 0);
         }
         lua_pushboolean(L, lm.model->batchedLaw());
+        return 1;
+    });
+}
+
+/// m:lanes(on) runs the contacts of models with a lane law through it; m:lanes() reads it.
+int w_lanes(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "lanes");
+        if (!lua_isnoneornil(L, 2)) {
+            if (!lua_isboolean(L, 2))
+                throw ScriptError(std::string("lanes: expected true or false (got ") +
+                                  luaL_tolstring(L, 2, nullptr) + ")");
+            lm.model->setLanes(lua_toboolean(L, 2) != 0);
+        }
+        lua_pushboolean(L, lm.model->lanes());
         return 1;
     });
 }
@@ -58,6 +73,7 @@ int w_threads(lua_State* L) {
 
 extern const luaL_Reg kForceLoopMethods[] = {
     {"batched_law", w_batched_law},
+    {"lanes", w_lanes},
     {"threads", w_threads},
     {nullptr, nullptr},
 };

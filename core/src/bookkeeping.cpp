@@ -223,6 +223,7 @@ std::string Profile::report(std::size_t balls) const {
     line("total", tot);
     os << "  broadphase re-insertions " << proxy_moves << ", pairs created " << pairs_created
        << ", contacts created " << contacts_created << ", batched laws " << batched_laws
+       << ", lane steps " << lane_steps << " (declined " << lane_declined << ")"
        << ", threaded steps " << threaded_steps << "\n";
     return os.str();
 }

@@ -362,6 +362,7 @@ void Model::removePair(std::size_t i) {
             bookReleasedToGroups(p, m_contacts->cold[i].strain + m_contacts->cold[i].bond);
     }
     if (p.model) {
+        dropLane(p);
         p.model->Destroy();
         p.rule->pool->release(p.model);
         p.model = nullptr;
@@ -385,6 +386,7 @@ void Model::refreshRule(Pair& p) {
         p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].groups : b.groups[p.end2];
     Rule* rule = const_cast<Rule*>(&ruleFor(b.groups[p.end1], g2));
     if (rule == p.rule || !rule->prototype) return;
+    dropLane(p);
     p.model->Destroy();
     p.rule->pool->release(p.model);
     p.rule = rule;
@@ -394,6 +396,7 @@ void Model::refreshRule(Pair& p) {
 
 void Model::resetPair(Pair& p) {
     // A fresh clone: the next touch starts from a clean state.
+    dropLane(p);
     p.model->Destroy();
     p.rule->pool->release(p.model);
     p.model = nullptr;
@@ -568,6 +571,7 @@ void Model::sortBalls() {
     m_contacts->cold.swap(cold);
     ++m_contacts->pairs_version;
     repackContactObjects();
+    reorderLanes();
 }
 
 void Model::repackContactObjects() {

@@ -57,7 +57,8 @@ constexpr uint32_t kGuardWatch = 400;
 /// What a contact held one step ago, from what it holds now, what it dissipated in the step and
 /// the work the bodies did on it (its force over the step's displacement, trapezoidal: exact for
 /// a linear spring). Used once, when tracing starts with loaded contacts.
-double storedBefore(const FdBlock& fd, double fn_old, double fs_old, double m_old) {
+template <class Fd>  // FdBlock, or a lane contact's LaneResult
+double storedBefore(const Fd& fd, double fn_old, double fs_old, double m_old) {
     const double work = 0.5 * ((fn_old + fd.n_force) * fd.du_n - (fs_old + fd.s_force) * fd.du_s -
                                (m_old + fd.moment) * fd.dtheta);
     return fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain] + fd.energy[kEnergySlip] +
@@ -66,6 +67,10 @@ double storedBefore(const FdBlock& fd, double fn_old, double fs_old, double m_ol
 }
 
 std::string num(double v) { return messageNumber(v); }
+
+/// A law's output as an FdBlock (the energy contract's rare path takes one).
+const FdBlock& asFdBlock(const FdBlock& fd, const FdBlock&) { return fd; }
+FdBlock asFdBlock(const LaneResult& r, const FdBlock& tmpl) { return r.block(tmpl); }
 
 /// Why the energy partitions of one FDlaw break the ABI's contract (docs/plugin-abi.md,
 /// "Energies"), or empty. Every partition must be finite. Dissipation (slip, dashpot, plastic)
@@ -183,6 +188,22 @@ void Model::forceLoop() {
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
     const bool batched = m_batched_law;
+    // Lanes (docs/plugin-abi.md, "Lanes") are part of the batched path; per-group energy books
+    // every contact through its FdBlock (bookContactToGroups), so it runs without them.
+    bool lanes_on = false;
+    if (m_lanes && batched && !groups)
+        for (const auto& rule : m_contacts->rules)
+            lanes_on = lanes_on || (rule->factory && rule->factory->lanes);
+    // A step without them takes every contact out first (their objects run FDlaw).
+    if (!lanes_on)
+        for (const auto& rule : m_contacts->rules)
+            if (rule->lanes && rule->lanes->used() > 0) {
+                leaveAllLanes();
+                break;
+            }
+    auto laneable = [](const Pair& p) __attribute__((always_inline)) {
+        return !p.wall && p.rule->factory && p.rule->factory->lanes;
+    };
     if (nthreads > 1) prepareForceScratch(nthreads, fd_template);
     PairAction* actions = scratch.actions.data();
     PairStiffness* stiffness = kAuto && nthreads > 1 ? scratch.stiffness.data() : nullptr;
@@ -213,8 +234,34 @@ void Model::forceLoop() {
     using Serial = std::integral_constant<int, 1>;    // threads, serial part: actions recorded
     using Parallel = std::integral_constant<int, 2>;  // threads, a range: actions, deferred work
 
-    // ---- pass 1: the geometry of pair i into `e` and, for a contact, its FdBlock `fd`
-    auto geometry = [&](std::size_t i, PairEntry & e, FdBlock & fd) __attribute__((always_inline))
+    // ---- a contact's FdBlock from its geometry. Only what changes from contact to contact is
+    // written: the rest is the step's template (the thread's copy).
+    auto fillFd = [&](const Pair& p, double overlap, double u_dot_n, double u_dot_s,
+                      double t_dot_rel, FdBlock& fd) __attribute__((always_inline)) {
+        fd.flags = fd_template.flags;
+        fd.status = 0;
+        fd.tdel = dt;
+        fd.time = fd_template.time;
+        fd.u_n = overlap;
+        fd.u_dot_n = u_dot_n;
+        fd.u_dot_s = u_dot_s;
+        fd.t_dot_rel = t_dot_rel;
+        fd.du_n = fd.u_dot_n * dt;
+        fd.du_s = fd.u_dot_s * dt;
+        fd.dtheta = fd.t_dot_rel * dt;
+        fd.mass_eff = p.mass_eff;
+        fd.inv_mass_eff_s = p.inv_mass_eff_s;
+        fd.n_force = p.n_force;
+        fd.s_force = p.s_force;
+        fd.moment = p.moment;
+        fd.knest = fd.ksest = fd.krest = 0.0;
+        if constexpr (kEnergy)
+            for (double& en : fd.energy) en = 0.0;
+    };
+
+    // ---- pass 1: the geometry of pair i into `e` and, for a contact, the law's inputs: into
+    // `fd` when given, else into `e` (a lane block's pass 1)
+    auto geometry = [&](std::size_t i, PairEntry & e, FdBlock * fd) __attribute__((always_inline))
                         ->PairStep {
         const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
@@ -275,27 +322,16 @@ void Model::forceLoop() {
         const Vec2 v1c = vel[s1] + spinCross(spin[s1], g.point - x1);
         const Vec2 vrel = v2c - v1c;
         e.vrel = vrel;
-        // Only what changes from contact to contact is written: the rest of the FdBlock is the
-        // step's template (the thread's copy).
-        fd.flags = fd_template.flags;
-        fd.status = 0;
-        fd.tdel = dt;
-        fd.time = fd_template.time;
-        fd.u_n = g.overlap;
-        fd.u_dot_n = -vrel.dot(g.normal);
-        fd.u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
-        fd.t_dot_rel = spin2 - spin[s1];
-        fd.du_n = fd.u_dot_n * dt;
-        fd.du_s = fd.u_dot_s * dt;
-        fd.dtheta = fd.t_dot_rel * dt;
-        fd.mass_eff = p.mass_eff;
-        fd.inv_mass_eff_s = p.inv_mass_eff_s;
-        fd.n_force = p.n_force;
-        fd.s_force = p.s_force;
-        fd.moment = p.moment;
-        fd.knest = fd.ksest = fd.krest = 0.0;
-        if constexpr (kEnergy)
-            for (double& en : fd.energy) en = 0.0;
+        const double u_dot_n = -vrel.dot(g.normal);
+        const double u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
+        const double t_dot_rel = spin2 - spin[s1];
+        if (fd) {
+            fillFd(p, g.overlap, u_dot_n, u_dot_s, t_dot_rel, *fd);
+        } else {
+            e.u_dot_n = u_dot_n;
+            e.u_dot_s = u_dot_s;
+            e.t_dot_rel = t_dot_rel;
+        }
         return p.active ? PairStep::Contact : PairStep::Touch;
     };
 
@@ -338,20 +374,25 @@ void Model::forceLoop() {
         if (!b.fat[p.end1].overlaps(fat2)) to_remove.push_back(static_cast<uint32_t>(i));
     };
 
-    // ---- pass 3 for a contact: its law has run on `fd`
+    // ---- pass 3 for a contact: its law has run on `fd`, its FdBlock or, for a contact a lane
+    // law stepped, its LaneResult (the same names)
     // (Inlined into its callers: through the closure, every array above costs a load.)
-    auto finishContact = [&](auto mode, std::size_t i, const PairEntry& e, FdBlock& fd, bool first,
+    auto finishContact = [&](auto mode, std::size_t i, const PairEntry& e, auto& fd, bool first,
                              ForceThreadPart* part) __attribute__((always_inline)) {
         constexpr int kMode = decltype(mode)::value;
+        constexpr bool kFdBlock = std::is_same_v<std::decay_t<decltype(fd)>, FdBlock>;
+
         Pair& p = pairs[i];
         const ContactGeometry& g = e.g;
         const uint32_t s1 = p.end1;
         const Vec2 x1 = pos[s1];
         const double r1 = radius[s1];
-        if (fd.status != 0) reportFailedLaw(p, fd);
         double placed = 0.0;
         const bool placement = first && cold[i].born_overlapped;
-        if (placement) placed = notePlacement(p, cold[i], g.overlap, fd, kEnergy);
+        if constexpr (kFdBlock) {  // (a lane law reports no failure and runs no first touch)
+            if (fd.status != 0) reportFailedLaw(p, fd);
+            if (placement) placed = notePlacement(p, cold[i], g.overlap, fd, kEnergy);
+        }
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
         (kMode == Parallel::value ? part->finite_check : finite_check) +=
             fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
@@ -420,10 +461,11 @@ void Model::forceLoop() {
                         DeferredItem item{static_cast<uint32_t>(i), Deferred::Contract};
                         item.flags = static_cast<uint32_t>(part->contracts.size());
                         part->items.push_back(item);
-                        part->contracts.push_back({fd, fn_old, fs_old, m_old, c.strain, c.bond});
+                        part->contracts.push_back(
+                            {asFdBlock(fd, fd_template), fn_old, fs_old, m_old, c.strain, c.bond});
                     } else {
-                        checkEnergyContract(p, c.strain, c.bond, fd, fn_old, fs_old, m_old,
-                                            totals_before);
+                        checkEnergyContract(p, c.strain, c.bond, asFdBlock(fd, fd_template), fn_old,
+                                            fs_old, m_old, totals_before);
                     }
                 }
                 PairEnergy pe;
@@ -455,7 +497,9 @@ void Model::forceLoop() {
                     energies[i] = pe;
                 // Group shares and the work across group borders (group_energy.cpp): one
                 // branch per contact, taken only with groups traced (one thread).
-                if (groups) bookContactToGroups(i, fd, first, ends, pe.held, f, g.point);
+                // (lanes do not run while groups are traced)
+                if constexpr (kFdBlock)
+                    if (groups) bookContactToGroups(i, fd, first, ends, pe.held, f, g.point);
             }
         }
 
@@ -528,7 +572,7 @@ void Model::forceLoop() {
     auto prefetchModel = [&](std::size_t i, std::size_t end) __attribute__((always_inline)) {
         if (i + kPrefetchAhead >= end) return;
         const Pair& ahead = pairs[i + kPrefetchAhead];
-        if (!ahead.active) return;
+        if (!ahead.active || ahead.lane != kNoLane) return;  // (a lane contact's object rests)
         const char* obj = reinterpret_cast<const char*>(ahead.model);
         __builtin_prefetch(obj);
         __builtin_prefetch(obj + 64);
@@ -547,6 +591,12 @@ void Model::forceLoop() {
         } else {
             callLaw(p.model, fd, error);
         }
+    };
+
+    // ---- after a contact's FDlaw and finish (one thread, or the threads' serial part): into its
+    // rule's lanes, if its model has a lane law that takes it now (docs/plugin-abi.md, "Lanes")
+    auto offerLane = [&](Pair& p) {
+        if (lanes_on && p.active && p.lane == kNoLane && laneable(p)) enterLane(p);
     };
 
     // ---- a rare pair, alone (never in a thread's range); returns the next pair to process.
@@ -591,6 +641,7 @@ void Model::forceLoop() {
         }
         callLaw(p.model, fd, error);
         finishContact(mode, i, e, fd, first, nullptr);
+        offerLane(p);
         return i + 1;
     };
 
@@ -600,10 +651,12 @@ void Model::forceLoop() {
                        std::string& error, int64_t& batched_count) __attribute__((always_inline))
                        ->std::size_t {
         prefetchModel(i, end);
-        const PairStep step = geometry(i, e, fd);
+        const PairStep step = geometry(i, e, &fd);
         if (step == PairStep::Contact) {
-            runLaw(pairs[i], fd, error, batched_count);
+            Pair& p = pairs[i];
+            runLaw(p, fd, error, batched_count);
             finishContact(mode, i, e, fd, false, nullptr);
+            offerLane(p);
             return i + 1;
         }
         if (step == PairStep::Apart || step == PairStep::Elsewhere) {
@@ -613,13 +666,126 @@ void Model::forceLoop() {
         return processRare(mode, i, step, e, fd, error);
     };
 
+    // ---- a block of pairs through the lanes (docs/plugin-abi.md, "Lanes"): up to kBlock pairs
+    // from i that are contacts in the lanes of one rule or pairs apart, in three passes: the
+    // geometry of every pair, with the contacts' inputs into the rule's LaneBatch; one call of
+    // the lane law for them all (a contact it declines goes through FDlaw); the finish of every
+    // pair in pair order, as runPair does it. Stops before a wall pair, a contact outside the
+    // lanes or of another rule, and a pair that touches for the first time. Returns the first
+    // pair after the block: i when the pair at i is none of these. `at` follows the pair being
+    // finished (the threads' failure point).
+    auto runLaneBlock = [&](auto mode, std::size_t i, std::size_t end, LaneScratch& ls,
+                            ForceThreadPart* part, std::string& error, LaneCounts& counts,
+                            std::size_t& at) -> std::size_t {
+        LaneTable* table = nullptr;
+        std::size_t row_bytes = 0;
+        int n = 0, nb = 0;
+        for (std::size_t j = i; j < end && n < LaneScratch::kBlock; ++j) {
+            const Pair& p = pairs[j];
+            if (p.wall) break;
+            if (p.active) {
+                if (p.lane == kNoLane || (table && p.rule->lanes.get() != table)) break;
+                if (!table) {
+                    table = p.rule->lanes.get();
+                    row_bytes = sizeof(double) * std::size_t(table->law().state_size);
+                }
+            }
+            PairEntry& e = ls.entry[n];
+            const PairStep step = geometry(j, e, nullptr);
+            if (step == PairStep::Touch) break;
+            ls.step[n] = step;
+            if (step == PairStep::Contact) {
+                // (its row is wanted by the law after the block's geometry: ask for it now)
+                const char* row = reinterpret_cast<const char*>(table->row(p.lane));
+                for (std::size_t at_byte = 0; at_byte < row_bytes; at_byte += 64)
+                    __builtin_prefetch(row + at_byte, 1);
+                ls.slot[n] = nb;
+                ls.row[nb] = p.lane;
+                ls.u_n[nb] = e.g.overlap;
+                ls.u_dot_n[nb] = e.u_dot_n;
+                ls.u_dot_s[nb] = e.u_dot_s;
+                ls.t_dot_rel[nb] = e.t_dot_rel;
+                ls.mass_eff[nb] = p.mass_eff;
+                ls.inv_mass_eff_s[nb] = p.inv_mass_eff_s;
+                ls.n_force[nb] = p.n_force;
+                ls.s_force[nb] = p.s_force;
+                ls.moment[nb] = p.moment;
+                ++nb;
+            }
+            ++n;
+        }
+        if (nb > 0) {
+            LaneBatch& batch = ls.batch;
+            batch.flags = fd_template.flags;
+            batch.count = nb;
+            batch.tdel = dt;
+            batch.time = fd_template.time;
+            batch.state = table->state();
+            table->law().law(batch);
+            counts.steps += nb;
+            // Declined: the object up to date, FDlaw, and back into its row if the model takes
+            // it (the row is freed serially when threads run).
+            for (int q = 0; q < n; ++q) {
+                if (ls.step[q] != PairStep::Contact) continue;
+                const int k = ls.slot[q];
+                if (!(ls.flags_out[k] & kFdLaneDeclined)) continue;
+                ++counts.declined;
+                Pair& p = pairs[i + static_cast<std::size_t>(q)];
+                table->law().unpack(p.model, table->row(p.lane));
+                FdBlock& fd = ls.declined[static_cast<std::size_t>(k)];
+                fd = fd_template;
+                const PairEntry& e = ls.entry[q];
+                fillFd(p, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
+                runLaw(p, fd, error, counts.batched);
+                if (table->law().pack(p.model, table->row(p.lane)) == 0) {
+                    if constexpr (decltype(mode)::value == Parallel::value)
+                        part->lane_releases.emplace_back(table, p.lane);
+                    else
+                        table->release(p.lane);
+                    p.lane = kNoLane;
+                }
+            }
+        }
+        for (int q = 0; q < n; ++q) {
+            const std::size_t j = i + static_cast<std::size_t>(q);
+            at = j;
+            if (ls.step[q] != PairStep::Contact) {
+                finishApart(mode, j, ls.step[q], part);
+                continue;
+            }
+            const int k = ls.slot[q];
+            if (ls.flags_out[k] & kFdLaneDeclined) {
+                finishContact(mode, j, ls.entry[q], ls.declined[static_cast<std::size_t>(k)], false,
+                              part);
+            } else {
+                LaneResult r = ls.result(k, dt);
+                finishContact(mode, j, ls.entry[q], r, false, part);
+            }
+        }
+        return i + static_cast<std::size_t>(n);
+    };
+
     if (nthreads <= 1) {
         PairEntry e;
         FdBlock fd = fd_template;
-        int64_t batched_count = 0;
-        for (std::size_t i = 0; i < npairs;)
-            i = runPair(Direct{}, i, npairs, e, fd, scratch.error, batched_count);
-        m_profile.batched_laws += batched_count;
+        LaneCounts counts;
+        LaneScratch& ls = scratch.lanes;
+        if (lanes_on) ls.prepare();
+        std::size_t at = 0;
+        if (lanes_on) {
+            for (std::size_t i = 0; i < npairs;) {
+                const std::size_t next =
+                    runLaneBlock(Direct{}, i, npairs, ls, nullptr, scratch.error, counts, at);
+                i = next != i ? next
+                              : runPair(Direct{}, i, npairs, e, fd, scratch.error, counts.batched);
+            }
+        } else {
+            for (std::size_t i = 0; i < npairs;)
+                i = runPair(Direct{}, i, npairs, e, fd, scratch.error, counts.batched);
+        }
+        m_profile.batched_laws += counts.batched;
+        m_profile.lane_steps += counts.steps;
+        m_profile.lane_declined += counts.declined;
     } else {
 #ifdef TALUS_HAVE_OPENMP
         ++m_profile.threaded_steps;
@@ -634,22 +800,46 @@ void Model::forceLoop() {
             std::size_t i = lo;
             try {
                 PairEntry e;
-                for (; i < hi; ++i) {
+                LaneCounts counts;
+                if (lanes_on) part.lanes.prepare();
+                while (i < hi) {
+                    if (lanes_on) {
+                        std::size_t at = i;
+                        try {
+                            const std::size_t next = runLaneBlock(Parallel{}, i, hi, part.lanes,
+                                                                  &part, part.error, counts, at);
+                            if (next != i) {
+                                i = next;
+                                continue;
+                            }
+                        } catch (...) {
+                            i = at;
+                            throw;
+                        }
+                    }
                     prefetchModel(i, hi);
                     if (pairs[i].wall) {
                         part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+                        ++i;
                         continue;
                     }
-                    const PairStep step = geometry(i, e, part.fd);
+                    const PairStep step = geometry(i, e, &part.fd);
                     if (step == PairStep::Contact) {
-                        runLaw(pairs[i], part.fd, part.error, part.batched);
+                        Pair& p = pairs[i];
+                        runLaw(p, part.fd, part.error, counts.batched);
                         finishContact(Parallel{}, i, e, part.fd, false, &part);
+                        if (lanes_on && p.lane == kNoLane && laneable(p))
+                            part.lane_entries.push_back(static_cast<uint32_t>(i));
                     } else if (step == PairStep::Apart) {
                         finishApart(Parallel{}, i, step, &part);
                     } else {  // Touch
                         part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
                     }
+                    ++i;
                 }
+                part.batched = counts.batched;
+                part.lane_steps = counts.steps;
+                part.lane_declined = counts.declined;
             } catch (...) {
                 part.failure = std::current_exception();
                 part.failure_pair = i;
@@ -696,9 +886,17 @@ void Model::forceLoop() {
             }
             finite_check += part.finite_check;
             batched_count += part.batched;
+            m_profile.lane_steps += part.lane_steps;
+            m_profile.lane_declined += part.lane_declined;
             if constexpr (kAuto) m_limits.merge(part.limits);
         }
         m_profile.batched_laws += batched_count;
+        // The lanes' rows the threads let go, then the contacts they offer (in pair order).
+        for (auto& part : parts)
+            for (const auto& [table, row] : part.lane_releases) table->release(row);
+        for (auto& part : parts)
+            for (const uint32_t i : part.lane_entries)
+                if (i < failed) offerLane(pairs[i]);
         if (failed_part) std::rethrow_exception(failed_part->failure);
         gatherPairActions(nthreads, kAuto);
         if constexpr (kEnergy)
@@ -900,6 +1098,9 @@ void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
         part.batched = 0;
         part.failure = nullptr;
         part.failure_pair = SIZE_MAX;
+        part.lane_entries.clear();
+        part.lane_releases.clear();
+        part.lane_steps = part.lane_declined = 0;
     }
     // (pairs a vertex hand-over adds in this step are not processed in it: npairs is enough)
     s.actions.resize(m_contacts->pairs.size());

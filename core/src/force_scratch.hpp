@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "model_internal.hpp"
@@ -32,6 +33,67 @@ struct PairEntry {
     ContactGeometry g;
     Vec2 x2{0.0, 0.0};    // centre of end 2: the ball's, or the wall's (moment arms)
     Vec2 vrel{0.0, 0.0};  // contact-point velocity of end 2 relative to end 1 (activation)
+    // The law's kinematic inputs (FdBlock's names): rates at the half step.
+    double u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
+};
+
+/// What the finish of a pair reads of an FdBlock, for a contact a lane law stepped
+/// (docs/plugin-abi.md, "Lanes"), under FdBlock's names: the finish is one template for both.
+/// A lane law reports no failure and no break (it declines such a step).
+struct LaneResult {
+    static constexpr int32_t status = 0;
+    static constexpr const char* error = nullptr;
+    static constexpr int32_t break_mode = kBreakNone;
+    static constexpr double reserved[3] = {0.0, 0.0, 0.0};
+    uint32_t flags = 0;
+    double u_n = 0.0, u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
+    double du_n = 0.0, du_s = 0.0, dtheta = 0.0;
+    double n_force = 0.0, s_force = 0.0, moment = 0.0;
+    double knest = 0.0, ksest = 0.0, krest = 0.0;
+    double energy[kEnergyCount];
+    /// The same as an FdBlock (the energy contract's rare path, which takes one).
+    FdBlock block(const FdBlock& tmpl) const;
+};
+
+/// What one thread's loop counts of the laws it ran (Profile).
+struct LaneCounts {
+    int64_t batched = 0;   // laws run through a batched FDlaw
+    int64_t steps = 0;     // contacts stepped by lane laws
+    int64_t declined = 0;  // ... of which the law declined (FDlaw ran instead)
+};
+
+/// The lane batches of one thread's force loop: a block of up to kBlock consecutive pairs (lane
+/// contacts of one rule, and pairs apart) and the LaneBatch of its contacts, structure of
+/// arrays (force_displacement.cpp, runLaneBlock).
+struct LaneScratch {
+    static constexpr int kBlock = 64;
+    PairEntry entry[kBlock];
+    PairStep step[kBlock];
+    int32_t slot[kBlock];  // the pair's index in the batch (contacts)
+    uint32_t row[kBlock];
+    double u_n[kBlock], u_dot_n[kBlock], u_dot_s[kBlock], t_dot_rel[kBlock];
+    double mass_eff[kBlock], inv_mass_eff_s[kBlock];
+    double n_force[kBlock], s_force[kBlock], moment[kBlock];
+    double knest[kBlock], ksest[kBlock], krest[kBlock];
+    uint32_t flags_out[kBlock];
+    double energy[kEnergyCount][kBlock];
+    std::vector<FdBlock> declined;  // kBlock: the FdBlocks of the contacts a lane law declined
+    LaneBatch batch{};              // points into the arrays above (prepare)
+    /// Sets the batch's array pointers (once: the scratch does not move afterwards).
+    void prepare();
+    /// Contact k's result under FdBlock's names (the increments as the law computed them).
+    LaneResult result(int k, double tdel) const {
+        LaneResult r;
+        r.flags = flags_out[k] & ~(kFdBroken | kFdBreakStress);
+        r.u_n = u_n[k], r.u_dot_n = u_dot_n[k], r.u_dot_s = u_dot_s[k];
+        r.t_dot_rel = t_dot_rel[k];
+        r.du_n = r.u_dot_n * tdel, r.du_s = r.u_dot_s * tdel, r.dtheta = r.t_dot_rel * tdel;
+        r.n_force = n_force[k], r.s_force = s_force[k], r.moment = moment[k];
+        r.knest = knest[k], r.ksest = ksest[k], r.krest = krest[k];
+        for (int e = 0; e < kEnergyCount; ++e)
+            r.energy[e] = (flags_out[k] & kFdEnergyOn) ? energy[e][k] : 0.0;
+        return r;
+    }
 };
 
 /// What one pair did to its balls in this step, kept per pair when threads run the loop: every
@@ -96,8 +158,13 @@ struct DeferredItem {
 /// move between the cores at every write (false sharing; two lines, for the adjacent-line
 /// prefetch).
 struct alignas(128) Model::ForceThreadPart {
-    FdBlock fd;                           // the thread's FdBlock (a copy of the step's template)
-    std::vector<DeferredItem> items;      // in pair order
+    FdBlock fd;                          // the thread's FdBlock (a copy of the step's template)
+    LaneScratch lanes;                   // the thread's lane blocks
+    std::vector<uint32_t> lane_entries;  // contacts to put into the lanes (serially, after)
+    std::vector<std::pair<LaneTable*, uint32_t>> lane_releases;  // rows to free (ditto)
+    int64_t lane_steps = 0;                                      // contacts stepped by lane laws
+    int64_t lane_declined = 0;                                   // ... of which declined
+    std::vector<DeferredItem> items;                             // in pair order
     std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
     std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)
     StepLimits limits;                    // automatic step: from its contacts
@@ -110,6 +177,7 @@ struct alignas(128) Model::ForceThreadPart {
 
 struct ForceScratch {
     FdBlock fd{};                               // one thread's FdBlock
+    LaneScratch lanes;                          // one thread's lane blocks
     std::string error;                          // one thread's caught exception text
     std::vector<uint32_t> apart;                // one thread: pairs apart (automatic step)
     std::vector<Model::ForceThreadPart> parts;  // threads: one per thread

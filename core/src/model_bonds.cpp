@@ -316,6 +316,7 @@ std::size_t Model::bond(const BondSettings& s) {
             bond_rule->pool->release(mem);
             throw InputError("bond: " + describePair(p) + ": " + why);
         };
+        leaveLane(p);
         const ContactModel& old = *p.model;
         for (int32_t k = 0; k < nm->PropCount(); ++k) {
             const PropInfo* info = nm->PropInfoAt(k);
@@ -502,8 +503,10 @@ std::size_t Model::unbond(const BondSettings& s) {
         if (!s.model.empty() && s.model != p.model->Name()) continue;
         if (!bondSelects(p, s, ga, gb)) continue;
         const int32_t k = propIndex(*p.model, "bonded");
+        syncLane(p);
         if (k < 0 || p.model->ReturnProp(k) != 1.0) continue;
         // Silently (the bond contract): no event, nothing booked here.
+        leaveLane(p);
         if (p.model->AcceptProp(k, 0.0) != 0)
             throw InputError(std::string("unbond: ") + describePair(p) + ": " +
                              p.model->LastError());

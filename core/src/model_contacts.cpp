@@ -184,6 +184,7 @@ double Model::contactProp(ContactKey key, const std::string& name) const {
     if (idx < 0)
         throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
                          "' (known: " + knownProps(*p->model) + ")");
+    syncLane(*p);
     return p->model->ReturnProp(idx);
 }
 
@@ -197,6 +198,7 @@ void Model::setContactProp(ContactKey key, const std::string& name, double value
                          "' (known: " + knownProps(*p->model) + ")");
     if (const std::string why = propValueProblem(*p->model, idx, value); !why.empty())
         throw InputError(std::string("contact: ") + p->model->Name() + ": '" + name + "' " + why);
+    leaveLane(*p);  // (it comes back after its next FDlaw, with the new value)
     if (p->model->AcceptProp(idx, value) != 0)
         throw InputError(std::string("contact: ") + p->model->LastError());
     // A stiffness set to zero on a live contact: the bodies may pass through each other.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_lanes.hpp"
 #include "talus/clump_mass.hpp"
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
@@ -57,6 +58,9 @@ struct Model::Rule {
     int order = 0;        // later rules win ties
     double activity = 0.0;
     std::unique_ptr<ObjectPool> pool;
+    /// The state of its contacts that run in the model's lanes (made at the first; none when
+    /// the model has no lane law).
+    std::unique_ptr<LaneTable> lanes;
     bool warned_no_stiffness = false;          // Model::activate warns once per rule
     bool warned_negative_dissipation = false;  // the force loop warns once per rule
     /// Made by m:bond for the objects it installs (model_bonds.cpp): never matched by ruleFor;
@@ -111,6 +115,9 @@ struct Model::Pair {
     bool bonded = false;
     bool loading = false;  // guard: the overlap grew at the last step
     uint32_t steps = 0;    // steps with positive overlap in this life
+    // The contact's row in its rule's lanes (contact_lanes.hpp): while it has one, that row
+    // holds the model's state and the object is out of date (Model::syncLane).
+    uint32_t lane = kNoLane;
     Rule* rule = nullptr;
     ContactModel* model = nullptr;
     double mass_eff = 0.0;

@@ -288,6 +288,7 @@ void Model::saveState(SaveWriter& w) const {
         w.u32(c.rules_version), w.u64(c.key), w.f64(c.krest), w.f64(c.duration);
         w.f64(c.strain), w.f64(c.bond);
         w.boolean(p.model != nullptr);
+        syncLane(p);
         if (p.model) writeModelState(w, *p.model);
     }
     // Pairs whose bond broke or was removed (model_bonds.cpp), sorted by key: the map is only

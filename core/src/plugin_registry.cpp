@@ -259,6 +259,11 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
     // Optional (ABI 1.1): batched laws. A library without the entry has none.
     auto batch_entry =
         reinterpret_cast<TalusPluginBatchFn>(::dlsym(handle, TALUS_PLUGIN_BATCH_ENTRY));
+    // Optional (ABI 1.2): lane laws (docs/plugin-abi.md, "Lanes").
+    auto lanes_entry =
+        info->abi_minor >= 2
+            ? reinterpret_cast<TalusPluginLanesFn>(::dlsym(handle, TALUS_PLUGIN_LANES_ENTRY))
+            : nullptr;
 
     auto lib = std::make_unique<Library>();
     lib->path = path;
@@ -292,6 +297,22 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         f.info = info;
         f.reference = proto;
         f.batch = batch_entry ? batch_entry(i) : nullptr;
+        f.lanes = lanes_entry ? lanes_entry(i) : nullptr;
+        if (f.lanes) {
+            const LaneLaw& l = *f.lanes;
+            std::string why;
+            if (l.size != sizeof(LaneLaw))
+                why = "sizeof(LaneLaw) = " + std::to_string(l.size) + " but this Talus has " +
+                      std::to_string(sizeof(LaneLaw)) + "; rebuild the plugin against this Talus";
+            else if (l.state_size < 1 || l.state_size > kMaxLaneStateSize)
+                why = "state_size = " + std::to_string(l.state_size) + " (must be 1 to " +
+                      std::to_string(kMaxLaneStateSize) + ")";
+            else if (!l.pack || !l.unpack || !l.law)
+                why = "pack, unpack and law must all be given";
+            if (!why.empty())
+                throw PluginError("load_plugin: '" + path + "': model '" + name +
+                                  "': talus_plugin_lanes returned a bad LaneLaw: " + why);
+        }
         added.push_back(f);
     }
     std::vector<std::string> names;

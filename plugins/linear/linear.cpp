@@ -46,6 +46,13 @@ public:
     double ContactDuration(double mass_eff, double) const override {
         return linearContactDuration(mass_eff);
     }
+
+    // Lanes (sdk/lanes.hpp): the linear law's own.
+    static constexpr int kLaneStateSize = kLinearLaneStateSize;
+    static const char* const* laneStateNames() { return linearLaneStateNames(); }
+    bool toLane(double* row) const { return linearToLane(row); }
+    void fromLane(const double* row) { linearFromLane(row); }
+    static bool laneStep(double* row, LaneFd& fd) { return linearLaneStep(row, fd); }
 };
 
 ContactModel* createPrototype(int32_t index) { return index == 0 ? new Linear() : nullptr; }
@@ -61,4 +68,10 @@ TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo
 // contacts instead of FDlaw per contact; same law, same bits.
 TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index) {
     return index == 0 ? &Linear::BatchFDlaw : nullptr;
+}
+
+// The lane law (docs/plugin-abi.md, "Lanes"): the state of touching contacts in rows the host
+// owns, the same law over many contacts per call; same bits.
+TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
+    return index == 0 ? talus::sdk::laneLawOf<Linear>() : nullptr;
 }

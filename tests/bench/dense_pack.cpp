@@ -20,6 +20,7 @@
 //                         (with --energy on: energy traced per group)
 //   --no-profile          time without the per-phase clock reads
 //   --classic-law         FDlaw per contact instead of the batched law (Model::setBatchedLaw)
+//   --lanes               contacts through the models' lane laws (Model::setLanes)
 //   --settle-only         stop after settling (and exporting)
 //   --tiles K             for large N (scripts/bench/scaling.sh): instead of settling N disks
 //                         from the lattice, settle N/K disks (aspect A) and lay K copies side by
@@ -64,6 +65,7 @@ struct Options {
     int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
     bool profile = true;
     bool classic_law = false;
+    bool lanes = false;
     bool settle_only = false;
     int tiles = 1;                // > 1: the state is made from K copies of an N/K pack
     std::string tile_state_path;  // cache of the N/K pack
@@ -75,7 +77,8 @@ struct Options {
                  "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
                  "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
                  "[--balance on|off] "
-                 "[--no-profile] [--classic-law] [--settle-only] [--tiles K] [--tile-state FILE]\n",
+                 "[--no-profile] [--classic-law] [--lanes] [--settle-only] [--tiles K] "
+                 "[--tile-state FILE]\n",
                  why);
     std::exit(2);
 }
@@ -113,6 +116,8 @@ Options parse(int argc, char** argv) {
             o.profile = false;
         else if (a == "--classic-law")
             o.classic_law = true;
+        else if (a == "--lanes")
+            o.lanes = true;
         else if (a == "--settle-only")
             o.settle_only = true;
         else if (a == "--tiles")
@@ -285,6 +290,7 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
     model.setBatchedLaw(!o.classic_law);
+    model.setLanes(o.lanes);
     if (o.warmup > 0) model.cycle(o.warmup);
     if (o.groups > 0) {
         int k = 0;

@@ -30,7 +30,7 @@
 #include <cstdint>
 
 #define TALUS_ABI_MAJOR 1
-#define TALUS_ABI_MINOR 1
+#define TALUS_ABI_MINOR 2
 #define TALUS_DIM 2
 
 #if defined(__GNUC__) || defined(__clang__)
@@ -93,6 +93,9 @@ enum FdFlags : uint32_t {
     /// out, with kFdBroken: FdBlock::reserved[0] and [1] hold the bond's peak normal stress
     /// (tension +) and shear stress at failure [Pa] (the bond_break event's sigma and tau).
     kFdBreakStress = 1u << 12,
+    /// out, lane laws only (LaneBatch::flags_out): this contact's step was not done and its
+    /// state is untouched; the host runs FDlaw on it instead (ABI 1.2, "Lanes").
+    kFdLaneDeclined = 1u << 13,
 };
 
 /// Bits of ContactModel::Traits().
@@ -249,8 +252,8 @@ public:
     /// False while the contact must persist although separated (for example while bonded).
     virtual bool OKToDelete() const = 0;
     virtual void SaveRestore(ModelSaveObject& so) = 0;
-    /// Bit 0: FDlaw may run concurrently on different contacts (no shared mutable state).
-    /// Reserved for a threaded force loop; this release cycles contacts serially.
+    /// ModelTraits: kTraitThreadSafe (FDlaw may run concurrently on different contacts; the
+    /// threaded force loop needs it), kTraitBond.
     virtual uint32_t Traits() const = 0;
 
 protected:
@@ -282,7 +285,70 @@ struct PluginInfo {
 /// escape as an exception.
 using BatchFdLawFn = void (*)(ContactModel* const* models, FdBlock* blocks, int32_t count);
 
+/// One call of a lane law (ABI 1.2, optional; docs/plugin-abi.md, "Lanes"): the steps of `count`
+/// contacts of one model. Each contact's state lives in host-owned storage laid out as the model
+/// declared it (LaneLaw::state_size doubles, the model's own order): contact k's at
+/// state + row[k] * state_size. Its inputs and outputs are arrays over the batch (structure of
+/// arrays, `count` entries each), meaning what the FdBlock fields of the same names mean; the
+/// increments are theirs times tdel (du_n = u_dot_n[k] * tdel, as the host computes them for
+/// FdBlock).
+struct LaneBatch {
+    uint32_t size;   ///< sizeof(LaneBatch) as the host sees it
+    uint32_t flags;  ///< in: kFdEnergyOn, as FdBlock::flags (never kFdFirstCall)
+    int32_t count;   ///< contacts in this call
+    int32_t reserved0;
+    double tdel;          ///< time step [s]
+    double time;          ///< simulated time at this step [s]
+    double* state;        ///< the rows of the model's contacts
+    const uint32_t* row;  ///< row[k]: contact k's row
+    // --- in
+    const double* u_n;
+    const double* u_dot_n;
+    const double* u_dot_s;
+    const double* t_dot_rel;
+    const double* mass_eff;
+    const double* inv_mass_eff_s;
+    // --- in: the contact's forces of the last step; out: this step's
+    double* n_force;
+    double* s_force;
+    double* moment;
+    // --- out
+    double* knest;
+    double* ksest;
+    double* krest;
+    uint32_t* flags_out;           ///< kFdSliding, kFdBonded, kFdKeep, kFdLaneDeclined
+    double* energy[kEnergyCount];  ///< with kFdEnergyOn: as FdBlock::energy
+};
+
+/// A model's lane law (ABI 1.2, optional): the per-contact state of its touching contacts in
+/// storage the host owns, and its law over many contacts per call. A contact enters the lanes
+/// when `pack` accepts it after an FDlaw; from then on its row holds its state and its object is
+/// out of date until the host calls `unpack` (before anything reads or writes the object, and
+/// whenever the contact leaves the lanes). The contract (docs/plugin-abi.md, "Lanes"):
+///  * `law` does to contact k exactly what FDlaw would do, to the last bit, or declines it:
+///    flags_out[k] = kFdLaneDeclined, its row and outputs untouched (the host then unpacks, runs
+///    FDlaw, and offers the contact to `pack` again). A step a LaneBatch cannot carry (a bond
+///    break with its stresses, an error) must be declined.
+///  * Nothing escapes as an exception; thread safety as for FDlaw.
+struct LaneLaw {
+    uint32_t size;                   ///< sizeof(LaneLaw) as the plugin sees it
+    int32_t state_size;              ///< doubles of state per contact, >= 1
+    const char* const* state_names;  ///< `state_size` names (diagnostics), owned by the library
+    /// Copies the contact's state from `object` into `row` (state_size doubles); returns 1 if
+    /// the contact runs in the lanes from its next step, 0 if not now (then nothing is kept).
+    int32_t (*pack)(const ContactModel* object, double* row);
+    /// Copies `row` back into `object`, which is up to date afterwards.
+    void (*unpack)(ContactModel* object, const double* row);
+    void (*law)(const LaneBatch& batch);
+};
+
 }  // namespace talus
+
+/// Name of the optional third entry point (ABI 1.2): a library that offers lanes for some of its
+/// models exports TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index),
+/// returning the lane law of model `index` or nullptr.
+#define TALUS_PLUGIN_LANES_ENTRY "talus_plugin_lanes"
+using TalusPluginLanesFn = const talus::LaneLaw* (*)(int32_t);
 
 /// Name of the optional second entry point: a library that offers a batched law for some of its
 /// models exports TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index),

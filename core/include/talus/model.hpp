@@ -523,8 +523,14 @@ public:
     /// Calls the batched FDlaw of the models that offer one (docs/plugin-abi.md, "Batched
     /// FDlaw"; default on). Off: FDlaw per contact. Both give the same bits; the switch is for
     /// tests and measurements.
-    void setBatchedLaw(bool on) { m_batched_law = on; }
+    /// Off also takes every contact out of the models' lanes, which are part of the batched path.
+    void setBatchedLaw(bool on);
     bool batchedLaw() const { return m_batched_law; }
+    /// Runs the contacts of models that offer a lane law through it (docs/plugin-abi.md,
+    /// "Lanes"; default off: measured no faster than the batched FDlaw on the shipped models,
+    /// docs/benchmarks.md). The same bits either way; needs the batched law on.
+    void setLanes(bool on);
+    bool lanes() const { return m_lanes; }
     /// Threads of the force loop (docs/architecture.md, "Threads"), n >= 1; results are
     /// bit-identical for any n. The default is the environment's TALUS_THREADS, else 1. A step
     /// runs on one thread in a build without OpenMP, with a contact model that lacks
@@ -688,6 +694,20 @@ private:
     uint32_t autoBondFlags(const Pair& p, const PairCold& c) const;
     uint32_t m_activation_flags = 0;  // FdFlags for the contact activate() just made
 
+    // Lanes (contact_lanes.cpp; docs/plugin-abi.md, "Lanes"): while a contact has a row in its
+    // rule's lanes, the row holds its model's state and its object is out of date.
+    /// Puts p into its rule's lanes if its model's lane law takes it now (after an FDlaw).
+    bool enterLane(Pair& p);
+    /// Brings p's object up to date from its row (before anything reads the object).
+    void syncLane(const Pair& p) const;
+    /// Takes p out of the lanes, its object up to date (before anything changes the object).
+    void leaveLane(Pair& p);
+    /// Frees p's row without updating the object (which is about to be destroyed).
+    void dropLane(Pair& p);
+    void leaveAllLanes();
+    /// Every table's rows in the order of their pairs (after the pairs were sorted).
+    void reorderLanes();
+
     void sortBalls();
     void repackContactObjects();
     void compactDeleted();
@@ -776,6 +796,7 @@ private:
     double m_step_cap = 0.0;  // solveTime: upper bound for the next step (0 = none)
     int64_t m_sort_every = 0;
     bool m_batched_law = true;
+    bool m_lanes = false;    // setLanes
     int m_threads = 0;       // setThreads; 0 = TALUS_THREADS or 1
     int m_thread_grain = 0;  // setThreads; 0 = TALUS_THREAD_GRAIN or kDefaultThreadGrain
     int m_step_threads = 1;  // threads of the last force loop; the law of motion takes as many

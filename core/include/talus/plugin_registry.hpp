@@ -24,7 +24,12 @@ struct ModelFactory {
     ContactModel* reference = nullptr;
     /// The model's batched FDlaw (talus_plugin_batch), or nullptr: FDlaw per contact.
     BatchFdLawFn batch = nullptr;
+    /// The model's lane law (talus_plugin_lanes, ABI 1.2), or nullptr: no lanes.
+    const LaneLaw* lanes = nullptr;
 };
+
+/// Most doubles of state per contact a lane law may declare (LaneLaw::state_size).
+constexpr int32_t kMaxLaneStateSize = 256;
 
 class PluginRegistry {
 public:

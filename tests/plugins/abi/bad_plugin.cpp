@@ -25,6 +25,9 @@
 #define DEFECT_NULL_PROTOTYPE 13    // create_prototype returns nullptr
 #define DEFECT_EMPTY_NAME 14        // the model's Name() is ""
 #define DEFECT_DUPLICATE_INSIDE 15  // two models of the same name in one library
+#define DEFECT_LANES_SIZE 16        // a lane law of another sizeof(LaneLaw)
+#define DEFECT_LANES_STATE 17       // a lane law with no state (state_size 0)
+#define DEFECT_LANES_NULL 18        // a lane law without its law function
 
 #ifndef DEFECT
 #error "compile with -DDEFECT=<n>"
@@ -129,4 +132,28 @@ TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() {
 }
 #else
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
+#endif
+
+#if DEFECT == DEFECT_LANES_SIZE || DEFECT == DEFECT_LANES_STATE || DEFECT == DEFECT_LANES_NULL
+namespace {
+int32_t lanePack(const talus::ContactModel*, double*) { return 0; }
+void laneUnpack(talus::ContactModel*, const double*) {}
+void laneLaw(const talus::LaneBatch&) {}
+const char* const kLaneNames[] = {"x"};
+talus::LaneLaw makeLanes() {
+    talus::LaneLaw l{sizeof(talus::LaneLaw), 1, kLaneNames, &lanePack, &laneUnpack, &laneLaw};
+#if DEFECT == DEFECT_LANES_SIZE
+    l.size += 8;
+#elif DEFECT == DEFECT_LANES_STATE
+    l.state_size = 0;
+#else
+    l.law = nullptr;
+#endif
+    return l;
+}
+const talus::LaneLaw kLanes = makeLanes();
+}  // namespace
+TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
+    return index == 0 ? &kLanes : nullptr;
+}
 #endif

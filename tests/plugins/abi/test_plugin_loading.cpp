@@ -167,6 +167,16 @@ TEST_CASE("a plugin built for a newer minor ABI than the host is refused", "[abi
     CHECK_THAT(msg, Contains("this Talus has " + hostAbi()));
 }
 
+TEST_CASE("a bad lane law (ABI 1.2) is refused with what is wrong", "[abi][loading]") {
+    const std::string size = refusalOf(lib("bad_lanes_size"));
+    CHECK_THAT(size, Contains("model 'probe': talus_plugin_lanes returned a bad LaneLaw"));
+    CHECK_THAT(size, Contains("sizeof(LaneLaw) = " + std::to_string(sizeof(talus::LaneLaw) + 8)));
+    CHECK_THAT(size, Contains("rebuild the plugin"));
+    CHECK_THAT(refusalOf(lib("bad_lanes_state")), Contains("state_size = 0 (must be 1 to 256)"));
+    CHECK_THAT(refusalOf(lib("bad_lanes_null")),
+               Contains("pack, unpack and law must all be given"));
+}
+
 TEST_CASE("struct size mismatches name the struct and both sizes", "[abi][loading]") {
     struct Case {
         const char* stem;

@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- The force loop's ways of running give the same bits (issue 11; docs/architecture.md, "Force
--- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), and 1, 2
+-- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), the
+-- lanes (`m:lanes`: linear's lane law on host-owned state, docs/plugin-abi.md "Lanes"), and 1, 2
 -- or 3 threads (`m:threads`; 3 on a machine with 2 cores runs a thread more than there are
 -- cores, and grain 1 makes even this scene's few hundred pairs use them). One scene with what the
 -- loop does beyond the plain contact: `linear` with every dashpot mode (normal and shear
@@ -20,9 +21,10 @@ local T = require("testlib")
 -- energy: "groups" (traced, with groups), "off", "plain" (traced, a scene without groups:
 -- one contact rule with dashpots, every bond installed before the loose balls are made), or
 -- "bare" (off, and no clumps: the law of motion's plain loop, which threads share too)
-local function scene(batched, threads, energy)
+local function scene(batched, threads, energy, lanes)
     local m = talus.model{ gravity = {0, -9.81} }
     T.check(m:batched_law(batched) == batched, "m:batched_law(on) returns the setting")
+    T.check(m:lanes(lanes == true) == (lanes == true), "m:lanes(on) returns the setting")
     T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
     m:on_warning(function() end)  -- guard findings of the pour are not this test's topic
     local grouped = energy ~= "plain"
@@ -121,14 +123,26 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
     T.check(ref_m:clump_count() == (energy == "bare" and 0 or 6), "clumps present")
     T.check(ref_m:timestep().rule ~= "fixed", "automatic step")
     T.check(batchedLaws(ref_m) == 0, "m:batched_law(false): no batched call")
-    for _, case in ipairs({{true, 1}, {true, 2}, {true, 3}, {false, 2}}) do
-        local batched, threads = case[1], case[2]
-        local what = energy .. ", " .. (batched and "batched" or "per contact") .. ", " ..
-                     threads .. " thread(s)"
+    for _, case in ipairs({{true, 1}, {true, 2}, {true, 3}, {false, 2}, {true, 1, true},
+                           {true, 2, true}, {true, 3, true}}) do
+        local batched, threads, lanes = case[1], case[2], case[3]
+        local what = energy .. ", " .. (batched and "batched" or "per contact") ..
+                     (lanes and " with lanes" or "") .. ", " .. threads .. " thread(s)"
         local breaks
-        m, breaks = scene(batched, threads, energy)
+        m, breaks = scene(batched, threads, energy, lanes)
         local d, contacts = digest(m, energy)
-        if batched then
+        -- The lanes ran linear's contacts (not with energy per group, by design), and some left
+        -- them for FDlaw (separations); the rest of the contacts went through the batch.
+        local lane_steps, declined = m:profile():match("lane steps (%d+) %(declined (%d+)%)")
+        lane_steps, declined = tonumber(lane_steps), tonumber(declined)
+        if lanes and energy ~= "groups" then
+            T.check(lane_steps > 10 * m:step() and declined > 0,
+                    what .. ": lane steps " .. lane_steps .. " (declined " .. declined .. ") over " ..
+                    m:step() .. " steps")
+        else
+            T.check(lane_steps == 0, what .. ": no lane steps (" .. lane_steps .. ")")
+        end
+        if batched and not lanes then
             -- The pile settles into ~200 contacts, most of them linear: the batch was the usual
             -- path (at least ten contacts per step on average, over a run that starts in flight).
             T.check(batchedLaws(m) > 10 * m:step(),
@@ -148,6 +162,7 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
 end
 
 T.fails(function() m:batched_law(1) end, {"batched_law: expected true or false"}, "not a boolean")
+T.fails(function() m:lanes("yes") end, {"lanes: expected true or false"}, "not a boolean")
 T.fails(function() m:threads(0) end, {"threads: the thread count must be from 1 to 1024"},
         "zero threads")
 T.fails(function() m:threads(1.5) end, {"must be an integer"}, "a fraction")

@@ -53,8 +53,10 @@ struct Corners {
 
 /// First contact step. A sliding shear force follows the normal spring's corner (Coulomb: it is
 /// fric times the normal spring force); a sticking shear spring has a corner of its own.
+/// (Fd: FdBlock, or anything with its fields u_dot_n, u_dot_s, tdel, such as sdk::LaneFd.)
+template <class Fd>
 inline Corners linearOnsetCorners(double kn, double ks, double fric, double shear_force,
-                                  bool sliding, const FdBlock& fd, double lead) {
+                                  bool sliding, const Fd& fd, double lead) {
     Corners c;
     c.normal = springOnsetCorrection(kn, fd.u_dot_n, fd.tdel, lead);
     c.shear =
@@ -66,9 +68,9 @@ inline Corners linearOnsetCorners(double kn, double ks, double fric, double shea
 /// Step after separation. `normal_corner`: the normal spring's force fell to zero at the
 /// separation (false when a no-tension dashpot had already brought the total force to zero).
 /// A sticking shear spring keeps changing at -ks u_dot_s until separation.
+template <class Fd>
 inline Corners linearClosingCorners(double kn, double ks, double fric, double shear_force,
-                                    bool sliding, const FdBlock& fd, double frac,
-                                    bool normal_corner) {
+                                    bool sliding, const Fd& fd, double frac, bool normal_corner) {
     Corners c;
     const double spring_n = springClosingCorrection(kn, fd.u_dot_n, fd.tdel, frac);
     if (normal_corner) c.normal = spring_n;

@@ -115,7 +115,10 @@ public:
     /// and inv_mass_s are the inverse masses the normal and shear dashpots are solved with (the
     /// same ones, or equilibrium would not be exact); 0 for a direction without a dashpot, which
     /// then costs nothing and gets 0. Zero on the first call of a contact.
-    DashpotLoad observe(const FdBlock& fd, double inv_mass_n, double inv_mass_s) {
+    /// (Fd: FdBlock, or anything with its fields flags, tdel, u_dot_n, u_dot_s, n_force,
+    /// s_force, such as sdk::LaneFd.)
+    template <class Fd>
+    DashpotLoad observe(const Fd& fd, double inv_mass_n, double inv_mass_s) {
         DashpotLoad out;
         if (dt_prev_ > 0.0 && !(fd.flags & kFdFirstCall)) {
             // Leapfrog moved the rates by w (a_o - F inv_mass) since the last call, w = (dt_prev
@@ -146,6 +149,17 @@ public:
 
     /// Forget the past (the calls were interrupted): the next call estimates nothing.
     void reset() { dt_prev_ = 0.0; }
+
+    /// The five doubles of state, as a lane row's first .. first + 4 (sdk/lanes.hpp).
+    static constexpr int kLaneStateSize = 5;
+    void toLane(double* row, int first) const {
+        row[first] = dt_prev_, row[first + 1] = rate_n_, row[first + 2] = rate_s_;
+        row[first + 3] = est_prev_n_, row[first + 4] = est_prev_s_;
+    }
+    void fromLane(const double* row, int first) {
+        dt_prev_ = row[first], rate_n_ = row[first + 1], rate_s_ = row[first + 2];
+        est_prev_n_ = row[first + 3], est_prev_s_ = row[first + 4];
+    }
 
     /// Part of a model's saveRestoreState (five doubles).
     void saveRestore(ModelSaveObject& so) {

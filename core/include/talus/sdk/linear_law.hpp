@@ -28,6 +28,7 @@
 #include "talus/contact_model.hpp"
 #include "talus/sdk/corners.hpp"
 #include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/lanes.hpp"
 #include "talus/sdk/model_base.hpp"
 #include "talus/sdk/shear_spring.hpp"
 
@@ -111,10 +112,11 @@ public:
         double strain = 0.0, slip = 0.0, dash = 0.0;
         Step step;
     };
-    Forces linearForces(FdBlock& fd, bool incremental = false) {
+    /// (Fd: FdBlock, or LaneFd for the lane law: the same code either way.)
+    template <class Fd>
+    Forces linearForces(Fd& fd, bool incremental = false) {
         if (fd.mass_eff != mass_eff_) setMass(fd.mass_eff);
         const double dt = fd.tdel;
-        const bool energy = (fd.flags & kFdEnergyOn) != 0;
         Forces out;
         // Gravity, the other contacts and the rest, as seen in the rates (sdk/dashpot.hpp);
         // followed on every call, touching or not, so that it is current at the next touch.
@@ -151,63 +153,82 @@ public:
         }
 
         const bool first = !touching_;
+        touching_ = true;
+        last_overlap_ = fd.u_n;
+        return contactStep(*this, fd, other, first, incremental);
+    }
+
+    /// The law while the bodies touch (u_n > 0): `first`, the first contact step (the touch
+    /// inside it); `other`, the dashpots' load from the rest of the model (sdk/dashpot.hpp).
+    /// On S = LinearLaw (FDlaw) or LaneState (a lane row's doubles): the same code, so the lane
+    /// law and FDlaw give the same bits.
+    template <class S, class Fd>
+    __attribute__((always_inline)) static Forces contactStep(S& s, Fd& fd, const DashpotLoad& other,
+                                                             bool first, bool incremental) {
+        const double dt = fd.tdel;
+        const bool energy = (fd.flags & kFdEnergyOn) != 0;
+        Forces out;
         const double lead = first ? onsetFraction(fd.u_n, fd.du_n) : 0.5;
         // On the first step only the part of the shear increment after touch loads the spring.
         const double du_s = first ? fd.du_s * onsetFraction(fd.u_n, fd.du_n) : fd.du_s;
 
         // Incremental: from the last force; at a touch inside this step both forms give kn u_n.
-        lin_fn = (incremental && !first) ? std::max(0.0, lin_fn + kn * fd.du_n) : kn * fd.u_n;
-        const ShearResult sr = updateShearSpring(lin_fs, ks, du_s, fric * lin_fn);
-        lin_slip = sr.sliding ? 1.0 : 0.0;
+        s.lin_fn =
+            (incremental && !first) ? std::max(0.0, s.lin_fn + s.kn * fd.du_n) : s.kn * fd.u_n;
+        const ShearResult sr = updateShearSpring(s.lin_fs, s.ks, du_s, s.fric * s.lin_fn);
+        s.lin_slip = sr.sliding ? 1.0 : 0.0;
 
         const double dn =
-            dashpotForceInv(cn_, inv_mass_eff_, fd.u_dot_n, lin_fn, dt, lead, other.normal);
-        dp_fn = (noTension() && lin_fn + dn < 0.0) ? -lin_fn : dn;
+            dashpotForceInv(s.cn_, s.inv_mass_eff_, fd.u_dot_n, s.lin_fn, dt, lead, other.normal);
+        s.dp_fn = (s.no_tension_ && s.lin_fn + dn < 0.0) ? -s.lin_fn : dn;
         double ds = 0.0;  // resisting the shear motion
-        if (!(sr.sliding && noShearDashpotWhileSliding()))
-            ds =
-                dashpotForceInv(cs_, fd.inv_mass_eff_s, fd.u_dot_s, -lin_fs, dt, lead, other.shear);
-        dp_fs = -ds;
+        if (!(sr.sliding && s.no_shear_dp_sliding_))
+            ds = dashpotForceInv(s.cs_, fd.inv_mass_eff_s, fd.u_dot_s, -s.lin_fs, dt, lead,
+                                 other.shear);
+        s.dp_fs = -ds;
 
         // On the first step the springs' impulses miss their corners at touch (sdk/dashpot.hpp);
         // a sliding shear force follows the normal spring's corner (Coulomb).
         const Corners corner =
-            first ? linearOnsetCorners(kn, ks, fric, lin_fs, sr.sliding, fd, lead) : Corners{};
-        out.fn = lin_fn + dp_fn + corner.normal;
-        out.fs = lin_fs + dp_fs + corner.shear;
+            first ? linearOnsetCorners(s.kn, s.ks, s.fric, s.lin_fs, sr.sliding, fd, lead)
+                  : Corners{};
+        out.fn = s.lin_fn + s.dp_fn + corner.normal;
+        out.fs = s.lin_fs + s.dp_fs + corner.shear;
         if (sr.sliding) fd.flags |= kFdSliding;
         if (energy) {
-            out.strain = springEnergy(lin_fn, kn) + springEnergy(lin_fs, ks);
+            out.strain = springEnergy(s.lin_fn, s.kn) + springEnergy(s.lin_fs, s.ks);
             out.slip = sr.slip_work;
-            out.dash =
-                dashpotEnergy(cn_, dp_fn, dn, dt, lead) + dashpotEnergy(cs_, ds, ds, dt, lead);
+            out.dash = dashpotEnergy(s.cn_, s.dp_fn, dn, dt, lead) +
+                       dashpotEnergy(s.cs_, ds, ds, dt, lead);
         }
-        touching_ = true;
-        last_overlap_ = fd.u_n;
         out.step = Step{true, first, lead};
         return out;
     }
 
     /// The linear force-displacement law: writes n_force, s_force, moment = 0, the estimates
     /// (krest = 0) and, with energy tracing on, strain, slip and dashpot energies.
-    Step linearLaw(FdBlock& fd) {
+    template <class Fd>
+    Step linearLaw(Fd& fd) {
         const Forces f = linearForces(fd);
+        writeLaw(fd, f, knest_, ksest_);
+        return f.step;
+    }
+
+    /// What the law hands back in `fd`: the forces, moment 0, the estimates (krest 0), and
+    /// with tracing on the strain, slip and dashpot energies.
+    template <class Fd>
+    static void writeLaw(Fd& fd, const Forces& f, double knest, double ksest) {
         fd.n_force = f.fn;
         fd.s_force = f.fs;
         fd.moment = 0.0;
-        writeLinearEstimates(fd);
+        fd.knest = knest;
+        fd.ksest = ksest;
+        fd.krest = 0.0;
         if (fd.flags & kFdEnergyOn) {
             fd.energy[kEnergyStrain] = f.strain;
             fd.energy[kEnergySlip] = f.slip;
             fd.energy[kEnergyDashpot] = f.dash;
         }
-        return f.step;
-    }
-
-    void writeLinearEstimates(FdBlock& fd) const {
-        fd.knest = knest_;
-        fd.ksest = ksest_;
-        fd.krest = 0.0;
     }
 
     /// The linear law's per-contact state, in the layout of `linear`'s SaveRestore version 2;
@@ -226,6 +247,69 @@ public:
         else
             history_.reset();
         so.Bool(touching_);
+    }
+
+    // --- lanes (sdk/lanes.hpp): a touching contact's step in the lanes runs contactStep and the
+    // dashpot history on its row, the same code as FDlaw, so the same bits. The row: the
+    // constants the step reads (kLinearLaneConstants), then the state it writes.
+    static constexpr int kLinearLaneConstants = 10;
+    static constexpr int kLinearLaneStateSize =
+        kLinearLaneConstants + 6 + DashpotHistory::kLaneStateSize;
+    static const char* const* linearLaneStateNames() {
+        static const char* const names[kLinearLaneStateSize] = {
+            "kn",        "ks",       "fric",     "mass_eff",     "inv_mass_eff", "cn",
+            "cs",        "knest",    "ksest",    "modes",        "lin_fn",       "lin_fs",
+            "dp_fn",     "dp_fs",    "lin_slip", "last_overlap", "dp_dt_prev",   "dp_rate_n",
+            "dp_rate_s", "dp_est_n", "dp_est_s"};
+        return names;
+    }
+    /// Row <- this contact, if it touches (a first touch and a separation stay with FDlaw: they
+    /// pay the corners).
+    bool linearToLane(double* r) const {
+        if (!touching_) return false;
+        r[0] = kn, r[1] = ks, r[2] = fric, r[3] = mass_eff_, r[4] = inv_mass_eff_;
+        r[5] = cn_, r[6] = cs_, r[7] = knest_, r[8] = ksest_;
+        r[9] = (no_tension_ ? 1.0 : 0.0) + (no_shear_dp_sliding_ ? 2.0 : 0.0);
+        linearStateToLane(r);
+        return true;
+    }
+    /// This contact's state <- row (its constants never change in the lanes).
+    void linearFromLane(const double* r) {
+        lin_fn = r[10], lin_fs = r[11], dp_fn = r[12], dp_fs = r[13], lin_slip = r[14];
+        last_overlap_ = r[15];
+        history_.fromLane(r, 16);
+        touching_ = true;
+    }
+    /// A lane row seen under the names contactStep reads and writes.
+    struct LaneState {
+        double &kn, &ks, &fric, &cn_, &cs_, &inv_mass_eff_;
+        bool no_tension_, no_shear_dp_sliding_;
+        double &lin_fn, &lin_fs, &dp_fn, &dp_fs, &lin_slip;
+    };
+    /// One contact's step in the lanes: what linearLaw does, on the row (declined at separation,
+    /// which pays the closing corners, and when the effective mass changed: setMass).
+    template <class Fd>
+    static bool linearLaneStep(double* r, Fd& fd) {
+        if (!(fd.u_n > 0.0) || fd.mass_eff != r[3]) return false;
+        const double modes = r[9];
+        LaneState s{r[0],         r[1],  r[2],  r[5],  r[6],  r[4], modes == 1.0 || modes == 3.0,
+                    modes >= 2.0, r[10], r[11], r[12], r[13], r[14]};
+        const double cn = r[5], cs = r[6];
+        DashpotLoad other{};
+        if (cn > 0.0 || cs > 0.0) {
+            DashpotHistory history;
+            history.fromLane(r, 16);
+            other = history.observe(fd, cn > 0.0 ? r[4] : 0.0, cs > 0.0 ? fd.inv_mass_eff_s : 0.0);
+            history.toLane(r, 16);
+        }
+        writeLaw(fd, contactStep(s, fd, other, false, false), r[7], r[8]);
+        r[15] = fd.u_n;
+        return true;
+    }
+    void linearStateToLane(double* r) const {
+        r[10] = lin_fn, r[11] = lin_fs, r[12] = dp_fn, r[13] = dp_fs, r[14] = lin_slip;
+        r[15] = last_overlap_;
+        history_.toLane(r, 16);
     }
 
     double linearKnEstimate() const { return kn * dashpotStiffnessFactor(dp_nratio); }

@@ -1,0 +1,118 @@
+-- SPDX-License-Identifier: MIT
+-- Lanes (issue 11; docs/plugin-abi.md, "Lanes"): while `linear`'s contacts run through its lane
+-- law, their state lives in the host's rows and their objects are out of date. Everything that
+-- reads or writes a contact's object must see what FDlaw alone would have: reading a state
+-- property (lin_fs, dp_fn, ...) mid-run, writing a property (the contact leaves the lanes and
+-- comes back), m:save and talus.restore, switching the lanes off mid-run, energy tracing (the
+-- lane law's energies). Each run is compared with the same script on FDlaw per contact, to the
+-- bit: positions, velocities, spins, every contact's forces and state properties, the energies.
+local T = require("testlib")
+
+local save = os.tmpname()
+
+-- A pile of ~150 balls of three sizes poured into a box with a sloped floor: persistent
+-- contacts (the lanes), separations (declined steps) and new touches, normal and shear dashpots
+-- with no-tension, and energy traced over the whole model.
+local function scene(lanes)
+    local m = talus.model{ gravity = {0, -9.81} }
+    m:batched_law(true)
+    T.check(m:lanes(lanes) == lanes, "m:lanes returns the setting")
+    m:on_warning(function() end)
+    m:contact_model("linear", { kn = 4e6, ks = 2e6, fric = 0.5, dp_nratio = 0.3,
+                                dp_sratio = 0.2, dp_mode = 1 })
+    m:wall{ points = {{0, 1.5}, {0, 0.1}, {0.6, 0}, {1.2, 0.12}, {1.2, 1.5}} }
+    local seed = 4242
+    local function rnd()
+        seed = (seed * 1103515245 + 12345) % 2147483648
+        return seed / 2147483648
+    end
+    for j = 0, 9 do
+        for i = 0, 14 do
+            m:ball{ pos = {0.06 + 0.074 * i + 0.01 * rnd(), 0.2 + 0.075 * j},
+                    radius = 0.025 + 0.012 * rnd(), density = 2600,
+                    vel = {rnd() - 0.5, -rnd()}, spin = 2 * (rnd() - 0.5) }
+        end
+    end
+    m:energy{ on = true }
+    m:solve{ time = 0.35 }  -- poured: landed, still moving
+    return m
+end
+
+local STATE = {"lin_fn", "lin_fs", "dp_fn", "dp_fs", "lin_slip"}
+
+local function digest(m)
+    local out = {}
+    local function put(...) for _, v in ipairs({...}) do out[#out + 1] = T.hex(v) end end
+    for b in m:balls() do put(b.pos[1], b.pos[2], b.vel[1], b.vel[2], b.spin) end
+    for c in m:contacts{} do
+        out[#out + 1] = tostring(c.key)
+        put(c.normal_force, c.shear_force, c.overlap)
+        for _, k in ipairs(STATE) do put(c:prop(k)) end
+    end
+    local e = m:energies()
+    for _, k in ipairs({"body", "kinetic", "strain", "slip", "dashpot", "released",
+                        "balance_error"}) do
+        put(e[k])
+    end
+    put(m:time())
+    return table.concat(out, " ")
+end
+
+local function laneSteps(m)
+    local n, d = m:profile():match("lane steps (%d+) %(declined (%d+)%)")
+    return tonumber(n), tonumber(d)
+end
+
+-- The script both runs follow: cycles, state reads, a property written on the contacts of one
+-- ball, more cycles. `after` runs in the middle (save and restore, lanes off, ...).
+local function run(lanes, after)
+    local m = scene(lanes)
+    m:cycle(600)
+    local reads = digest(m)  -- reads every contact's state properties mid-run
+    m:cycle(200)
+    local first = m:balls{}().id
+    for c in m:contacts{} do
+        if c.ball1.id == first or (c.ball2 and c.ball2.id == first) then
+            c:set_prop("fric", 0.2)
+        end
+    end
+    m:cycle(200)
+    if after then m = after(m) end
+    m:cycle(400)
+    return m, reads .. " | " .. digest(m)
+end
+
+local ref_m, ref = run(false)
+T.check(laneSteps(ref_m) == 0, "m:lanes(false): no lane steps")
+T.check(ref_m:contact_count{} > 150, "a pile in contact: " .. ref_m:contact_count{})
+
+local m, d = run(true)
+local steps, declined = laneSteps(m)
+T.check(steps > 50 * m:step() and declined > 0,
+        "the lanes ran: " .. steps .. " lane steps, " .. declined .. " declined, " .. m:step() ..
+        " steps")
+T.check(d == ref, "lanes: the same bits as FDlaw per contact, property reads and writes included")
+
+-- Saved with contacts in the lanes, restored (no lanes until their next FDlaw), continued.
+local saved = nil
+m, d = run(true, function(mm)
+    mm:save(save)
+    saved = digest(mm)
+    local r = talus.restore(save, { quiet = true })
+    r:energy{ on = true }
+    T.check(r:lanes() == false, "lanes are a run setting: a restored model starts without")
+    r:lanes(true)
+    return r
+end)
+T.check(saved ~= nil, "saved mid-run")
+T.check(d == ref, "lanes: saved and restored mid-run, the same bits")
+
+-- The lanes switched off mid-run: every contact goes back to its object, which is up to date.
+m, d = run(true, function(mm)
+    mm:lanes(false)
+    return mm
+end)
+T.check(d == ref, "lanes switched off mid-run: the same bits")
+os.remove(save)
+
+T.done("lanes")
