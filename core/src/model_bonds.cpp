@@ -505,7 +505,12 @@ std::size_t Model::unbond(const BondSettings& s) {
         const int32_t k = propIndex(*p.model, "bonded");
         syncLane(p);
         if (k < 0 || p.model->ReturnProp(k) != 1.0) continue;
-        // Silently (the bond contract): no event, nothing booked here.
+        // No event, and nothing booked here: the forces the last force loop summed, the
+        // bond's included, still act over the half step after this one, so what the bond lets
+        // go is known at the model's next FDlaw, which books it as released (pbond, cbond:
+        // docs/models/pbond.md, cbond.md, Energies). Booking the stored energy now would miss
+        // that half step's work (first order in the step) and, for cbond, would book what its
+        // unbonded law keeps (a contact in compression).
         leaveLane(p);
         if (p.model->AcceptProp(k, 0.0) != 0)
             throw InputError(std::string("unbond: ") + describePair(p) + ": " +

@@ -19,8 +19,8 @@
 //    with reset). The bond adopts them: u_ref = u_prev - F_n/kn, F_s kept, so the contact goes
 //    on with the forces it had (or starts stress-free at its current overlap). Writing
 //    `bonded` = 1 on a live contact does the same with the model's own forces; writing 0 removes
-//    the bond silently (no event, nothing released: the forces stay and the unbonded law
-//    takes over at the next step).
+//    the bond without an event: the forces stay and the unbonded law takes over at the next
+//    step. What that law cannot hold is released there (Energies, below).
 //  - a rule with cb_bond = 1 bonds each contact it creates on the contact's first FDlaw, if the
 //    ends touch or are within cb_gap; the activity distance is then cb_gap, so that the engine
 //    creates contacts within the gap. A bond formed at a gap is force-free there: u_ref =
@@ -35,6 +35,11 @@
 //    leapfrog balance; zero for a bond made and broken in the same step), kEnergyReleased;
 //  - a contact left in compression whose shear force is scaled to the Coulomb limit F_s' has
 //    slipped: (F_trial - F_s') (F_old + F_s') / (2 ks) is slip work (trapezoidal, as the slider).
+// On a removal (`bonded` written 0, m:unbond) the unbonded law decides at the next step: a
+// contact in compression keeps its springs (a shear force beyond friction slips, booked as slip
+// by the slider), so nothing is released; one whose normal spring is still at or beyond its
+// rest length (tension, which only the bond held) loses both forces, and releases
+// F_old F_trial / (2k) per spring, as a tension break between the steps would.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -128,7 +133,8 @@ public:
         if (const int32_t r = ModelBase<CBond>::AcceptProp(index, value); r != 0 || !bond_flag)
             return r;
         // The bond contract: 1 bonds at the next FDlaw (adopting the forces), 0 unbonds
-        // silently. Either way the user decided: the cb_bond rule no longer applies.
+        // without an event (the next FDlaw releases what the unbonded law cannot hold). Either
+        // way the user decided: the cb_bond rule no longer applies.
         started_ = true;
         adopt_ = bonded == 1.0;
         cb_state = bonded == 1.0 ? kBonded : kUnbonded;
@@ -231,6 +237,23 @@ public:
             }
             last_engaged_ = u - u_ref_;
             if (bonded == 0.0) touching_ = cb_fn > 0.0;
+        } else if (touching_ && last_engaged_ <= 0.0 && u - u_ref_ <= 0.0) {
+            // The bond was removed (`bonded` written 0) while it held the ends at or beyond the
+            // normal spring's rest length: only a bond keeps touching_ with last_engaged_ <= 0
+            // (an unbonded contact step has u - u_ref > 0, and a break keeps touching_ only in
+            // compression). The unbonded law holds no tension, so both forces go, as at a
+            // tension break: the bodies felt the last step's forces for half a step after it
+            // and nothing since, so the release is F_old F_trial / (2k) per spring, with no
+            // corner (the scheme applied that force up to its window's end and stops it there).
+            // A contact compressed again by now goes on by the unbonded branch below, its
+            // normal spring continuous through zero; one that was in compression at the last
+            // step is the ordinary unbonded law's (kept, or separating with its corners).
+            released = crossEnergy(cb_fn, kn * (u - u_ref_), kn) +
+                       crossEnergy(cb_fs, cb_fs - ks * du_s, ks);
+            cb_fn = 0.0;
+            cb_fs = 0.0;
+            touching_ = false;
+            sliding_ = false;
         } else if (u - u_ref_ > 0.0) {
             // Unbonded: the linear law without tension (accuracy-reference 3.2), with the
             // corner impulses at touch (talus/sdk/corners.hpp).

@@ -32,7 +32,10 @@
 // cbond (docs/models/cbond.md, Energies): what closes the leapfrog balance. A spring whose force
 // changed sign inside the breaking step (the crossing) gets the corner of its ramp up to the
 // failure and releases F(g)^2 / (2k); a bond made at touch pays its onset corner
-// (docs/models/pbond.md, Energies).
+// (docs/models/pbond.md, Energies). A bond removed by writing `bonded` = 0 (m:unbond) goes at
+// that step: the bodies still feel its last force for the half step after it, then nothing, so
+// the next FDlaw releases F_old F_trial / (2k) per spring too (what it stored plus that half
+// step's work), the same value a break at a step boundary releases.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -91,6 +94,10 @@ public:
     double area_ = 0.0, inertia_ = 0.0;
     double kbn_ = 0.0, kbs_ = 0.0, kbr_ = 0.0;  // bond stiffnesses [N/m, N/m, N m/rad]
     bool bond_fresh_ = false;                   // the next FDlaw starts the bond (no increment)
+    // A bond removed by a write of `bonded` = 0, released at the next FDlaw: what it stored at
+    // its last step [J] and its forces then [N, N, N m].
+    bool let_go_ = false;
+    double let_go_energy_ = 0.0, let_go_fn_ = 0.0, let_go_fs_ = 0.0, let_go_m_ = 0.0;
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off
@@ -156,7 +163,16 @@ public:
             pb_fn = pb_fs = pb_m = pb_sigma = pb_tau = 0.0;
             bond_fresh_ = true;
         } else if (value == 0.0 && before == 1.0) {
-            // Unbond silently (m:unbond): no event, no energy booked as released.
+            // Unbond (m:unbond): no event. The bond's last forces are already in the forces
+            // the bodies feel next (the host summed them at the last step), so its energy is
+            // released at the next FDlaw, once that step's motion is known (fdlaw). A bond
+            // made since the last FDlaw holds nothing (bond_fresh_: zero forces), and adds
+            // nothing to a removal still pending.
+            let_go_ = true;
+            let_go_energy_ += bondEnergy();
+            let_go_fn_ += pb_fn;
+            let_go_fs_ += pb_fs;
+            let_go_m_ += pb_m;
             pb_state = kUnbonded;
             pb_fn = pb_fs = pb_m = pb_sigma = pb_tau = 0.0;
             bond_fresh_ = false;
@@ -296,6 +312,17 @@ public:
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
         const LinearLaw::Forces lin = linearPart(fd);
         double released = 0.0;
+        if (let_go_) {
+            // A bond removed after the last step (m:unbond): the bodies felt its last forces
+            // over the half step after that step and nothing since. It releases what it stored
+            // plus that half step's work, F_old^2 / 2k + F_old du / 2 = F_old F_trial / (2k) per
+            // spring, as a break between the steps would (cbond's rule): the balance closes
+            // without touching the dynamics.
+            released = let_go_energy_ +
+                       0.5 * (let_go_fn_ * fd.du_n - let_go_fs_ * fd.du_s - let_go_m_ * fd.dtheta);
+            let_go_ = false;
+            let_go_energy_ = let_go_fn_ = let_go_fs_ = let_go_m_ = 0.0;
+        }
         struct {
             double n = 0.0, s = 0.0, m = 0.0;
         } corner;  // the bond's corners [N, N, N m]: onset (bond at touch), break (crossing)
@@ -346,7 +373,7 @@ public:
                     // energy the scheme really gave the bodies (0.7% of an impact at resolution
                     // 10, pbond_crossing.lua). It gets the corner of its force ramp up to the
                     // failure instead, and releases what it held at the failure, F(g)^2 / (2k).
-                    released =
+                    released +=
                         n.released(g, corner.n) + s.released(g, corner.s) + m.released(g, corner.m);
                     bonded = 0.0;
                     pb_state = tension ? kBrokenTension : kBrokenShear;
@@ -384,7 +411,7 @@ public:
         return springEnergy(pb_fn, kbn_) + springEnergy(pb_fs, kbs_) + springEnergy(pb_m, kbr_);
     }
 
-    // Version 1: the first layout.
+    // Version 1: the first layout; 2 adds the removed bond awaiting its release.
     void saveRestoreState(ModelSaveObject& so) {
         linearSaveRestore(so, 1);
         so.Double(pb_state);
@@ -397,9 +424,16 @@ public:
         so.Double(r_min_);
         so.Double(r_sum_);
         so.Bool(bond_fresh_);
+        if (so.IsSaving() || so.DataVersion() >= 2) {
+            so.Bool(let_go_);
+            so.Double(let_go_energy_);
+            so.Double(let_go_fn_);
+            so.Double(let_go_fs_);
+            so.Double(let_go_m_);
+        }
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
     double KnEstimate() const override {
         return linearKnEstimate() + (isBonded() ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0);
     }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_law_support.hpp"
 #include "talus/contact_model.hpp"
 #include "talus/errors.hpp"
 #include "talus/impact_rig.hpp"
@@ -298,6 +299,72 @@ TEST_CASE("cbond: unbonded, it is the linear model (no tension, Coulomb slider)"
     }
     // (Slip work differs at separation: cbond books the shear spring's release as slip work,
     // linear drops it.)
+}
+
+TEST_CASE("cbond: a removed bond releases what the unbonded law cannot hold", "[cbond]") {
+    // Bonded force-free at touch, one step of 1e-6 m normal and 2e-6 m shear motion, then
+    // `bonded` = 0 (m:unbond) and one more step of the same motion. The bodies felt the bond's
+    // last forces for half a step after it and nothing since, so a spring the unbonded law
+    // cannot keep releases F_old F_trial / (2k) (the release of a break between the steps).
+    auto bondedAfterOneStep = [](lawtest::LawDriver& drv, double sign, int32_t& ib) {
+        ContactModel* c = drv.clone();
+        ib = -1;
+        for (int32_t i = 0; i < c->PropCount(); ++i)
+            if (std::string(c->PropInfoAt(i)->name) == "bonded") ib = i;
+        REQUIRE(ib >= 0);
+        REQUIRE(c->AcceptProp(ib, 1.0) == 0);
+        FdBlock f0 = drv.block(0.0, 0.0, 0.0, kDt, nullptr);
+        c->FDlaw(f0);
+        FdBlock f1 = drv.block(sign * 1e-6, sign * 1e-6 / kDt, 2e-6 / kDt, kDt, &f0);
+        c->FDlaw(f1);
+        CHECK(f1.n_force == Approx(sign * kKn * 1e-6));
+        CHECK(f1.s_force == Approx(-kKs * 2e-6));
+        REQUIRE(c->AcceptProp(ib, 0.0) == 0);
+        return std::make_pair(c, f1);
+    };
+    const double fn = kKn * 1e-6, fs = kKs * 2e-6;  // 100 N each
+    SECTION("in tension both springs go: F_old F_trial / 2k each, no corner, no slip") {
+        lawtest::LawDriver drv(
+            "cbond",
+            {{"kn", kKn}, {"ks", kKs}, {"fric", 0.5}, {"cb_tenf", kInf}, {"cb_shearf", kInf}}, true,
+            kR, kR, 1.0);
+        int32_t ib;
+        auto [c, f1] = bondedAfterOneStep(drv, -1.0, ib);
+        FdBlock f2 = drv.block(-2e-6, -1e-6 / kDt, 2e-6 / kDt, kDt, &f1);
+        c->FDlaw(f2);
+        CHECK(f2.n_force == 0.0);
+        CHECK(f2.s_force == 0.0);
+        CHECK(!(f2.flags & (kFdBroken | kFdBonded)));
+        const double want = fn * 2.0 * fn / (2.0 * kKn) + fs * 2.0 * fs / (2.0 * kKs);
+        CHECK(std::fabs(f2.energy[kEnergyReleased] - want) < 1e-12 * want);
+        CHECK(f2.energy[kEnergySlip] == 0.0);
+        CHECK(f2.energy[kEnergyStrain] == 0.0);
+        FdBlock f3 = drv.block(-3e-6, -1e-6 / kDt, 0.0, kDt, &f2);
+        c->FDlaw(f3);
+        CHECK(f3.energy[kEnergyReleased] == 0.0);
+        CHECK(f3.n_force == 0.0);
+    }
+    SECTION("in compression the springs stay; a shear force beyond friction slips") {
+        for (const double fric : {0.5, 0.3}) {
+            INFO("fric " << fric);
+            lawtest::LawDriver drv(
+                "cbond",
+                {{"kn", kKn}, {"ks", kKs}, {"fric", fric}, {"cb_tenf", kInf}, {"cb_shearf", kInf}},
+                true, kR, kR, 1.0);
+            int32_t ib;
+            auto [c, f1] = bondedAfterOneStep(drv, 1.0, ib);
+            // One more step of normal approach, no shear: the Coulomb limit fric 200 N.
+            FdBlock f2 = drv.block(2e-6, 1e-6 / kDt, 0.0, kDt, &f1);
+            c->FDlaw(f2);
+            CHECK(f2.energy[kEnergyReleased] == 0.0);
+            CHECK(f2.n_force == Approx(2.0 * fn));
+            const double limit = std::min(fs, fric * 2.0 * fn);
+            CHECK(f2.s_force == Approx(-limit));
+            // The slider's work: what the shear spring lost, (F_old^2 - F_lim^2) / (2 ks).
+            CHECK(f2.energy[kEnergySlip] ==
+                  Approx((fs * fs - limit * limit) / (2.0 * kKs)).margin(1e-15));
+        }
+    }
 }
 
 TEST_CASE("cbond: bonded strain energy and the drive through a tensile break", "[cbond]") {

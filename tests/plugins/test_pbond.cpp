@@ -409,15 +409,33 @@ TEST_CASE("pbond: declares itself a bond, bonded is settable, pb_state read-only
     c->FDlaw(f2);
     CHECK(propOf(*c, "pb_fn") == Approx(-1e12 * 0.02 * 1e-9));
     CHECK(f2.n_force == Approx(1e8 * (1e-6 - 1e-9) - 1e12 * 0.02 * 1e-9));
-    // Unbonding is silent: no event, nothing released, the bond's force gone.
+    // Unbonding: no event, the bond's force gone from the next step on, and that step releases
+    // what the bond took from the bodies: F_old F_trial / (2k), F_old = -20 N the force of its
+    // last step, F_trial = -40 N the one the next step's opening (another 1e-9 m) would give.
     REQUIRE(c->AcceptProp(ib, 0.0) == 0);
     CHECK(propOf(*c, "pb_state") == 0.0);
-    FdBlock f3 = drv.block(1e-6 - 1e-9, 0.0, 0.0, kDt, &f2);
+    CHECK(propOf(*c, "pb_fn") == 0.0);
+    const double kbn = 1e12 * 0.02;
+    // The pending release survives a save and restore (pbond version 2).
+    BinarySaveObject saver(c->Version());
+    c->SaveRestore(saver);
+    ContactModel* restored = drv.clone();
+    BinarySaveObject loader(saver.bytes(), c->Version());
+    restored->SaveRestore(loader);
+    CHECK(loader.atEnd());
+    FdBlock f3 = drv.block(1e-6 - 2e-9, -1e-9 / kDt, 0.0, kDt, &f2);
+    FdBlock r3 = f3;
     c->FDlaw(f3);
+    restored->FDlaw(r3);
+    CHECK(r3.energy[kEnergyReleased] == f3.energy[kEnergyReleased]);
     CHECK(!(f3.flags & (kFdBroken | kFdBonded | kFdKeep)));
-    CHECK(f3.energy[kEnergyReleased] == 0.0);
+    CHECK(relErr(f3.energy[kEnergyReleased], 20.0 * 40.0 / (2.0 * kbn)) < 1e-9);
     CHECK(f3.energy[kEnergyBondStrain] == 0.0);
-    CHECK(f3.n_force == Approx(1e8 * (1e-6 - 1e-9)));
+    CHECK(f3.n_force == Approx(1e8 * (1e-6 - 2e-9)));
+    // Released once.
+    FdBlock f4 = drv.block(1e-6 - 2e-9, 0.0, 0.0, kDt, &f3);
+    c->FDlaw(f4);
+    CHECK(f4.energy[kEnergyReleased] == 0.0);
 }
 
 TEST_CASE("pbond: first call adopts the entry forces, lin_mode 1 is incremental", "[pbond]") {
