@@ -23,6 +23,7 @@
 #include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
+#include "step_limits.hpp"
 #include "talus/errors.hpp"
 #include "talus/sdk/dashpot.hpp"
 
@@ -583,7 +584,7 @@ void Model::forceLoop() {
     // bits as FDlaw), or FDlaw
     auto runLaw = [&](const Pair& p, FdBlock& fd, std::string& error, int64_t& batched_count)
         __attribute__((always_inline)) {
-        const BatchFdLawFn batch = batched ? p.rule->factory->batch : nullptr;
+        const BatchFdLawFn batch = batched ? p.rule->batch : nullptr;
         if (batch) {
             ContactModel* model = p.model;
             batch(&model, &fd, 1);

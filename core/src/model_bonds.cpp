@@ -271,6 +271,7 @@ std::size_t Model::bond(const BondSettings& s) {
     // ---- the rule that owns the installed objects
     auto rule = std::make_unique<Rule>();
     rule->factory = &factory;
+    rule->batch = factory.batch;
     rule->model_name = factory.name;
     rule->prototype = std::move(proto);
     rule->specificity = 0;  // never matched (ruleFor skips specificity-0 rules after the first)

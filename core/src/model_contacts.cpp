@@ -36,6 +36,7 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
                                 const std::string& group_a, const std::string& group_b) {
     auto rule = std::make_unique<Rule>();
     rule->factory = &m_registry.find(name);
+    rule->batch = rule->factory->batch;
     rule->model_name = rule->factory->name;
     rule->prototype = m_registry.createPrototype(*rule->factory);
     applyProps(*rule->prototype, props, "contact_model");

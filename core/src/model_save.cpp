@@ -584,6 +584,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
                 std::vector<uint8_t> state = readModelState(r);
                 try {
                     rule->factory = &registry.find(rule->model_name);
+                    rule->batch = rule->factory->batch;
                 } catch (const std::exception& e) {
                     r.fail("contact model '" + rule->model_name + "' (plugin version " +
                            plugin_version + ") is not available: " + e.what());

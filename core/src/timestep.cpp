@@ -31,6 +31,7 @@
 #include "contact_store.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
+#include "step_limits.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
@@ -56,8 +57,7 @@ double contactDuration(const Model::Pair& p, double knest, double mass_eff, doub
                                : std::numeric_limits<double>::infinity();
     // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (Model::activate).
     if (!(d > 0.0)) d = std::numeric_limits<double>::infinity();
-    if (knest > 0.0) d = std::min(d, M_PI * std::sqrt(mass_eff / knest));
-    return d;
+    return std::min(d, tangentHalfPeriod(knest, mass_eff));
 }
 
 /// Duration of the contact a pair not yet touching is about to make, closing at speed v0 with
@@ -139,19 +139,13 @@ double Model::pebbleMassRatio(const Pair& p) const {
     return std::min(1.0, m_eff / p.mass_eff);
 }
 
-namespace {
-/// One limit of StepLimits: the smaller value, the lower pair on a tie (the first in pair order).
-void takeLimit(double& value, uint64_t& key, uint32_t& pair, double v, uint64_t k, uint32_t i) {
-    if (v < value || (v == value && i < pair)) value = v, key = k, pair = i;
-}
-}  // namespace
-
 void Model::StepLimits::merge(const StepLimits& o) {
-    takeLimit(stability, stability_key, stability_pair, o.stability, o.stability_key,
-              o.stability_pair);
-    takeLimit(resolution, resolution_key, resolution_pair, o.resolution, o.resolution_key,
-              o.resolution_pair);
-    takeLimit(approach, approach_key, approach_pair, o.approach, o.approach_key, o.approach_pair);
+    takeStepLimit(stability, stability_key, stability_pair, o.stability, o.stability_key,
+                  o.stability_pair);
+    takeStepLimit(resolution, resolution_key, resolution_pair, o.resolution, o.resolution_key,
+                  o.resolution_pair);
+    takeStepLimit(approach, approach_key, approach_pair, o.approach, o.approach_key,
+                  o.approach_pair);
 }
 
 void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
@@ -176,45 +170,8 @@ void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec
     const double approach = std::max(0.0, -vrel.dot(normal));
     const double duration = approachDuration(p, m_eff, approach, accel, m_dt > 0.0 ? m_dt : 1e-3);
     const double d = std::max(t_free, contactStepLimit(p, m_min, duration, m_timestep));
-    takeLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
-              static_cast<uint32_t>(m_contacts->pairIndex(p)));
-}
-
-void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
-                        double arm1_sq, double arm2_sq, double mass_eff) {
-    auto& b = m_bodies->balls;
-    b.k_tran[p.end1] += kn + ks;
-    b.k_rot[p.end1] += ks * arm1_sq + kr;
-    if (!p.wall) {
-        b.k_tran[p.end2] += kn + ks;
-        b.k_rot[p.end2] += ks * arm2_sq + kr;
-    }
-    noteContactLimits(p, c, kn, mass_eff, m_limits);
-}
-
-void Model::noteContactLimits(const Pair& p, const PairCold& c, double kn, double mass_eff,
-                              StepLimits& limits) const {
-    // Every active contact, bonded or not, gets the impact rules below (docs/models/cbond.md,
-    // "Time-step contract"): a contact bonded as it touches is an impact all the same (issue 6
-    // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
-    // quasi-static bonded specimen turns resolution off (`resolution = 0`); the last argument
-    // (the contact is not bonded) is no longer used.
-    double duration = std::min(c.duration, contactDuration(p, kn, mass_eff, -1.0));
-    if (m_bodies->hasClumps()) {
-        // Off-centre pebble: the duration with the lower bound of the effective mass. It scales
-        // as sqrt(m) for a linear law and as m^(2/5) for Hertz; sqrt(ratio) <= ratio^(2/5) for
-        // ratio <= 1, so scaling by sqrt is never less strict.
-        const double ratio = pebbleMassRatio(p);
-        if (ratio != 1.0) duration *= std::sqrt(ratio);
-    }
-    // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
-    // large steps early in an impact: bound the step by `safety` of the impact's time scale.
-    const auto i = static_cast<uint32_t>(m_contacts->pairIndex(p));
-    takeLimit(limits.stability, limits.stability_key, limits.stability_pair,
-              m_timestep.safety * duration / M_PI, c.key, i);
-    if (m_timestep.resolution > 0.0)
-        takeLimit(limits.resolution, limits.resolution_key, limits.resolution_pair,
-                  duration / m_timestep.resolution, c.key, i);
+    takeStepLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
+                  static_cast<uint32_t>(m_contacts->pairIndex(p)));
 }
 
 void Model::surveyPairs() {

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 #
-# Threads against ranks on the dense pack (docs/benchmarks.md, "Threads by ownership"): per
-# repeat and size, in turn, Talus on 1 and on 2 threads and LAMMPS on 1 and on 2 MPI ranks, from
+# Threads against ranks on the dense pack (docs/benchmarks.md, "Threads by ownership", "Lanes"):
+# per repeat and size, in turn, Talus on 1 and on 2 threads, on 1 thread with the lanes
+# (--lanes) and with FDlaw per contact (--classic-law), and LAMMPS on 1 and on 2 MPI ranks, from
 # the settled states of scripts/bench/dense_pack.sh (run that first: it builds and caches them).
 #
 #   scripts/bench/threads.sh            # 3 repeats, 10k (2000 steps) and 50k (600 steps)
@@ -25,11 +26,12 @@ for rep in $(seq 1 "$repeats"); do
         steps=2000
         [[ $n == 50000 ]] && steps=600
         [[ -f $cache/state_n${n}_seed1.txt ]] || { echo "no settled state for $n" >&2; exit 1; }
-        for th in 1 2; do
+        for variant in "1" "2" "1 --lanes" "1 --classic-law"; do
+            read -r th extra <<<"$variant"
             r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th "$bench" "$n" "$steps" sorted \
-                --state "$cache/state_n${n}_seed1.txt" --warmup "$warmup" --no-profile 2>&1 |
+                --state "$cache/state_n${n}_seed1.txt" --warmup "$warmup" --no-profile $extra 2>&1 |
                 grep -o "ns_per_particle_step=[^ ]*")
-            echo "rep=$rep n=$n talus threads=$th $r load=$(cut -d' ' -f1 /proc/loadavg)"
+            echo "rep=$rep n=$n talus threads=$th ${extra:-} $r load=$(cut -d' ' -f1 /proc/loadavg)"
         done
         for np in 1 2; do
             log=$(mktemp)

@@ -16,6 +16,8 @@
 //   --sort-interval K     (default 1000, as LAMMPS's default atom sort)
 //   --seed S  --aspect A  scene parameters (defaults 1 and 4)
 //   --guard on|off        the engine's stability guard (default: the engine's default)
+//   --auto-step           the automatic time step for the timed run (its limits gathered by the
+//                         force loop every step), instead of the scene's fixed step
 //   --groups N            assign the balls round-robin to N groups (0-64) before the timed run
 //                         (with --energy on: energy traced per group)
 //   --no-profile          time without the per-phase clock reads
@@ -59,7 +61,8 @@ struct Options {
     int64_t sort_interval = 1000;
     uint64_t seed = 1;
     double aspect = 4.0;
-    std::string guard;           // "" = engine default
+    std::string guard;  // "" = engine default
+    bool auto_step = false;
     std::string energy = "off";  // energy tracing during the timed run
     std::string balance = "on";  // the run-level balance check (while tracing)
     int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
@@ -106,6 +109,8 @@ Options parse(int argc, char** argv) {
             o.aspect = std::atof(value().c_str());
         else if (a == "--guard")
             o.guard = value();
+        else if (a == "--auto-step")
+            o.auto_step = true;
         else if (a == "--energy")
             o.energy = value();
         else if (a == "--groups")
@@ -287,6 +292,7 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
         model.guard() = talus::GuardSettings{};  // every check at its default (warn)
     const bool guard_on = model.guard().anyOn();
     if (o.balance == "off") model.guard().balance = talus::GuardAction::Off;
+    if (o.auto_step) model.timestep().automatic = true;
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
     model.setBatchedLaw(!o.classic_law);
