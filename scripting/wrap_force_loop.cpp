@@ -10,34 +10,34 @@ namespace talus::lua {
 
 namespace {
 
-/// m:batched_law(on) switches the models' batched FDlaw on or off; m:batched_law() reads it.
-int w_batched_law(lua_State* L) {
+/// A switch of the force loop: m:<name>(on) sets it, m:<name>() reads it; returns the setting.
+template <class Set, class Get>
+int loopSwitch(lua_State* L, const char* name, Set set, Get get) {
     return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "batched_law");
+        LuaModel& lm = checkModel(L, 1, name);
         if (!lua_isnoneornil(L, 2)) {
             if (!lua_isboolean(L, 2))
-                throw ScriptError(std::string("batched_law: expected true or false (got ") +
+                throw ScriptError(std::string(name) + ": expected true or false (got " +
                                   luaL_tolstring(L, 2, nullptr) + ")");
-            lm.model->setBatchedLaw(lua_toboolean(L, 2) != 0);
+            set(*lm.model, lua_toboolean(L, 2) != 0);
         }
-        lua_pushboolean(L, lm.model->batchedLaw());
+        lua_pushboolean(L, get(*lm.model));
         return 1;
     });
 }
 
-/// m:lanes(on) runs the contacts of models with a lane law through it; m:lanes() reads it.
+/// m:batched_law(on): the models' batched FDlaw, or FDlaw per contact.
+int w_batched_law(lua_State* L) {
+    return loopSwitch(
+        L, "batched_law", [](Model& m, bool on) { m.setBatchedLaw(on); },
+        [](const Model& m) { return m.batchedLaw(); });
+}
+
+/// m:lanes(on): the contacts of models with a lane law through it.
 int w_lanes(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "lanes");
-        if (!lua_isnoneornil(L, 2)) {
-            if (!lua_isboolean(L, 2))
-                throw ScriptError(std::string("lanes: expected true or false (got ") +
-                                  luaL_tolstring(L, 2, nullptr) + ")");
-            lm.model->setLanes(lua_toboolean(L, 2) != 0);
-        }
-        lua_pushboolean(L, lm.model->lanes());
-        return 1;
-    });
+    return loopSwitch(
+        L, "lanes", [](Model& m, bool on) { m.setLanes(on); },
+        [](const Model& m) { return m.lanes(); });
 }
 
 /// m:threads(n [, grain]) sets the force loop's threads, m:threads() reads them.
