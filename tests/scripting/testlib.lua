@@ -53,6 +53,16 @@ function T.hex(v)
     return tostring(v)
 end
 
+--- A reproducible stream of numbers in [0, 1) from `seed` (the C library's classic linear
+--- congruential rule, the same on every platform): scenes that place balls "at random" the
+--- same way in every run.
+function T.lcg(seed)
+    return function()
+        seed = (seed * 1103515245 + 12345) % 2147483648
+        return seed / 2147483648
+    end
+end
+
 --- The keys of a table, sorted.
 function T.sorted_keys(t)
     local keys = {}

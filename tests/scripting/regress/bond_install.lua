@@ -20,11 +20,7 @@ local function packed()
     m:wall{ points = {{-0.5, L}, {L + 0.5, L}} }
     m:wall{ points = {{0, -0.5}, {0, L + 0.5}} }
     m:wall{ points = {{L, -0.5}, {L, L + 0.5}} }
-    local seed = 12345
-    local function rnd()
-        seed = (seed * 1103515245 + 12345) % 2147483648
-        return seed / 2147483648
-    end
+    local rnd = T.lcg(12345)
     for i = 0, 11 do
         for j = 0, 11 do
             m:ball{ pos = {0.05 + 0.1 * i + 0.002 * (rnd() - 0.5), 0.05 + 0.1 * j + 0.002 * (rnd() - 0.5)},

@@ -57,11 +57,7 @@ local function scene(batched, threads, energy, lanes)
     m:bond{ model = "cbond", group = group("bonded"), gap = 1e-4,
             props = { kn = 2e6, ks = 1e6, fric = 0.4, cb_tenf = 40, cb_shearf = 40 } }
     -- Loose balls, two groups, given velocities and spins (fixed pseudo-random sequence).
-    local seed = 12345
-    local function rnd()
-        seed = (seed * 1103515245 + 12345) % 2147483648
-        return seed / 2147483648
-    end
+    local rnd = T.lcg(12345)
     for j = 0, 7 do
         for i = 0, 17 do
             m:ball{ pos = {0.1 + 0.1 * i + 0.02 * rnd(), 0.2 + 0.1 * j + 0.02 * rnd()},

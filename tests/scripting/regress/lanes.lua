@@ -21,11 +21,7 @@ local function scene(lanes)
     m:contact_model("linear", { kn = 4e6, ks = 2e6, fric = 0.5, dp_nratio = 0.3,
                                 dp_sratio = 0.2, dp_mode = 1 })
     m:wall{ points = {{0, 1.5}, {0, 0.1}, {0.6, 0}, {1.2, 0.12}, {1.2, 1.5}} }
-    local seed = 4242
-    local function rnd()
-        seed = (seed * 1103515245 + 12345) % 2147483648
-        return seed / 2147483648
-    end
+    local rnd = T.lcg(4242)
     for j = 0, 9 do
         for i = 0, 14 do
             m:ball{ pos = {0.06 + 0.074 * i + 0.01 * rnd(), 0.2 + 0.075 * j},

@@ -12,11 +12,7 @@ local function run(seed)
     m:threads(2, 1)
     m:contact_model("linear", { kn = 1e6, ks = 5e5, fric = 0.5, dp_nratio = 0.1 })
     m:wall{ points = {{0, 1}, {0, 0}, {1, 0}, {1, 1}} }
-    local s = seed
-    local function rnd()
-        s = (s * 1103515245 + 12345) % 2147483648
-        return s / 2147483648
-    end
+    local rnd = T.lcg(seed)
     for j = 0, 5 do
         for i = 0, 9 do
             m:ball{ pos = {0.05 + 0.09 * i, 0.05 + 0.09 * j + 0.01 * rnd()}, radius = 0.04,
