@@ -5,8 +5,8 @@ local T = require("testlib")
 
 local KN, KS = 1e7, 5e6
 local src = io.open((T.script():gsub("bond_pbond", "bond_install"))):read("a")
-local packed = load("local KN, KS = 1e7, 5e6\n" .. src:match("(local function packed%(%).-\nend\n)") ..
-    "\nreturn packed")()
+local packed = load("local T = ...\nlocal KN, KS = 1e7, 5e6\n" ..
+    src:match("(local function packed%(%).-\nend\n)") .. "\nreturn packed")(T)
 
 local PB = { pb_kn = 1e9, pb_ks = 5e8, pb_ten = 1e7, pb_coh = 1e7, pb_rmul = 1 }
 
