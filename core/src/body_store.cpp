@@ -8,7 +8,7 @@
 
 namespace talus {
 
-void Model::BallArrays::resize(std::size_t n) {
+void BallArrays::resize(std::size_t n) {
     pos.resize(n), vel.resize(n), force.resize(n), fapp.resize(n);
     angle.resize(n), spin.resize(n), moment.resize(n), mapp.resize(n);
     radius.resize(n), mass.resize(n), inv_mass.resize(n), inertia.resize(n), inv_inertia.resize(n),
@@ -18,7 +18,7 @@ void Model::BallArrays::resize(std::size_t n) {
     clump.resize(n, kNoClump);
 }
 
-void Model::BallArrays::move(std::size_t to, std::size_t from) {
+void BallArrays::move(std::size_t to, std::size_t from) {
     pos[to] = pos[from], vel[to] = vel[from], force[to] = force[from], fapp[to] = fapp[from];
     angle[to] = angle[from], spin[to] = spin[from], moment[to] = moment[from],
     mapp[to] = mapp[from];
@@ -30,7 +30,7 @@ void Model::BallArrays::move(std::size_t to, std::size_t from) {
     k_tran[to] = k_tran[from], k_rot[to] = k_rot[from], clump[to] = clump[from];
 }
 
-void Model::BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
+void BallArrays::permute(const std::vector<uint32_t>& new_to_old) {
     auto apply = [&](auto& v) {
         auto old = v;
         for (std::size_t i = 0; i < new_to_old.size(); ++i) v[i] = old[new_to_old[i]];
@@ -68,13 +68,13 @@ uint32_t BodyStore::clumpIndex(ClumpId id) const {
     return id.index - 1;
 }
 
-const Model::WallData& BodyStore::wallOf(WallId id) const {
+const WallData& BodyStore::wallOf(WallId id) const {
     if (id.index == 0 || id.index > walls.size() || !walls[id.index - 1].alive ||
         walls[id.index - 1].generation != id.generation)
         throw InputError("wall id " + std::to_string(id.index) + " does not exist");
     return walls[id.index - 1];
 }
-Model::WallData& BodyStore::wallOf(WallId id) {
+WallData& BodyStore::wallOf(WallId id) {
     return const_cast<WallData&>(static_cast<const BodyStore*>(this)->wallOf(id));
 }
 

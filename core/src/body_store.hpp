@@ -20,10 +20,6 @@
 namespace talus {
 
 struct BodyStore {
-    using BallArrays = Model::BallArrays;
-    using WallData = Model::WallData;
-    using Segment = Model::Segment;
-
     // --- balls
     BallArrays balls;
     std::vector<uint32_t> slot_of;     // handle index - 1 -> slot (or kDeadSlot)
@@ -33,7 +29,6 @@ struct BodyStore {
     // --- clumps (issue 7, docs/physics/clumps.md): indexed by handle - 1 (never re-used; a
     // deleted clump stays as a dead entry). Their pebbles occupy ball slots
     // (BallArrays::clump names the clump of each slot).
-    using ClumpData = Model::ClumpData;
     std::vector<ClumpData> clumps;
     std::size_t live_clumps = 0;
     std::size_t pebble_count = 0;  // ball slots that are pebbles
@@ -50,6 +45,12 @@ struct BodyStore {
     std::vector<WallData> walls;
     std::vector<Segment> segments;
     std::vector<Vec2> vertices;
+
+    // --- what the bodies share
+    std::vector<std::string> group_names;  // bit index -> name; at most 64 (Model::groupIndex)
+    std::vector<ClumpTemplate> clump_templates;
+    std::size_t fixed_balls = 0;  // balls with any fixity bit (they need the general loop)
+    int servos_on = 0;            // walls with a servo switched on (wall_servo.cpp)
 
     /// Slot of a live ball; throws InputError naming the id for an unknown or stale id.
     uint32_t slotOf(BallId id) const;

@@ -16,18 +16,19 @@
 
 #include "body_damping.hpp"
 #include "body_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
 
-void Model::gatherClumpForces() {
-    const auto& b = m_bodies->balls;
-    for (ClumpData& c : m_bodies->clumps) {
+void gatherClumpForces(World& world) {
+    const auto& b = world.bodies.balls;
+    for (ClumpData& c : world.bodies.clumps) {
         if (!c.alive) continue;
         Vec2 f = Vec2::Zero();
         double m = 0.0;
         for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-            const uint32_t s = m_bodies->pebbleSlot(c, k);
+            const uint32_t s = world.bodies.pebbleSlot(c, k);
             f += b.force[s];
             m += b.moment[s] + cross(b.pos[s] - c.pos, b.force[s]);
         }
@@ -36,11 +37,11 @@ void Model::gatherClumpForces() {
     }
 }
 
-void Model::placePebbles(const ClumpData& c) {
-    auto& b = m_bodies->balls;
+void placePebbles(World& world, const ClumpData& c) {
+    auto& b = world.bodies.balls;
     const double ca = std::cos(c.angle), sa = std::sin(c.angle);
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-        const uint32_t s = m_bodies->pebbleSlot(c, k);
+        const uint32_t s = world.bodies.pebbleSlot(c, k);
         const Vec2& o = c.offset[k];
         const Vec2 r(ca * o.x() - sa * o.y(), sa * o.x() + ca * o.y());
         b.pos[s] = c.pos + r;
@@ -50,18 +51,19 @@ void Model::placePebbles(const ClumpData& c) {
     }
 }
 
-void Model::moveClumps(double& kinetic, double& body, double& damping, double& driven) {
-    gatherClumpForces();
-    const double dt = m_dt;
-    const double w = m_window;
-    const Vec2 g = m_gravity;
-    const double alpha = m_damping.local;
-    const double c = m_damping.viscous;
+void moveClumps(World& world, double& kinetic, double& body, double& damping, double& driven) {
+    gatherClumpForces(world);
+    const double dt = world.clock.dt;
+    const double w = world.clock.window;
+    const Vec2 g = world.settings.gravity;
+    const double alpha = world.settings.damping.local;
+    const double c = world.settings.damping.viscous;
     const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
     const double gain = w / (1.0 + 0.5 * c * w);
-    const bool energy = m_books.on;
-    const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
-    for (ClumpData& cl : m_bodies->clumps) {
+    const bool energy = world.books.on;
+    const double lead =
+        w > 0.0 ? 0.5 * (world.clock.first_cycle ? 0.0 : world.clock.dt_prev) / w : 0.0;
+    for (ClumpData& cl : world.bodies.clumps) {
         if (!cl.alive) continue;
         const Vec2 v_old = cl.vel;
         const double w_old = cl.spin;
@@ -119,9 +121,10 @@ void Model::moveClumps(double& kinetic, double& body, double& damping, double& d
                 driven += react * w;
             }
             // A clump is one body of its groups (its pebbles are not counted on their own).
-            if (m_books.groups.on) bookBodyToGroups(cl.groups, ke, work, damp, react * w);
+            if (world.books.groups.on)
+                bookBodyToGroups(world, cl.groups, ke, work, damp, react * w);
         }
-        placePebbles(cl);
+        placePebbles(world, cl);
     }
 }
 

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "force_scratch.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
@@ -35,7 +36,7 @@ void LaneTable::reorder(const std::vector<uint32_t>& order) {
 
 // ------------------------------------------------------------------------ a contact's lane
 
-bool Model::enterLane(Pair& p) {
+bool enterLane(Pair& p) {
     Rule& rule = *p.rule;
     if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
     LaneTable& table = *rule.lanes;
@@ -48,49 +49,51 @@ bool Model::enterLane(Pair& p) {
     return true;
 }
 
-void Model::syncLane(const Pair& p) const {
+void syncLane(const Pair& p) {
     if (p.lane == kNoLane) return;
     LaneTable& table = *p.rule->lanes;
     table.law().unpack(p.model, table.row(p.lane));
 }
 
-void Model::leaveLane(Pair& p) {
+void leaveLane(Pair& p) {
     syncLane(p);
     dropLane(p);
 }
 
-void Model::dropLane(Pair& p) {
+void dropLane(Pair& p) {
     if (p.lane == kNoLane) return;
     p.rule->lanes->release(p.lane);
     p.lane = kNoLane;
 }
 
-void Model::leaveAllLanes() {
-    for (Pair& p : m_contacts->pairs) leaveLane(p);
+void leaveAllLanes(World& world) {
+    for (Pair& p : world.contacts.pairs) leaveLane(p);
 }
 
 void Model::setBatchedLaw(bool on) {
-    if (!on) leaveAllLanes();
-    m_batched_law = on;
+    World& world = *m_world;
+    if (!on) leaveAllLanes(world);
+    world.settings.batched_law = on;
 }
 
 void Model::setLanes(bool on) {
-    if (!on) leaveAllLanes();
-    m_lanes = on;
+    World& world = *m_world;
+    if (!on) leaveAllLanes(world);
+    world.settings.lanes = on;
 }
 
-void Model::reorderLanes() {
+void reorderLanes(World& world) {
     // Each table's rows in the order of their pairs, so that the loop's blocks read them
     // forward.
     std::unordered_map<LaneTable*, std::vector<uint32_t>> order;
-    for (Pair& p : m_contacts->pairs) {
+    for (Pair& p : world.contacts.pairs) {
         if (p.lane == kNoLane) continue;
         std::vector<uint32_t>& rows = order[p.rule->lanes.get()];
         const auto now = static_cast<uint32_t>(rows.size());
         rows.push_back(p.lane);
         p.lane = now;
     }
-    for (auto& rule : m_contacts->rules)
+    for (auto& rule : world.contacts.rules)
         if (rule->lanes) rule->lanes->reorder(order[rule->lanes.get()]);
 }
 

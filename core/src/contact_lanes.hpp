@@ -3,7 +3,7 @@
 // The lanes of one contact-model rule (docs/plugin-abi.md, "Lanes"; docs/architecture.md,
 // "Force-displacement"): the state of its contacts that run through the model's lane law, one
 // row of LaneLaw::state_size doubles per contact, rows side by side. A pair names its row
-// (Model::Pair::lane); the rule owns the table as it owns the pool of its objects. Not
+// (Pair::lane); the rule owns the table as it owns the pool of its objects. Not
 // installed.
 #pragma once
 
@@ -15,7 +15,7 @@
 
 namespace talus {
 
-constexpr uint32_t kNoLane = 0xffffffffu;  // Model::Pair::lane of a contact not in the lanes
+constexpr uint32_t kNoLane = 0xffffffffu;  // Pair::lane of a contact not in the lanes
 
 class LaneTable {
 public:
@@ -29,7 +29,7 @@ public:
     void release(uint32_t r) { m_free.push_back(r); }
     std::size_t used() const { return m_rows - m_free.size(); }
     /// Moves row order[k] to row k for every k and drops the rest (and the free list): the
-    /// contacts in the order the force loop visits them (Model::sortBalls).
+    /// contacts in the order the force loop visits them (sortBalls).
     void reorder(const std::vector<uint32_t>& order);
 
 private:

@@ -29,11 +29,11 @@ void ObjectPool::release(void* p) { m_free.push_back(p); }
 ContactStore::ContactStore()
     : broadphase(std::make_unique<Broadphase>()), wall_broadphase(std::make_unique<Broadphase>()) {}
 
-Model::Pair* ContactStore::pairByKey(ContactKey key) {
+Pair* ContactStore::pairByKey(ContactKey key) {
     auto it = key_index.find(key.value);
     return it == key_index.end() ? nullptr : &pairs[it->second];
 }
-const Model::Pair* ContactStore::pairByKey(ContactKey key) const {
+const Pair* ContactStore::pairByKey(ContactKey key) const {
     auto it = key_index.find(key.value);
     return it == key_index.end() ? nullptr : &pairs[it->second];
 }

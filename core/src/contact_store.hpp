@@ -22,10 +22,6 @@
 namespace talus {
 
 struct ContactStore {
-    using Pair = Model::Pair;
-    using PairCold = Model::PairCold;
-    using Rule = Model::Rule;
-
     ContactStore();
 
     // --- pairs (broadphase candidates; active pairs carry a model object)
@@ -58,6 +54,11 @@ struct ContactStore {
     // handle is not mistaken for the pair): no bond on touch for them again (model_bonds.cpp).
     // Empty, and never looked at, in a model without bonds.
     std::unordered_map<uint64_t, uint64_t> unbonded;
+
+    // --- the force loop's FdBlock template (sizes, ABI version) and the first-call flags of the
+    // contact activate() just made
+    FdBlock fd_template{};
+    uint32_t activation_flags = 0;
 
     Pair* pairByKey(ContactKey key);
     const Pair* pairByKey(ContactKey key) const;

@@ -21,6 +21,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "step_limits.hpp"
@@ -102,24 +103,27 @@ std::string energyContractViolation(const FdBlock& fd, double scale, const doubl
     return {};
 }
 
+template <bool kAuto, bool kEnergy, bool kGuard>
+void forceLoop(World& world);
+
 }  // namespace
 
-void Model::forceDisplacement() {
-    const bool automatic = m_timestep.automatic;
-    const bool guard = m_guard.energy != GuardAction::Off ||
-                       m_guard.resolution != GuardAction::Off ||
-                       m_guard.stiffness != GuardAction::Off;
+void forceDisplacement(World& world) {
+    const bool automatic = world.settings.timestep.automatic;
+    const bool guard = world.settings.guard.energy != GuardAction::Off ||
+                       world.settings.guard.resolution != GuardAction::Off ||
+                       world.settings.guard.stiffness != GuardAction::Off;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (automatic) {
-        if (m_books.on)
-            guard ? forceLoop<true, true, true>() : forceLoop<true, true, false>();
+        if (world.books.on)
+            guard ? forceLoop<true, true, true>(world) : forceLoop<true, true, false>(world);
         else
-            guard ? forceLoop<true, false, true>() : forceLoop<true, false, false>();
+            guard ? forceLoop<true, false, true>(world) : forceLoop<true, false, false>(world);
     } else {
-        if (m_books.on)
-            guard ? forceLoop<false, true, true>() : forceLoop<false, true, false>();
+        if (world.books.on)
+            guard ? forceLoop<false, true, true>(world) : forceLoop<false, true, false>(world);
         else
-            guard ? forceLoop<false, false, true>() : forceLoop<false, false, false>();
+            guard ? forceLoop<false, false, true>(world) : forceLoop<false, false, false>(world);
     }
 }
 
@@ -138,22 +142,24 @@ void Model::forceDisplacement() {
 // (gatherPairActions). Every sum is thus made of the same terms in the same order as on one
 // thread, the time-step limits take the lowest pair on a tie, and the result is the same bit
 // for bit for any thread count (lua.regress.force_loop_identical).
+namespace {
+
 template <bool kAuto, bool kEnergy, bool kGuard>
-void Model::forceLoop() {
+void forceLoop(World& world) {
     // References to the stores' arrays, taken once: the loop body reads them as it read the
     // members they were before the stores existed (no extra load per pair).
-    auto& b = m_bodies->balls;
-    auto& walls = m_bodies->walls;
-    const auto& segments = m_bodies->segments;
-    auto& pairs = m_contacts->pairs;
-    auto& cold = m_contacts->cold;
-    const auto& ball_moved = m_contacts->ball_moved;
-    const auto& segment_moved = m_contacts->segment_moved;
-    auto& to_remove = m_contacts->to_remove;
-    ForceScratch& scratch = m_contacts->force_scratch;
+    auto& b = world.bodies.balls;
+    auto& walls = world.bodies.walls;
+    const auto& segments = world.bodies.segments;
+    auto& pairs = world.contacts.pairs;
+    auto& cold = world.contacts.cold;
+    const auto& ball_moved = world.contacts.ball_moved;
+    const auto& segment_moved = world.contacts.segment_moved;
+    auto& to_remove = world.contacts.to_remove;
+    ForceScratch& scratch = world.contacts.force_scratch;
     const std::size_t npairs = pairs.size();
-    const int nthreads = forceThreads(npairs);
-    m_step_threads = nthreads;
+    const int nthreads = forceThreads(world, npairs);
+    world.clock.threads = nthreads;
     if (nthreads <= 1) {
         std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
         std::fill(b.moment.begin(), b.moment.end(), 0.0);
@@ -164,66 +170,66 @@ void Model::forceLoop() {
             std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
             std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
         }
-        m_limits = StepLimits{};
-        m_limits_stale = false;
+        world.stepping.limits = StepLimits{};
+        world.stepping.limits_stale = false;
         scratch.apart.clear();
     }
-    const double dt = m_dt;
-    FdBlock fd_template = m_fd_template;
+    const double dt = world.clock.dt;
+    FdBlock fd_template = world.contacts.fd_template;
     fd_template.tdel = dt;
-    fd_template.time = m_time;
+    fd_template.time = world.clock.time;
     fd_template.flags = kEnergy ? kFdEnergyOn : 0u;
     double strain_now = 0.0, bond_now = 0.0;
     double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
     double finite_check = 0.0;
     to_remove.clear();
-    const bool groups = kEnergy && m_books.groups.on;
-    if (groups) groupForceLoopStart();
+    const bool groups = kEnergy && world.books.groups.on;
+    if (groups) groupForceLoopStart(world);
     // The dissipation totals before this step, for the energy contract's check (the same for
     // every contact, so for every thread count).
-    const EnergyTotals totals_before = m_books.acc;
+    const EnergyTotals totals_before = world.books.acc;
     const Vec2* pos = b.pos.data();
     const Vec2* vel = b.vel.data();
     const double* radius = b.radius.data();
     const double* spin = b.spin.data();
     Vec2* force = b.force.data();
     double* moment = b.moment.data();
-    const bool batched = m_batched_law;
+    const bool batched = world.settings.batched_law;
     // Lanes (docs/plugin-abi.md, "Lanes") are part of the batched path; per-group energy books
     // every contact through its FdBlock (bookContactToGroups), so it runs without them.
     bool lanes_on = false;
-    if (m_lanes && batched && !groups)
-        for (const auto& rule : m_contacts->rules)
+    if (world.settings.lanes && batched && !groups)
+        for (const auto& rule : world.contacts.rules)
             lanes_on = lanes_on || (rule->factory && rule->factory->lanes);
     // A step without them takes every contact out first (their objects run FDlaw).
     if (!lanes_on)
-        for (const auto& rule : m_contacts->rules)
+        for (const auto& rule : world.contacts.rules)
             if (rule->lanes && rule->lanes->used() > 0) {
-                leaveAllLanes();
+                leaveAllLanes(world);
                 break;
             }
     auto laneable = [](const Pair& p) __attribute__((always_inline)) {
         return !p.wall && p.rule->factory && p.rule->factory->lanes;
     };
-    if (nthreads > 1) prepareForceScratch(nthreads, fd_template);
+    if (nthreads > 1) prepareForceScratch(world, nthreads, fd_template);
     PairAction* actions = scratch.actions.data();
     PairStiffness* stiffness = kAuto && nthreads > 1 ? scratch.stiffness.data() : nullptr;
     PairEnergy* energies = kEnergy && nthreads > 1 ? scratch.energies.data() : nullptr;
 
     // What one contact adds to the books, in the order one thread adds it (PairEnergy).
     auto bookPairEnergy = [&](const PairEnergy& pe) __attribute__((always_inline)) {
-        if (pe.what & PairEnergy::kPlacement) m_books.acc.placement += pe.placement;
+        if (pe.what & PairEnergy::kPlacement) world.books.acc.placement += pe.placement;
         if (pe.what & PairEnergy::kContact) {
-            m_books.acc.slip += pe.slip;
+            world.books.acc.slip += pe.slip;
             // The dashpot impulse spans the velocity window around this step: booked at the
             // next energy snapshot, half before it (law_of_motion.cpp).
-            m_books.dashpot_pending += pe.dashpot;
-            m_books.acc.plastic += pe.plastic;
-            m_books.acc.released += pe.released;
+            world.books.dashpot_pending += pe.dashpot;
+            world.books.acc.plastic += pe.plastic;
+            world.books.acc.released += pe.released;
         }
         if (pe.what & PairEnergy::kHeld) held_before += pe.held;
         if (pe.what & (PairEnergy::kEnds | PairEnergy::kHandOver))
-            m_books.acc.released += pe.released_end;
+            world.books.acc.released += pe.released_end;
         if (pe.what & PairEnergy::kStored) {
             strain_now += pe.strain;
             bond_now += pe.bond;
@@ -306,7 +312,7 @@ void Model::forceLoop() {
             }
         } else {
             // The ball is in a neighbouring segment's region: that segment holds the contact.
-            if (!segmentGeometry(p.end2, x1, r1, g))
+            if (!segmentGeometry(world, p.end2, x1, r1, g))
                 return p.active ? PairStep::HandOver : PairStep::Elsewhere;
             const WallData& wall = walls[segments[p.end2].wall];
             e.x2 = wall.center;
@@ -368,7 +374,7 @@ void Model::forceLoop() {
     // next touch, and the broadphase check its ends may need.
     auto endAndCheck = [&](std::size_t i) {
         Pair& p = pairs[i];
-        endContact(p, cold[i], kGuard);
+        endContact(world, p, cold[i], kGuard);
         // Its ends may have moved apart while it was a contact (inactive pairs are checked
         // only when an end is re-inserted).
         const Box& fat2 = p.wall ? segments[p.end2].fat : b.fat[p.end2];
@@ -391,8 +397,8 @@ void Model::forceLoop() {
         double placed = 0.0;
         const bool placement = first && cold[i].born_overlapped;
         if constexpr (kFdBlock) {  // (a lane law reports no failure and runs no first touch)
-            if (fd.status != 0) reportFailedLaw(p, fd);
-            if (placement) placed = notePlacement(p, cold[i], g.overlap, fd, kEnergy);
+            if (fd.status != 0) reportFailedLaw(world, p, fd);
+            if (placement) placed = notePlacement(world, p, cold[i], g.overlap, fd, kEnergy);
         }
         // Non-finite output: summed here, checked once after the loop (findNonFiniteContact).
         (kMode == Parallel::value ? part->finite_check : finite_check) +=
@@ -437,16 +443,17 @@ void Model::forceLoop() {
                 c.krest = fd.krest;
                 const double arm2_sq = p.wall ? 0.0 : (g.point - e.x2).squaredNorm();
                 if constexpr (kMode == Direct::value) {
-                    noteContact(p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(), arm2_sq,
-                                p.mass_eff);
+                    noteContact(world, p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(),
+                                arm2_sq, p.mass_eff);
                 } else {
                     // noteContact's stiffness sums, term by term, for the gather
                     double* add = stiffness[i].add[0];
                     add[0] = add[2] = fd.knest + fd.ksest;
                     add[1] = fd.ksest * r1c.squaredNorm() + fd.krest;
                     add[3] = fd.ksest * arm2_sq + fd.krest;
-                    noteContactLimits(p, c, fd.knest, p.mass_eff,
-                                      kMode == Parallel::value ? part->limits : m_limits);
+                    noteContactLimits(
+                        world, p, c, fd.knest, p.mass_eff,
+                        kMode == Parallel::value ? part->limits : world.stepping.limits);
                 }
             }
             if constexpr (kEnergy) {
@@ -465,8 +472,8 @@ void Model::forceLoop() {
                         part->contracts.push_back(
                             {asFdBlock(fd, fd_template), fn_old, fs_old, m_old, c.strain, c.bond});
                     } else {
-                        checkEnergyContract(p, c.strain, c.bond, asFdBlock(fd, fd_template), fn_old,
-                                            fs_old, m_old, totals_before);
+                        checkEnergyContract(world, p, c.strain, c.bond, asFdBlock(fd, fd_template),
+                                            fn_old, fs_old, m_old, totals_before);
                     }
                 }
                 PairEnergy pe;
@@ -480,7 +487,7 @@ void Model::forceLoop() {
                 pe.released = fd.energy[kEnergyReleased];
                 c.strain = fd.energy[kEnergyStrain];
                 c.bond = fd.energy[kEnergyBondStrain];
-                if (m_books.strain_baseline_pending && !first) {
+                if (world.books.strain_baseline_pending && !first) {
                     pe.held = storedBefore(fd, fn_old, fs_old, m_old);
                     pe.what |= PairEnergy::kHeld;
                 }
@@ -500,7 +507,7 @@ void Model::forceLoop() {
                 // branch per contact, taken only with groups traced (one thread).
                 // (lanes do not run while groups are traced)
                 if constexpr (kFdBlock)
-                    if (groups) bookContactToGroups(i, fd, first, ends, pe.held, f, g.point);
+                    if (groups) bookContactToGroups(world, i, fd, first, ends, pe.held, f, g.point);
             }
         }
 
@@ -519,13 +526,13 @@ void Model::forceLoop() {
                     fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
                 const double power_new =
                     fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
-                p.work += 0.5 * (m_window * power_old + dt * power_new);
+                p.work += 0.5 * (world.clock.window * power_old + dt * power_new);
                 if (ends) p.work += 0.5 * dt * power_new;  // the rest of the last force's work
                 p.work_peak = std::max(p.work_peak, p.work);
                 // The deepest overlap is where the overlap stops growing: note the previous
                 // step's values there, once per turn (the stiffness and resolution checks).
                 const bool growing = first || g.overlap > p.overlap;
-                if (!growing && p.loading) noteDeepest(p, cold[i], fn_old, fd.u_dot_n);
+                if (!growing && p.loading) noteDeepest(world, p, cold[i], fn_old, fd.u_dot_n);
                 p.loading = growing;
             }
             // A contact that was pushing the bodies apart cannot reverse its normal within a
@@ -537,7 +544,7 @@ void Model::forceLoop() {
             // by more than a tenth of the ball's radius.
             if (!first && fn_old > 0.0 && (p.steps < kGuardWatch || g.overlap > 0.1 * r1) &&
                 -fd.du_n > (p.wall ? r1 : r1 + radius[p.end2]) - g.overlap)
-                reportPassThrough(p, g);
+                reportPassThrough(world, p, g);
         }
         p.n_force = fd.n_force;
         p.s_force = fd.s_force;
@@ -561,7 +568,7 @@ void Model::forceLoop() {
             if (ends) part->items.push_back({static_cast<uint32_t>(i), Deferred::End});
         } else {
             if (fd.flags & kFdBroken)
-                queueBreak(i, g.point, fd.break_mode, (fd.flags & kFdBreakStress) != 0,
+                queueBreak(world, i, g.point, fd.break_mode, (fd.flags & kFdBreakStress) != 0,
                            fd.reserved[0], fd.reserved[1]);
             if (ends) endAndCheck(i);
         }
@@ -608,17 +615,17 @@ void Model::forceLoop() {
             // The contact crossed a convex vertex and moves, state and all, to the holder's
             // pair, which now sits in slot i: process slot i again (a pair may have been
             // created).
-            if (handOverWallContact(i)) return i;
+            if (handOverWallContact(world, i)) return i;
             // No pair can take it (no holder, or one with a contact of its own): the contact
             // ends here, and what it still stores is released.
             Pair& p = pairs[i];
             const double stored = cold[i].strain + cold[i].bond;
             if constexpr (kEnergy) {
                 if constexpr (decltype(mode)::value == Direct::value)
-                    m_books.acc.released += stored;
-                if (groups) bookReleasedToGroups(p, stored);
+                    world.books.acc.released += stored;
+                if (groups) bookReleasedToGroups(world, p, stored);
             }
-            endContact(p, cold[i], kGuard);
+            endContact(world, p, cold[i], kGuard);
             finishApart(mode, i, PairStep::Elsewhere, nullptr);
             if constexpr (kEnergy && decltype(mode)::value != Direct::value) {
                 energies[i] = PairEnergy{};
@@ -630,9 +637,9 @@ void Model::forceLoop() {
         // A pair touching for the first time: activate it, then its law (FDlaw, and the first
         // call's flags), then its finish.
         Pair& p = pairs[i];
-        const bool first = activate(p, cold[i], e.g, e.vrel);
+        const bool first = activate(world, p, cold[i], e.g, e.vrel);
         if (first) {
-            fd.flags |= kFdFirstCall | m_activation_flags;
+            fd.flags |= kFdFirstCall | world.contacts.activation_flags;
         } else {
             // A wall pair that took over its chain's contact from a neighbouring segment's pair
             // (activate, adoptWallContact): the forces are that contact's.
@@ -784,12 +791,12 @@ void Model::forceLoop() {
             for (std::size_t i = 0; i < npairs;)
                 i = runPair(Direct{}, i, npairs, e, fd, scratch.error, counts.batched);
         }
-        m_profile.batched_laws += counts.batched;
-        m_profile.lane_steps += counts.steps;
-        m_profile.lane_declined += counts.declined;
+        world.profile.batched_laws += counts.batched;
+        world.profile.lane_steps += counts.steps;
+        world.profile.lane_declined += counts.declined;
     } else {
 #ifdef TALUS_HAVE_OPENMP
-        ++m_profile.threaded_steps;
+        ++world.profile.threaded_steps;
         auto& parts = scratch.parts;
         // ---- the threads' ranges: contiguous, of equal pair counts
 #pragma omp parallel num_threads(nthreads)
@@ -868,7 +875,7 @@ void Model::forceLoop() {
                                 runPair(Serial{}, i, npairs, e, fd, scratch.error, batched_count);
                         break;
                     case Deferred::Break:
-                        queueBreak(i, item.point, item.break_mode,
+                        queueBreak(world, i, item.point, item.break_mode,
                                    (item.flags & kFdBreakStress) != 0, item.sigma, item.tau);
                         break;
                     case Deferred::End:
@@ -879,19 +886,20 @@ void Model::forceLoop() {
                         break;
                     case Deferred::Contract: {
                         const ContractNote& note = part.contracts[item.flags];
-                        checkEnergyContract(pairs[i], note.strain_old, note.bond_old, note.fd,
-                                            note.fn_old, note.fs_old, note.m_old, totals_before);
+                        checkEnergyContract(world, pairs[i], note.strain_old, note.bond_old,
+                                            note.fd, note.fn_old, note.fs_old, note.m_old,
+                                            totals_before);
                         break;
                     }
                 }
             }
             finite_check += part.finite_check;
             batched_count += part.batched;
-            m_profile.lane_steps += part.lane_steps;
-            m_profile.lane_declined += part.lane_declined;
-            if constexpr (kAuto) m_limits.merge(part.limits);
+            world.profile.lane_steps += part.lane_steps;
+            world.profile.lane_declined += part.lane_declined;
+            if constexpr (kAuto) world.stepping.limits.merge(part.limits);
         }
-        m_profile.batched_laws += batched_count;
+        world.profile.batched_laws += batched_count;
         // The lanes' rows the threads let go, then the contacts they offer (in pair order).
         for (auto& part : parts)
             for (const auto& [table, row] : part.lane_releases) table->release(row);
@@ -899,38 +907,41 @@ void Model::forceLoop() {
             for (const uint32_t i : part.lane_entries)
                 if (i < failed) offerLane(pairs[i]);
         if (failed_part) std::rethrow_exception(failed_part->failure);
-        gatherPairActions(nthreads, kAuto);
+        gatherPairActions(world, nthreads, kAuto);
         if constexpr (kEnergy)
             for (std::size_t i = 0; i < npairs; ++i)
                 if (energies[i].what) bookPairEnergy(energies[i]);
 #endif
     }
     if constexpr (kAuto) {
-        noteApproaches(scratch.apart, m_limits);
+        noteApproaches(world, scratch.apart, world.stepping.limits);
         if (nthreads > 1)
-            for (const auto& part : scratch.parts) noteApproaches(part.apart, m_limits);
+            for (const auto& part : scratch.parts)
+                noteApproaches(world, part.apart, world.stepping.limits);
     }
 
-    if (!std::isfinite(finite_check)) findNonFiniteContact();
-    for (auto it = to_remove.rbegin(); it != to_remove.rend(); ++it) removePair(*it);
-    clearMovedFlags();
+    if (!std::isfinite(finite_check)) findNonFiniteContact(world);
+    for (auto it = to_remove.rbegin(); it != to_remove.rend(); ++it) removePair(world, *it);
+    clearMovedFlags(world);
     if constexpr (kEnergy) {
-        m_books.acc.strain = strain_now;
-        m_books.acc.bond = bond_now;
-        if (groups) groupForceLoopEnd();
-        if (m_books.strain_baseline_pending) {
+        world.books.acc.strain = strain_now;
+        world.books.acc.bond = bond_now;
+        if (groups) groupForceLoopEnd(world);
+        if (world.books.strain_baseline_pending) {
             // Tracing was switched on with loaded contacts: what they hold was put in before
             // the books opened (bookkeeping.cpp, setEnergyTracing).
-            m_books.acc.initial_strain = held_before;
-            m_books.strain_baseline_pending = false;
+            world.books.acc.initial_strain = held_before;
+            world.books.strain_baseline_pending = false;
         }
     }
 }
 
-void Model::noteApproaches(const std::vector<uint32_t>& apart, StepLimits& limits) const {
-    const auto& b = m_bodies->balls;
-    const auto& pairs = m_contacts->pairs;
-    const auto& cold = m_contacts->cold;
+}  // namespace
+
+void noteApproaches(const World& world, const std::vector<uint32_t>& apart, StepLimits& limits) {
+    const auto& b = world.bodies.balls;
+    const auto& pairs = world.contacts.pairs;
+    const auto& cold = world.contacts.cold;
     for (const uint32_t i : apart) {
         const Pair& p = pairs[i];
         const uint32_t s1 = p.end1;
@@ -940,23 +951,25 @@ void Model::noteApproaches(const std::vector<uint32_t>& apart, StepLimits& limit
             const double dist = d.norm();
             const Vec2 arel = (b.force[s2] + b.fapp[s2]) * b.inv_mass[s2] -
                               (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1];
-            noteApproach(p, cold[i], dist - (b.radius[s1] + b.radius[s2]), b.vel[s2] - b.vel[s1],
-                         arel.norm(), dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0), limits);
+            noteApproach(world, p, cold[i], dist - (b.radius[s1] + b.radius[s2]),
+                         b.vel[s2] - b.vel[s1], arel.norm(),
+                         dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0), limits);
         } else {
             // (the pair was Apart: its ball is in this segment's region)
             ContactGeometry g;
-            if (!segmentGeometry(p.end2, b.pos[s1], b.radius[s1], g)) continue;
-            const WallData& wall = m_bodies->walls[m_bodies->segments[p.end2].wall];
+            if (!segmentGeometry(world, p.end2, b.pos[s1], b.radius[s1], g)) continue;
+            const WallData& wall = world.bodies.walls[world.bodies.segments[p.end2].wall];
             const Vec2 v2c = wall.vel + spinCross(wall.spin, g.point - wall.center);
-            const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + m_gravity;
-            noteApproach(p, cold[i], -g.overlap, v2c - b.vel[s1], a1.norm(), g.normal, limits);
+            const Vec2 a1 = (b.force[s1] + b.fapp[s1]) * b.inv_mass[s1] + world.settings.gravity;
+            noteApproach(world, p, cold[i], -g.overlap, v2c - b.vel[s1], a1.norm(), g.normal,
+                         limits);
         }
     }
 }
 
-void Model::gatherPairActions(int nthreads, bool automatic) {
-    auto& b = m_bodies->balls;
-    const ForceScratch& s = m_contacts->force_scratch;
+void gatherPairActions(World& world, int nthreads, bool automatic) {
+    auto& b = world.bodies.balls;
+    const ForceScratch& s = world.contacts.force_scratch;
     const PairAction* actions = s.actions.data();
     const PairStiffness* stiffness = s.stiffness.data();
     const uint32_t* start = s.incidence_start.data();
@@ -994,11 +1007,12 @@ void Model::gatherPairActions(int nthreads, bool automatic) {
     }
 }
 
-void Model::buildIncidence() {
-    ForceScratch& s = m_contacts->force_scratch;
-    const auto& pairs = m_contacts->pairs;
-    const std::size_t nballs = m_bodies->balls.size();
-    if (s.incidence_version == m_contacts->pairs_version && s.incidence_start.size() == nballs + 1)
+void buildIncidence(World& world) {
+    ForceScratch& s = world.contacts.force_scratch;
+    const auto& pairs = world.contacts.pairs;
+    const std::size_t nballs = world.bodies.balls.size();
+    if (s.incidence_version == world.contacts.pairs_version &&
+        s.incidence_start.size() == nballs + 1)
         return;
     if (pairs.size() >= (std::size_t{1} << 31))
         throw InputError("threads: more than 2^31 pairs (run on one thread)");
@@ -1016,24 +1030,26 @@ void Model::buildIncidence() {
         s.incidence[fill[pairs[i].end1]++] = code;
         if (!pairs[i].wall) s.incidence[fill[pairs[i].end2]++] = code | 1u;
     }
-    s.incidence_version = m_contacts->pairs_version;
+    s.incidence_version = world.contacts.pairs_version;
 }
 
 // ------------------------------------------------------------------------ threads
 
 void Model::setThreads(int n, int grain) {
+    World& world = *m_world;
     if (n < 1 || n > 1024)
         throw InputError("threads: the thread count must be from 1 to 1024 (got " +
                          std::to_string(n) + ")");
     if (grain < 1)
         throw InputError("threads: the grain (fewest pairs per thread) must be >= 1 (got " +
                          std::to_string(grain) + ")");
-    m_threads = n;
-    m_thread_grain = grain;
+    world.settings.threads = n;
+    world.settings.thread_grain = grain;
 }
 
 int Model::threads() const {
-    if (m_threads > 0) return m_threads;
+    const World& world = *m_world;
+    if (world.settings.threads > 0) return world.settings.threads;
     // TALUS_THREADS (talus run --threads N sets it): a bad value is the CLI's to refuse; here
     // it falls back to one thread.
     const char* env = std::getenv("TALUS_THREADS");
@@ -1044,7 +1060,8 @@ int Model::threads() const {
 }
 
 int Model::threadGrain() const {
-    if (m_thread_grain > 0) return m_thread_grain;
+    const World& world = *m_world;
+    if (world.settings.thread_grain > 0) return world.settings.thread_grain;
     // TALUS_THREAD_GRAIN: for tests that run small scenes on threads (stress suite).
     const char* env = std::getenv("TALUS_THREAD_GRAIN");
     if (!env || !*env) return kDefaultThreadGrain;
@@ -1067,28 +1084,31 @@ bool Model::threadingAvailable() {
 #endif
 }
 
-int Model::forceThreads(std::size_t npairs) const {
+int Model::forceThreads(std::size_t npairs) const { return talus::forceThreads(*m_world, npairs); }
+
+int forceThreads(const World& world, std::size_t npairs) {
 #ifdef TALUS_HAVE_OPENMP
-    const int wanted = threads();
+    const int wanted = world.facade.threads();
     if (wanted <= 1 || g_single_threaded_process) return 1;
-    const std::size_t by_grain = npairs / static_cast<std::size_t>(threadGrain());
+    const std::size_t by_grain = npairs / static_cast<std::size_t>(world.facade.threadGrain());
     const int n =
         static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));
     if (n < 2) return 1;
     // Energy per group books every contact into its groups' sums and border records as it
     // goes: one thread (docs/architecture.md, "Threads").
-    if (m_books.on && m_books.groups.on) return 1;
-    for (const auto& rule : m_contacts->rules)
+    if (world.books.on && world.books.groups.on) return 1;
+    for (const auto& rule : world.contacts.rules)
         if (rule->prototype && !(rule->prototype->Traits() & kTraitThreadSafe)) return 1;
     return n;
 #else
+    (void)world;
     (void)npairs;
     return 1;
 #endif
 }
 
-void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
-    ForceScratch& s = m_contacts->force_scratch;
+void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl) {
+    ForceScratch& s = world.contacts.force_scratch;
     s.parts.resize(static_cast<std::size_t>(nthreads));
     for (auto& part : s.parts) {
         part.fd = tmpl;
@@ -1104,31 +1124,32 @@ void Model::prepareForceScratch(int nthreads, const FdBlock& tmpl) {
         part.lane_steps = part.lane_declined = 0;
     }
     // (pairs a vertex hand-over adds in this step are not processed in it: npairs is enough)
-    s.actions.resize(m_contacts->pairs.size());
-    if (m_timestep.automatic) s.stiffness.resize(m_contacts->pairs.size());
-    if (m_books.on) s.energies.resize(m_contacts->pairs.size());
+    s.actions.resize(world.contacts.pairs.size());
+    if (world.settings.timestep.automatic) s.stiffness.resize(world.contacts.pairs.size());
+    if (world.books.on) s.energies.resize(world.contacts.pairs.size());
     for (auto& part : s.parts) part.contracts.clear();
-    buildIncidence();
+    buildIncidence(world);
 }
 
 // The rare paths of the loop, kept out of it so that its body stays small.
 
-bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
     // A wall pair may be taking over the ball's contact from a neighbouring segment's pair
     // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
-    if (p.wall && adoptWallContact(pairIndex(p))) return false;
-    if (c.rules_version != m_contacts->rules_version) refreshRule(p);
+    if (p.wall && adoptWallContact(world, world.contacts.pairIndex(p))) return false;
+    if (c.rules_version != world.contacts.rules_version) refreshRule(world, p);
     // A pair whose bond broke or was removed is not bonded again by a rule (model_bonds.cpp);
     // the lookup runs only in a model where that happened.
-    m_activation_flags = m_contacts->unbonded.empty() ? 0u : autoBondFlags(p, c);
+    world.contacts.activation_flags =
+        world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
     p.active = true;
-    ++m_profile.contacts_created;
+    ++world.profile.contacts_created;
     c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
     // The resolution rule and the guard divide by it: NaN, zero or negative would silently
     // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
     if (!(c.duration > 0.0))
         throw PluginError("contact model '" + p.rule->model_name + "' at step " +
-                          std::to_string(m_step) + " on " + describePair(p) +
+                          std::to_string(world.clock.step) + " on " + describePair(world, p) +
                           ": ContactDuration(mass_eff " + num(p.mass_eff) + " kg, approach " +
                           num(std::max(0.0, -vrel.dot(g.normal))) + " m/s) returned " +
                           num(c.duration) + " s (must be > 0, +inf for no force)");
@@ -1151,10 +1172,12 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
         // Only a model with a stiffness property at 0 is warned about: a model made to exert no
         // force (the template's `null`) has none.
         if (!zero.empty())
-            warn("contact model '" + p.rule->model_name + "' has no normal stiffness on " +
-                 describePair(p) + " (" + zero + ")" +
-                 ": the bodies will pass through each other; set the stiffness in "
-                 "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
+            talus::warn(
+                world,
+                "contact model '" + p.rule->model_name + "' has no normal stiffness on " +
+                    describePair(world, p) + " (" + zero + ")" +
+                    ": the bodies will pass through each other; set the stiffness in "
+                    "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
     }
     // For the guard: a contact born overlapping (placed so) gives back energy it never took.
     // How much of the overlap the last step's motion made. Positions at the previous step are
@@ -1162,36 +1185,37 @@ bool Model::activate(Pair& p, PairCold& c, const ContactGeometry& g, const Vec2&
     // is known exactly; for a wall, the normal closing plus the turn of the line from the
     // vertex or the face, (v_t dt)^2 / (2 r). (The contact-point velocity would add the spins,
     // which turn the balls but do not close the gap.) More overlap than that was there before.
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     const double approach = -vrel.dot(g.normal);
     c.approach_rate = std::max(approach, 0.0);
     if (!p.wall) {
         const Vec2 d = b.pos[p.end2] - b.pos[p.end1];
-        const Vec2 step = (b.vel[p.end2] - b.vel[p.end1]) * m_dt;
+        const Vec2 step = (b.vel[p.end2] - b.vel[p.end1]) * world.clock.dt;
         const double rsum = b.radius[p.end1] + b.radius[p.end2];
         c.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
     } else {
-        const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
-        const Vec2 step = (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * m_dt;
+        const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
+        const Vec2 step =
+            (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * world.clock.dt;
         const double slide = step.dot(perp(g.normal));
         c.closure = std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
     }
     c.born_overlapped = g.overlap > c.closure * (1.0 + 1e-9) + 1e-15;
-    if (m_contact_events) {
+    if (world.callbacks.contact_events) {
         Event ev;
         ev.kind = EventKind::ContactCreated;
-        ev.time = m_time;
+        ev.time = world.clock.time;
         ev.pos = g.point;
         ev.contact = ContactKey{c.key};
         ev.model = p.rule->model_name;
-        m_events.push_back(std::move(ev));
+        world.callbacks.events.push_back(std::move(ev));
     }
     return true;
 }
 
-void Model::checkEnergyContract(const Pair& p, double strain_old, double bond_old,
-                                const FdBlock& fd, double fn_old, double fs_old, double m_old,
-                                const EnergyTotals& before) {
+void checkEnergyContract(World& world, const Pair& p, double strain_old, double bond_old,
+                         const FdBlock& fd, double fn_old, double fs_old, double m_old,
+                         const EnergyTotals& before) {
     const double scale = std::fabs(strain_old) + std::fabs(bond_old) +
                          std::fabs(fd.energy[kEnergyStrain]) +
                          std::fabs(fd.energy[kEnergyBondStrain]) +
@@ -1203,20 +1227,21 @@ void Model::checkEnergyContract(const Pair& p, double strain_old, double bond_ol
     const std::string why = energyContractViolation(fd, scale, totals);
     if (!why.empty()) {
         const std::string what = "contact model '" + p.rule->model_name + "' at step " +
-                                 std::to_string(m_step) + " on " + describePair(p) + ": " + why;
+                                 std::to_string(world.clock.step) + " on " +
+                                 describePair(world, p) + ": " + why;
         // NaN stops the run. A negative total warns once per rule: contacts
         // born overlapping and the half-step settling at separation make it
         // happen in sound runs (docs/plugin-abi.md, "Energies").
         if (why.compare(0, 9, "negative ") != 0) throw PluginError(what);
         if (!p.rule->warned_negative_dissipation) {
             p.rule->warned_negative_dissipation = true;
-            warn(what + " (warned once per contact_model rule)");
+            talus::warn(world, what + " (warned once per contact_model rule)");
         }
     }
 }
 
-double Model::notePlacement(const Pair& p, const PairCold& c, double overlap, const FdBlock& fd,
-                            bool energy) {
+double notePlacement(World& world, const Pair& p, const PairCold& c, double overlap,
+                     const FdBlock& fd, bool energy) {
     // The model's stored energy at its first call includes what the closure within this step
     // put in (activate); the rest was there before the step. Stored energy grows about as the
     // overlap squared (exactly so for a linear spring), so the part that was placed is the fraction
@@ -1227,115 +1252,121 @@ double Model::notePlacement(const Pair& p, const PairCold& c, double overlap, co
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
     const double placed = share * stored;
-    m_books.last_placed = placed;
+    world.books.last_placed = placed;
     // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
     // formed by a spin-driven slide, rounding). Booked, not reported.
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
     if (overlap < 1e-3 * r) return placed;
-    m_guard_state.placed_energy += placed;
-    if (m_guard_state.placed++ == 0) {
-        m_guard_state.placed_first =
-            describePair(p) + " at step " + std::to_string(m_step) + ": overlap " + num(overlap) +
-            " m (" + num(100.0 * overlap / r) + "% of the smaller radius), stored energy " +
-            num(placed) + " J" + (energy ? "" : " (estimated from knest)");
+    world.guard_state.placed_energy += placed;
+    if (world.guard_state.placed++ == 0) {
+        world.guard_state.placed_first = describePair(world, p) + " at step " +
+                                         std::to_string(world.clock.step) + ": overlap " +
+                                         num(overlap) + " m (" + num(100.0 * overlap / r) +
+                                         "% of the smaller radius), stored energy " + num(placed) +
+                                         " J" + (energy ? "" : " (estimated from knest)");
     }
     return placed;
 }
 
-void Model::noteDeepest(const Pair& p, PairCold& c, double force, double rate_after) {
+void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after) {
     if (p.overlap <= c.overlap_max) return;
     c.overlap_max = p.overlap;
     c.force_at_max = force;
     c.rate_at_max = rate_after;
     c.knest_at_max = p.knest;
-    c.dt_at_max = m_dt;
+    c.dt_at_max = world.clock.dt;
 }
 
-void Model::queueBreak(std::size_t i, const Vec2& point, const FdBlock& fd) {
-    queueBreak(i, point, fd.break_mode, (fd.flags & kFdBreakStress) != 0, fd.reserved[0],
+void queueBreak(World& world, std::size_t i, const Vec2& point, const FdBlock& fd) {
+    queueBreak(world, i, point, fd.break_mode, (fd.flags & kFdBreakStress) != 0, fd.reserved[0],
                fd.reserved[1]);
 }
 
-void Model::queueBreak(std::size_t i, const Vec2& point, int32_t mode, bool with_stress,
-                       double sigma, double tau) {
-    forgetBond(i);
+void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bool with_stress,
+                double sigma, double tau) {
+    forgetBond(world, i);
     Event ev;
     ev.kind = EventKind::BondBreak;
-    ev.time = m_time;
+    ev.time = world.clock.time;
     ev.pos = point;
-    ev.contact = ContactKey{m_contacts->cold[i].key};
+    ev.contact = ContactKey{world.contacts.cold[i].key};
     ev.mode = mode;
-    ev.model = m_contacts->pairs[i].rule->model_name;
+    ev.model = world.contacts.pairs[i].rule->model_name;
     if (with_stress) {
         ev.sigma = sigma;
         ev.tau = tau;
     }
-    m_events.push_back(std::move(ev));
+    world.callbacks.events.push_back(std::move(ev));
 }
 
-void Model::reportFailedLaw(const Pair& p, const FdBlock& fd) const {
+void reportFailedLaw(const World& world, const Pair& p, const FdBlock& fd) {
     throw PluginError("contact model '" + p.rule->model_name + "' failed at step " +
-                      std::to_string(m_step) + " on " + describePair(p) + ": " +
+                      std::to_string(world.clock.step) + " on " + describePair(world, p) + ": " +
                       (fd.error ? fd.error : "(no message)"));
 }
 
-void Model::findNonFiniteContact() const {
+void findNonFiniteContact(const World& world) {
     // The force loop only sums the models' outputs; find the first contact that made the sum
     // non-finite (its stored values are this step's).
-    for (const Pair& p : m_contacts->pairs)
+    for (const Pair& p : world.contacts.pairs)
         if (p.active && !std::isfinite(p.n_force + p.s_force + p.moment + p.knest + p.ksest))
-            throwNonFinite(describePair(p) + ": FDlaw returned normal force " + num(p.n_force) +
-                           ", shear force " + num(p.s_force) + ", moment " + num(p.moment) +
-                           ", knest " + num(p.knest) + ", ksest " + num(p.ksest) + " at overlap " +
-                           num(p.overlap));
+            throwNonFinite(world, describePair(world, p) + ": FDlaw returned normal force " +
+                                      num(p.n_force) + ", shear force " + num(p.s_force) +
+                                      ", moment " + num(p.moment) + ", knest " + num(p.knest) +
+                                      ", ksest " + num(p.ksest) + " at overlap " + num(p.overlap));
     throwNonFinite(
-        "a contact model returned a non-finite value (the contact ended in the same step)");
+        world, "a contact model returned a non-finite value (the contact ended in the same step)");
 }
 
-void Model::reportPassThrough(const Pair& p, const ContactGeometry& g) const {
-    throw NumericalError(
-        "at step " + std::to_string(m_step) + " (t = " + num(m_time) + " s): " + describePair(p) +
-        ": the contact normal reversed within one step, so one body passed "
-        "through the other (overlap " +
-        num(g.overlap) + " m); the contact is too soft for this impact or the step too large");
+void reportPassThrough(const World& world, const Pair& p, const ContactGeometry& g) {
+    throw NumericalError("at step " + std::to_string(world.clock.step) +
+                         " (t = " + num(world.clock.time) + " s): " + describePair(world, p) +
+                         ": the contact normal reversed within one step, so one body passed "
+                         "through the other (overlap " +
+                         num(g.overlap) +
+                         " m); the contact is too soft for this impact or the step too large");
 }
 
-void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
+void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
     if (check_guard && p.steps > 0 && p.steps <= kGuardWatch) {
         // A contact created overlapping (by placement) gives back energy it never took.
         // Reference: the larger of the energy the contact held at its peak and the kinetic
         // energy of the approach (a contact that only ever gave energy has no peak).
         const double reference =
             std::max(p.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
-        if (m_guard.energy != GuardAction::Off && !c.born_overlapped && reference > 0.0 &&
-            p.work < -m_guard.energy_tolerance * reference) {
+        if (world.settings.guard.energy != GuardAction::Off && !c.born_overlapped &&
+            reference > 0.0 && p.work < -world.settings.guard.energy_tolerance * reference) {
             const std::string what =
-                describePair(p) + " returned " + num(-p.work) + " J more than it took (reference " +
-                num(reference) + " J, tolerance " + num(100.0 * m_guard.energy_tolerance) +
-                "%) over " + std::to_string(p.steps) + " steps ending at t = " + num(m_time) +
-                " s; the step (" + num(m_dt) +
+                describePair(world, p) + " returned " + num(-p.work) +
+                " J more than it took (reference " + num(reference) + " J, tolerance " +
+                num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
+                std::to_string(p.steps) + " steps ending at t = " + num(world.clock.time) +
+                " s; the step (" + num(world.clock.dt) +
                 " s) is too large for the model's stiffness, or the "
                 "model reports too low a stiffness (knest " +
                 num(p.knest) + " N/m)";
-            if (m_guard.energy == GuardAction::Error)
+            if (world.settings.guard.energy == GuardAction::Error)
                 throw NumericalError("energy created: " + what);
-            if (m_guard_state.energy_gain++ == 0) m_guard_state.energy_gain_first = what;
+            if (world.guard_state.energy_gain++ == 0) world.guard_state.energy_gain_first = what;
         }
         // Under-resolved: a step taken during the contact was too large for the impact's own
         // duration (the model's estimate at touch). A contact that is short for other reasons
         // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
         // stiffness check's business.
-        if (m_guard.resolution != GuardAction::Off && !p.bonded &&
-            c.duration < m_guard.min_steps * c.dt_at_max) {
-            const std::string what = describePair(p) + " had " + num(c.duration / c.dt_at_max) +
-                                     " steps per contact duration (" + num(c.duration) +
-                                     " s at dt = " + num(c.dt_at_max) + " s, t = " + num(m_time) +
-                                     " s); it lasted " + std::to_string(p.steps) + " steps";
-            if (m_guard.resolution == GuardAction::Error)
+        if (world.settings.guard.resolution != GuardAction::Off && !p.bonded &&
+            c.duration < world.settings.guard.min_steps * c.dt_at_max) {
+            const std::string what =
+                describePair(world, p) + " had " + num(c.duration / c.dt_at_max) +
+                " steps per contact duration (" + num(c.duration) +
+                " s at dt = " + num(c.dt_at_max) + " s, t = " + num(world.clock.time) +
+                " s); it lasted " + std::to_string(p.steps) + " steps";
+            if (world.settings.guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
-                                     std::to_string(m_guard.min_steps) + " steps are needed");
-            if (m_guard_state.underresolved++ == 0) m_guard_state.underresolved_first = what;
+                                     std::to_string(world.settings.guard.min_steps) +
+                                     " steps are needed");
+            if (world.guard_state.underresolved++ == 0)
+                world.guard_state.underresolved_first = what;
         }
         // At the deepest overlap the force may be up to twice the reported stiffness times the
         // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
@@ -1344,18 +1375,20 @@ void Model::endContact(Pair& p, PairCold& c, bool check_guard) {
         const double allowed =
             2.0 * c.knest_at_max * c.overlap_max +
             2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
-        if (m_guard.stiffness != GuardAction::Off && !p.bonded && c.force_at_max > allowed) {
+        if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
+            c.force_at_max > allowed) {
             const std::string what =
-                describePair(p) + ": at its deepest overlap its normal force was " + num(secant) +
-                " N/m of overlap while it reported knest " + num(c.knest_at_max) +
+                describePair(world, p) + ": at its deepest overlap its normal force was " +
+                num(secant) + " N/m of overlap while it reported knest " + num(c.knest_at_max) +
                 " N/m; the time step follows knest, so the model must report its true tangent "
                 "stiffness (docs/plugin-abi.md, time-step contract)";
-            if (m_guard.stiffness == GuardAction::Error)
+            if (world.settings.guard.stiffness == GuardAction::Error)
                 throw NumericalError("stiffness under-reported: " + what);
-            if (m_guard_state.stiffness_lies++ == 0) m_guard_state.stiffness_lies_first = what;
+            if (world.guard_state.stiffness_lies++ == 0)
+                world.guard_state.stiffness_lies_first = what;
         }
     }
-    resetPair(p);
+    resetPair(world, p);
 }
 
 }  // namespace talus

@@ -97,7 +97,7 @@ struct LaneScratch {
 };
 
 /// What one pair did to its balls in this step, kept per pair when threads run the loop: every
-/// ball then adds its pairs' actions in pair order (Model::gatherPairActions), the same
+/// ball then adds its pairs' actions in pair order (gatherPairActions), the same
 /// additions in the same order as one thread adding each contact onto its ends at once.
 /// add[e] is what end e (0: end 1, 1: end 2) gets: force x, force y, moment. End 1's are the
 /// negated values one thread subtracts (x - y == x + (-y) exactly in IEEE 754), and a pair that
@@ -116,8 +116,8 @@ struct PairStiffness {
 /// model objects, grows or reorders the pairs, raises events or reads another pair.
 enum class Deferred : uint8_t {
     Pair,      // a wall pair or a pair touching for the first time: processed whole, serially
-    Break,     // a bond broke (Model::queueBreak)
-    End,       // a contact ended (Model::endContact), then its pair's broadphase check
+    Break,     // a bond broke (queueBreak)
+    End,       // a contact ended (endContact), then its pair's broadphase check
     Remove,    // a pair whose ends' fat boxes no longer overlap: to remove after the loop
     Contract,  // a law's energies to check against the ABI (rare; ForceThreadPart::contracts)
 };
@@ -157,7 +157,7 @@ struct DeferredItem {
 /// write their FdBlock and counters at every contact, and a line shared by two of them would
 /// move between the cores at every write (false sharing; two lines, for the adjacent-line
 /// prefetch).
-struct alignas(128) Model::ForceThreadPart {
+struct alignas(128) ForceThreadPart {
     FdBlock fd;                          // the thread's FdBlock (a copy of the step's template)
     LaneScratch lanes;                   // the thread's lane blocks
     std::vector<uint32_t> lane_entries;  // contacts to put into the lanes (serially, after)
@@ -176,14 +176,14 @@ struct alignas(128) Model::ForceThreadPart {
 };
 
 struct ForceScratch {
-    FdBlock fd{};                               // one thread's FdBlock
-    LaneScratch lanes;                          // one thread's lane blocks
-    std::string error;                          // one thread's caught exception text
-    std::vector<uint32_t> apart;                // one thread: pairs apart (automatic step)
-    std::vector<Model::ForceThreadPart> parts;  // threads: one per thread
-    std::vector<PairAction> actions;            // threads: per pair
-    std::vector<PairStiffness> stiffness;       // threads, automatic step: per pair
-    std::vector<PairEnergy> energies;           // threads, energy tracing: per pair
+    FdBlock fd{};                          // one thread's FdBlock
+    LaneScratch lanes;                     // one thread's lane blocks
+    std::string error;                     // one thread's caught exception text
+    std::vector<uint32_t> apart;           // one thread: pairs apart (automatic step)
+    std::vector<ForceThreadPart> parts;    // threads: one per thread
+    std::vector<PairAction> actions;       // threads: per pair
+    std::vector<PairStiffness> stiffness;  // threads, automatic step: per pair
+    std::vector<PairEnergy> energies;      // threads, energy tracing: per pair
     // Threads: ball -> its pairs in pair order, as (pair index << 1) | (ball is end 2), CSR.
     std::vector<uint32_t> incidence_start, incidence;
     uint64_t incidence_version = UINT64_MAX;  // ContactStore::pairs_version it was built for

@@ -24,6 +24,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
@@ -39,10 +40,10 @@ inline double share(uint64_t bit, uint64_t g1, uint64_t g2, bool wall) {
 
 }  // namespace
 
-void Model::openGroupBooks() {
-    auto& gb = m_books.groups;
-    const std::size_t n = m_group_names.size();
-    if (!m_books.on || n == 0) {
+void openGroupBooks(World& world) {
+    auto& gb = world.books.groups;
+    const std::size_t n = world.bodies.group_names.size();
+    if (!world.books.on || n == 0) {
         gb = EnergyBooks::GroupBooks{};
         return;
     }
@@ -61,31 +62,31 @@ void Model::openGroupBooks() {
                 gb.g[g].acc.kinetic += ke;
             }
         };
-        const auto& b = m_bodies->balls;
+        const auto& b = world.bodies.balls;
         for (std::size_t s = 0; s < b.size(); ++s)
             if (b.clump[s] == kNoClump)  // a pebble's motion is its clump's (below)
                 book(b.groups[s], 0.5 * (b.mass[s] * b.vel[s].squaredNorm() +
                                          b.inertia[s] * b.spin[s] * b.spin[s]));
-        for (const ClumpData& c : m_bodies->clumps)
+        for (const ClumpData& c : world.bodies.clumps)
             if (c.alive)
                 book(c.groups, 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin));
         for (auto& gr : gb.g) gr.snapshot = gr.acc;
     }
 }
 
-uint64_t Model::endGroups(const Pair& p, bool end2) const {
-    if (!end2) return m_bodies->balls.groups[p.end1];
-    if (p.wall) return m_bodies->walls[m_bodies->segments[p.end2].wall].groups;
-    return m_bodies->balls.groups[p.end2];
+uint64_t endGroups(const World& world, const Pair& p, bool end2) {
+    if (!end2) return world.bodies.balls.groups[p.end1];
+    if (p.wall) return world.bodies.walls[world.bodies.segments[p.end2].wall].groups;
+    return world.bodies.balls.groups[p.end2];
 }
 
-void Model::endRates(uint32_t slot, Vec2& v, double& w) const {
+void endRates(const World& world, uint32_t slot, Vec2& v, double& w) {
     // A pebble end moves with its clump: its work is F . v_c + (d x F + M) w_c, with the moment
     // taken about the clump's centroid (endCentre), which is exactly the clump's half-step
     // kinetic energy change that the force causes.
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     if (b.clump[slot] != kNoClump) {
-        const ClumpData& c = m_bodies->clumps[b.clump[slot]];
+        const ClumpData& c = world.bodies.clumps[b.clump[slot]];
         v = c.vel;
         w = c.spin;
         return;
@@ -94,18 +95,18 @@ void Model::endRates(uint32_t slot, Vec2& v, double& w) const {
     w = b.spin[slot];
 }
 
-Vec2 Model::endCentre(uint32_t slot) const {
-    const auto& b = m_bodies->balls;
-    return b.clump[slot] != kNoClump ? m_bodies->clumps[b.clump[slot]].pos : b.pos[slot];
+Vec2 endCentre(const World& world, uint32_t slot) {
+    const auto& b = world.bodies.balls;
+    return b.clump[slot] != kNoClump ? world.bodies.clumps[b.clump[slot]].pos : b.pos[slot];
 }
 
-void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bool ends,
-                                double held, const Vec2& f, const Vec2& point) {
-    auto& gb = m_books.groups;
-    const Pair& p = m_contacts->pairs[i];
-    const PairCold& c = m_contacts->cold[i];
-    const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
-    const double placed = (first && c.born_overlapped) ? m_books.last_placed : 0.0;
+void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool first, bool ends,
+                         double held, const Vec2& f, const Vec2& point) {
+    auto& gb = world.books.groups;
+    const Pair& p = world.contacts.pairs[i];
+    const PairCold& c = world.contacts.cold[i];
+    const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
+    const double placed = (first && c.born_overlapped) ? world.books.last_placed : 0.0;
     auto* groups = gb.g.data();
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
@@ -133,41 +134,41 @@ void Model::bookContactToGroups(std::size_t i, const FdBlock& fd, bool first, bo
     x.g1 = g1;
     x.g2 = g2;
     x.f1 = -f;  // the loop applies -f to end 1 and +f to end 2
-    x.m1 = -cross(point - endCentre(p.end1), f) - fd.moment;
+    x.m1 = -cross(point - endCentre(world, p.end1), f) - fd.moment;
     if (p.wall) {
-        const uint32_t wi = m_bodies->segments[p.end2].wall;
-        const WallData& w = m_bodies->walls[wi];
+        const uint32_t wi = world.bodies.segments[p.end2].wall;
+        const WallData& w = world.bodies.walls[wi];
         if (w.vel.squaredNorm() == 0.0 && w.spin == 0.0) return;
         x.wall = true;
         x.end2 = wi;
         x.m2 = cross(point - w.center, f) + fd.moment;
     } else {
         x.end2 = p.end2;
-        x.m2 = cross(point - endCentre(p.end2), f) + fd.moment;
+        x.m2 = cross(point - endCentre(world, p.end2), f) + fd.moment;
     }
     gb.exchange.push_back(x);
 }
 
-void Model::bookReleasedToGroups(const Pair& p, double released) {
-    auto& gb = m_books.groups;
-    const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
+void bookReleasedToGroups(World& world, const Pair& p, double released) {
+    auto& gb = world.books.groups;
+    const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
         gb.g[g].acc.released += share(uint64_t(1) << g, g1, g2, p.wall) * released;
     }
 }
 
-void Model::bookDeletedToGroups(uint64_t mask, double kinetic) {
-    auto& gb = m_books.groups;
+void bookDeletedToGroups(World& world, uint64_t mask, double kinetic) {
+    auto& gb = world.books.groups;
     for (uint64_t m = mask & gb.traced; m; m &= m - 1)
         gb.g[__builtin_ctzll(m)].acc.deleted += kinetic;
 }
 
-void Model::followRemovedSlot(uint32_t slot) {
-    auto& gb = m_books.groups;
+void followRemovedSlot(World& world, uint32_t slot) {
+    auto& gb = world.books.groups;
     // deleteBall moves the last slot into this one: follow it in the pending records, and mark
     // the deleted ball's ends gone (its force is never applied, so that end does no work).
-    const uint32_t last = static_cast<uint32_t>(m_bodies->balls.size() - 1);
+    const uint32_t last = static_cast<uint32_t>(world.bodies.balls.size() - 1);
     for (auto& x : gb.exchange) {
         if (x.end1 == slot) x.gone1 = true;
         if (!x.wall && x.end2 == slot) x.gone2 = true;
@@ -176,43 +177,43 @@ void Model::followRemovedSlot(uint32_t slot) {
     }
 }
 
-void Model::groupForceLoopStart() {
-    auto& gb = m_books.groups;
+void groupForceLoopStart(World& world) {
+    auto& gb = world.books.groups;
     for (auto& gr : gb.g) gr.strain_now = gr.bond_now = gr.held_before = 0.0;
     gb.exchange.clear();  // a force loop run twice before a law of motion books once
 }
 
-void Model::groupForceLoopEnd() {
-    for (auto& gr : m_books.groups.g) {
+void groupForceLoopEnd(World& world) {
+    for (auto& gr : world.books.groups.g) {
         gr.acc.strain = gr.strain_now;
         gr.acc.bond = gr.bond_now;
-        if (m_books.strain_baseline_pending) gr.acc.initial_strain = gr.held_before;
+        if (world.books.strain_baseline_pending) gr.acc.initial_strain = gr.held_before;
     }
 }
 
-void Model::gatherExchangeStart() {
-    for (auto& x : m_books.groups.exchange) {
-        if (!x.gone1) endRates(x.end1, x.v1, x.w1);
-        if (!x.wall && !x.gone2) endRates(x.end2, x.v2, x.w2);
+void gatherExchangeStart(World& world) {
+    for (auto& x : world.books.groups.exchange) {
+        if (!x.gone1) endRates(world, x.end1, x.v1, x.w1);
+        if (!x.wall && !x.gone2) endRates(world, x.end2, x.v2, x.w2);
     }
 }
 
-void Model::groupSnapshot(double lead) {
-    auto& gb = m_books.groups;
-    const double win = m_window;
+void groupSnapshot(World& world, double lead) {
+    auto& gb = world.books.groups;
+    const double win = world.clock.window;
     for (const auto& x : gb.exchange) {
         double w1 = 0.0, w2 = 0.0;
         Vec2 v;
         double om;
         if (!x.gone1) {
-            endRates(x.end1, v, om);
+            endRates(world, x.end1, v, om);
             w1 = (x.f1.dot(0.5 * (x.v1 + v)) + x.m1 * 0.5 * (x.w1 + om)) * win;
         }
         if (x.wall) {
-            const WallData& wd = m_bodies->walls[x.end2];
+            const WallData& wd = world.bodies.walls[x.end2];
             if (wd.alive) w2 = (-x.f1.dot(wd.vel) + x.m2 * wd.spin) * win;
         } else if (!x.gone2) {
-            endRates(x.end2, v, om);
+            endRates(world, x.end2, v, om);
             w2 = (-x.f1.dot(0.5 * (x.v2 + v)) + x.m2 * 0.5 * (x.w2 + om)) * win;
         }
         const double total = w1 + w2;
@@ -243,8 +244,8 @@ void Model::groupSnapshot(double lead) {
     }
 }
 
-void Model::bookWallToGroups(uint64_t mask, double work, double lead) {
-    auto& gb = m_books.groups;
+void bookWallToGroups(World& world, uint64_t mask, double work, double lead) {
+    auto& gb = world.books.groups;
     for (uint64_t m = mask & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
         gb.g[g].acc.boundary += work;
@@ -253,13 +254,15 @@ void Model::bookWallToGroups(uint64_t mask, double work, double lead) {
 }
 
 EnergyTotals Model::energies(const std::string& group) const {
-    if (!m_books.on)
+    const World& world = *m_world;
+    if (!world.books.on)
         throw InputError("energies: energy tracing is off (call energy{on = true} first)");
-    for (std::size_t g = 0; g < m_group_names.size(); ++g)
-        if (m_group_names[g] == group)
-            return g < m_books.groups.g.size() ? m_books.groups.g[g].snapshot : EnergyTotals{};
+    for (std::size_t g = 0; g < world.bodies.group_names.size(); ++g)
+        if (world.bodies.group_names[g] == group)
+            return g < world.books.groups.g.size() ? world.books.groups.g[g].snapshot
+                                                   : EnergyTotals{};
     std::string known;
-    for (const auto& n : m_group_names) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& n : world.bodies.group_names) known += (known.empty() ? "" : ", ") + n;
     throw InputError("energies: unknown group '" + group +
                      "' (groups: " + (known.empty() ? std::string("none") : known) + ")");
 }

@@ -26,6 +26,7 @@
 #include "body_damping.hpp"
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 
 namespace talus {
@@ -34,27 +35,35 @@ namespace {
 
 std::string text(double v) { return messageNumber(v); }
 
+template <bool kGeneral>
+void moveBalls(World& world);
+
 }  // namespace
 
-void Model::lawOfMotion() {
-    m_window = m_first_cycle ? 0.5 * m_dt : 0.5 * (m_dt_prev + m_dt);
+void lawOfMotion(World& world) {
+    world.clock.window = world.clock.first_cycle ? 0.5 * world.clock.dt
+                                                 : 0.5 * (world.clock.dt_prev + world.clock.dt);
     // Clumps need the general loop (it skips their pebbles; moveClumps moves them).
-    const bool general = m_books.on || m_damping.local > 0.0 || m_damping.viscous > 0.0 ||
-                         m_fixed_balls > 0 || m_bodies->hasClumps();
-    if (m_books.groups.on) gatherExchangeStart();  // rates before the update (group_energy.cpp)
-    general ? moveBalls<true>() : moveBalls<false>();
-    m_first_cycle = false;
-    m_time += m_dt;
-    ++m_step;
+    const bool general = world.books.on || world.settings.damping.local > 0.0 ||
+                         world.settings.damping.viscous > 0.0 || world.bodies.fixed_balls > 0 ||
+                         world.bodies.hasClumps();
+    if (world.books.groups.on)
+        gatherExchangeStart(world);  // rates before the update (group_energy.cpp)
+    general ? moveBalls<true>(world) : moveBalls<false>(world);
+    world.clock.first_cycle = false;
+    world.clock.time += world.clock.dt;
+    ++world.clock.step;
 }
 
+namespace {
+
 template <bool kGeneral>
-void Model::moveBalls() {
-    auto& b = m_bodies->balls;
+void moveBalls(World& world) {
+    auto& b = world.bodies.balls;
     const std::size_t n = b.size();
-    const double dt = m_dt;
-    const double w = m_window;
-    const Vec2 g = m_gravity;
+    const double dt = world.clock.dt;
+    const double w = world.clock.window;
+    const Vec2 g = world.settings.gravity;
     Vec2* pos = b.pos.data();
     Vec2* vel = b.vel.data();
     const Vec2* force = b.force.data();
@@ -69,7 +78,7 @@ void Model::moveBalls() {
     // Every ball's update is its own: with threads (as many as the force loop took, over the
     // same static ranges of balls as its gather, so each thread reads the forces it wrote) the
     // result is the same bit for bit. With energy tracing the sums stay on one thread.
-    const int threads = m_step_threads;
+    const int threads = world.clock.threads;
     (void)threads;
     if constexpr (!kGeneral) {
         bool finite = true;
@@ -83,19 +92,20 @@ void Model::moveBalls() {
             angle[s] += om * dt;
             finite = finite && std::isfinite(v.x() + v.y() + om);
         }
-        if (!finite) reportNonFiniteBall();
+        if (!finite) reportNonFiniteBall(world);
         return;
     }
 
-    const double alpha = m_damping.local;
-    const double c = m_damping.viscous;
+    const double alpha = world.settings.damping.local;
+    const double c = world.settings.damping.viscous;
     const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
     const double gain = w / (1.0 + 0.5 * c * w);
-    const bool energy = m_books.on;
-    const bool groups = m_books.groups.on;
-    const double lead = w > 0.0 ? 0.5 * (m_first_cycle ? 0.0 : m_dt_prev) / w : 0.0;
+    const bool energy = world.books.on;
+    const bool groups = world.books.groups.on;
+    const double lead =
+        w > 0.0 ? 0.5 * (world.clock.first_cycle ? 0.0 : world.clock.dt_prev) / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
-    const uint32_t* pebble = m_bodies->hasClumps() ? b.clump.data() : nullptr;
+    const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
     for (std::size_t s = 0; s < n; ++s) {
         if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
         const Vec2 v_old = vel[s];
@@ -156,66 +166,70 @@ void Model::moveBalls() {
                 if (fix & kFixSpin) react -= mom * om;
                 driven += react * w;
             }
-            if (groups) bookBodyToGroups(b.groups[s], ke, work, damp, react * w);
+            if (groups) bookBodyToGroups(world, b.groups[s], ke, work, damp, react * w);
         }
     }
-    if (pebble) moveClumps(kinetic, body, damping, driven);  // clump_motion.cpp
+    if (pebble) moveClumps(world, kinetic, body, damping, driven);  // clump_motion.cpp
     bool finite = true;
     for (std::size_t s = 0; s < n && finite; ++s)
         finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
-    if (!finite) reportNonFiniteBall();
+    if (!finite) reportNonFiniteBall(world);
     // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
     // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
     // contact then ran on with inf in the balance and no word.
     if (energy && !std::isfinite(kinetic + body + damping + driven))
-        reportNonFiniteEnergy(kinetic, body, damping, driven);
+        reportNonFiniteEnergy(world, kinetic, body, damping, driven);
     if (energy) {
         // Impulses applied now span the window around t: the damping, the fixities' reactions
         // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
         // holds the share of their effect before t, so the snapshot holds the same share of
         // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
         // the books half a step's dissipation ahead during an impact.)
-        m_books.acc.damping += damping * lead;
-        m_books.acc.boundary += driven * lead;
-        m_books.acc.dashpot += m_books.dashpot_pending * lead;
-        m_books.snapshot = m_books.acc;
-        m_books.snapshot.kinetic = kinetic;
-        m_books.acc.body += body;
-        m_books.acc.boundary += driven * (1.0 - lead);
-        m_books.acc.damping += damping * (1.0 - lead);
-        m_books.acc.dashpot += m_books.dashpot_pending * (1.0 - lead);
-        m_books.dashpot_pending = 0.0;
-        if (groups) groupSnapshot(lead);
+        world.books.acc.damping += damping * lead;
+        world.books.acc.boundary += driven * lead;
+        world.books.acc.dashpot += world.books.dashpot_pending * lead;
+        world.books.snapshot = world.books.acc;
+        world.books.snapshot.kinetic = kinetic;
+        world.books.acc.body += body;
+        world.books.acc.boundary += driven * (1.0 - lead);
+        world.books.acc.damping += damping * (1.0 - lead);
+        world.books.acc.dashpot += world.books.dashpot_pending * (1.0 - lead);
+        world.books.dashpot_pending = 0.0;
+        if (groups) groupSnapshot(world, lead);
     }
 }
 
-void Model::reportNonFiniteBall() const {
-    const auto& b = m_bodies->balls;
+}  // namespace
+
+void reportNonFiniteBall(const World& world) {
+    const auto& b = world.bodies.balls;
     for (std::size_t s = 0; s < b.size(); ++s) {
         const Vec2& v = b.vel[s];
         if (std::isfinite(v.x() + v.y() + b.spin[s] + b.pos[s].x() + b.pos[s].y())) continue;
-        throwNonFinite(describeBall(static_cast<uint32_t>(s)) + ": velocity (" + text(v.x()) +
-                       ", " + text(v.y()) + "), spin " + text(b.spin[s]) + ", contact force (" +
-                       text(b.force[s].x()) + ", " + text(b.force[s].y()) + ")");
+        throwNonFinite(world, world.bodies.describeBall(static_cast<uint32_t>(s)) + ": velocity (" +
+                                  text(v.x()) + ", " + text(v.y()) + "), spin " + text(b.spin[s]) +
+                                  ", contact force (" + text(b.force[s].x()) + ", " +
+                                  text(b.force[s].y()) + ")");
     }
 }
 
-void Model::reportNonFiniteEnergy(double kinetic, double body, double damping,
-                                  double driven) const {
+void reportNonFiniteEnergy(const World& world, double kinetic, double body, double damping,
+                           double driven) {
     // Name the first body whose kinetic energy 1/2 (m v^2 + I w^2) overflows.
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     auto overflows = [](double m, const Vec2& v, double inertia, double om) {
         return !std::isfinite(0.5 * (m * v.squaredNorm() + inertia * om * om));
     };
     std::string who;
     for (std::size_t s = 0; s < b.size() && who.empty(); ++s) {
-        if (m_bodies->hasClumps() && b.clump[s] != kNoClump) continue;
+        if (world.bodies.hasClumps() && b.clump[s] != kNoClump) continue;
         if (overflows(b.mass[s], b.vel[s], b.inertia[s], b.spin[s]))
-            who = describeBall(static_cast<uint32_t>(s)) + ": velocity (" + text(b.vel[s].x()) +
-                  ", " + text(b.vel[s].y()) + "), spin " + text(b.spin[s]) + ", ";
+            who = world.bodies.describeBall(static_cast<uint32_t>(s)) + ": velocity (" +
+                  text(b.vel[s].x()) + ", " + text(b.vel[s].y()) + "), spin " + text(b.spin[s]) +
+                  ", ";
     }
-    for (std::size_t i = 0; i < m_bodies->clumps.size() && who.empty(); ++i) {
-        const ClumpData& c = m_bodies->clumps[i];
+    for (std::size_t i = 0; i < world.bodies.clumps.size() && who.empty(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
         if (c.alive && overflows(c.mass, c.vel, c.inertia, c.spin))
             who = "clump " + std::to_string(i + 1) + ": velocity (" + text(c.vel.x()) + ", " +
                   text(c.vel.y()) + "), spin " + text(c.spin) + ", ";
@@ -226,13 +240,13 @@ void Model::reportNonFiniteEnergy(double kinetic, double body, double damping,
     std::string loaded;
     for (std::size_t s = 0; s < b.size(); ++s) {
         const double load = b.fapp[s].norm() + std::fabs(b.mapp[s]);
-        if (!(m_bodies->hasClumps() && b.clump[s] != kNoClump) && load > largest)
-            largest = load, loaded = describeBall(static_cast<uint32_t>(s)) + ": applied force (" +
-                                     text(b.fapp[s].x()) + ", " + text(b.fapp[s].y()) +
-                                     "), moment " + text(b.mapp[s]) + ", ";
+        if (!(world.bodies.hasClumps() && b.clump[s] != kNoClump) && load > largest)
+            largest = load, loaded = world.bodies.describeBall(static_cast<uint32_t>(s)) +
+                                     ": applied force (" + text(b.fapp[s].x()) + ", " +
+                                     text(b.fapp[s].y()) + "), moment " + text(b.mapp[s]) + ", ";
     }
-    for (std::size_t i = 0; i < m_bodies->clumps.size(); ++i) {
-        const ClumpData& c = m_bodies->clumps[i];
+    for (std::size_t i = 0; i < world.bodies.clumps.size(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
         const double load = c.fapp.norm() + std::fabs(c.mapp);
         if (c.alive && load > largest)
             largest = load, loaded = "clump " + std::to_string(i + 1) + ": applied force (" +
@@ -240,17 +254,17 @@ void Model::reportNonFiniteEnergy(double kinetic, double body, double damping,
                                      text(c.mapp) + ", ";
     }
     if (who.empty()) who = loaded;
-    throwNonFinite(who + "the energy of this step overflows (kinetic " + text(kinetic) +
-                   " J, body work " + text(body) + " J, damping " + text(damping) +
-                   " J, fixity work " + text(driven) + " J)");
+    throwNonFinite(world, who + "the energy of this step overflows (kinetic " + text(kinetic) +
+                              " J, body work " + text(body) + " J, damping " + text(damping) +
+                              " J, fixity work " + text(driven) + " J)");
 }
 
-void Model::moveWalls() {
-    const double dt = m_dt;
-    for (std::size_t i = 0; i < m_bodies->walls.size(); ++i) {
-        WallData& w = m_bodies->walls[i];
+void moveWalls(World& world) {
+    const double dt = world.clock.dt;
+    for (std::size_t i = 0; i < world.bodies.walls.size(); ++i) {
+        WallData& w = world.bodies.walls[i];
         if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
-        if (m_books.on) {
+        if (world.books.on) {
             // Work done on the balls: minus the force they exert on the wall times its motion.
             // That force is the last force loop's, whose impulse the law of motion has just
             // applied over the window w = (dt_prev + dt)/2 around the snapshot's time t; so its
@@ -258,17 +272,17 @@ void Model::moveWalls() {
             // damping impulse. Booking it over the coming dt, after the snapshot, left it a step
             // late and short by (w - dt) while the step shrank: a wall whose contacts formed in
             // a long step created energy (issue 6, item 7: -217 J, 2.5% of the boundary work).
-            const double win = m_window;
+            const double win = world.clock.window;
             const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
             const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
-            m_books.acc.boundary += work;
-            m_books.snapshot.boundary += work * lead;
-            if (m_books.groups.on) bookWallToGroups(w.groups, work, lead);
+            world.books.acc.boundary += work;
+            world.books.snapshot.boundary += work * lead;
+            if (world.books.groups.on) bookWallToGroups(world, w.groups, work, lead);
         }
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);
         for (uint32_t k = 0; k < w.vertex_count; ++k) {
-            Vec2& p = m_bodies->vertices[w.first_vertex + k];
+            Vec2& p = world.bodies.vertices[w.first_vertex + k];
             const Vec2 r = p - w.center;
             p = w.center + Vec2(ca * r.x() - sa * r.y(), sa * r.x() + ca * r.y()) + shift;
         }

@@ -10,6 +10,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
@@ -74,6 +75,7 @@ double diskBoxArea(const Vec2& p, double r, const Vec2& lo, const Vec2& hi) {
 }  // namespace
 
 MeasureResult Model::measure(const MeasureRegion& rg) const {
+    const World& world = *m_world;
     if (rg.circle) {
         if (!(rg.radius > 0.0) || !std::isfinite(rg.radius) || !std::isfinite(rg.center.x()) ||
             !std::isfinite(rg.center.y()))
@@ -91,7 +93,7 @@ MeasureResult Model::measure(const MeasureRegion& rg) const {
     MeasureResult r;
     r.area =
         rg.circle ? kPi * rg.radius * rg.radius : (rg.hi.x() - rg.lo.x()) * (rg.hi.y() - rg.lo.y());
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     const std::size_t n = b.size();
 
     // Balls: solid area inside (exact intersections), and the balls whose centre is inside.
@@ -122,17 +124,17 @@ MeasureResult Model::measure(const MeasureRegion& rg) const {
     // correction for balls that straddle the boundary), it is 1/A of it when every ball is inside.
     double sxx = 0.0, syy = 0.0, sxy = 0.0, syx = 0.0;
     int64_t ends_in = 0;
-    const auto& pairs = m_contacts->pairs;
+    const auto& pairs = world.contacts.pairs;
     for (const Pair& p : pairs) {
         if (!p.active) continue;
         Vec2 normal, point;
         double overlap;
-        if (!pairGeometry(p, normal, overlap, point)) continue;
+        if (!pairGeometry(world, p, normal, overlap, point)) continue;
         if (!(overlap > 0.0 || p.bonded)) continue;
         if (inside(point)) ++r.contacts;
         const Vec2 f = p.n_force * normal + p.s_force * perp(normal);  // on end 2
         const auto add = [&](uint32_t slot, const Vec2& force) {
-            const Vec2 arm = point - endCentre(slot);
+            const Vec2 arm = point - endCentre(world, slot);
             sxx += arm.x() * force.x();
             syy += arm.y() * force.y();
             sxy += arm.x() * force.y();
@@ -188,10 +190,11 @@ MeasureResult Model::measure(const MeasureRegion& rg) const {
 }
 
 UnbalancedForce Model::unbalanced() const {
+    const World& world = *m_world;
     // PFC's ratio: the mean over the free bodies of the magnitude of the net force on each
     // (contact + applied + gravity; damping excluded; fixed components left out, a body fixed
     // in x and y not counted), over the mean magnitude of the contact forces that are not zero.
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     UnbalancedForce u;
     double sum = 0.0;
     const auto body = [&](Vec2 f, uint8_t fix) {
@@ -203,22 +206,22 @@ UnbalancedForce Model::unbalanced() const {
         u.max_unbalanced = std::max(u.max_unbalanced, m);
         ++u.bodies;
     };
-    const auto& clumps = m_bodies->clumps;
+    const auto& clumps = world.bodies.clumps;
     std::vector<Vec2> clump_force(clumps.size(), Vec2::Zero());
     for (std::size_t s = 0; s < b.size(); ++s) {
         if (b.clump[s] != kNoClump) {
             clump_force[b.clump[s]] += b.force[s];
             continue;
         }
-        body(b.force[s] + b.fapp[s] + b.mass[s] * m_gravity, b.fixity[s]);
+        body(b.force[s] + b.fapp[s] + b.mass[s] * world.settings.gravity, b.fixity[s]);
     }
     for (std::size_t k = 0; k < clumps.size(); ++k) {
         const ClumpData& c = clumps[k];
         if (!c.alive) continue;
-        body(clump_force[k] + c.fapp + c.mass * m_gravity, c.fixity);
+        body(clump_force[k] + c.fapp + c.mass * world.settings.gravity, c.fixity);
     }
     double csum = 0.0;
-    for (const Pair& p : m_contacts->pairs) {
+    for (const Pair& p : world.contacts.pairs) {
         if (!p.active || (p.n_force == 0.0 && p.s_force == 0.0)) continue;
         csum += std::sqrt(p.n_force * p.n_force + p.s_force * p.s_force);
         ++u.contacts;

@@ -14,6 +14,7 @@
 #include "body_store.hpp"
 #include "broadphase.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "props.hpp"
@@ -86,27 +87,28 @@ void requireUsableMass(double mass, double inertia, const std::string& from) {
 
 // ------------------------------------------------------------------------ balls
 
-uint32_t Model::slotOf(BallId id) const { return m_bodies->slotOf(id); }
-bool Model::isAlive(BallId id) const { return m_bodies->isAlive(id); }
-std::string Model::describeBall(uint32_t slot) const { return m_bodies->describeBall(slot); }
+bool Model::isAlive(BallId id) const { return m_world->bodies.isAlive(id); }
 
-std::size_t Model::ballCount() const { return m_bodies->balls.size() - m_bodies->pebble_count; }
+std::size_t Model::ballCount() const {
+    const World& world = *m_world;
+    return world.bodies.balls.size() - world.bodies.pebble_count;
+}
 
-void Model::refreshPairMasses(uint32_t s) {
+void refreshPairMasses(World& world, uint32_t s) {
     // Pairs cache their effective mass (force_displacement.cpp); a mass change is rare.
-    const auto& b = m_bodies->balls;
-    for (auto& p : m_contacts->pairs)
+    const auto& b = world.bodies.balls;
+    for (auto& p : world.contacts.pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s))
             p.mass_eff = p.wall
                              ? b.mass[p.end1]
                              : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
-            p.inv_mass_eff_s = tangentialInverseMass(p);
+            p.inv_mass_eff_s = tangentialInverseMass(world, p);
 }
 
-void Model::updateMass(uint32_t s) {
-    auto& b = m_bodies->balls;
+void updateMass(World& world, uint32_t s) {
+    auto& b = world.bodies.balls;
     const double r = b.radius[s];
-    if (m_mass_mode == MassMode::Disk) {
+    if (world.settings.mass_mode == MassMode::Disk) {
         b.mass[s] = b.density[s] * M_PI * r * r;  // unit thickness
         b.inertia[s] = 0.5 * b.mass[s] * r * r;
     } else {
@@ -117,10 +119,13 @@ void Model::updateMass(uint32_t s) {
     b.inv_inertia[s] = 1.0 / b.inertia[s];
 }
 
-BallId Model::createBall(const BallDef& d) { return createBallIn(d, kNoClump); }
+BallId Model::createBall(const BallDef& d) {
+    World& world = *m_world;
+    return createBallIn(world, d, kNoClump);
+}
 
-BallId Model::createBallIn(const BallDef& d, uint32_t clump) {
-    m_limits_stale = true;
+BallId createBallIn(World& world, const BallDef& d, uint32_t clump) {
+    world.stepping.limits_stale = true;
     auto finite2 = [](const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); };
     requireRadius(d.radius);
     const bool has_mass = !std::isnan(d.mass);
@@ -140,7 +145,7 @@ BallId Model::createBallIn(const BallDef& d, uint32_t clump) {
     {
         // The derived values, before anything is stored.
         const double r = d.radius;
-        const bool disk = m_mass_mode == MassMode::Disk;
+        const bool disk = world.settings.mass_mode == MassMode::Disk;
         const double volume = disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
         const double mass = has_mass ? d.mass : d.density * volume;
         const double inertia =
@@ -152,7 +157,7 @@ BallId Model::createBallIn(const BallDef& d, uint32_t clump) {
         requireFiniteEnergy(mass, inertia, d.vel, d.spin);
     }
 
-    auto& b = m_bodies->balls;
+    auto& b = world.bodies.balls;
     const uint32_t s = static_cast<uint32_t>(b.size());
     b.resize(s + 1);
     b.pos[s] = d.pos;
@@ -165,123 +170,166 @@ BallId Model::createBallIn(const BallDef& d, uint32_t clump) {
     b.density[s] = has_mass ? 0.0 : d.density;
     if (has_mass) {
         b.mass[s] = d.mass;
-        b.inertia[s] = (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * d.mass * d.radius * d.radius;
+        b.inertia[s] =
+            (world.settings.mass_mode == MassMode::Disk ? 0.5 : 0.4) * d.mass * d.radius * d.radius;
         b.inv_mass[s] = 1.0 / d.mass;
         b.inv_inertia[s] = 1.0 / b.inertia[s];
-        b.density[s] = d.mass / (m_mass_mode == MassMode::Disk
+        b.density[s] = d.mass / (world.settings.mass_mode == MassMode::Disk
                                      ? M_PI * d.radius * d.radius
                                      : 4.0 / 3.0 * M_PI * d.radius * d.radius * d.radius);
     } else {
-        updateMass(s);
+        updateMass(world, s);
     }
     if (!std::isnan(d.inertia)) {
         b.inertia[s] = d.inertia;
         b.inv_inertia[s] = 1.0 / d.inertia;
     }
     b.fixity[s] = d.fixity;
-    if (d.fixity) ++m_fixed_balls;
+    if (d.fixity) ++world.bodies.fixed_balls;
     b.proxy[s] = -1;
     b.groups[s] = 0;
-    for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << groupIndex(g, true);
+    for (const auto& g : d.groups) b.groups[s] |= uint64_t(1) << talus::groupIndex(world, g, true);
     b.kn[s] = d.kn, b.ks[s] = d.ks, b.fric[s] = d.fric;
     b.k_tran[s] = b.k_rot[s] = 0.0;
     // Before the broadphase sees it: pebbles of one clump never form a pair (makePair).
     b.clump[s] = clump;
-    if (clump != kNoClump) ++m_bodies->pebble_count;
+    if (clump != kNoClump) ++world.bodies.pebble_count;
 
     uint32_t h;
-    if (!m_bodies->free_handles.empty()) {
-        h = m_bodies->free_handles.back();
-        m_bodies->free_handles.pop_back();
-        m_bodies->generation[h - 1] += 1;
+    if (!world.bodies.free_handles.empty()) {
+        h = world.bodies.free_handles.back();
+        world.bodies.free_handles.pop_back();
+        world.bodies.generation[h - 1] += 1;
     } else {
-        m_bodies->slot_of.push_back(kDeadSlot);
-        m_bodies->generation.push_back(1);
-        h = static_cast<uint32_t>(m_bodies->slot_of.size());
+        world.bodies.slot_of.push_back(kDeadSlot);
+        world.bodies.generation.push_back(1);
+        h = static_cast<uint32_t>(world.bodies.slot_of.size());
     }
-    m_bodies->slot_of[h - 1] = s;
+    world.bodies.slot_of[h - 1] = s;
     b.handle[s] = h;
-    if (m_contacts->broadphase_ready) insertBall(s);
-    return BallId{h, m_bodies->generation[h - 1]};
+    if (world.contacts.broadphase_ready) insertBall(world, s);
+    return BallId{h, world.bodies.generation[h - 1]};
 }
 
 void Model::deleteBall(BallId id) {
-    const uint32_t s = slotOf(id);
-    if (m_bodies->balls.clump[s] != kNoClump)
+    World& world = *m_world;
+    const uint32_t s = world.bodies.slotOf(id);
+    if (world.bodies.balls.clump[s] != kNoClump)
         throw InputError("ball " + std::to_string(id.index) + " is a pebble of clump " +
-                         std::to_string(m_bodies->balls.clump[s] + 1) +
+                         std::to_string(world.bodies.balls.clump[s] + 1) +
                          ": delete or release the clump");
-    removeBall(id, true);
+    removeBall(world, id, true);
 }
 
-void Model::removeBall(BallId id, bool book_energy) {
-    m_limits_stale = true;
-    const uint32_t s = slotOf(id);
-    if (m_books.on && book_energy) {
+void removeBall(World& world, BallId id, bool book_energy) {
+    world.stepping.limits_stale = true;
+    const uint32_t s = world.bodies.slotOf(id);
+    if (world.books.on && book_energy) {
         // The ball leaves the books with its kinetic energy at the present whole step, taken as
         // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
         // plus half a step of the acceleration of the last force loop. Its contacts' stored
         // energy goes to `released` (removePair).
-        const auto& b = m_bodies->balls;
-        const double half = 0.5 * m_dt;
-        const Vec2 v = b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity) * half;
+        const auto& b = world.bodies.balls;
+        const double half = 0.5 * world.clock.dt;
+        const Vec2 v =
+            b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + world.settings.gravity) * half;
         const double w = b.spin[s] + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * half;
         const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
                              (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
         const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
         const double ke = 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
-        m_books.acc.deleted += ke;
-        if (m_books.groups.on) bookDeletedToGroups(b.groups[s], ke);
+        world.books.acc.deleted += ke;
+        if (world.books.groups.on) bookDeletedToGroups(world, b.groups[s], ke);
     }
-    if (m_books.groups.on) followRemovedSlot(s);
+    if (world.books.groups.on) followRemovedSlot(world, s);
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
-    for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
-        const Pair& p = m_contacts->pairs[i];
-        if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(i);
+    for (std::size_t i = world.contacts.pairs.size(); i-- > 0;) {
+        const Pair& p = world.contacts.pairs[i];
+        if (p.end1 == s || (!p.wall && p.end2 == s)) removePair(world, i);
     }
-    auto& b = m_bodies->balls;
-    if (b.fixity[s]) --m_fixed_balls;
-    if (b.clump[s] != kNoClump) --m_bodies->pebble_count;
-    if (b.proxy[s] >= 0) m_contacts->broadphase->destroy(b.proxy[s]);
+    auto& b = world.bodies.balls;
+    if (b.fixity[s]) --world.bodies.fixed_balls;
+    if (b.clump[s] != kNoClump) --world.bodies.pebble_count;
+    if (b.proxy[s] >= 0) world.contacts.broadphase->destroy(b.proxy[s]);
     const uint32_t last = static_cast<uint32_t>(b.size() - 1);
     if (s != last) {
         b.move(s, last);
-        m_bodies->slot_of[b.handle[s] - 1] = s;
-        for (auto& p : m_contacts->pairs) {
+        world.bodies.slot_of[b.handle[s] - 1] = s;
+        for (auto& p : world.contacts.pairs) {
             if (p.end1 == last) p.end1 = s;
             if (!p.wall && p.end2 == last) p.end2 = s;
         }
-        ++m_contacts->pairs_version;
+        ++world.contacts.pairs_version;
     }
     b.resize(last);
-    if (m_contacts->ball_moved.size() > last) m_contacts->ball_moved.resize(last);
-    m_bodies->slot_of[id.index - 1] = kDeadSlot;
-    m_bodies->free_handles.push_back(id.index);
+    if (world.contacts.ball_moved.size() > last) world.contacts.ball_moved.resize(last);
+    world.bodies.slot_of[id.index - 1] = kDeadSlot;
+    world.bodies.free_handles.push_back(id.index);
 }
 
 std::vector<BallId> Model::ballIds() const {
+    const World& world = *m_world;
     std::vector<BallId> ids;
-    ids.reserve(m_bodies->balls.size());
-    for (uint32_t h = 1; h <= m_bodies->slot_of.size(); ++h)
-        if (m_bodies->slot_of[h - 1] != kDeadSlot &&
-            m_bodies->balls.clump[m_bodies->slot_of[h - 1]] == kNoClump)
-            ids.push_back(BallId{h, m_bodies->generation[h - 1]});
+    ids.reserve(world.bodies.balls.size());
+    for (uint32_t h = 1; h <= world.bodies.slot_of.size(); ++h)
+        if (world.bodies.slot_of[h - 1] != kDeadSlot &&
+            world.bodies.balls.clump[world.bodies.slot_of[h - 1]] == kNoClump)
+            ids.push_back(BallId{h, world.bodies.generation[h - 1]});
     return ids;
 }
 
-Vec2 Model::ballPos(BallId id) const { return m_bodies->balls.pos[slotOf(id)]; }
-Vec2 Model::ballVel(BallId id) const { return m_bodies->balls.vel[slotOf(id)]; }
-double Model::ballSpin(BallId id) const { return m_bodies->balls.spin[slotOf(id)]; }
-double Model::ballAngle(BallId id) const { return m_bodies->balls.angle[slotOf(id)]; }
-double Model::ballRadius(BallId id) const { return m_bodies->balls.radius[slotOf(id)]; }
-double Model::ballMass(BallId id) const { return m_bodies->balls.mass[slotOf(id)]; }
-double Model::ballInertia(BallId id) const { return m_bodies->balls.inertia[slotOf(id)]; }
-double Model::ballDensity(BallId id) const { return m_bodies->balls.density[slotOf(id)]; }
-Vec2 Model::ballForce(BallId id) const { return m_bodies->balls.force[slotOf(id)]; }
-double Model::ballMoment(BallId id) const { return m_bodies->balls.moment[slotOf(id)]; }
-Vec2 Model::ballAppliedForce(BallId id) const { return m_bodies->balls.fapp[slotOf(id)]; }
-double Model::ballAppliedMoment(BallId id) const { return m_bodies->balls.mapp[slotOf(id)]; }
-uint8_t Model::ballFixity(BallId id) const { return m_bodies->balls.fixity[slotOf(id)]; }
+Vec2 Model::ballPos(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.pos[world.bodies.slotOf(id)];
+}
+Vec2 Model::ballVel(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.vel[world.bodies.slotOf(id)];
+}
+double Model::ballSpin(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.spin[world.bodies.slotOf(id)];
+}
+double Model::ballAngle(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.angle[world.bodies.slotOf(id)];
+}
+double Model::ballRadius(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.radius[world.bodies.slotOf(id)];
+}
+double Model::ballMass(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.mass[world.bodies.slotOf(id)];
+}
+double Model::ballInertia(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.inertia[world.bodies.slotOf(id)];
+}
+double Model::ballDensity(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.density[world.bodies.slotOf(id)];
+}
+Vec2 Model::ballForce(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.force[world.bodies.slotOf(id)];
+}
+double Model::ballMoment(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.moment[world.bodies.slotOf(id)];
+}
+Vec2 Model::ballAppliedForce(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.fapp[world.bodies.slotOf(id)];
+}
+double Model::ballAppliedMoment(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.mapp[world.bodies.slotOf(id)];
+}
+uint8_t Model::ballFixity(BallId id) const {
+    const World& world = *m_world;
+    return world.bodies.balls.fixity[world.bodies.slotOf(id)];
+}
 
 static void requireFinite(const char* what, const Vec2& v) {
     if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
@@ -289,77 +337,90 @@ static void requireFinite(const char* what, const Vec2& v) {
 }
 
 void Model::setBallPos(BallId id, const Vec2& p) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     requireCoordinate("ball: pos", p);
-    const uint32_t s = slotOf(id);
-    m_bodies->balls.pos[s] = p;
+    const uint32_t s = world.bodies.slotOf(id);
+    world.bodies.balls.pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     requireFinite("vel", v);
-    const uint32_t s = slotOf(id);
-    requireFiniteEnergy(m_bodies->balls.mass[s], 0.0, v, 0.0);
-    m_bodies->balls.vel[s] = v;
+    const uint32_t s = world.bodies.slotOf(id);
+    requireFiniteEnergy(world.bodies.balls.mass[s], 0.0, v, 0.0);
+    world.bodies.balls.vel[s] = v;
 }
 void Model::setBallSpin(BallId id, double w) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
-    const uint32_t s = slotOf(id);
-    requireFiniteEnergy(0.0, m_bodies->balls.inertia[s], Vec2::Zero(), w);
-    m_bodies->balls.spin[s] = w;
+    const uint32_t s = world.bodies.slotOf(id);
+    requireFiniteEnergy(0.0, world.bodies.balls.inertia[s], Vec2::Zero(), w);
+    world.bodies.balls.spin[s] = w;
 }
 void Model::setBallRadius(BallId id, double r) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     requireRadius(r);
-    const uint32_t s = slotOf(id);
-    if (m_bodies->balls.density[s] > 0.0) {
-        const double rho = m_bodies->balls.density[s];
+    const uint32_t s = world.bodies.slotOf(id);
+    if (world.bodies.balls.density[s] > 0.0) {
+        const double rho = world.bodies.balls.density[s];
         const double mass =
-            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
-        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
+            rho * (world.settings.mass_mode == MassMode::Disk ? M_PI * r * r
+                                                              : 4.0 / 3.0 * M_PI * r * r * r);
+        requireUsableMass(mass,
+                          (world.settings.mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + messageNumber(rho) + " and radius " + messageNumber(r));
     }
-    m_bodies->balls.radius[s] = r;
-    if (m_bodies->balls.density[s] > 0.0) updateMass(s);
-    refreshPairMasses(s);
+    world.bodies.balls.radius[s] = r;
+    if (world.bodies.balls.density[s] > 0.0) updateMass(world, s);
+    refreshPairMasses(world, s);
 }
 void Model::setBallDensity(BallId id, double rho) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     if (!(rho > 0.0) || !std::isfinite(rho))
         throw InputError("ball: density must be > 0 (got " + messageNumber(rho) + ")");
-    const uint32_t s = slotOf(id);
+    const uint32_t s = world.bodies.slotOf(id);
     {
-        const double r = m_bodies->balls.radius[s];
+        const double r = world.bodies.balls.radius[s];
         const double mass =
-            rho * (m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r);
-        requireUsableMass(mass, (m_mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
+            rho * (world.settings.mass_mode == MassMode::Disk ? M_PI * r * r
+                                                              : 4.0 / 3.0 * M_PI * r * r * r);
+        requireUsableMass(mass,
+                          (world.settings.mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + messageNumber(rho) + " and radius " + messageNumber(r));
     }
-    m_bodies->balls.density[s] = rho;
-    updateMass(s);
-    refreshPairMasses(s);
+    world.bodies.balls.density[s] = rho;
+    updateMass(world, s);
+    refreshPairMasses(world, s);
 }
 void Model::setBallAppliedForce(BallId id, const Vec2& f) {
+    World& world = *m_world;
     requireFinite("fapp (applied force)", f);
-    Vec2& fapp = m_bodies->balls.fapp[slotOf(id)];
-    if (fapp != f) m_limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
+    Vec2& fapp = world.bodies.balls.fapp[world.bodies.slotOf(id)];
+    if (fapp != f)
+        world.stepping.limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
     fapp = f;
 }
 void Model::setBallAppliedMoment(BallId id, double m) {
+    World& world = *m_world;
     if (!std::isfinite(m))
         throw InputError("ball: mapp (applied moment) must be finite (got " + messageNumber(m) +
                          ")");
-    m_bodies->balls.mapp[slotOf(id)] = m;
+    world.bodies.balls.mapp[world.bodies.slotOf(id)] = m;
 }
 void Model::setBallFixity(BallId id, uint8_t f) {
-    uint8_t& cur = m_bodies->balls.fixity[slotOf(id)];
-    m_fixed_balls += (f != 0) - (cur != 0);
+    World& world = *m_world;
+    uint8_t& cur = world.bodies.balls.fixity[world.bodies.slotOf(id)];
+    world.bodies.fixed_balls += (f != 0) - (cur != 0);
     cur = f;
 }
 
-static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
-                              std::vector<double>& fric, uint32_t s, const std::string& name,
-                              const char* owner) {
+template <class Values>  // std::vector<double>, const or not
+static auto& inheritableRef(Values& kn, Values& ks, Values& fric, uint32_t s,
+                            const std::string& name, const char* owner) {
     const std::string n = lower(name);
     if (n == "kn") return kn[s];
     if (n == "ks") return ks[s];
@@ -369,44 +430,51 @@ static double& inheritableRef(std::vector<double>& kn, std::vector<double>& ks,
 }
 
 double Model::ballContactProp(BallId id, const std::string& name) const {
-    auto& b = m_bodies->balls;
-    return inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball");
+    const World& world = *m_world;
+    auto& b = world.bodies.balls;
+    return inheritableRef(b.kn, b.ks, b.fric, world.bodies.slotOf(id), name, "ball");
 }
 void Model::setBallContactProp(BallId id, const std::string& name, double v) {
+    World& world = *m_world;
     if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
         throw InputError("ball: " + name + " must be >= 0 (got " + messageNumber(v) + ")");
-    auto& b = m_bodies->balls;
-    inheritableRef(b.kn, b.ks, b.fric, slotOf(id), name, "ball") = v;
+    auto& b = world.bodies.balls;
+    inheritableRef(b.kn, b.ks, b.fric, world.bodies.slotOf(id), name, "ball") = v;
 }
 
 std::vector<std::string> Model::ballGroups(BallId id) const {
+    const World& world = *m_world;
     std::vector<std::string> out;
-    const uint64_t g = m_bodies->balls.groups[slotOf(id)];
-    for (std::size_t i = 0; i < m_group_names.size(); ++i)
-        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    const uint64_t g = world.bodies.balls.groups[world.bodies.slotOf(id)];
+    for (std::size_t i = 0; i < world.bodies.group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(world.bodies.group_names[i]);
     return out;
 }
 void Model::addBallGroup(BallId id, const std::string& group) {
-    const uint32_t s = slotOf(id);
-    m_bodies->balls.groups[s] |= uint64_t(1) << groupIndex(group, true);
+    World& world = *m_world;
+    const uint32_t s = world.bodies.slotOf(id);
+    world.bodies.balls.groups[s] |= uint64_t(1) << talus::groupIndex(world, group, true);
 }
 
 std::vector<std::string> Model::wallGroups(WallId id) const {
+    const World& world = *m_world;
     std::vector<std::string> out;
-    const uint64_t g = wallOf(id).groups;
-    for (std::size_t i = 0; i < m_group_names.size(); ++i)
-        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    const uint64_t g = world.bodies.wallOf(id).groups;
+    for (std::size_t i = 0; i < world.bodies.group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(world.bodies.group_names[i]);
     return out;
 }
 void Model::addWallGroup(WallId id, const std::string& group) {
-    WallData& w = wallOf(id);
-    w.groups |= uint64_t(1) << groupIndex(group, true);
+    World& world = *m_world;
+    WallData& w = world.bodies.wallOf(id);
+    w.groups |= uint64_t(1) << talus::groupIndex(world, group, true);
 }
 
 // ------------------------------------------------------------------------ walls
 
 WallId Model::createWall(const WallDef& d) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     const std::size_t n = d.points.size();
     if (n < 2) throw InputError("wall: needs at least 2 points (got " + std::to_string(n) + ")");
     if (d.closed && n < 3) throw InputError("wall: a closed wall needs at least 3 points");
@@ -430,22 +498,22 @@ WallId Model::createWall(const WallDef& d) {
 
     WallData w;
     w.closed = d.closed;
-    w.first_vertex = static_cast<uint32_t>(m_bodies->vertices.size());
+    w.first_vertex = static_cast<uint32_t>(world.bodies.vertices.size());
     w.vertex_count = static_cast<uint32_t>(n);
     Vec2 centroid = Vec2::Zero();
     for (const auto& p : d.points) {
-        m_bodies->vertices.push_back(p);
+        world.bodies.vertices.push_back(p);
         centroid += p;
     }
     centroid /= static_cast<double>(n);
     w.center = std::isnan(d.center.x()) ? centroid : d.center;
     w.vel = d.vel;
     w.spin = d.spin;
-    for (const auto& g : d.groups) w.groups |= uint64_t(1) << groupIndex(g, true);
+    for (const auto& g : d.groups) w.groups |= uint64_t(1) << talus::groupIndex(world, g, true);
     w.kn = d.kn, w.ks = d.ks, w.fric = d.fric;
-    const uint32_t wall_index = static_cast<uint32_t>(m_bodies->walls.size());
+    const uint32_t wall_index = static_cast<uint32_t>(world.bodies.walls.size());
     const std::size_t nseg = d.closed ? n : n - 1;
-    w.first_segment = static_cast<uint32_t>(m_bodies->segments.size());
+    w.first_segment = static_cast<uint32_t>(world.bodies.segments.size());
     w.segment_count = static_cast<uint32_t>(nseg);
     for (std::size_t i = 0; i < nseg; ++i) {
         Segment s;
@@ -456,55 +524,76 @@ WallId Model::createWall(const WallDef& d) {
         const int32_t k = static_cast<int32_t>(i), ns = static_cast<int32_t>(nseg);
         s.prev = (i > 0) ? first + k - 1 : (d.closed ? first + ns - 1 : -1);
         s.next = (i + 1 < nseg) ? first + k + 1 : (d.closed ? first : -1);
-        m_bodies->segments.push_back(s);
+        world.bodies.segments.push_back(s);
     }
-    m_bodies->walls.push_back(w);
-    if (m_contacts->broadphase_ready)
-        for (uint32_t i = 0; i < nseg; ++i) insertSegment(w.first_segment + i);
-    return WallId{wall_index + 1, m_bodies->walls.back().generation};
+    world.bodies.walls.push_back(w);
+    if (world.contacts.broadphase_ready)
+        for (uint32_t i = 0; i < nseg; ++i) insertSegment(world, w.first_segment + i);
+    return WallId{wall_index + 1, world.bodies.walls.back().generation};
 }
 
-std::size_t Model::wallCount() const { return m_bodies->walls.size(); }
-
-const Model::WallData& Model::wallOf(WallId id) const { return m_bodies->wallOf(id); }
-Model::WallData& Model::wallOf(WallId id) { return m_bodies->wallOf(id); }
+std::size_t Model::wallCount() const {
+    const World& world = *m_world;
+    return world.bodies.walls.size();
+}
 
 std::vector<WallId> Model::wallIds() const {
+    const World& world = *m_world;
     std::vector<WallId> ids;
-    for (std::size_t i = 0; i < m_bodies->walls.size(); ++i)
-        if (m_bodies->walls[i].alive)
-            ids.push_back(WallId{static_cast<uint32_t>(i + 1), m_bodies->walls[i].generation});
+    for (std::size_t i = 0; i < world.bodies.walls.size(); ++i)
+        if (world.bodies.walls[i].alive)
+            ids.push_back(WallId{static_cast<uint32_t>(i + 1), world.bodies.walls[i].generation});
     return ids;
 }
 
 std::vector<Vec2> Model::wallPoints(WallId id) const {
-    const WallData& w = wallOf(id);
-    return std::vector<Vec2>(m_bodies->vertices.begin() + w.first_vertex,
-                             m_bodies->vertices.begin() + w.first_vertex + w.vertex_count);
+    const World& world = *m_world;
+    const WallData& w = world.bodies.wallOf(id);
+    return std::vector<Vec2>(world.bodies.vertices.begin() + w.first_vertex,
+                             world.bodies.vertices.begin() + w.first_vertex + w.vertex_count);
 }
-bool Model::wallClosed(WallId id) const { return wallOf(id).closed; }
-Vec2 Model::wallVel(WallId id) const { return wallOf(id).vel; }
+bool Model::wallClosed(WallId id) const {
+    const World& world = *m_world;
+    return world.bodies.wallOf(id).closed;
+}
+Vec2 Model::wallVel(WallId id) const {
+    const World& world = *m_world;
+    return world.bodies.wallOf(id).vel;
+}
 void Model::setWallVel(WallId id, const Vec2& v) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     if (!std::isfinite(v.x()) || !std::isfinite(v.y()))
         throw InputError("wall: vel must be finite");
-    wallOf(id).vel = v;
+    world.bodies.wallOf(id).vel = v;
 }
-double Model::wallSpin(WallId id) const { return wallOf(id).spin; }
+double Model::wallSpin(WallId id) const {
+    const World& world = *m_world;
+    return world.bodies.wallOf(id).spin;
+}
 void Model::setWallSpin(WallId id, double w) {
-    m_limits_stale = true;
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
     if (!std::isfinite(w)) throw InputError("wall: spin must be finite");
-    wallOf(id).spin = w;
+    world.bodies.wallOf(id).spin = w;
 }
-Vec2 Model::wallCenter(WallId id) const { return wallOf(id).center; }
+Vec2 Model::wallCenter(WallId id) const {
+    const World& world = *m_world;
+    return world.bodies.wallOf(id).center;
+}
 void Model::setWallCenter(WallId id, const Vec2& c) {
+    World& world = *m_world;
     requireCoordinate("wall: center", c);
-    wallOf(id).center = c;
+    world.bodies.wallOf(id).center = c;
 }
-Vec2 Model::wallForce(WallId id) const { return wallOf(id).force; }
+Vec2 Model::wallForce(WallId id) const {
+    const World& world = *m_world;
+    return world.bodies.wallOf(id).force;
+}
 
 double Model::wallContactProp(WallId id, const std::string& name) const {
-    const WallData& w = wallOf(id);
+    const World& world = *m_world;
+    const WallData& w = world.bodies.wallOf(id);
     const std::string n = lower(name);
     if (n == "kn") return w.kn;
     if (n == "ks") return w.ks;
@@ -512,9 +601,10 @@ double Model::wallContactProp(WallId id, const std::string& name) const {
     throw InputError("wall: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
 }
 void Model::setWallContactProp(WallId id, const std::string& name, double v) {
+    World& world = *m_world;
     if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
         throw InputError("wall: " + name + " must be >= 0 (got " + messageNumber(v) + ")");
-    WallData& w = wallOf(id);
+    WallData& w = world.bodies.wallOf(id);
     const std::string n = lower(name);
     if (n == "kn")
         w.kn = v;

@@ -29,6 +29,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "props.hpp"
@@ -78,13 +79,13 @@ const char* distName(BondProp::Dist d) {
 
 }  // namespace
 
-bool Model::bondSelects(const Pair& p, const BondSettings& s, int ga, int gb) const {
+bool bondSelects(const World& world, const Pair& p, const BondSettings& s, int ga, int gb) {
     if (p.wall && !s.walls) return false;
     if (ga < 0) return true;
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     const uint64_t g1 = b.groups[p.end1];
     const uint64_t g2 =
-        p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].groups : b.groups[p.end2];
+        p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].groups : b.groups[p.end2];
     const uint64_t a = uint64_t(1) << ga;
     if (gb < 0) return (g1 & a) && (g2 & a);  // both ends in the group
     const uint64_t c = uint64_t(1) << gb;
@@ -96,29 +97,29 @@ namespace {
 /// The key the bond memory uses: the contact key for two balls; for a ball and a wall, the
 /// wall instead of the segment (a contact that re-forms on the next segment of the chain is the
 /// same pair of bodies).
-uint64_t memoryKey(const Model::Pair& p, uint64_t key, uint32_t wall) {
+uint64_t memoryKey(const Pair& p, uint64_t key, uint32_t wall) {
     return p.wall ? ((key & 0xffffffff00000000ull) | kWallBit | 0x40000000u | wall) : key;
 }
 
 }  // namespace
 
-uint32_t Model::autoBondFlags(const Pair& p, const PairCold& c) const {
-    const auto it = m_contacts->unbonded.find(
-        memoryKey(p, c.key, p.wall ? m_bodies->segments[p.end2].wall : 0));
-    if (it == m_contacts->unbonded.end()) return 0u;
-    const uint32_t g1 = m_bodies->generation[m_bodies->balls.handle[p.end1] - 1];
-    const uint32_t g2 = p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].generation
-                               : m_bodies->generation[m_bodies->balls.handle[p.end2] - 1];
+uint32_t autoBondFlags(const World& world, const Pair& p, const PairCold& c) {
+    const auto it = world.contacts.unbonded.find(
+        memoryKey(p, c.key, p.wall ? world.bodies.segments[p.end2].wall : 0));
+    if (it == world.contacts.unbonded.end()) return 0u;
+    const uint32_t g1 = world.bodies.generation[world.bodies.balls.handle[p.end1] - 1];
+    const uint32_t g2 = p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].generation
+                               : world.bodies.generation[world.bodies.balls.handle[p.end2] - 1];
     return it->second == ((uint64_t(g1) << 32) | g2) ? uint32_t(kFdNoAutoBond) : 0u;
 }
 
-void Model::forgetBond(std::size_t i) {
-    const Pair& p = m_contacts->pairs[i];
-    const uint32_t g1 = m_bodies->generation[m_bodies->balls.handle[p.end1] - 1];
-    const uint32_t g2 = p.wall ? m_bodies->walls[m_bodies->segments[p.end2].wall].generation
-                               : m_bodies->generation[m_bodies->balls.handle[p.end2] - 1];
-    m_contacts->unbonded[memoryKey(p, m_contacts->cold[i].key,
-                                   p.wall ? m_bodies->segments[p.end2].wall : 0)] =
+void forgetBond(World& world, std::size_t i) {
+    const Pair& p = world.contacts.pairs[i];
+    const uint32_t g1 = world.bodies.generation[world.bodies.balls.handle[p.end1] - 1];
+    const uint32_t g2 = p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].generation
+                               : world.bodies.generation[world.bodies.balls.handle[p.end2] - 1];
+    world.contacts.unbonded[memoryKey(p, world.contacts.cold[i].key,
+                                      p.wall ? world.bodies.segments[p.end2].wall : 0)] =
         (uint64_t(g1) << 32) | g2;
 }
 
@@ -149,9 +150,10 @@ void selectionGroups(const std::vector<std::string>& groups, const std::string& 
 }  // namespace
 
 std::size_t Model::bond(const BondSettings& s) {
+    World& world = *m_world;
     // ---- validation: everything before anything changes
-    const ModelFactory& factory = m_registry.find(s.model);
-    PluginRegistry::PrototypePtr proto = m_registry.createPrototype(factory);
+    const ModelFactory& factory = world.registry.find(s.model);
+    PluginRegistry::PrototypePtr proto = world.registry.createPrototype(factory);
     if (!(proto->Traits() & kTraitBond))
         throw InputError("bond: model '" + factory.name +
                          "' is not a bond model (its Traits() lack kTraitBond); use a bond "
@@ -164,7 +166,7 @@ std::size_t Model::bond(const BondSettings& s) {
     if (!(s.gap >= 0.0) || !std::isfinite(s.gap))
         throw InputError("bond: 'gap' must be a finite length >= 0 m (got " + num(s.gap) + ")");
     int ga, gb;
-    selectionGroups(s.groups, "bond", m_group_names, ga, gb);
+    selectionGroups(s.groups, "bond", world.bodies.group_names, ga, gb);
     std::vector<int32_t> idx(s.props.size());
     std::vector<PropValue> fixed;
     for (std::size_t k = 0; k < s.props.size(); ++k) {
@@ -214,8 +216,8 @@ std::size_t Model::bond(const BondSettings& s) {
     if (const char* err = proto->PreCycle(emptyPropBlock()))
         throw InputError("bond: model '" + factory.name + "': " + err);
 
-    if (!m_contacts->broadphase_ready) initBroadphase();
-    auto& b = m_bodies->balls;
+    if (!world.contacts.broadphase_ready) initBroadphase(world);
+    auto& b = world.bodies.balls;
 
     // ---- candidates: existing pairs that are contacts or within the gap, and near pairs the
     // broadphase has not made yet (gap wider than the fat boxes' margin)
@@ -223,7 +225,7 @@ std::size_t Model::bond(const BondSettings& s) {
         if (p.active) return true;
         Vec2 n, point;
         double overlap;
-        return pairGeometry(p, n, overlap, point) && overlap >= -s.gap;
+        return pairGeometry(world, p, n, overlap, point) && overlap >= -s.gap;
     };
     const auto ballIn = [&](uint32_t slot) {
         if (ga < 0) return true;
@@ -235,37 +237,37 @@ std::size_t Model::bond(const BondSettings& s) {
         const double r = b.radius[s1] + s.gap;
         const Box box{Vec2(b.pos[s1].x() - r, b.pos[s1].y() - r),
                       Vec2(b.pos[s1].x() + r, b.pos[s1].y() + r)};
-        m_contacts->query.clear();
-        m_contacts->broadphase->query(box, m_contacts->query);
-        const std::vector<int32_t> hits = m_contacts->query;
+        world.contacts.query.clear();
+        world.contacts.broadphase->query(box, world.contacts.query);
+        const std::vector<int32_t> hits = world.contacts.query;
         for (int32_t h : hits) {
-            const uint32_t o = m_bodies->slot_of[m_contacts->broadphase->user(h) - 1];
+            const uint32_t o = world.bodies.slot_of[world.contacts.broadphase->user(h) - 1];
             if (o == s1) continue;
             const double dist = (b.pos[o] - b.pos[s1]).norm();
             if (dist - b.radius[s1] - b.radius[o] > s.gap) continue;
-            makePair(s1, o, false);  // no-op when it exists
+            makePair(world, s1, o, false);  // no-op when it exists
         }
         if (!s.walls) continue;
-        m_contacts->query.clear();
-        m_contacts->wall_broadphase->query(box, m_contacts->query);
-        const std::vector<int32_t> whits = m_contacts->query;
+        world.contacts.query.clear();
+        world.contacts.wall_broadphase->query(box, world.contacts.query);
+        const std::vector<int32_t> whits = world.contacts.query;
         for (int32_t h : whits) {
-            const uint32_t seg = m_contacts->wall_broadphase->user(h);
+            const uint32_t seg = world.contacts.wall_broadphase->user(h);
             ContactGeometry g;
-            if (segmentGeometry(seg, b.pos[s1], b.radius[s1], g) && g.overlap >= -s.gap)
-                makePair(s1, seg, true);
+            if (segmentGeometry(world, seg, b.pos[s1], b.radius[s1], g) && g.overlap >= -s.gap)
+                makePair(world, s1, seg, true);
         }
     }
     std::vector<uint32_t> cand;
-    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
-        const Pair& p = m_contacts->pairs[i];
-        if (p.model && bondSelects(p, s, ga, gb) && withinGap(p))
+    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+        const Pair& p = world.contacts.pairs[i];
+        if (p.model && bondSelects(world, p, s, ga, gb) && withinGap(p))
             cand.push_back(static_cast<uint32_t>(i));
     }
     // Contact order: by key (the ends' handles), so the drawn values do not depend on the pairs'
     // memory order.
     std::sort(cand.begin(), cand.end(), [&](uint32_t x, uint32_t y) {
-        return m_contacts->cold[x].key < m_contacts->cold[y].key;
+        return world.contacts.cold[x].key < world.contacts.cold[y].key;
     });
 
     // ---- the rule that owns the installed objects
@@ -275,12 +277,12 @@ std::size_t Model::bond(const BondSettings& s) {
     rule->model_name = factory.name;
     rule->prototype = std::move(proto);
     rule->specificity = 0;  // never matched (ruleFor skips specificity-0 rules after the first)
-    rule->order = static_cast<int>(m_contacts->rules.size());
+    rule->order = static_cast<int>(world.contacts.rules.size());
     rule->activity = 0.0;
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     rule->installed = true;
     Rule* bond_rule = rule.get();
-    m_contacts->rules.push_back(std::move(rule));
+    world.contacts.rules.push_back(std::move(rule));
     const ContactModel& bproto = *bond_rule->prototype;
     const int32_t lin_mode_idx = propIndex(bproto, "lin_mode");
     bool lin_mode_given = false;
@@ -290,32 +292,32 @@ std::size_t Model::bond(const BondSettings& s) {
     for (const BondProp& bp : s.props)
         streams.emplace_back((s.seed * 0x9E3779B97F4A7C15ull) ^ nameHash(bp.name));
 
-    const double tdel = m_dt > 0.0               ? m_dt
-                        : m_timestep.fixed > 0.0 ? m_timestep.fixed
-                        : m_timestep.max < 1e300 ? m_timestep.max
-                                                 : 1e-6;
-    const bool energy = m_books.on;
+    const double tdel = world.clock.dt > 0.0                  ? world.clock.dt
+                        : world.settings.timestep.fixed > 0.0 ? world.settings.timestep.fixed
+                        : world.settings.timestep.max < 1e300 ? world.settings.timestep.max
+                                                              : 1e-6;
+    const bool energy = world.books.on;
     std::size_t count = 0;
     for (uint32_t i : cand) {
-        Pair& p = m_contacts->pairs[i];
-        PairCold& c = m_contacts->cold[i];
+        Pair& p = world.contacts.pairs[i];
+        PairCold& c = world.contacts.cold[i];
         Vec2 normal, point;
         double overlap;
-        if (!pairGeometry(p, normal, overlap, point)) continue;
+        if (!pairGeometry(world, p, normal, overlap, point)) continue;
         // The new object, with the old one's same-named settable properties, then the given ones.
         void* mem = bond_rule->pool->allocate();
-        const PropBlock pb = propBlockFor(p);
+        const PropBlock pb = propBlockFor(world, p);
         ContactModel* nm = bproto.Clone(pb, mem);
         if (!nm) {
             const std::string why = bproto.LastError();
             bond_rule->pool->release(mem);
             throw PluginError("bond: model '" + factory.name + "' cannot create the model for " +
-                              describePair(p) + ": " + why);
+                              describePair(world, p) + ": " + why);
         }
         const auto fail = [&](const std::string& why) {
             nm->Destroy();
             bond_rule->pool->release(mem);
-            throw InputError("bond: " + describePair(p) + ": " + why);
+            throw InputError("bond: " + describePair(world, p) + ": " + why);
         };
         leaveLane(p);
         const ContactModel& old = *p.model;
@@ -341,7 +343,7 @@ std::size_t Model::bond(const BondSettings& s) {
         if (const char* err = nm->PreCycle(pb)) fail(err);
 
         // The first call, now: current geometry, no increment, entry forces per the contract.
-        FdBlock fd = m_fd_template;
+        FdBlock fd = world.contacts.fd_template;
         fd.flags = kFdFirstCall | (energy ? kFdEnergyOn : 0u);
         fd.status = 0;
         fd.u_n = overlap;
@@ -350,7 +352,7 @@ std::size_t Model::bond(const BondSettings& s) {
         fd.tdel = tdel;
         fd.mass_eff = p.mass_eff;
         fd.inv_mass_eff_s = p.inv_mass_eff_s;
-        fd.time = m_time;
+        fd.time = world.clock.time;
         const bool was_active = p.active;
         const double fn_old = was_active ? p.n_force : 0.0;
         const double fs_old = was_active ? p.s_force : 0.0;
@@ -379,7 +381,7 @@ std::size_t Model::bond(const BondSettings& s) {
         p.model = nm;
         p.rule = bond_rule;
         p.activity = nm->ActivityDistance();
-        if (!was_active) ++m_profile.contacts_created;
+        if (!was_active) ++world.profile.contacts_created;
         p.active = true;
 
         // The force the next law of motion applies: the last force loop's, corrected by the
@@ -394,22 +396,23 @@ std::size_t Model::bond(const BondSettings& s) {
             b.force[p.end2] += df;
             b.moment[p.end2] += cross(point - b.pos[p.end2], df) + dm;
         } else {
-            WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
+            WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
             w.force += df;
             w.moment += cross(point - w.center, df) + dm;
         }
 
         // Per-group books: the exchange record the last force loop left for this contact (ends
         // in different groups) carries its force to the next law of motion; correct it too.
-        if (m_books.groups.on && (df.squaredNorm() > 0.0 || dm != 0.0)) {
-            const uint32_t e2 = p.wall ? m_bodies->segments[p.end2].wall : p.end2;
-            for (auto& x : m_books.groups.exchange) {
+        if (world.books.groups.on && (df.squaredNorm() > 0.0 || dm != 0.0)) {
+            const uint32_t e2 = p.wall ? world.bodies.segments[p.end2].wall : p.end2;
+            for (auto& x : world.books.groups.exchange) {
                 if (x.end1 != p.end1 || x.end2 != e2 || x.wall != p.wall) continue;
                 x.f1 -= df;
-                x.m1 -= cross(point - endCentre(p.end1), df) + dm;
-                x.m2 +=
-                    cross(point - (p.wall ? m_bodies->walls[e2].center : endCentre(p.end2)), df) +
-                    dm;
+                x.m1 -= cross(point - endCentre(world, p.end1), df) + dm;
+                x.m2 += cross(point - (p.wall ? world.bodies.walls[e2].center
+                                              : endCentre(world, p.end2)),
+                              df) +
+                        dm;
                 break;
             }
         }
@@ -426,11 +429,11 @@ std::size_t Model::bond(const BondSettings& s) {
             const double before = was_active ? c.strain + c.bond : 0.0;
             const double after = fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain];
             double unpaid = 0.0;
-            if (was_active && m_dt > 0.0) {
+            if (was_active && world.clock.dt > 0.0) {
                 Vec2 v2c;
                 double spin2;
                 if (p.wall) {
-                    const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
+                    const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
                     v2c = w.vel + spinCross(w.spin, point - w.center);
                     spin2 = w.spin;
                 } else {
@@ -438,25 +441,26 @@ std::size_t Model::bond(const BondSettings& s) {
                     spin2 = b.spin[p.end2];
                 }
                 const Vec2 vrel = v2c - (b.vel[p.end1] + spinCross(b.spin[p.end1], point - x1));
-                const double du_n = -vrel.dot(normal) * m_dt, du_s = vrel.dot(t) * m_dt;
-                const double dth = (spin2 - b.spin[p.end1]) * m_dt;
+                const double du_n = -vrel.dot(normal) * world.clock.dt,
+                             du_s = vrel.dot(t) * world.clock.dt;
+                const double dth = (spin2 - b.spin[p.end1]) * world.clock.dt;
                 unpaid = 0.5 * ((fn_old - fd.n_force) * du_n - (fs_old - fd.s_force) * du_s -
                                 (m_old - fd.moment) * dth);
             }
             const double change = before - after - unpaid + fd.energy[kEnergyReleased];
-            m_books.acc.released += change;
+            world.books.acc.released += change;
             // The current stored energies as well (the next snapshot may come before the next
             // force loop sums them again).
-            m_books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? c.strain : 0.0);
-            m_books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? c.bond : 0.0);
-            if (m_books.groups.on) {
-                bookReleasedToGroups(p, change);
+            world.books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? c.strain : 0.0);
+            world.books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? c.bond : 0.0);
+            if (world.books.groups.on) {
+                bookReleasedToGroups(world, p, change);
                 // The groups' current stored energies, shared as the force loop shares them
                 // (group_energy.cpp: half to each ball's groups, all to the ball's for a wall).
-                const uint64_t g1 = endGroups(p, false), g2 = endGroups(p, true);
+                const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
                 const double ds = fd.energy[kEnergyStrain] - (was_active ? c.strain : 0.0);
                 const double db = fd.energy[kEnergyBondStrain] - (was_active ? c.bond : 0.0);
-                auto& books = m_books.groups;
+                auto& books = world.books.groups;
                 for (uint64_t mk = (g1 | (p.wall ? 0 : g2)) & books.traced; mk; mk &= mk - 1) {
                     const uint64_t bit = mk & (~mk + 1);
                     const double w =
@@ -486,23 +490,24 @@ std::size_t Model::bond(const BondSettings& s) {
         c.duration = nm->ContactDuration(p.mass_eff, 0.0);
         if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
         c.born_overlapped = true;
-        if (fd.flags & kFdBroken) queueBreak(i, point, fd);
+        if (fd.flags & kFdBroken) queueBreak(world, i, point, fd);
         ++count;
     }
-    m_limits_stale = true;
+    world.stepping.limits_stale = true;
     return count;
 }
 
 std::size_t Model::unbond(const BondSettings& s) {
+    World& world = *m_world;
     int ga, gb;
-    selectionGroups(s.groups, "unbond", m_group_names, ga, gb);
-    if (!s.model.empty()) m_registry.find(s.model);  // an unknown model name is an error
+    selectionGroups(s.groups, "unbond", world.bodies.group_names, ga, gb);
+    if (!s.model.empty()) world.registry.find(s.model);  // an unknown model name is an error
     std::size_t count = 0;
-    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
-        Pair& p = m_contacts->pairs[i];
+    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+        Pair& p = world.contacts.pairs[i];
         if (!p.model || !p.active || !(p.model->Traits() & kTraitBond)) continue;
         if (!s.model.empty() && s.model != p.model->Name()) continue;
-        if (!bondSelects(p, s, ga, gb)) continue;
+        if (!bondSelects(world, p, s, ga, gb)) continue;
         const int32_t k = propIndex(*p.model, "bonded");
         syncLane(p);
         if (k < 0 || p.model->ReturnProp(k) != 1.0) continue;
@@ -514,13 +519,13 @@ std::size_t Model::unbond(const BondSettings& s) {
         // unbonded law keeps (a contact in compression).
         leaveLane(p);
         if (p.model->AcceptProp(k, 0.0) != 0)
-            throw InputError(std::string("unbond: ") + describePair(p) + ": " +
+            throw InputError(std::string("unbond: ") + describePair(world, p) + ": " +
                              p.model->LastError());
         p.bonded = false;
-        forgetBond(i);
+        forgetBond(world, i);
         ++count;
     }
-    m_limits_stale = true;
+    world.stepping.limits_stale = true;
     return count;
 }
 

@@ -10,6 +10,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
@@ -99,7 +100,7 @@ void resolveMass(const std::vector<Pebble>& peb, const ClumpDef& d, double sc, b
         requirePositive("density", d.density);
         density = d.density;
         if (peb.size() == 1) {
-            // One pebble: the same expressions as a ball's (Model::updateMass), so that such a
+            // One pebble: the same expressions as a ball's (updateMass), so that such a
             // clump moves bit for bit as the ball.
             const double r = peb[0].radius;
             mass = density * M_PI * r * r;
@@ -119,6 +120,7 @@ void resolveMass(const std::vector<Pebble>& peb, const ClumpDef& d, double sc, b
 // ------------------------------------------------------------------------ templates
 
 int Model::defineClumpTemplate(const std::vector<Pebble>& pebbles, ClumpMassMode mode) {
+    World& world = *m_world;
     if (pebbles.empty()) throw InputError("clump template: needs at least one pebble");
     ClumpTemplate t;
     t.pebbles = pebbles;
@@ -129,19 +131,21 @@ int Model::defineClumpTemplate(const std::vector<Pebble>& pebbles, ClumpMassMode
     requirePebbles(pebbles, "clump template", 1.0);
     t.props = clumpMassProps(pebbles, mode == ClumpMassMode::Direct ? ClumpMassMode::Union : mode);
     if (mode == ClumpMassMode::Direct) t.props.area = t.props.polar_moment = 0.0;
-    m_clump_templates.push_back(std::move(t));
-    return static_cast<int>(m_clump_templates.size());
+    world.bodies.clump_templates.push_back(std::move(t));
+    return static_cast<int>(world.bodies.clump_templates.size());
 }
 
 const ClumpTemplate& Model::clumpTemplate(int id) const {
-    if (id < 1 || static_cast<std::size_t>(id) > m_clump_templates.size())
+    const World& world = *m_world;
+    if (id < 1 || static_cast<std::size_t>(id) > world.bodies.clump_templates.size())
         throw InputError("clump template " + std::to_string(id) + " does not exist");
-    return m_clump_templates[static_cast<std::size_t>(id) - 1];
+    return world.bodies.clump_templates[static_cast<std::size_t>(id) - 1];
 }
 
 // ------------------------------------------------------------------------ create
 
 ClumpId Model::createClump(const ClumpDef& d) {
+    World& world = *m_world;
     // --- pebbles and the geometric mass properties per unit density, in the pebbles' frame
     std::vector<Pebble> peb;
     MassProps props;
@@ -175,8 +179,8 @@ ClumpId Model::createClump(const ClumpDef& d) {
     requirePebbles(peb, "clump", sc);
     double mass, inertia, density;
     Vec2 centroid;
-    resolveMass(peb, d, sc, from_template, props, m_mass_mode, mode, mass, inertia, density,
-                centroid);
+    resolveMass(peb, d, sc, from_template, props, world.settings.mass_mode, mode, mass, inertia,
+                density, centroid);
 
     // --- state
     const bool placed = !std::isnan(d.pos.x()) || !std::isnan(d.pos.y());
@@ -202,7 +206,7 @@ ClumpId Model::createClump(const ClumpDef& d) {
     c.vel = d.vel;
     c.spin = d.spin;
     c.fixity = d.fixity;
-    for (const auto& g : d.groups) c.groups |= uint64_t(1) << groupIndex(g, true);
+    for (const auto& g : d.groups) c.groups |= uint64_t(1) << talus::groupIndex(world, g, true);
     c.kn = d.kn, c.ks = d.ks, c.fric = d.fric;
     for (const Pebble& p : peb) {
         const Vec2 o = p.pos - centroid;
@@ -210,12 +214,12 @@ ClumpId Model::createClump(const ClumpDef& d) {
         c.angle_offset.push_back(0.0);
     }
 
-    const uint32_t index = static_cast<uint32_t>(m_bodies->clumps.size());
-    m_bodies->clumps.push_back(c);
-    ++m_bodies->live_clumps;
+    const uint32_t index = static_cast<uint32_t>(world.bodies.clumps.size());
+    world.bodies.clumps.push_back(c);
+    ++world.bodies.live_clumps;
     try {
         for (std::size_t k = 0; k < peb.size(); ++k) {
-            ClumpData& cl = m_bodies->clumps[index];
+            ClumpData& cl = world.bodies.clumps[index];
             BallDef bd;
             const Vec2 r = rotate(cl.offset[k], cl.angle);
             bd.pos = cl.pos + r;
@@ -226,36 +230,38 @@ ClumpId Model::createClump(const ClumpDef& d) {
             bd.spin = cl.spin;
             bd.angle = cl.angle;
             bd.kn = cl.kn, bd.ks = cl.ks, bd.fric = cl.fric;
-            const BallId id = createBallIn(bd, index);
-            const uint32_t s = slotOf(id);
-            m_bodies->balls.groups[s] = cl.groups;
-            m_bodies->balls.density[s] = density;
-            m_bodies->clumps[index].pebbles.push_back(id.index);
+            const BallId id = createBallIn(world, bd, index);
+            const uint32_t s = world.bodies.slotOf(id);
+            world.bodies.balls.groups[s] = cl.groups;
+            world.bodies.balls.density[s] = density;
+            world.bodies.clumps[index].pebbles.push_back(id.index);
         }
     } catch (const InputError& e) {
         // A pebble the ball checks refuse (radius or position out of range): undo.
-        ClumpData& cl = m_bodies->clumps[index];
-        for (uint32_t h : cl.pebbles) removeBall(BallId{h, m_bodies->generation[h - 1]}, false);
+        ClumpData& cl = world.bodies.clumps[index];
+        for (uint32_t h : cl.pebbles)
+            removeBall(world, BallId{h, world.bodies.generation[h - 1]}, false);
         cl.pebbles.clear();
         cl.alive = false;
-        --m_bodies->live_clumps;
+        --world.bodies.live_clumps;
         throw InputError(std::string("clump: ") + e.what());
     }
-    placePebbles(m_bodies->clumps[index]);
-    m_limits_stale = true;
-    return m_bodies->clumpId(index);
+    placePebbles(world, world.bodies.clumps[index]);
+    world.stepping.limits_stale = true;
+    return world.bodies.clumpId(index);
 }
 
 ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpDef& opts) {
+    World& world = *m_world;
     if (ids.empty()) throw InputError("clump: 'balls' is empty: a clump needs at least one ball");
     if (!opts.pebbles.empty() || opts.template_id)
         throw InputError("clump: give balls, pebbles or a template, not two of them");
-    auto& b = m_bodies->balls;
+    auto& b = world.bodies.balls;
     std::vector<uint32_t> slots;
     std::vector<Pebble> peb;
     double ball_mass = 0.0, ball_area = 0.0;
     for (std::size_t i = 0; i < ids.size(); ++i) {
-        const uint32_t s = slotOf(ids[i]);
+        const uint32_t s = world.bodies.slotOf(ids[i]);
         if (b.clump[s] != kNoClump)
             throw InputError("clump: ball " + std::to_string(ids[i].index) +
                              " is already a pebble of clump " + std::to_string(b.clump[s] + 1));
@@ -276,8 +282,8 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
     ClumpMassMode mode = d.mass_mode;
     double mass, inertia, density;
     Vec2 centroid;
-    resolveMass(peb, d, 1.0, false, MassProps{}, m_mass_mode, mode, mass, inertia, density,
-                centroid);
+    resolveMass(peb, d, 1.0, false, MassProps{}, world.settings.mass_mode, mode, mass, inertia,
+                density, centroid);
     // Velocity: the balls' momentum and angular momentum about the centroid, given to the rigid
     // body (v = P / sum m, w = L / sum (I + m d^2), the balls' own masses): the rigid motion that
     // conserves both when the clump's mass equals the balls' (no overlaps).
@@ -300,27 +306,27 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
     c.vel = v;
     c.spin = l / i_sum;
     c.fixity = opts.fixity;
-    for (const auto& g : opts.groups) c.groups |= uint64_t(1) << groupIndex(g, true);
+    for (const auto& g : opts.groups) c.groups |= uint64_t(1) << talus::groupIndex(world, g, true);
     if (opts.groups.empty())
         for (uint32_t s : slots) c.groups |= b.groups[s];
     c.kn = opts.kn, c.ks = opts.ks, c.fric = opts.fric;
-    const uint32_t index = static_cast<uint32_t>(m_bodies->clumps.size());
+    const uint32_t index = static_cast<uint32_t>(world.bodies.clumps.size());
     // The pairs between the balls go (pebbles of one clump never touch); their stored energy
     // is released (removePair). Contacts with other bodies are kept, with the clump's mass.
-    for (std::size_t i = m_contacts->pairs.size(); i-- > 0;) {
-        const Pair& pr = m_contacts->pairs[i];
+    for (std::size_t i = world.contacts.pairs.size(); i-- > 0;) {
+        const Pair& pr = world.contacts.pairs[i];
         if (pr.wall) continue;
         bool in1 = false, in2 = false;
         for (uint32_t s : slots) in1 |= pr.end1 == s, in2 |= pr.end2 == s;
-        if (in1 && in2) removePair(i);
+        if (in1 && in2) removePair(world, i);
     }
     for (uint32_t s : slots) {
         c.pebbles.push_back(b.handle[s]);
         c.offset.push_back(b.pos[s] - centroid);
         c.angle_offset.push_back(b.angle[s]);
         b.clump[s] = index;
-        ++m_bodies->pebble_count;
-        if (b.fixity[s]) --m_fixed_balls;
+        ++world.bodies.pebble_count;
+        if (b.fixity[s]) --world.bodies.fixed_balls;
         b.fixity[s] = 0;
         b.fapp[s] = Vec2::Zero(), b.mapp[s] = 0.0;
         b.mass[s] = mass, b.inv_mass[s] = c.inv_mass;
@@ -333,54 +339,57 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
         if (std::isnan(b.ks[s])) b.ks[s] = c.ks;
         if (std::isnan(b.fric[s])) b.fric[s] = c.fric;
     }
-    m_bodies->clumps.push_back(c);
-    ++m_bodies->live_clumps;
-    placePebbles(m_bodies->clumps[index]);
-    for (uint32_t s : slots) refreshPairMasses(s);
-    m_limits_stale = true;
-    return m_bodies->clumpId(index);
+    world.bodies.clumps.push_back(c);
+    ++world.bodies.live_clumps;
+    placePebbles(world, world.bodies.clumps[index]);
+    for (uint32_t s : slots) refreshPairMasses(world, s);
+    world.stepping.limits_stale = true;
+    return world.bodies.clumpId(index);
 }
 
 // ------------------------------------------------------------------------ delete, release
 
 void Model::deleteClump(ClumpId id) {
-    const uint32_t ci = m_bodies->clumpIndex(id);
-    ClumpData& c = m_bodies->clumps[ci];
-    if (m_books.on) {
+    World& world = *m_world;
+    const uint32_t ci = world.bodies.clumpIndex(id);
+    ClumpData& c = world.bodies.clumps[ci];
+    if (world.books.on) {
         // The clump's kinetic energy at the present whole step, as the next snapshot would take
         // it (Model::deleteBall does the same for a ball); its pebbles' contacts release their
         // stored energy (removePair).
-        gatherClumpForces();
-        const double half = 0.5 * m_dt;
-        const Vec2 v = c.vel + ((c.force + c.fapp) * c.inv_mass + m_gravity) * half;
+        gatherClumpForces(world);
+        const double half = 0.5 * world.clock.dt;
+        const Vec2 v = c.vel + ((c.force + c.fapp) * c.inv_mass + world.settings.gravity) * half;
         const double w = c.spin + (c.moment + c.mapp) * c.inv_inertia * half;
         const Vec2 vv((c.fixity & kFixX) ? c.vel.x() : v.x(),
                       (c.fixity & kFixY) ? c.vel.y() : v.y());
         const double ww = (c.fixity & kFixSpin) ? c.spin : w;
         const double ke = 0.5 * (c.mass * vv.squaredNorm() + c.inertia * ww * ww);
-        m_books.acc.deleted += ke;
-        if (m_books.groups.on) bookDeletedToGroups(c.groups, ke);
+        world.books.acc.deleted += ke;
+        if (world.books.groups.on) bookDeletedToGroups(world, c.groups, ke);
     }
     const std::vector<uint32_t> pebbles = c.pebbles;
-    for (uint32_t h : pebbles) removeBall(BallId{h, m_bodies->generation[h - 1]}, false);
-    ClumpData& dead = m_bodies->clumps[ci];
+    for (uint32_t h : pebbles) removeBall(world, BallId{h, world.bodies.generation[h - 1]}, false);
+    ClumpData& dead = world.bodies.clumps[ci];
     dead.pebbles.clear(), dead.offset.clear(), dead.angle_offset.clear();
     dead.alive = false;
-    --m_bodies->live_clumps;
-    m_limits_stale = true;
+    --world.bodies.live_clumps;
+    world.stepping.limits_stale = true;
 }
 
 std::vector<BallId> Model::releaseClump(ClumpId id) {
-    const uint32_t ci = m_bodies->clumpIndex(id);
-    ClumpData& c = m_bodies->clumps[ci];
-    auto& b = m_bodies->balls;
+    World& world = *m_world;
+    const uint32_t ci = world.bodies.clumpIndex(id);
+    ClumpData& c = world.bodies.clumps[ci];
+    auto& b = world.bodies.balls;
     // Density of the new balls: the clump's, or in direct mode the clump's mass shared by area.
     double rho = c.density;
     if (!(rho > 0.0)) {
         double area = 0.0;
         for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-            const double r = b.radius[m_bodies->pebbleSlot(c, k)];
-            area += m_mass_mode == MassMode::Disk ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
+            const double r = b.radius[world.bodies.pebbleSlot(c, k)];
+            area += world.settings.mass_mode == MassMode::Disk ? M_PI * r * r
+                                                               : 4.0 / 3.0 * M_PI * r * r * r;
         }
         rho = c.mass / area;
     }
@@ -391,73 +400,117 @@ std::vector<BallId> Model::releaseClump(ClumpId id) {
     // release. With tracing on that change is booked under `deleted`, the item for kinetic
     // energy that leaves the model with a body: the clump's minus its balls', at the half step.
     double ke_change = 0.0;
-    if (m_books.on) ke_change = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
+    if (world.books.on)
+        ke_change = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-        const uint32_t s = m_bodies->pebbleSlot(c, k);
+        const uint32_t s = world.bodies.pebbleSlot(c, k);
         // The pebble already moves with the clump's rigid velocity at the half step.
         b.clump[s] = kNoClump;
-        --m_bodies->pebble_count;
+        --world.bodies.pebble_count;
         b.density[s] = rho;
-        updateMass(s);
-        if (m_books.on)
+        updateMass(world, s);
+        if (world.books.on)
             ke_change -=
                 0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
-        refreshPairMasses(s);
+        refreshPairMasses(world, s);
         b.fixity[s] = c.fixity;
-        if (c.fixity) ++m_fixed_balls;
+        if (c.fixity) ++world.bodies.fixed_balls;
         slots.push_back(s);
-        out.push_back(m_bodies->ballId(s));
+        out.push_back(world.bodies.ballId(s));
     }
-    if (m_books.on) {
-        m_books.acc.deleted += ke_change;
-        if (m_books.groups.on) bookDeletedToGroups(c.groups, ke_change);
+    if (world.books.on) {
+        world.books.acc.deleted += ke_change;
+        if (world.books.groups.on) bookDeletedToGroups(world, c.groups, ke_change);
     }
     c.pebbles.clear(), c.offset.clear(), c.angle_offset.clear();
     c.alive = false;
-    --m_bodies->live_clumps;
+    --world.bodies.live_clumps;
     // Former pebbles of this clump may now touch: their fat boxes overlap already, so the
     // broadphase would not report them again.
-    if (m_contacts->broadphase_ready)
-        for (uint32_t s : slots) addPairsForBall(s);
-    m_limits_stale = true;
+    if (world.contacts.broadphase_ready)
+        for (uint32_t s : slots) addPairsForBall(world, s);
+    world.stepping.limits_stale = true;
     return out;
 }
 
 // ------------------------------------------------------------------------ queries
 
 bool Model::isAlive(ClumpId id) const {
-    return id.index != 0 && id.index <= m_bodies->clumps.size() &&
-           m_bodies->clumps[id.index - 1].alive &&
-           m_bodies->clumps[id.index - 1].generation == id.generation;
+    const World& world = *m_world;
+    return id.index != 0 && id.index <= world.bodies.clumps.size() &&
+           world.bodies.clumps[id.index - 1].alive &&
+           world.bodies.clumps[id.index - 1].generation == id.generation;
 }
-std::size_t Model::clumpCount() const { return m_bodies->live_clumps; }
+std::size_t Model::clumpCount() const {
+    const World& world = *m_world;
+    return world.bodies.live_clumps;
+}
 std::vector<ClumpId> Model::clumpIds() const {
+    const World& world = *m_world;
     std::vector<ClumpId> ids;
-    for (uint32_t i = 0; i < m_bodies->clumps.size(); ++i)
-        if (m_bodies->clumps[i].alive) ids.push_back(m_bodies->clumpId(i));
+    for (uint32_t i = 0; i < world.bodies.clumps.size(); ++i)
+        if (world.bodies.clumps[i].alive) ids.push_back(world.bodies.clumpId(i));
     return ids;
 }
 ClumpId Model::clumpOf(BallId id) const {
-    const uint32_t k = m_bodies->balls.clump[slotOf(id)];
-    return k == kNoClump ? ClumpId{} : m_bodies->clumpId(k);
+    const World& world = *m_world;
+    const uint32_t k = world.bodies.balls.clump[world.bodies.slotOf(id)];
+    return k == kNoClump ? ClumpId{} : world.bodies.clumpId(k);
 }
 
-#define TALUS_CLUMP(id) m_bodies->clumps[m_bodies->clumpIndex(id)]
+#define TALUS_CLUMP(id) world.bodies.clumps[world.bodies.clumpIndex(id)]
 
-Vec2 Model::clumpPos(ClumpId id) const { return TALUS_CLUMP(id).pos; }
-Vec2 Model::clumpVel(ClumpId id) const { return TALUS_CLUMP(id).vel; }
-double Model::clumpSpin(ClumpId id) const { return TALUS_CLUMP(id).spin; }
-double Model::clumpAngle(ClumpId id) const { return TALUS_CLUMP(id).angle; }
-double Model::clumpMass(ClumpId id) const { return TALUS_CLUMP(id).mass; }
-double Model::clumpInertia(ClumpId id) const { return TALUS_CLUMP(id).inertia; }
-double Model::clumpDensity(ClumpId id) const { return TALUS_CLUMP(id).density; }
-Vec2 Model::clumpForce(ClumpId id) const { return TALUS_CLUMP(id).force; }
-double Model::clumpMoment(ClumpId id) const { return TALUS_CLUMP(id).moment; }
-Vec2 Model::clumpAppliedForce(ClumpId id) const { return TALUS_CLUMP(id).fapp; }
-double Model::clumpAppliedMoment(ClumpId id) const { return TALUS_CLUMP(id).mapp; }
-uint8_t Model::clumpFixity(ClumpId id) const { return TALUS_CLUMP(id).fixity; }
+Vec2 Model::clumpPos(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).pos;
+}
+Vec2 Model::clumpVel(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).vel;
+}
+double Model::clumpSpin(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).spin;
+}
+double Model::clumpAngle(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).angle;
+}
+double Model::clumpMass(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).mass;
+}
+double Model::clumpInertia(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).inertia;
+}
+double Model::clumpDensity(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).density;
+}
+Vec2 Model::clumpForce(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).force;
+}
+double Model::clumpMoment(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).moment;
+}
+Vec2 Model::clumpAppliedForce(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).fapp;
+}
+double Model::clumpAppliedMoment(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).mapp;
+}
+uint8_t Model::clumpFixity(ClumpId id) const {
+    const World& world = *m_world;
+    return TALUS_CLUMP(id).fixity;
+}
 
 void Model::setClumpPos(ClumpId id, const Vec2& p) {
+    World& world = *m_world;
     if (!finite2(p)) throw InputError(clumpText(id) + ": pos must be finite");
     // The range of a ball's pos (its pebbles are balls).
     if (!(std::fabs(p.x()) <= kPebbleMaxLength && std::fabs(p.y()) <= kPebbleMaxLength))
@@ -466,45 +519,54 @@ void Model::setClumpPos(ClumpId id, const Vec2& p) {
                          messageNumber(kPebbleMaxLength) + " m of the origin");
     ClumpData& c = TALUS_CLUMP(id);
     c.pos = p;
-    placePebbles(c);
-    m_limits_stale = true;
+    placePebbles(world, c);
+    world.stepping.limits_stale = true;
 }
 void Model::setClumpVel(ClumpId id, const Vec2& v) {
+    World& world = *m_world;
     ClumpData& c = TALUS_CLUMP(id);
     if (!finite2(v) || !std::isfinite(0.5 * c.mass * v.squaredNorm()))
         throw InputError(clumpText(id) + ": vel " + vecText(v) + " is not usable");
     c.vel = v;
-    placePebbles(c);
-    m_limits_stale = true;
+    placePebbles(world, c);
+    world.stepping.limits_stale = true;
 }
 void Model::setClumpSpin(ClumpId id, double w) {
+    World& world = *m_world;
     ClumpData& c = TALUS_CLUMP(id);
     if (!std::isfinite(w) || !std::isfinite(0.5 * c.inertia * w * w))
         throw InputError(clumpText(id) + ": spin " + messageNumber(w) + " is not usable");
     c.spin = w;
-    placePebbles(c);
-    m_limits_stale = true;
+    placePebbles(world, c);
+    world.stepping.limits_stale = true;
 }
 void Model::setClumpAngle(ClumpId id, double a) {
+    World& world = *m_world;
     if (!std::isfinite(a)) throw InputError(clumpText(id) + ": angle must be finite");
     ClumpData& c = TALUS_CLUMP(id);
     c.angle = a;
-    placePebbles(c);
-    m_limits_stale = true;
+    placePebbles(world, c);
+    world.stepping.limits_stale = true;
 }
 void Model::setClumpAppliedForce(ClumpId id, const Vec2& f) {
+    World& world = *m_world;
     if (!finite2(f)) throw InputError(clumpText(id) + ": fapp (applied force) must be finite");
     TALUS_CLUMP(id).fapp = f;
-    m_limits_stale = true;
+    world.stepping.limits_stale = true;
 }
 void Model::setClumpAppliedMoment(ClumpId id, double m) {
+    World& world = *m_world;
     if (!std::isfinite(m))
         throw InputError(clumpText(id) + ": mapp (applied moment) must be finite");
     TALUS_CLUMP(id).mapp = m;
 }
-void Model::setClumpFixity(ClumpId id, uint8_t f) { TALUS_CLUMP(id).fixity = f; }
+void Model::setClumpFixity(ClumpId id, uint8_t f) {
+    World& world = *m_world;
+    TALUS_CLUMP(id).fixity = f;
+}
 
 double Model::clumpContactProp(ClumpId id, const std::string& name) const {
+    const World& world = *m_world;
     const ClumpData& c = TALUS_CLUMP(id);
     const std::string n = lower(name);
     if (n == "kn") return c.kn;
@@ -513,6 +575,7 @@ double Model::clumpContactProp(ClumpId id, const std::string& name) const {
     throw InputError("clump: unknown contact property '" + name + "' (inheritable: kn, ks, fric)");
 }
 void Model::setClumpContactProp(ClumpId id, const std::string& name, double v) {
+    World& world = *m_world;
     if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
         throw InputError("clump: " + name + " must be >= 0 (got " + messageNumber(v) + ")");
     ClumpData& c = TALUS_CLUMP(id);
@@ -526,41 +589,45 @@ void Model::setClumpContactProp(ClumpId id, const std::string& name, double v) {
                          "' (inheritable: kn, ks, fric)");
     c.*field = v;
     // The pebbles inherit the clump's value (pairs made from now on see it).
-    auto& b = m_bodies->balls;
+    auto& b = world.bodies.balls;
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-        const uint32_t s = m_bodies->pebbleSlot(c, k);
+        const uint32_t s = world.bodies.pebbleSlot(c, k);
         (n == "kn" ? b.kn : n == "ks" ? b.ks : b.fric)[s] = v;
     }
 }
 
 std::vector<std::string> Model::clumpGroups(ClumpId id) const {
+    const World& world = *m_world;
     std::vector<std::string> out;
     const uint64_t g = TALUS_CLUMP(id).groups;
-    for (std::size_t i = 0; i < m_group_names.size(); ++i)
-        if (g & (uint64_t(1) << i)) out.push_back(m_group_names[i]);
+    for (std::size_t i = 0; i < world.bodies.group_names.size(); ++i)
+        if (g & (uint64_t(1) << i)) out.push_back(world.bodies.group_names[i]);
     return out;
 }
 void Model::addClumpGroup(ClumpId id, const std::string& group) {
+    World& world = *m_world;
     ClumpData& c = TALUS_CLUMP(id);
-    c.groups |= uint64_t(1) << groupIndex(group, true);
+    c.groups |= uint64_t(1) << talus::groupIndex(world, group, true);
     // Pebbles carry their clump's groups (contact-model rules, energy allocation).
     for (std::size_t k = 0; k < c.pebbles.size(); ++k)
-        m_bodies->balls.groups[m_bodies->pebbleSlot(c, k)] = c.groups;
+        world.bodies.balls.groups[world.bodies.pebbleSlot(c, k)] = c.groups;
 }
 
 std::vector<Pebble> Model::clumpPebbles(ClumpId id) const {
+    const World& world = *m_world;
     const ClumpData& c = TALUS_CLUMP(id);
     std::vector<Pebble> out;
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-        const uint32_t s = m_bodies->pebbleSlot(c, k);
-        out.push_back(Pebble{m_bodies->balls.pos[s], m_bodies->balls.radius[s]});
+        const uint32_t s = world.bodies.pebbleSlot(c, k);
+        out.push_back(Pebble{world.bodies.balls.pos[s], world.bodies.balls.radius[s]});
     }
     return out;
 }
 std::vector<BallId> Model::clumpPebbleIds(ClumpId id) const {
+    const World& world = *m_world;
     const ClumpData& c = TALUS_CLUMP(id);
     std::vector<BallId> out;
-    for (uint32_t h : c.pebbles) out.push_back(BallId{h, m_bodies->generation[h - 1]});
+    for (uint32_t h : c.pebbles) out.push_back(BallId{h, world.bodies.generation[h - 1]});
     return out;
 }
 

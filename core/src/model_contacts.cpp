@@ -14,6 +14,7 @@
 #include "body_store.hpp"
 #include "broadphase.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "props.hpp"
@@ -25,7 +26,8 @@ namespace talus {
 // ------------------------------------------------------------------------ contact-model rules
 
 const ModelFactory& Model::contactModelFactory(const std::string& name) {
-    return m_registry.find(name);
+    World& world = *m_world;
+    return world.registry.find(name);
 }
 
 void Model::setDefaultContactModel(const std::string& name, const std::vector<PropValue>& props) {
@@ -34,44 +36,45 @@ void Model::setDefaultContactModel(const std::string& name, const std::vector<Pr
 
 void Model::addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
                                 const std::string& group_a, const std::string& group_b) {
+    World& world = *m_world;
     auto rule = std::make_unique<Rule>();
-    rule->factory = &m_registry.find(name);
+    rule->factory = &world.registry.find(name);
     rule->batch = rule->factory->batch;
     rule->model_name = rule->factory->name;
-    rule->prototype = m_registry.createPrototype(*rule->factory);
+    rule->prototype = world.registry.createPrototype(*rule->factory);
     applyProps(*rule->prototype, props, "contact_model");
     PropBlock pb = emptyPropBlock();
     if (const char* err = rule->prototype->PreCycle(pb))
         throw InputError(std::string("contact_model '") + rule->model_name + "': " + err);
-    rule->group_a = group_a.empty() ? -1 : groupIndex(group_a, true);
-    rule->group_b = group_b.empty() ? -1 : groupIndex(group_b, true);
+    rule->group_a = group_a.empty() ? -1 : talus::groupIndex(world, group_a, true);
+    rule->group_b = group_b.empty() ? -1 : talus::groupIndex(world, group_b, true);
     rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
-    rule->order = static_cast<int>(m_contacts->rules.size());
+    rule->order = static_cast<int>(world.contacts.rules.size());
     rule->activity = rule->prototype->ActivityDistance();
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     if (rule->specificity == 0) {
         // A new default replaces the old one for future contacts; the old rule stays alive
         // (existing contacts hold objects from its pool) but is no longer matched.
-        m_contacts->rules.push_back(std::move(m_contacts->rules[0]));
-        m_contacts->rules[0] = std::move(rule);
+        world.contacts.rules.push_back(std::move(world.contacts.rules[0]));
+        world.contacts.rules[0] = std::move(rule);
     } else {
-        m_contacts->rules.push_back(std::move(rule));
+        world.contacts.rules.push_back(std::move(rule));
     }
     // Pairs that are not in contact pick the new rules up when they touch.
-    ++m_contacts->rules_version;
-    m_limits_stale = true;
-    m_contacts->max_activity = 0.0;
-    for (const auto& r : m_contacts->rules)
+    ++world.contacts.rules_version;
+    world.stepping.limits_stale = true;
+    world.contacts.max_activity = 0.0;
+    for (const auto& r : world.contacts.rules)
         if (r->prototype)
-            m_contacts->max_activity = std::max(m_contacts->max_activity, r->activity);
+            world.contacts.max_activity = std::max(world.contacts.max_activity, r->activity);
 }
 
-const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
-    const Rule* best = m_contacts->rules[0].get();
+const Rule& ruleFor(const World& world, uint64_t g1, uint64_t g2) {
+    const Rule* best = world.contacts.rules[0].get();
     int best_spec = -1, best_order = -1;
     auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
-    for (std::size_t i = 1; i < m_contacts->rules.size(); ++i) {
-        const Rule& r = *m_contacts->rules[i];
+    for (std::size_t i = 1; i < world.contacts.rules.size(); ++i) {
+        const Rule& r = *world.contacts.rules[i];
         if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
         const bool match =
             (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
@@ -87,16 +90,12 @@ const Model::Rule& Model::ruleFor(uint64_t g1, uint64_t g2) const {
 
 // ------------------------------------------------------------------------ contacts (queries)
 
-Model::Pair* Model::pairByKey(ContactKey key) { return m_contacts->pairByKey(key); }
-const Model::Pair* Model::pairByKey(ContactKey key) const { return m_contacts->pairByKey(key); }
-std::size_t Model::pairIndex(const Pair& p) const { return m_contacts->pairIndex(p); }
-
-bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& point) const {
-    const auto& b = m_bodies->balls;
+bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point) {
+    const auto& b = world.bodies.balls;
     const Vec2& x1 = b.pos[p.end1];
     ContactGeometry g;
     if (p.wall) {
-        if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) return false;
+        if (!segmentGeometry(world, p.end2, x1, b.radius[p.end1], g)) return false;
     } else {
         const Vec2 d = b.pos[p.end2] - x1;
         const double dist = d.norm();
@@ -110,28 +109,28 @@ bool Model::pairGeometry(const Pair& p, Vec2& normal, double& overlap, Vec2& poi
     return true;
 }
 
-ContactInfo Model::infoOf(std::size_t index) const {
-    const Pair& p = m_contacts->pairs[index];
+ContactInfo infoOf(const World& world, std::size_t index) {
+    const Pair& p = world.contacts.pairs[index];
     ContactInfo c;
-    c.key = ContactKey{m_contacts->cold[index].key};
-    const uint32_t h1 = m_bodies->balls.handle[p.end1];
-    c.ball1 = BallId{h1, m_bodies->generation[h1 - 1]};
+    c.key = ContactKey{world.contacts.cold[index].key};
+    const uint32_t h1 = world.bodies.balls.handle[p.end1];
+    c.ball1 = BallId{h1, world.bodies.generation[h1 - 1]};
     const auto clumpAt = [&](uint32_t slot) {
-        const uint32_t k = m_bodies->balls.clump[slot];
-        return k == kNoClump ? ClumpId{} : m_bodies->clumpId(k);
+        const uint32_t k = world.bodies.balls.clump[slot];
+        return k == kNoClump ? ClumpId{} : world.bodies.clumpId(k);
     };
     c.clump1 = clumpAt(p.end1);
     if (p.wall) {
-        const Segment& s = m_bodies->segments[p.end2];
-        c.wall = WallId{s.wall + 1, m_bodies->walls[s.wall].generation};
-        c.segment = static_cast<int32_t>(p.end2 - m_bodies->walls[s.wall].first_segment);
+        const Segment& s = world.bodies.segments[p.end2];
+        c.wall = WallId{s.wall + 1, world.bodies.walls[s.wall].generation};
+        c.segment = static_cast<int32_t>(p.end2 - world.bodies.walls[s.wall].first_segment);
     } else {
-        const uint32_t h2 = m_bodies->balls.handle[p.end2];
-        c.ball2 = BallId{h2, m_bodies->generation[h2 - 1]};
+        const uint32_t h2 = world.bodies.balls.handle[p.end2];
+        c.ball2 = BallId{h2, world.bodies.generation[h2 - 1]};
         c.clump2 = clumpAt(p.end2);
     }
     c.active = p.active;
-    pairGeometry(p, c.normal, c.overlap, c.point);
+    pairGeometry(world, p, c.normal, c.overlap, c.point);
     c.normal_force = p.n_force;
     c.shear_force = p.s_force;
     c.moment = p.moment;
@@ -141,45 +140,49 @@ ContactInfo Model::infoOf(std::size_t index) const {
     return c;
 }
 
-std::string Model::describePair(const Pair& p) const {
-    std::string s = "contact ball " + std::to_string(m_bodies->balls.handle[p.end1]) + " - ";
+std::string describePair(const World& world, const Pair& p) {
+    std::string s = "contact ball " + std::to_string(world.bodies.balls.handle[p.end1]) + " - ";
     if (p.wall) {
-        const Segment& seg = m_bodies->segments[p.end2];
+        const Segment& seg = world.bodies.segments[p.end2];
         s += "wall " + std::to_string(seg.wall + 1) + " segment " +
-             std::to_string(p.end2 - m_bodies->walls[seg.wall].first_segment + 1);
+             std::to_string(p.end2 - world.bodies.walls[seg.wall].first_segment + 1);
     } else {
-        s += "ball " + std::to_string(m_bodies->balls.handle[p.end2]);
+        s += "ball " + std::to_string(world.bodies.balls.handle[p.end2]);
     }
     s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
     Vec2 n, point;
     double overlap;
-    if (pairGeometry(p, n, overlap, point)) s += " at " + vecText(point);
+    if (pairGeometry(world, p, n, overlap, point)) s += " at " + vecText(point);
     return s;
 }
 
 std::size_t Model::contactCount(bool active_only) const {
-    if (!active_only) return m_contacts->pairs.size();
+    const World& world = *m_world;
+    if (!active_only) return world.contacts.pairs.size();
     std::size_t n = 0;
-    for (const auto& p : m_contacts->pairs) n += p.active;
+    for (const auto& p : world.contacts.pairs) n += p.active;
     return n;
 }
 
 std::vector<ContactInfo> Model::contacts(bool active_only) const {
+    const World& world = *m_world;
     std::vector<ContactInfo> out;
-    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i)
-        if (m_contacts->pairs[i].active || !active_only) out.push_back(infoOf(i));
+    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i)
+        if (world.contacts.pairs[i].active || !active_only) out.push_back(infoOf(world, i));
     return out;
 }
 
 bool Model::findContact(ContactKey key, ContactInfo& out) const {
-    const Pair* p = pairByKey(key);
+    const World& world = *m_world;
+    const Pair* p = world.contacts.pairByKey(key);
     if (!p) return false;
-    out = infoOf(pairIndex(*p));
+    out = infoOf(world, world.contacts.pairIndex(*p));
     return true;
 }
 
 double Model::contactProp(ContactKey key, const std::string& name) const {
-    const Pair* p = pairByKey(key);
+    const World& world = *m_world;
+    const Pair* p = world.contacts.pairByKey(key);
     if (!p || !p->model) throw InputError("contact no longer exists");
     const int32_t idx = propIndex(*p->model, name);
     if (idx < 0)
@@ -190,8 +193,9 @@ double Model::contactProp(ContactKey key, const std::string& name) const {
 }
 
 void Model::setContactProp(ContactKey key, const std::string& name, double value) {
-    m_limits_stale = true;
-    Pair* p = pairByKey(key);
+    World& world = *m_world;
+    world.stepping.limits_stale = true;
+    Pair* p = world.contacts.pairByKey(key);
     if (!p || !p->model) throw InputError("contact no longer exists");
     const int32_t idx = propIndex(*p->model, name);
     if (idx < 0)
@@ -206,12 +210,14 @@ void Model::setContactProp(ContactKey key, const std::string& name, double value
     const PropInfo* info = p->model->PropInfoAt(idx);
     const std::string units = info && info->units ? info->units : "";
     if (value == 0.0 && (units == "N/m" || units == "Pa"))
-        warn("contact " + describePair(*p) + ": property '" + name + "' of model '" +
-             p->model->Name() + "' set to 0: the contact may let the bodies pass through");
+        talus::warn(world, "contact " + describePair(world, *p) + ": property '" + name +
+                               "' of model '" + p->model->Name() +
+                               "' set to 0: the contact may let the bodies pass through");
 }
 
 void Model::setContactForce(ContactKey key, double normal_force, double shear_force) {
-    Pair* p = pairByKey(key);
+    World& world = *m_world;
+    Pair* p = world.contacts.pairByKey(key);
     if (!p) throw InputError("contact no longer exists");
     if (!std::isfinite(normal_force) || !std::isfinite(shear_force))
         throw InputError("contact: normal_force and shear_force must be finite (got " +

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,18 @@ namespace talus {
 #else
 #define TALUS_OMP(directive)
 #endif
+
+/// Limits gathered by the force loop for the next automatic step (timestep.cpp): each the
+/// smallest over the pairs, the lowest pair index on a tie (`*_pair`, not saved), so that
+/// threads' partial limits merge to what one thread finds in pair order.
+struct StepLimits {
+    double stability = std::numeric_limits<double>::infinity();
+    double resolution = std::numeric_limits<double>::infinity();
+    double approach = std::numeric_limits<double>::infinity();
+    uint64_t stability_key = 0, resolution_key = 0, approach_key = 0;
+    uint32_t stability_pair = UINT32_MAX, resolution_pair = UINT32_MAX, approach_pair = UINT32_MAX;
+    void merge(const StepLimits& o);
+};
 
 constexpr uint32_t kDeadSlot = 0xffffffffu;
 constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
@@ -48,7 +61,7 @@ private:
 };
 
 /// A contact-model assignment: which model, with which properties, for which groups.
-struct Model::Rule {
+struct Rule {
     std::string model_name;
     const ModelFactory* factory = nullptr;
     /// factory->batch, here so that the force loop finds it one load from the pair (measured:
@@ -64,14 +77,14 @@ struct Model::Rule {
     /// The state of its contacts that run in the model's lanes (made at the first; none when
     /// the model has no lane law).
     std::unique_ptr<LaneTable> lanes;
-    bool warned_no_stiffness = false;          // Model::activate warns once per rule
+    bool warned_no_stiffness = false;          // activate warns once per rule
     bool warned_negative_dissipation = false;  // the force loop warns once per rule
     /// Made by m:bond for the objects it installs (model_bonds.cpp): never matched by ruleFor;
     /// a pair whose contact ends goes back to the ordinary rules (resetPair).
     bool installed = false;
 };
 
-struct Model::Segment {
+struct Segment {
     uint32_t wall;      // index into m_walls
     uint32_t a, b;      // vertex indices into m_vertices
     int32_t prev = -1;  // neighbouring segment sharing vertex a (-1: none)
@@ -80,7 +93,7 @@ struct Model::Segment {
     Box fat;
 };
 
-struct Model::WallData {
+struct WallData {
     uint32_t generation = 1;
     bool alive = true;
     bool closed = false;
@@ -109,7 +122,7 @@ struct Model::WallData {
 /// data it needs at every step (120 bytes) is kept apart from the rest
 /// (PairCold, same index), which only the time-step, guard and energy variants of the loop, the
 /// queries and the bookkeeping touch.
-struct Model::Pair {
+struct Pair {
     uint32_t end1 = 0;  // ball slot
     uint32_t end2 = 0;  // ball slot, or segment index when `wall`
     bool wall = false;
@@ -119,7 +132,7 @@ struct Model::Pair {
     bool loading = false;  // guard: the overlap grew at the last step
     uint32_t steps = 0;    // steps with positive overlap in this life
     // The contact's row in its rule's lanes (contact_lanes.hpp): while it has one, that row
-    // holds the model's state and the object is out of date (Model::syncLane).
+    // holds the model's state and the object is out of date (syncLane).
     uint32_t lane = kNoLane;
     Rule* rule = nullptr;
     ContactModel* model = nullptr;
@@ -132,7 +145,7 @@ struct Model::Pair {
     double work = 0.0, work_peak = 0.0;  // guard: energy the contact took in this life [J]
 };
 
-struct Model::PairCold {
+struct PairCold {
     // Guard, written at touch and at the deepest overlap (when the overlap stops growing).
     double overlap_max = 0.0;      // deepest overlap in this life [m]
     double force_at_max = 0.0;     // normal force there [N]
@@ -150,7 +163,7 @@ struct Model::PairCold {
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
 
-struct Model::BallArrays {
+struct BallArrays {
     std::vector<Vec2> pos, vel, force, fapp;
     std::vector<double> angle, spin, moment, mapp;
     std::vector<double> radius, mass, inv_mass, inertia, inv_inertia, density;
@@ -176,7 +189,7 @@ struct Model::BallArrays {
 /// their handles so that sorting and deletion of balls need no update) whose mass and inertia
 /// fields hold the clump's, so a pair's effective mass is the clump's. The law of motion
 /// integrates the clump and places its pebbles rigidly (law_of_motion.cpp, moveClumps).
-struct Model::ClumpData {
+struct ClumpData {
     uint32_t generation = 1;
     bool alive = true;
     Vec2 pos{0.0, 0.0};  // centroid [m]

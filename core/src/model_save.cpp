@@ -19,6 +19,7 @@
 #include "body_store.hpp"
 #include "broadphase.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
@@ -147,35 +148,44 @@ void applyModelState(SaveReader& r, ContactModel& m, const std::vector<uint8_t>&
 // ------------------------------------------------------------------------ save
 
 void Model::saveState(SaveWriter& w) const {
-    const auto& b = m_bodies->balls;
+    const World& world = *m_world;
+    const auto& b = world.bodies.balls;
 
     w.beginSection("SETT");
-    w.vec2(m_gravity);
-    w.i32(static_cast<int32_t>(m_mass_mode));
-    writeTimestep(w, m_timestep);
-    writeTimestep(w, m_last_settings);
-    w.i32(static_cast<int32_t>(m_guard.energy)), w.f64(m_guard.energy_tolerance);
-    w.i32(static_cast<int32_t>(m_guard.resolution)), w.i32(m_guard.min_steps);
-    w.i32(static_cast<int32_t>(m_guard.stiffness));
-    w.i32(static_cast<int32_t>(m_guard.balance)), w.f64(m_guard.balance_tolerance);
-    w.i64(m_guard.balance_every);
-    w.f64(m_damping.local), w.f64(m_damping.viscous);
-    w.i64(m_sort_every);
-    w.boolean(m_contact_events);
-    w.u64(m_group_names.size());
-    for (const auto& g : m_group_names) w.str(g);
+    w.vec2(world.settings.gravity);
+    w.i32(static_cast<int32_t>(world.settings.mass_mode));
+    writeTimestep(w, world.settings.timestep);
+    writeTimestep(w, world.stepping.last_settings);
+    w.i32(static_cast<int32_t>(world.settings.guard.energy)),
+        w.f64(world.settings.guard.energy_tolerance);
+    w.i32(static_cast<int32_t>(world.settings.guard.resolution)),
+        w.i32(world.settings.guard.min_steps);
+    w.i32(static_cast<int32_t>(world.settings.guard.stiffness));
+    w.i32(static_cast<int32_t>(world.settings.guard.balance)),
+        w.f64(world.settings.guard.balance_tolerance);
+    w.i64(world.settings.guard.balance_every);
+    w.f64(world.settings.damping.local), w.f64(world.settings.damping.viscous);
+    w.i64(world.settings.sort_every);
+    w.boolean(world.callbacks.contact_events);
+    w.u64(world.bodies.group_names.size());
+    for (const auto& g : world.bodies.group_names) w.str(g);
     w.endSection();
 
     w.beginSection("CLCK");
-    w.f64(m_time), w.i64(m_step), w.f64(m_dt), w.f64(m_dt_prev), w.f64(m_window);
-    w.i32(static_cast<int32_t>(m_dt_rule));
-    w.i32(static_cast<int32_t>(m_dt_where.kind)), w.u32(m_dt_where.index), w.u64(m_dt_where.key);
-    w.boolean(m_first_cycle), w.boolean(m_warned_no_model), w.boolean(m_limits_stale);
-    w.vec2(m_limits_gravity);
-    w.boolean(m_dt_idle);
-    w.f64(m_step_cap);
-    w.f64(m_limits.stability), w.f64(m_limits.resolution), w.f64(m_limits.approach);
-    w.u64(m_limits.stability_key), w.u64(m_limits.resolution_key), w.u64(m_limits.approach_key);
+    w.f64(world.clock.time), w.i64(world.clock.step), w.f64(world.clock.dt),
+        w.f64(world.clock.dt_prev), w.f64(world.clock.window);
+    w.i32(static_cast<int32_t>(world.stepping.rule));
+    w.i32(static_cast<int32_t>(world.stepping.where.kind)), w.u32(world.stepping.where.index),
+        w.u64(world.stepping.where.key);
+    w.boolean(world.clock.first_cycle), w.boolean(world.guard_state.warned_no_model),
+        w.boolean(world.stepping.limits_stale);
+    w.vec2(world.stepping.limits_gravity);
+    w.boolean(world.stepping.idle);
+    w.f64(world.stepping.cap);
+    w.f64(world.stepping.limits.stability), w.f64(world.stepping.limits.resolution),
+        w.f64(world.stepping.limits.approach);
+    w.u64(world.stepping.limits.stability_key), w.u64(world.stepping.limits.resolution_key),
+        w.u64(world.stepping.limits.approach_key);
     w.endSection();
 
     w.beginSection("BALL");
@@ -189,13 +199,14 @@ void Model::saveState(SaveWriter& w) const {
     for (const Box& f : b.fat) w.box(f);
     w.array(b.groups), w.array(b.kn), w.array(b.ks), w.array(b.fric);
     w.array(b.k_tran), w.array(b.k_rot), w.array(b.clump);
-    w.array(m_bodies->slot_of), w.array(m_bodies->generation), w.array(m_bodies->free_handles);
-    w.u64(m_fixed_balls);
+    w.array(world.bodies.slot_of), w.array(world.bodies.generation),
+        w.array(world.bodies.free_handles);
+    w.u64(world.bodies.fixed_balls);
     w.endSection();
 
     w.beginSection("CLMP");
-    w.u64(m_bodies->clumps.size());
-    for (const ClumpData& c : m_bodies->clumps) {
+    w.u64(world.bodies.clumps.size());
+    for (const ClumpData& c : world.bodies.clumps) {
         w.u32(c.generation), w.boolean(c.alive);
         w.vec2(c.pos), w.vec2(c.vel), w.f64(c.angle), w.f64(c.spin);
         w.f64(c.mass), w.f64(c.inv_mass), w.f64(c.inertia), w.f64(c.inv_inertia);
@@ -204,9 +215,9 @@ void Model::saveState(SaveWriter& w) const {
         w.u8(c.fixity), w.u64(c.groups), w.f64(c.kn), w.f64(c.ks), w.f64(c.fric);
         w.array(c.pebbles), w.vec2Array(c.offset), w.array(c.angle_offset);
     }
-    w.u64(m_bodies->live_clumps), w.u64(m_bodies->pebble_count);
-    w.u64(m_clump_templates.size());
-    for (const ClumpTemplate& t : m_clump_templates) {
+    w.u64(world.bodies.live_clumps), w.u64(world.bodies.pebble_count);
+    w.u64(world.bodies.clump_templates.size());
+    for (const ClumpTemplate& t : world.bodies.clump_templates) {
         w.u64(t.pebbles.size());
         for (const Pebble& p : t.pebbles) w.vec2(p.pos), w.f64(p.radius);
         w.i32(static_cast<int32_t>(t.mass_mode));
@@ -215,8 +226,8 @@ void Model::saveState(SaveWriter& w) const {
     w.endSection();
 
     w.beginSection("WALL");
-    w.u64(m_bodies->walls.size());
-    for (const WallData& wd : m_bodies->walls) {
+    w.u64(world.bodies.walls.size());
+    for (const WallData& wd : world.bodies.walls) {
         w.u32(wd.generation), w.boolean(wd.alive), w.boolean(wd.closed);
         w.u32(wd.first_segment), w.u32(wd.segment_count);
         w.u32(wd.first_vertex), w.u32(wd.vertex_count);
@@ -230,18 +241,18 @@ void Model::saveState(SaveWriter& w) const {
         w.f64(sv.settings.vmax), w.vec2(sv.settings.dir);
         w.f64(sv.force), w.f64(sv.stress), w.f64(sv.vel), w.f64(sv.gain), w.f64(sv.knest);
     }
-    w.i32(m_servos_on);
-    w.u64(m_bodies->segments.size());
-    for (const Segment& s : m_bodies->segments) {
+    w.i32(world.bodies.servos_on);
+    w.u64(world.bodies.segments.size());
+    for (const Segment& s : world.bodies.segments) {
         w.u32(s.wall), w.u32(s.a), w.u32(s.b), w.i32(s.prev), w.i32(s.next), w.i32(s.proxy);
         w.box(s.fat);
     }
-    w.vec2Array(m_bodies->vertices);
+    w.vec2Array(world.bodies.vertices);
     w.endSection();
 
     // Rules: per rule its model's name, plugin version and Version(), then the prototype's
     // SaveRestore (the settable properties and any state).
-    const auto& rules = m_contacts->rules;
+    const auto& rules = world.contacts.rules;
     w.beginSection("RULE");
     w.u64(rules.size());
     for (const auto& rp : rules) {
@@ -251,7 +262,7 @@ void Model::saveState(SaveWriter& w) const {
         if (r.prototype) {
             // The plugin version as the registry has it now, looked up by name as the restore
             // does.
-            const ModelFactory* f = m_registry.tryFind(r.model_name);
+            const ModelFactory* f = world.registry.tryFind(r.model_name);
             w.str(f ? f->plugin_version : std::string());
             w.i32(r.prototype->Version());
             writeModelState(w, *r.prototype);
@@ -261,13 +272,13 @@ void Model::saveState(SaveWriter& w) const {
         w.boolean(r.warned_no_stiffness), w.boolean(r.warned_negative_dissipation);
         w.boolean(r.installed);
     }
-    w.u32(m_contacts->rules_version);
-    w.f64(m_contacts->max_activity);
+    w.u32(world.contacts.rules_version);
+    w.f64(world.contacts.max_activity);
     w.endSection();
 
     w.beginSection("PAIR");
-    const auto& pairs = m_contacts->pairs;
-    const auto& cold = m_contacts->cold;
+    const auto& pairs = world.contacts.pairs;
+    const auto& cold = world.contacts.cold;
     w.u64(pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {
         const Pair& p = pairs[i];
@@ -293,26 +304,26 @@ void Model::saveState(SaveWriter& w) const {
     }
     // Pairs whose bond broke or was removed (model_bonds.cpp), sorted by key: the map is only
     // looked up, so its order is no state, and sorting makes the file independent of it.
-    std::vector<std::pair<uint64_t, uint64_t>> unbonded(m_contacts->unbonded.begin(),
-                                                        m_contacts->unbonded.end());
+    std::vector<std::pair<uint64_t, uint64_t>> unbonded(world.contacts.unbonded.begin(),
+                                                        world.contacts.unbonded.end());
     std::sort(unbonded.begin(), unbonded.end());
     w.u64(unbonded.size());
     for (const auto& [key, gens] : unbonded) w.u64(key), w.u64(gens);
     w.endSection();
 
     w.beginSection("BRPH");
-    w.f64(m_contacts->margin);
-    w.boolean(m_contacts->broadphase_ready);
-    if (m_contacts->broadphase_ready) {
-        m_contacts->broadphase->save(w);
-        m_contacts->wall_broadphase->save(w);
+    w.f64(world.contacts.margin);
+    w.boolean(world.contacts.broadphase_ready);
+    if (world.contacts.broadphase_ready) {
+        world.contacts.broadphase->save(w);
+        world.contacts.wall_broadphase->save(w);
     }
-    w.array(m_contacts->moved_balls), w.array(m_contacts->moved_segments);
-    w.array(m_contacts->ball_moved), w.array(m_contacts->segment_moved);
+    w.array(world.contacts.moved_balls), w.array(world.contacts.moved_segments);
+    w.array(world.contacts.ball_moved), w.array(world.contacts.segment_moved);
     w.endSection();
 
     w.beginSection("ENRG");
-    const EnergyBooks& e = m_books;
+    const EnergyBooks& e = world.books;
     w.boolean(e.on);
     writeTotals(w, e.acc), writeTotals(w, e.snapshot);
     w.f64(e.dashpot_pending), w.boolean(e.strain_baseline_pending), w.f64(e.last_placed);
@@ -328,7 +339,7 @@ void Model::saveState(SaveWriter& w) const {
     w.endSection();
 
     w.beginSection("GARD");
-    const GuardState& g = m_guard_state;
+    const GuardState& g = world.guard_state;
     w.i64(g.underresolved), w.str(g.underresolved_first);
     w.i64(g.energy_gain), w.str(g.energy_gain_first);
     w.i64(g.stiffness_lies), w.str(g.stiffness_lies_first);
@@ -339,8 +350,8 @@ void Model::saveState(SaveWriter& w) const {
     w.endSection();
 
     w.beginSection("EVNT");
-    w.u64(m_events.size());
-    for (const Event& ev : m_events) {
+    w.u64(world.callbacks.events.size());
+    for (const Event& ev : world.callbacks.events) {
         w.i32(static_cast<int32_t>(ev.kind)), w.f64(ev.time), w.vec2(ev.pos);
         w.u64(ev.contact.value), w.i32(ev.mode), w.str(ev.model);
     }
@@ -352,56 +363,59 @@ void Model::saveState(SaveWriter& w) const {
 std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& registry,
                                            std::vector<std::string>& notes) {
     auto mp = std::make_unique<Model>(ModelDef{}, registry);
-    Model& m = *mp;
-    auto& bs = *m.m_bodies;
-    auto& cs = *m.m_contacts;
+    World& world = *mp->m_world;
+    auto& bs = world.bodies;
+    auto& cs = world.contacts;
     auto& b = bs.balls;
     std::vector<int32_t> rule_versions;  // per rule: the Version() its data was saved with
 
     {
         SaveReader r = in.section("SETT");
-        m.m_gravity = r.vec2();
-        if (!std::isfinite(m.m_gravity.x()) || !std::isfinite(m.m_gravity.y()))
+        world.settings.gravity = r.vec2();
+        if (!std::isfinite(world.settings.gravity.x()) ||
+            !std::isfinite(world.settings.gravity.y()))
             r.fail("gravity is not finite");
-        m.m_mass_mode = r.enumValue<MassMode>(2, "mass mode");
-        m.m_timestep = readTimestep(r);
-        m.m_last_settings = readTimestep(r);
-        m.m_guard.energy = r.enumValue<GuardAction>(3, "guard energy");
-        m.m_guard.energy_tolerance = r.f64();
-        m.m_guard.resolution = r.enumValue<GuardAction>(3, "guard resolution");
-        m.m_guard.min_steps = r.i32();
-        m.m_guard.stiffness = r.enumValue<GuardAction>(3, "guard stiffness");
-        m.m_guard.balance = r.enumValue<GuardAction>(3, "guard balance");
-        m.m_guard.balance_tolerance = r.f64();
-        m.m_guard.balance_every = r.i64();
-        if (m.m_guard.balance_every < 1) r.fail("guard balance_every must be >= 1");
-        m.m_damping.local = r.f64();
-        m.m_damping.viscous = r.f64();
-        m.m_sort_every = r.i64();
-        if (m.m_sort_every < 0) r.fail("sort interval must be >= 0");
-        m.m_contact_events = r.boolean();
+        world.settings.mass_mode = r.enumValue<MassMode>(2, "mass mode");
+        world.settings.timestep = readTimestep(r);
+        world.stepping.last_settings = readTimestep(r);
+        world.settings.guard.energy = r.enumValue<GuardAction>(3, "guard energy");
+        world.settings.guard.energy_tolerance = r.f64();
+        world.settings.guard.resolution = r.enumValue<GuardAction>(3, "guard resolution");
+        world.settings.guard.min_steps = r.i32();
+        world.settings.guard.stiffness = r.enumValue<GuardAction>(3, "guard stiffness");
+        world.settings.guard.balance = r.enumValue<GuardAction>(3, "guard balance");
+        world.settings.guard.balance_tolerance = r.f64();
+        world.settings.guard.balance_every = r.i64();
+        if (world.settings.guard.balance_every < 1) r.fail("guard balance_every must be >= 1");
+        world.settings.damping.local = r.f64();
+        world.settings.damping.viscous = r.f64();
+        world.settings.sort_every = r.i64();
+        if (world.settings.sort_every < 0) r.fail("sort interval must be >= 0");
+        world.callbacks.contact_events = r.boolean();
         const std::size_t ng = r.count(8, "group names");
         if (ng > 64) r.fail("more than 64 group names");
-        for (std::size_t i = 0; i < ng; ++i) m.m_group_names.push_back(r.str());
+        for (std::size_t i = 0; i < ng; ++i) world.bodies.group_names.push_back(r.str());
         r.expectEnd();
     }
     {
         SaveReader r = in.section("CLCK");
-        m.m_time = r.f64(), m.m_step = r.i64(), m.m_dt = r.f64(), m.m_dt_prev = r.f64();
-        m.m_window = r.f64();
-        m.m_dt_rule = r.enumValue<StepRule>(9, "step rule");
-        m.m_dt_where.kind = r.enumValue<StepWhere::Kind>(4, "step origin");
-        m.m_dt_where.index = r.u32(), m.m_dt_where.key = r.u64();
-        m.m_first_cycle = r.boolean(), m.m_warned_no_model = r.boolean();
-        m.m_limits_stale = r.boolean();
-        m.m_limits_gravity = r.vec2();
-        m.m_dt_idle = r.boolean();
-        m.m_step_cap = r.f64();
-        m.m_limits.stability = r.f64(), m.m_limits.resolution = r.f64();
-        m.m_limits.approach = r.f64();
-        m.m_limits.stability_key = r.u64(), m.m_limits.resolution_key = r.u64();
-        m.m_limits.approach_key = r.u64();
-        if (m.m_step < 0) r.fail("negative step count");
+        world.clock.time = r.f64(), world.clock.step = r.i64(), world.clock.dt = r.f64(),
+        world.clock.dt_prev = r.f64();
+        world.clock.window = r.f64();
+        world.stepping.rule = r.enumValue<StepRule>(9, "step rule");
+        world.stepping.where.kind = r.enumValue<StepWhere::Kind>(4, "step origin");
+        world.stepping.where.index = r.u32(), world.stepping.where.key = r.u64();
+        world.clock.first_cycle = r.boolean(), world.guard_state.warned_no_model = r.boolean();
+        world.stepping.limits_stale = r.boolean();
+        world.stepping.limits_gravity = r.vec2();
+        world.stepping.idle = r.boolean();
+        world.stepping.cap = r.f64();
+        world.stepping.limits.stability = r.f64(), world.stepping.limits.resolution = r.f64();
+        world.stepping.limits.approach = r.f64();
+        world.stepping.limits.stability_key = r.u64(),
+        world.stepping.limits.resolution_key = r.u64();
+        world.stepping.limits.approach_key = r.u64();
+        if (world.clock.step < 0) r.fail("negative step count");
         r.expectEnd();
     }
     {
@@ -428,7 +442,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         r.array(bs.slot_of, "handle table");
         r.array(bs.generation, bs.slot_of.size(), "generations");
         r.array(bs.free_handles, "free handles");
-        m.m_fixed_balls = r.u64();
+        world.bodies.fixed_balls = r.u64();
         r.expectEnd();
         // The handle tables: every live slot named by exactly one handle, and back.
         for (std::size_t s = 0; s < n; ++s) {
@@ -452,7 +466,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             if (f > (kFixX | kFixY | kFixSpin)) r.fail("invalid fixity bits");
             fixed += f != 0;
         }
-        if (fixed != m.m_fixed_balls) r.fail("the count of fixed balls does not match");
+        if (fixed != world.bodies.fixed_balls) r.fail("the count of fixed balls does not match");
     }
     {
         SaveReader r = in.section("CLMP");
@@ -477,8 +491,8 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         }
         bs.live_clumps = r.u64(), bs.pebble_count = r.u64();
         const std::size_t nt = r.count(8, "clump templates");
-        m.m_clump_templates.resize(nt);
-        for (ClumpTemplate& t : m.m_clump_templates) {
+        world.bodies.clump_templates.resize(nt);
+        for (ClumpTemplate& t : world.bodies.clump_templates) {
             t.pebbles.resize(r.count(24, "template pebbles"));
             for (Pebble& p : t.pebbles) p.pos = r.vec2(), p.radius = r.f64();
             t.mass_mode = r.enumValue<ClumpMassMode>(3, "template mass mode");
@@ -531,7 +545,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             sv.force = r.f64(), sv.stress = r.f64(), sv.vel = r.f64(), sv.gain = r.f64();
             sv.knest = r.f64();
         }
-        m.m_servos_on = r.i32();
+        world.bodies.servos_on = r.i32();
         int servos = 0;
         for (const WallData& wd : bs.walls)
             servos += wd.alive && wd.has_servo && wd.servo.settings.on;
@@ -543,7 +557,8 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         }
         r.vec2Array(bs.vertices, "vertices");
         r.expectEnd();
-        if (servos != m.m_servos_on) r.fail("the count of servos switched on does not match");
+        if (servos != world.bodies.servos_on)
+            r.fail("the count of servos switched on does not match");
         const uint64_t ns = bs.segments.size(), nv = bs.vertices.size();
         for (const WallData& wd : bs.walls)
             if (uint64_t(wd.first_segment) + wd.segment_count > ns ||
@@ -614,7 +629,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             rule->warned_negative_dissipation = r.boolean();
             rule->installed = r.boolean();
             const auto group_ok = [&](int g) {
-                return g >= -1 && g < static_cast<int>(m.m_group_names.size());
+                return g >= -1 && g < static_cast<int>(world.bodies.group_names.size());
             };
             if (!group_ok(rule->group_a) || !group_ok(rule->group_b))
                 r.fail("rule " + std::to_string(i) + " names an unknown group");
@@ -673,7 +688,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             Pair& q = cs.pairs.back();
             q.model = nullptr;
             try {
-                q.model = m.cloneFor(q);
+                q.model = cloneFor(world, q);
             } catch (const std::exception& e) {
                 cs.pairs.pop_back();
                 cs.cold.pop_back();
@@ -740,7 +755,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
     }
     {
         SaveReader r = in.section("ENRG");
-        EnergyBooks& e = m.m_books;
+        EnergyBooks& e = world.books;
         e.on = r.boolean();
         e.acc = readTotals(r), e.snapshot = readTotals(r);
         e.dashpot_pending = r.f64(), e.strain_baseline_pending = r.boolean();
@@ -749,7 +764,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         e.groups.g.resize(r.count(sizeof(EnergyBooks::GroupBooks::Group), "group books"));
         for (auto& g : e.groups.g) g = r.pod<EnergyBooks::GroupBooks::Group>();
         const std::size_t ng = e.groups.g.size();
-        if (ng > m.m_group_names.size() || (ng < 64 && (e.groups.traced >> ng) != 0))
+        if (ng > world.bodies.group_names.size() || (ng < 64 && (e.groups.traced >> ng) != 0))
             r.fail("group books do not match the groups");
         e.groups.exchange.resize(r.count(100, "exchange records"));
         for (auto& x : e.groups.exchange) {
@@ -764,7 +779,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
     }
     {
         SaveReader r = in.section("GARD");
-        GuardState& g = m.m_guard_state;
+        GuardState& g = world.guard_state;
         g.underresolved = r.i64(), g.underresolved_first = r.str();
         g.energy_gain = r.i64(), g.energy_gain_first = r.str();
         g.stiffness_lies = r.i64(), g.stiffness_lies_first = r.str();
@@ -776,8 +791,8 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
     }
     {
         SaveReader r = in.section("EVNT");
-        m.m_events.resize(r.count(40, "events"));
-        for (Event& ev : m.m_events) {
+        world.callbacks.events.resize(r.count(40, "events"));
+        for (Event& ev : world.callbacks.events) {
             ev.kind = r.enumValue<EventKind>(2, "event kind");
             ev.time = r.f64(), ev.pos = r.vec2(), ev.contact.value = r.u64();
             ev.mode = r.i32(), ev.model = r.str();

@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
@@ -37,13 +38,14 @@ const char* solveStopName(SolveStop s) {
 }
 
 SolveStop Model::solve(const SolveSpec& s) {
+    World& world = *m_world;
     const bool has_time = !std::isnan(s.time);
     const bool has_ratio = !std::isnan(s.ratio);
     const bool has_max_time = !std::isnan(s.max_time);
     if (!has_time && s.steps < 0 && !has_ratio && !s.until && s.max_steps < 0 && !has_max_time)
         throw InputError(
             "solve: give at least one of time, steps, ratio, until, max_steps, max_time");
-    if (has_time) requireReachableTime(s.time);
+    if (has_time) requireReachableTime(world, s.time);
     // A ratio below the rounding of the force sums (about 1e-16 of a contact force per body)
     // may never be reached, and a wall-clock cap beyond any run is none: refused, as a time no
     // run can reach is (solveTime), rather than cycled for ever.
@@ -56,17 +58,17 @@ SolveStop Model::solve(const SolveSpec& s) {
         throw InputError(
             "solve: max_time must be > 0 and at most 1e9 [s of wall-clock time] (got " +
             messageNumber(s.max_time) + ")");
-    prepareRun();
+    prepareRun(world);
     const auto clock_start = std::chrono::steady_clock::now();
-    const int64_t first = m_step;
-    const double end = has_time ? m_time + s.time : 0.0;
+    const int64_t first = world.clock.step;
+    const double end = has_time ? world.clock.time + s.time : 0.0;
     double last_ratio = std::numeric_limits<double>::quiet_NaN();
     SolveStop stop = SolveStop::Time;
     try {
         for (;;) {
-            const int64_t taken = m_step - first;
+            const int64_t taken = world.clock.step - first;
             // Targets. Ratio and until are judged on a state this run produced (a step taken).
-            if (has_time && reached(end)) {
+            if (has_time && reached(world, end)) {
                 stop = SolveStop::Time;
                 break;
             }
@@ -100,23 +102,23 @@ SolveStop Model::solve(const SolveSpec& s) {
                 stop = SolveStop::MaxTime;
                 break;
             }
-            if (has_time) m_step_cap = end - m_time;
-            runSteps(1);
+            if (has_time) world.stepping.cap = end - world.clock.time;
+            runSteps(world, 1);
         }
     } catch (...) {
-        m_step_cap = 0.0;
-        flushWarnings();
+        world.stepping.cap = 0.0;
+        flushWarnings(world);
         throw;
     }
-    m_step_cap = 0.0;
+    world.stepping.cap = 0.0;
     if (stop == SolveStop::MaxSteps || stop == SolveStop::MaxTime) {
         // A cap ends the run before its target: say so, with where the run got to.
         std::string text = "solve: stopped by the cap " +
                            (stop == SolveStop::MaxSteps
                                 ? "max_steps = " + std::to_string(s.max_steps)
                                 : "max_time = " + messageNumber(s.max_time) + " s (wall clock)") +
-                           " after " + std::to_string(m_step - first) +
-                           " steps (t = " + messageNumber(m_time) + " s)";
+                           " after " + std::to_string(world.clock.step - first) +
+                           " steps (t = " + messageNumber(world.clock.time) + " s)";
         std::string missed;
         if (has_ratio)
             missed += " ratio " + messageNumber(s.ratio) + " (now " +
@@ -128,9 +130,9 @@ SolveStop Model::solve(const SolveSpec& s) {
             missed += std::string(missed.empty() ? "" : ",") + " steps " + std::to_string(s.steps);
         if (s.until) missed += std::string(missed.empty() ? "" : ",") + " the until function";
         if (!missed.empty()) text += " before reaching" + missed;
-        warn(text);
+        talus::warn(world, text);
     }
-    flushWarnings();
+    flushWarnings(world);
     return stop;
 }
 

@@ -11,9 +11,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "body_store.hpp"
-#include "contact_store.hpp"
-#include "model_internal.hpp"
+#include "engine.hpp"
 
 namespace talus {
 
@@ -30,41 +28,41 @@ inline double tangentHalfPeriod(double knest, double mass_eff) {
                        : std::numeric_limits<double>::infinity();
 }
 
-inline void Model::noteContactLimits(const Pair& p, const PairCold& c, double kn, double mass_eff,
-                                     StepLimits& limits) const {
+inline void noteContactLimits(const World& world, const Pair& p, const PairCold& c, double kn,
+                              double mass_eff, StepLimits& limits) {
     // Every active contact, bonded or not, gets the impact rules below (docs/models/cbond.md,
     // "Time-step contract"): a contact bonded as it touches is an impact all the same (issue 6
     // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
     // quasi-static bonded specimen turns resolution off (`resolution = 0`). The duration: the
     // model's estimate at touch, never more than the tangent's half period.
     double duration = std::min(c.duration, tangentHalfPeriod(kn, mass_eff));
-    if (m_bodies->hasClumps()) {
+    if (world.bodies.hasClumps()) {
         // Off-centre pebble: the duration with the lower bound of the effective mass. It scales
         // as sqrt(m) for a linear law and as m^(2/5) for Hertz; sqrt(ratio) <= ratio^(2/5) for
         // ratio <= 1, so scaling by sqrt is never less strict.
-        const double ratio = pebbleMassRatio(p);
+        const double ratio = pebbleMassRatio(world, p);
         if (ratio != 1.0) duration *= std::sqrt(ratio);
     }
     // A law whose tangent stiffness starts at zero (Hertz) would let the stability rule take
     // large steps early in an impact: bound the step by `safety` of the impact's time scale.
-    const auto i = static_cast<uint32_t>(m_contacts->pairIndex(p));
+    const auto i = static_cast<uint32_t>(world.contacts.pairIndex(p));
     takeStepLimit(limits.stability, limits.stability_key, limits.stability_pair,
-                  m_timestep.safety * duration / M_PI, c.key, i);
-    if (m_timestep.resolution > 0.0)
+                  world.settings.timestep.safety * duration / M_PI, c.key, i);
+    if (world.settings.timestep.resolution > 0.0)
         takeStepLimit(limits.resolution, limits.resolution_key, limits.resolution_pair,
-                      duration / m_timestep.resolution, c.key, i);
+                      duration / world.settings.timestep.resolution, c.key, i);
 }
 
-inline void Model::noteContact(const Pair& p, const PairCold& c, double kn, double ks, double kr,
-                               double arm1_sq, double arm2_sq, double mass_eff) {
-    auto& b = m_bodies->balls;
+inline void noteContact(World& world, const Pair& p, const PairCold& c, double kn, double ks,
+                        double kr, double arm1_sq, double arm2_sq, double mass_eff) {
+    auto& b = world.bodies.balls;
     b.k_tran[p.end1] += kn + ks;
     b.k_rot[p.end1] += ks * arm1_sq + kr;
     if (!p.wall) {
         b.k_tran[p.end2] += kn + ks;
         b.k_rot[p.end2] += ks * arm2_sq + kr;
     }
-    noteContactLimits(p, c, kn, mass_eff, m_limits);
+    noteContactLimits(world, p, c, kn, mass_eff, world.stepping.limits);
 }
 
 }  // namespace talus

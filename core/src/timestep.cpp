@@ -29,6 +29,7 @@
 
 #include "body_store.hpp"
 #include "contact_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "narrowphase.hpp"
 #include "step_limits.hpp"
@@ -52,10 +53,10 @@ double stepForDisplacement(double a, double b, double c) {
 /// Duration the resolution rule assumes: the model's estimate at this approach speed (skipped when
 /// approach < 0), never more than the half period pi sqrt(m*/knest) of the tangent stiffness,
 /// which includes the dashpot allowance the model reports.
-double contactDuration(const Model::Pair& p, double knest, double mass_eff, double approach) {
+double contactDuration(const Pair& p, double knest, double mass_eff, double approach) {
     double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
                                : std::numeric_limits<double>::infinity();
-    // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (Model::activate).
+    // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (activate).
     if (!(d > 0.0)) d = std::numeric_limits<double>::infinity();
     return std::min(d, tangentHalfPeriod(knest, mass_eff));
 }
@@ -72,7 +73,7 @@ double contactDuration(const Model::Pair& p, double knest, double mass_eff, doub
 /// The fixed point is found by one secant step on ln dur(d) against ln d, exact for any power-law
 /// duration (every shipped nonlinear law); the result min(D, dur(D)) is never above the fixed
 /// point for a duration that does not grow with the speed, whatever the secant's error.
-double approachDuration(const Model::Pair& p, double m_eff, double v0, double a, double start) {
+double approachDuration(const Pair& p, double m_eff, double v0, double a, double start) {
     const auto dur = [&](double d) {
         return contactDuration(p, p.knest, m_eff, v0 + a * d / M_PI);
     };
@@ -99,8 +100,7 @@ double approachDuration(const Model::Pair& p, double m_eff, double v0, double a,
 /// The step a contact about to form will need: `safety` of its own time scale (sqrt(m/k) of its
 /// stiffness, and duration / pi, which also covers laws with no stiffness at touch), and
 /// duration / resolution. Infinite when the law gives neither (Hertz at rest, no load).
-double contactStepLimit(const Model::Pair& p, double m_min, double duration,
-                        const TimestepSettings& ts) {
+double contactStepLimit(const Pair& p, double m_min, double duration, const TimestepSettings& ts) {
     double lim = ts.safety *
                  std::min(std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300)), duration / M_PI);
     if (ts.resolution > 0.0) lim = std::min(lim, duration / ts.resolution);
@@ -114,19 +114,19 @@ double roomInside(const Box& fat, const Box& box) {
 
 }  // namespace
 
-double Model::pebbleMassRatio(const Pair& p) const {
+double pebbleMassRatio(const World& world, const Pair& p) {
     // A contact on pebble s acts along a normal through the pebble's centre, so its arm about
     // the clump's centroid, (x_s - x_c) x n, is at most d_s = |x_s - x_c|, and the effective
     // mass of the clump at the contact, 1 / (1/m + ((x_s - x_c) x n)^2 / I), is at least
     // 1 / (1/m + d_s^2 / I). The pair's mass_eff uses m (PFC's choice, kept for the dashpots);
     // the time-step rules use this lower bound, so an off-centre impact is resolved as well as
     // a central one (docs/physics/clumps.md, "Time step").
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     bool off = false;
     auto lower = [&](uint32_t s) {
         const uint32_t k = b.clump[s];
         if (k == kNoClump) return b.mass[s];
-        const ClumpData& c = m_bodies->clumps[k];
+        const ClumpData& c = world.bodies.clumps[k];
         const double d2 = (b.pos[s] - c.pos).squaredNorm();
         if (d2 == 0.0) return b.mass[s];
         off = true;
@@ -139,7 +139,7 @@ double Model::pebbleMassRatio(const Pair& p) const {
     return std::min(1.0, m_eff / p.mass_eff);
 }
 
-void Model::StepLimits::merge(const StepLimits& o) {
+void StepLimits::merge(const StepLimits& o) {
     takeStepLimit(stability, stability_key, stability_pair, o.stability, o.stability_key,
                   o.stability_pair);
     takeStepLimit(resolution, resolution_key, resolution_pair, o.resolution, o.resolution_key,
@@ -148,52 +148,56 @@ void Model::StepLimits::merge(const StepLimits& o) {
                   o.approach_pair);
 }
 
-void Model::noteApproach(const Pair& p, const PairCold& c, double gap, const Vec2& vrel,
-                         double accel, const Vec2& normal, StepLimits& limits) const {
+void noteApproach(const World& world, const Pair& p, const PairCold& c, double gap,
+                  const Vec2& vrel, double accel, const Vec2& normal, StepLimits& limits) {
     // A pair not yet touching may not close more than half its gap in one step (bounded with
     // the relative acceleration, so that bodies at rest are covered too), unless that step
     // already meets the limits the contact will have once it exists.
     const double t_free = stepForDisplacement(accel, vrel.norm(), 0.5 * std::max(gap, 0.0));
     // (a pair with this bound cannot lower the limit; a tie is settled by the pair index below)
     if (t_free > limits.approach) return;
-    const auto& b = m_bodies->balls;
+    const auto& b = world.bodies.balls;
     const double m1 = b.mass[p.end1];
     const double m2 = p.wall ? 0.0 : b.mass[p.end2];
     double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
     double m_min = p.wall ? m1 : std::min(m1, m2);
-    if (m_bodies->hasClumps()) {
-        const double ratio = pebbleMassRatio(p);
+    if (world.bodies.hasClumps()) {
+        const double ratio = pebbleMassRatio(world, p);
         if (ratio != 1.0) m_eff *= ratio, m_min *= ratio;
     }
     // The impact's duration at the speed the bodies will have in it (approachDuration); the
     // relative acceleration's norm bounds its closing component.
     const double approach = std::max(0.0, -vrel.dot(normal));
-    const double duration = approachDuration(p, m_eff, approach, accel, m_dt > 0.0 ? m_dt : 1e-3);
-    const double d = std::max(t_free, contactStepLimit(p, m_min, duration, m_timestep));
+    const double duration =
+        approachDuration(p, m_eff, approach, accel, world.clock.dt > 0.0 ? world.clock.dt : 1e-3);
+    const double d =
+        std::max(t_free, contactStepLimit(p, m_min, duration, world.settings.timestep));
     takeStepLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
-                  static_cast<uint32_t>(m_contacts->pairIndex(p)));
+                  static_cast<uint32_t>(world.contacts.pairIndex(p)));
 }
 
-void Model::surveyPairs() {
+void surveyPairs(World& world) {
     // The limits the force loop gathers, from the stored state, for a first step or after the
     // user changed the scene between runs.
-    auto& b = m_bodies->balls;
+    auto& b = world.bodies.balls;
     std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
     std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
-    m_limits = StepLimits{};
-    for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
-        Pair& p = m_contacts->pairs[i];
-        PairCold& cold = m_contacts->cold[i];
+    world.stepping.limits = StepLimits{};
+    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+        Pair& p = world.contacts.pairs[i];
+        PairCold& cold = world.contacts.cold[i];
         const Vec2 x1 = b.pos[p.end1];
         ContactGeometry g;
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
         double accel;
         if (p.wall) {
-            if (!segmentGeometry(p.end2, x1, b.radius[p.end1], g)) continue;
-            const WallData& w = m_bodies->walls[m_bodies->segments[p.end2].wall];
+            if (!segmentGeometry(world, p.end2, x1, b.radius[p.end1], g)) continue;
+            const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
             x2 = w.center;
             v2 = w.vel + spinCross(w.spin, g.point - x2);
-            accel = ((b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1] + m_gravity).norm();
+            accel =
+                ((b.force[p.end1] + b.fapp[p.end1]) * b.inv_mass[p.end1] + world.settings.gravity)
+                    .norm();
         } else {
             x2 = b.pos[p.end2];
             const Vec2 d = x2 - x1;
@@ -212,60 +216,63 @@ void Model::surveyPairs() {
         if (p.active || g.overlap > -p.activity) {
             if (!p.active)
                 cold.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
-            noteContact(p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
+            noteContact(world, p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
                         p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
         } else {
-            noteApproach(p, cold, -g.overlap, vrel, accel, g.normal, m_limits);
+            noteApproach(world, p, cold, -g.overlap, vrel, accel, g.normal, world.stepping.limits);
         }
     }
-    m_limits_stale = false;
+    world.stepping.limits_stale = false;
 }
 
-void Model::computeTimestep() {
+void computeTimestep(World& world) {
     const double inf = std::numeric_limits<double>::infinity();
     // The previous step: the growth rule's base. After an idle step (nothing moved and nothing
     // accelerated, see below) the half-step velocities are the velocities at this instant, so
     // the integrator starts afresh as at the first cycle (window dt/2, law_of_motion.cpp): what
     // appeared since (gravity, an applied force, a velocity) acts from now, not over half an
     // idle step before it.
-    const double dt_last = m_dt;
-    m_dt_prev = m_dt_idle ? 0.0 : m_dt;
-    if (!m_timestep.automatic) {
-        m_dt_idle = false;
-        if (!(m_timestep.fixed > 0.0) || !std::isfinite(m_timestep.fixed))
+    const double dt_last = world.clock.dt;
+    world.clock.dt_prev = world.stepping.idle ? 0.0 : world.clock.dt;
+    if (!world.settings.timestep.automatic) {
+        world.stepping.idle = false;
+        if (!(world.settings.timestep.fixed > 0.0) || !std::isfinite(world.settings.timestep.fixed))
             throw InputError("timestep: fixed step must be > 0 (got " +
-                             std::to_string(m_timestep.fixed) + ")");
-        m_dt = m_timestep.fixed;
-        m_dt_rule = StepRule::Fixed;
-        m_dt_where = StepWhere{};
-        if (m_step_cap > 0.0 && m_step_cap < m_dt) m_dt = m_step_cap;
+                             std::to_string(world.settings.timestep.fixed) + ")");
+        world.clock.dt = world.settings.timestep.fixed;
+        world.stepping.rule = StepRule::Fixed;
+        world.stepping.where = StepWhere{};
+        if (world.stepping.cap > 0.0 && world.stepping.cap < world.clock.dt)
+            world.clock.dt = world.stepping.cap;
         return;
     }
-    if (!(m_timestep.safety > 0.0)) throw InputError("timestep: safety must be > 0");
-    if (!(m_timestep.resolution >= 0.0)) throw InputError("timestep: resolution must be >= 0");
-    if (!(m_timestep.growth > 1.0)) throw InputError("timestep: growth must be > 1");
-    if (!(m_timestep.max > 0.0)) throw InputError("timestep: max must be > 0");
+    if (!(world.settings.timestep.safety > 0.0)) throw InputError("timestep: safety must be > 0");
+    if (!(world.settings.timestep.resolution >= 0.0))
+        throw InputError("timestep: resolution must be >= 0");
+    if (!(world.settings.timestep.growth > 1.0)) throw InputError("timestep: growth must be > 1");
+    if (!(world.settings.timestep.max > 0.0)) throw InputError("timestep: max must be > 0");
     // The approach limits were gathered with the accelerations of the last force loop: a change
     // of gravity (or of an applied force, setBallAppliedForce) since then needs a new survey.
-    const bool surveyed = m_limits_stale || m_gravity != m_limits_gravity;
-    if (surveyed) surveyPairs();
-    m_limits_gravity = m_gravity;
+    const bool surveyed =
+        world.stepping.limits_stale || world.settings.gravity != world.stepping.limits_gravity;
+    if (surveyed) surveyPairs(world);
+    world.stepping.limits_gravity = world.settings.gravity;
 
     double dt = inf;
     StepRule rule = StepRule::Max;
     StepWhere where;
-    auto& b = m_bodies->balls;
+    auto& b = world.bodies.balls;
     const std::size_t n = b.size();
 
     // Stability, per ball, from the stiffness sums of the last force loop.
     uint32_t worst = kDeadSlot;
     for (std::size_t s = 0; s < n; ++s) {
         if (b.k_tran[s] > 0.0) {
-            const double d = m_timestep.safety * std::sqrt(b.mass[s] / b.k_tran[s]);
+            const double d = world.settings.timestep.safety * std::sqrt(b.mass[s] / b.k_tran[s]);
             if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
         }
         if (b.k_rot[s] > 0.0) {
-            const double d = m_timestep.safety * std::sqrt(b.inertia[s] / b.k_rot[s]);
+            const double d = world.settings.timestep.safety * std::sqrt(b.inertia[s] / b.k_rot[s]);
             if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
         }
     }
@@ -275,23 +282,23 @@ void Model::computeTimestep() {
     // the arm d_s + r_s n, and kn (arm x n)^2 + ks (arm . t)^2 <= (kn + ks)(d_s^2 + 2 d_s r_s) +
     // ks r_s^2, so sum (k_rot[s] + k_tran[s] d_s (d_s + 2 r_s)) bounds it (exact at d_s = 0: a
     // one-pebble clump gets the ball's step).
-    if (m_bodies->hasClumps()) {
-        for (const ClumpData& c : m_bodies->clumps) {
+    if (world.bodies.hasClumps()) {
+        for (const ClumpData& c : world.bodies.clumps) {
             if (!c.alive) continue;
             double kt = 0.0, kr = 0.0;
             for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-                const uint32_t s = m_bodies->pebbleSlot(c, k);
+                const uint32_t s = world.bodies.pebbleSlot(c, k);
                 const double d = (b.pos[s] - c.pos).norm();
                 kt += b.k_tran[s];
                 kr += b.k_rot[s] + b.k_tran[s] * d * (d + 2.0 * b.radius[s]);
             }
-            const uint32_t s0 = m_bodies->pebbleSlot(c, 0);
+            const uint32_t s0 = world.bodies.pebbleSlot(c, 0);
             if (kt > 0.0) {
-                const double d = m_timestep.safety * std::sqrt(c.mass / kt);
+                const double d = world.settings.timestep.safety * std::sqrt(c.mass / kt);
                 if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
             }
             if (kr > 0.0) {
-                const double d = m_timestep.safety * std::sqrt(c.inertia / kr);
+                const double d = world.settings.timestep.safety * std::sqrt(c.inertia / kr);
                 if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
             }
         }
@@ -299,31 +306,31 @@ void Model::computeTimestep() {
     if (rule == StepRule::Stability) where = StepWhere{StepWhere::Ball, worst, 0};
 
     // Stability, resolution and approach, per pair (gathered by the force loop).
-    if (m_limits.stability < dt) {
-        dt = m_limits.stability;
+    if (world.stepping.limits.stability < dt) {
+        dt = world.stepping.limits.stability;
         rule = StepRule::Stability;
-        where = StepWhere{StepWhere::Pair, 0, m_limits.stability_key};
+        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.stability_key};
     }
-    if (m_limits.resolution < dt) {
-        dt = m_limits.resolution;
+    if (world.stepping.limits.resolution < dt) {
+        dt = world.stepping.limits.resolution;
         rule = StepRule::Resolution;
-        where = StepWhere{StepWhere::Pair, 0, m_limits.resolution_key};
+        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.resolution_key};
     }
-    if (m_limits.approach < dt) {
-        dt = m_limits.approach;
+    if (world.stepping.limits.approach < dt) {
+        dt = world.stepping.limits.approach;
         rule = StepRule::Approach;
-        where = StepWhere{StepWhere::Pair, 0, m_limits.approach_key};
+        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.approach_key};
     }
 
     // Kinematic: stay inside the fat boxes. Half the room, to leave the acceleration estimate
     // (contact forces change within the step) a factor of two.
-    if (m_contacts->broadphase_ready) {
-        const double half_prev = 0.5 * m_dt_prev;
+    if (world.contacts.broadphase_ready) {
+        const double half_prev = 0.5 * world.clock.dt_prev;
         for (std::size_t s = 0; s < n; ++s) {
-            const Vec2 acc = (b.force[s] + b.fapp[s]) * b.inv_mass[s] + m_gravity;
+            const Vec2 acc = (b.force[s] + b.fapp[s]) * b.inv_mass[s] + world.settings.gravity;
             const double a = acc.norm(), v = b.vel[s].norm();
             if (a == 0.0 && v == 0.0) continue;
-            const double room = roomInside(b.fat[s], ballBox(static_cast<uint32_t>(s)));
+            const double room = roomInside(b.fat[s], ballBox(world, static_cast<uint32_t>(s)));
             // A ball already outside its box was moved or grown by the script between cycles
             // (b.radius, b.pos): this cycle's detection, after the motion, boxes it again and
             // finds its pairs. Limiting the step by a room of zero stopped the run ("automatic
@@ -334,21 +341,21 @@ void Model::computeTimestep() {
                 dt = d, rule = StepRule::Kinematic,
                 where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
         }
-        if (m_bodies->hasClumps()) {
+        if (world.bodies.hasClumps()) {
             // A pebble accelerates with its clump: a_s = a_c + alpha x r - w^2 r, |a_s| <= |a_c|
             // + (|alpha| + w^2) d_s (the ball loop above used the pebble's own force only).
-            gatherClumpForces();
-            for (const ClumpData& c : m_bodies->clumps) {
+            gatherClumpForces(world);
+            for (const ClumpData& c : world.bodies.clumps) {
                 if (!c.alive) continue;
-                const double ac = ((c.force + c.fapp) * c.inv_mass + m_gravity).norm();
+                const double ac = ((c.force + c.fapp) * c.inv_mass + world.settings.gravity).norm();
                 const double al = std::fabs((c.moment + c.mapp) * c.inv_inertia);
                 for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-                    const uint32_t s = m_bodies->pebbleSlot(c, k);
+                    const uint32_t s = world.bodies.pebbleSlot(c, k);
                     const double dist = (b.pos[s] - c.pos).norm();
                     const double a = ac + (al + c.spin * c.spin) * dist;
                     const double v = b.vel[s].norm();
                     if (a == 0.0 && v == 0.0) continue;
-                    const double room = roomInside(b.fat[s], ballBox(s));
+                    const double room = roomInside(b.fat[s], ballBox(world, s));
                     if (room <= 0.0) continue;  // re-boxed by this cycle's detection (above)
                     const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * room);
                     if (d < dt)
@@ -357,8 +364,8 @@ void Model::computeTimestep() {
                 }
             }
         }
-        for (std::size_t w = 0; w < m_bodies->walls.size(); ++w) {
-            const WallData& wd = m_bodies->walls[w];
+        for (std::size_t w = 0; w < world.bodies.walls.size(); ++w) {
+            const WallData& wd = world.bodies.walls[w];
             // A servo sets its velocity after this phase: bound it by vmax (wall_servo.cpp).
             const double servo_v =
                 wd.has_servo && wd.servo.settings.on ? wd.servo.settings.vmax : 0.0;
@@ -366,12 +373,13 @@ void Model::computeTimestep() {
                 continue;
             double reach = 0.0;
             for (uint32_t k = 0; k < wd.vertex_count; ++k)
-                reach =
-                    std::max(reach, (m_bodies->vertices[wd.first_vertex + k] - wd.center).norm());
+                reach = std::max(reach,
+                                 (world.bodies.vertices[wd.first_vertex + k] - wd.center).norm());
             const double v = wd.vel.norm() + servo_v + std::fabs(wd.spin) * reach;
             for (uint32_t k = 0; k < wd.segment_count; ++k) {
                 const uint32_t sg = wd.first_segment + k;
-                const double room = roomInside(m_bodies->segments[sg].fat, segmentBox(sg));
+                const double room =
+                    roomInside(world.bodies.segments[sg].fat, segmentBox(world, sg));
                 const double d = stepForDisplacement(0.0, v, 0.5 * std::max(room, 0.0));
                 if (d < dt)
                     dt = d, rule = StepRule::Kinematic,
@@ -393,17 +401,18 @@ void Model::computeTimestep() {
         idle = true;
         dt = dt_last > 0.0 ? dt_last : inf;
         rule = StepRule::Idle;
-        where = m_dt_rule == StepRule::Idle ? m_dt_where : StepWhere{};
-        if (surveyed || !m_dt_idle) {
-            for (std::size_t i = 0; i < m_contacts->pairs.size(); ++i) {
-                const Pair& p = m_contacts->pairs[i];
+        where = world.stepping.rule == StepRule::Idle ? world.stepping.where : StepWhere{};
+        if (surveyed || !world.stepping.idle) {
+            for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+                const Pair& p = world.contacts.pairs[i];
                 const double m1 = b.mass[p.end1];
                 const double m2 = p.wall ? 0.0 : b.mass[p.end2];
                 const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
                 const double m_min = p.wall ? m1 : std::min(m1, m2);
                 const double d = contactStepLimit(
-                    p, m_min, approachDuration(p, m_eff, 0.0, 0.0, 1.0), m_timestep);
-                if (d < dt) dt = d, where = StepWhere{StepWhere::Pair, 0, m_contacts->cold[i].key};
+                    p, m_min, approachDuration(p, m_eff, 0.0, 0.0, 1.0), world.settings.timestep);
+                if (d < dt)
+                    dt = d, where = StepWhere{StepWhere::Pair, 0, world.contacts.cold[i].key};
             }
         }
         dt = std::min(dt, kIdleStepCap);
@@ -412,22 +421,24 @@ void Model::computeTimestep() {
     // (1 - c w/2) / (1 + c w/2) of the velocity per step, which turns negative (the damping
     // reverses the motion) past c w = 2. A ball creeping at nm/s in free flight otherwise takes
     // 1e5 s steps from the kinematic rule (stress suite, seeds 74, 397, 401).
-    if (!idle && m_damping.viscous > 0.0 && 1.0 / m_damping.viscous < dt) {
-        dt = 1.0 / m_damping.viscous;
+    if (!idle && world.settings.damping.viscous > 0.0 &&
+        1.0 / world.settings.damping.viscous < dt) {
+        dt = 1.0 / world.settings.damping.viscous;
         rule = StepRule::Damping;
         where = StepWhere{};
     }
-    if (m_timestep.max < dt) {
-        dt = m_timestep.max;
+    if (world.settings.timestep.max < dt) {
+        dt = world.settings.timestep.max;
         rule = StepRule::Max;
         where = StepWhere{};
     }
-    if (!idle && m_dt_prev > 0.0 && dt > m_timestep.growth * m_dt_prev) {
-        dt = m_timestep.growth * m_dt_prev;
+    if (!idle && world.clock.dt_prev > 0.0 &&
+        dt > world.settings.timestep.growth * world.clock.dt_prev) {
+        dt = world.settings.timestep.growth * world.clock.dt_prev;
         rule = StepRule::Growth;
         where = StepWhere{};
     }
-    if (m_step_cap > 0.0 && m_step_cap < dt) dt = m_step_cap;
+    if (world.stepping.cap > 0.0 && world.stepping.cap < dt) dt = world.stepping.cap;
     if (!(dt > 0.0) || !(dt < inf))
         throw NumericalError("timestep: the automatic step became " + std::to_string(dt) + " (" +
                              std::string(stepRuleName(rule)) + " rule)");
@@ -436,11 +447,11 @@ void Model::computeTimestep() {
     if (idle)
         for (std::size_t s = 0; s < n && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
     if (idle)
-        for (const ClumpData& c : m_bodies->clumps) idle = idle && (!c.alive || c.mapp == 0.0);
-    m_dt_idle = idle;
-    m_dt = dt;
-    m_dt_rule = rule;
-    m_dt_where = where;
+        for (const ClumpData& c : world.bodies.clumps) idle = idle && (!c.alive || c.mapp == 0.0);
+    world.stepping.idle = idle;
+    world.clock.dt = dt;
+    world.stepping.rule = rule;
+    world.stepping.where = where;
 }
 
 }  // namespace talus

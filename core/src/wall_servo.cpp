@@ -16,18 +16,21 @@
 //
 // The measured force is WallData::force, the same sum the force loop builds and wallForce()
 // reports; the velocity is written into WallData::vel, so moveWalls books the wall's work as
-// boundary work as for any moving wall. Runs only when a servo is on (Model::m_servos_on).
+// boundary work as for any moving wall. Runs only when a servo is on
+// (BodyStore::servos_on).
 #include <cmath>
 #include <limits>
 
 #include "body_store.hpp"
+#include "engine.hpp"
 #include "model_internal.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
 
 void Model::setWallServo(WallId id, const WallServoSettings& in) {
-    WallData& w = wallOf(id);
+    World& world = *m_world;
+    WallData& w = world.bodies.wallOf(id);
     WallServoSettings s = in;
     const std::string who = "wall " + std::to_string(id.index) + " servo: ";
     if (!std::isfinite(s.target))
@@ -45,8 +48,8 @@ void Model::setWallServo(WallId id, const WallServoSettings& in) {
     if (std::isnan(s.length)) {
         double len = 0.0;
         for (uint32_t k = 0; k < w.segment_count; ++k) {
-            const Segment& sg = m_bodies->segments[w.first_segment + k];
-            len += (m_bodies->vertices[sg.b] - m_bodies->vertices[sg.a]).norm();
+            const Segment& sg = world.bodies.segments[w.first_segment + k];
+            len += (world.bodies.vertices[sg.b] - world.bodies.vertices[sg.a]).norm();
         }
         s.length = len;
     }
@@ -57,10 +60,10 @@ void Model::setWallServo(WallId id, const WallServoSettings& in) {
     if (std::isnan(s.dir.x()) || std::isnan(s.dir.y())) {
         if (w.closed)
             throw InputError(who + "a closed wall has no default direction: give dir = {x, y}");
-        const Vec2 a = m_bodies->vertices[w.first_vertex];
-        const Vec2 b = m_bodies->vertices[w.first_vertex + w.vertex_count - 1];
+        const Vec2 a = world.bodies.vertices[w.first_vertex];
+        const Vec2 b = world.bodies.vertices[w.first_vertex + w.vertex_count - 1];
         Vec2 n = perp((b - a).normalized());
-        const auto& balls = m_bodies->balls;
+        const auto& balls = world.bodies.balls;
         if (balls.size() == 0)
             throw InputError(who + "no balls to tell the material's side: give dir = {x, y}");
         Vec2 c{0.0, 0.0};
@@ -86,20 +89,21 @@ void Model::setWallServo(WallId id, const WallServoSettings& in) {
     }
     w.has_servo = true;
     w.servo.settings = s;
-    m_servos_on += (s.on ? 1 : 0) - (was_on ? 1 : 0);
-    m_limits_stale = true;
+    world.bodies.servos_on += (s.on ? 1 : 0) - (was_on ? 1 : 0);
+    world.stepping.limits_stale = true;
 }
 
 bool Model::wallServo(WallId id, WallServoState& out) const {
-    const WallData& w = wallOf(id);
+    const World& world = *m_world;
+    const WallData& w = world.bodies.wallOf(id);
     if (!w.has_servo) return false;
     out = w.servo;
     return true;
 }
 
-void Model::servoWalls() {
-    const double dt = m_dt;
-    for (WallData& w : m_bodies->walls) {
+void servoWalls(World& world) {
+    const double dt = world.clock.dt;
+    for (WallData& w : world.bodies.walls) {
         if (!w.alive || !w.has_servo || !w.servo.settings.on) continue;
         WallServoState& st = w.servo;
         const WallServoSettings& s = st.settings;
