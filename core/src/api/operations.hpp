@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+//
+// Operations behind the facade that the engine calls too (api/*.cpp): making and removing
+// balls, contact-model rules and contact queries, bond memory, group names. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "world/world.hpp"
+
+namespace talus {
+
+/// The bit of a group name (Model::groupIndex); creates it when asked (api/model.cpp).
+int groupIndex(World& world, const std::string& name, bool create);
+
+// --- bodies (api/balls.cpp)
+BallId createBallIn(World& world, const BallDef& def, uint32_t clump);  // kNoClump: free ball
+void removeBall(World& world, BallId id, bool book_energy);
+void updateMass(World& world, uint32_t slot);
+void refreshPairMasses(World& world, uint32_t slot);
+
+// --- contacts (api/contacts.cpp)
+const Rule& ruleFor(const World& world, uint64_t groups1, uint64_t groups2);
+/// Geometry of a pair now (for queries): normal, overlap, contact point.
+bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point);
+ContactInfo infoOf(const World& world, std::size_t index);
+std::string describePair(const World& world, const Pair& p);
+
+// --- bonds (api/bonds.cpp): which pairs a bond call selects, and the memory of pairs whose
+// bond broke or was removed (a rule that bonds on touch, cbond's cb_bond, must not bond them
+// again: kFdNoAutoBond at their next first FDlaw).
+bool bondSelects(const World& world, const Pair& p, const BondSettings& s, int ga, int gb);
+void forgetBond(World& world, std::size_t index);
+uint32_t autoBondFlags(const World& world, const Pair& p, const PairCold& c);
+
+}  // namespace talus

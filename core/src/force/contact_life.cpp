@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: MIT
+//
+// A contact's life beyond the loop's hot path: its first touch (activate: its rule, its expected
+// duration, the placement check), a contact born overlapping (notePlacement), its deepest
+// overlap (noteDeepest), a bond break (queueBreak) and its end, where the stability guard judges
+// it (endContact; docs/physics/guard.md).
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <string>
+
+#include "api/operations.hpp"
+#include "force/force.hpp"
+#include "step/detection.hpp"
+#include "step/step.hpp"
+#include "talus/errors.hpp"
+#include "world/messages.hpp"
+
+namespace talus {
+
+namespace {
+std::string num(double v) { return messageNumber(v); }
+}  // namespace
+
+bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+    // A wall pair may be taking over the ball's contact from a neighbouring segment's pair
+    // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
+    if (p.wall && adoptWallContact(world, world.contacts.pairIndex(p))) return false;
+    if (c.rules_version != world.contacts.rules_version) refreshRule(world, p);
+    // A pair whose bond broke or was removed is not bonded again by a rule (api/bonds.cpp);
+    // the lookup runs only in a model where that happened.
+    world.contacts.activation_flags =
+        world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
+    p.active = true;
+    ++world.profile.contacts_created;
+    c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    // The resolution rule and the guard divide by it: NaN, zero or negative would silently
+    // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
+    if (!(c.duration > 0.0))
+        throw PluginError("contact model '" + p.rule->model_name + "' at step " +
+                          std::to_string(world.clock.step) + " on " + describePair(world, p) +
+                          ": ContactDuration(mass_eff " + num(p.mass_eff) + " kg, approach " +
+                          num(std::max(0.0, -vrel.dot(g.normal))) + " m/s) returned " +
+                          num(c.duration) + " s (must be > 0, +inf for no force)");
+    // A rule whose contacts have no stiffness at all (m:contact_model("linear") with no kn:
+    // the bodies pass through each other) is worth one warning per rule: no tangent stiffness
+    // at touch and no finite duration even at 1 m/s means the model exerts no normal force.
+    if (!p.rule->warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
+        !(p.model->ContactDuration(p.mass_eff, 1.0) < HUGE_VAL)) {
+        p.rule->warned_no_stiffness = true;
+        std::string zero;
+        for (int32_t k = 0; k < p.model->PropCount(); ++k) {
+            const PropInfo* info = p.model->PropInfoAt(k);
+            if (!info || (info->flags & (kPropReadOnly | kPropState))) continue;
+            const std::string units = info->units ? info->units : "";
+            // zero, or subnormal (1e-320 Pa: a stiffness that ends up zero in every product)
+            const double v = p.model->ReturnProp(k);
+            if ((units == "N/m" || units == "Pa") && std::fabs(v) < DBL_MIN)
+                zero += std::string(zero.empty() ? "" : ", ") + info->name + " = " + num(v);
+        }
+        // Only a model with a stiffness property at 0 is warned about: a model made to exert no
+        // force (the template's `null`) has none.
+        if (!zero.empty())
+            talus::warn(
+                world,
+                "contact model '" + p.rule->model_name + "' has no normal stiffness on " +
+                    describePair(world, p) + " (" + zero + ")" +
+                    ": the bodies will pass through each other; set the stiffness in "
+                    "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
+    }
+    // For the guard: a contact born overlapping (placed so) gives back energy it never took.
+    // How much of the overlap the last step's motion made. Positions at the previous step are
+    // x - v dt exactly (the half-step velocity moved them), so for two balls the overlap then
+    // is known exactly; for a wall, the normal closing plus the turn of the line from the
+    // vertex or the face, (v_t dt)^2 / (2 r). (The contact-point velocity would add the spins,
+    // which turn the balls but do not close the gap.) More overlap than that was there before.
+    const auto& b = world.bodies.balls;
+    const double approach = -vrel.dot(g.normal);
+    c.approach_rate = std::max(approach, 0.0);
+    if (!p.wall) {
+        const Vec2 d = b.pos[p.end2] - b.pos[p.end1];
+        const Vec2 step = (b.vel[p.end2] - b.vel[p.end1]) * world.clock.dt;
+        const double rsum = b.radius[p.end1] + b.radius[p.end2];
+        c.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
+    } else {
+        const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
+        const Vec2 step =
+            (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * world.clock.dt;
+        const double slide = step.dot(perp(g.normal));
+        c.closure = std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
+    }
+    c.born_overlapped = g.overlap > c.closure * (1.0 + 1e-9) + 1e-15;
+    if (world.callbacks.contact_events) {
+        Event ev;
+        ev.kind = EventKind::ContactCreated;
+        ev.time = world.clock.time;
+        ev.pos = g.point;
+        ev.contact = ContactKey{c.key};
+        ev.model = p.rule->model_name;
+        world.callbacks.events.push_back(std::move(ev));
+    }
+    return true;
+}
+
+double notePlacement(World& world, const Pair& p, const PairCold& c, double overlap,
+                     const FdBlock& fd, bool energy) {
+    // The model's stored energy at its first call includes what the closure within this step
+    // put in (activate); the rest was there before the step. Stored energy grows about as the
+    // overlap squared (exactly so for a linear spring), so the part that was placed is the fraction
+    // ((overlap - approach dt) / overlap)^2 of it. Without tracing, the linear estimate
+    // knest overlap^2 / 2 names the size in the warning.
+    const double before = std::max(overlap - c.closure, 0.0);
+    const double share = overlap > 0.0 ? (before / overlap) * (before / overlap) : 0.0;
+    const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
+                                 : 0.5 * fd.knest * overlap * overlap;
+    const double placed = share * stored;
+    world.books.last_placed = placed;
+    // Below a thousandth of the radius it is bookkeeping, not a user's placement (a contact
+    // formed by a spin-driven slide, rounding). Booked, not reported.
+    const auto& b = world.bodies.balls;
+    const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
+    if (overlap < 1e-3 * r) return placed;
+    world.guard_state.placed_energy += placed;
+    if (world.guard_state.placed++ == 0) {
+        world.guard_state.placed_first = describePair(world, p) + " at step " +
+                                         std::to_string(world.clock.step) + ": overlap " +
+                                         num(overlap) + " m (" + num(100.0 * overlap / r) +
+                                         "% of the smaller radius), stored energy " + num(placed) +
+                                         " J" + (energy ? "" : " (estimated from knest)");
+    }
+    return placed;
+}
+
+void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after) {
+    if (p.overlap <= c.overlap_max) return;
+    c.overlap_max = p.overlap;
+    c.force_at_max = force;
+    c.rate_at_max = rate_after;
+    c.knest_at_max = p.knest;
+    c.dt_at_max = world.clock.dt;
+}
+
+void queueBreak(World& world, std::size_t i, const Vec2& point, const FdBlock& fd) {
+    queueBreak(world, i, point, fd.break_mode, (fd.flags & kFdBreakStress) != 0, fd.reserved[0],
+               fd.reserved[1]);
+}
+
+void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bool with_stress,
+                double sigma, double tau) {
+    forgetBond(world, i);
+    Event ev;
+    ev.kind = EventKind::BondBreak;
+    ev.time = world.clock.time;
+    ev.pos = point;
+    ev.contact = ContactKey{world.contacts.cold[i].key};
+    ev.mode = mode;
+    ev.model = world.contacts.pairs[i].rule->model_name;
+    if (with_stress) {
+        ev.sigma = sigma;
+        ev.tau = tau;
+    }
+    world.callbacks.events.push_back(std::move(ev));
+}
+
+void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
+    if (check_guard && p.steps > 0 && p.steps <= kGuardWatch) {
+        // A contact created overlapping (by placement) gives back energy it never took.
+        // Reference: the larger of the energy the contact held at its peak and the kinetic
+        // energy of the approach (a contact that only ever gave energy has no peak).
+        const double reference =
+            std::max(p.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
+        if (world.settings.guard.energy != GuardAction::Off && !c.born_overlapped &&
+            reference > 0.0 && p.work < -world.settings.guard.energy_tolerance * reference) {
+            const std::string what =
+                describePair(world, p) + " returned " + num(-p.work) +
+                " J more than it took (reference " + num(reference) + " J, tolerance " +
+                num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
+                std::to_string(p.steps) + " steps ending at t = " + num(world.clock.time) +
+                " s; the step (" + num(world.clock.dt) +
+                " s) is too large for the model's stiffness, or the "
+                "model reports too low a stiffness (knest " +
+                num(p.knest) + " N/m)";
+            if (world.settings.guard.energy == GuardAction::Error)
+                throw NumericalError("energy created: " + what);
+            if (world.guard_state.energy_gain++ == 0) world.guard_state.energy_gain_first = what;
+        }
+        // Under-resolved: a step taken during the contact was too large for the impact's own
+        // duration (the model's estimate at touch). A contact that is short for other reasons
+        // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
+        // stiffness check's business.
+        if (world.settings.guard.resolution != GuardAction::Off && !p.bonded &&
+            c.duration < world.settings.guard.min_steps * c.dt_at_max) {
+            const std::string what =
+                describePair(world, p) + " had " + num(c.duration / c.dt_at_max) +
+                " steps per contact duration (" + num(c.duration) +
+                " s at dt = " + num(c.dt_at_max) + " s, t = " + num(world.clock.time) +
+                " s); it lasted " + std::to_string(p.steps) + " steps";
+            if (world.settings.guard.resolution == GuardAction::Error)
+                throw NumericalError("impact under-resolved: " + what + "; at least " +
+                                     std::to_string(world.settings.guard.min_steps) +
+                                     " steps are needed");
+            if (world.guard_state.underresolved++ == 0)
+                world.guard_state.underresolved_first = what;
+        }
+        // At the deepest overlap the force may be up to twice the reported stiffness times the
+        // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
+        // rate there (about zero for a resolved impact, not for a contact in a packing).
+        const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
+        const double allowed =
+            2.0 * c.knest_at_max * c.overlap_max +
+            2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
+        if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
+            c.force_at_max > allowed) {
+            const std::string what =
+                describePair(world, p) + ": at its deepest overlap its normal force was " +
+                num(secant) + " N/m of overlap while it reported knest " + num(c.knest_at_max) +
+                " N/m; the time step follows knest, so the model must report its true tangent "
+                "stiffness (docs/plugin-abi.md, time-step contract)";
+            if (world.settings.guard.stiffness == GuardAction::Error)
+                throw NumericalError("stiffness under-reported: " + what);
+            if (world.guard_state.stiffness_lies++ == 0)
+                world.guard_state.stiffness_lies_first = what;
+        }
+    }
+    resetPair(world, p);
+}
+
+}  // namespace talus

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+//
+// The force-displacement phase beyond its entry point (step/step.hpp): the threads' parts
+// (threads.cpp), a contact's life (contact_life.cpp: activation, placement, the guard at its end,
+// bond breaks) and the checks of what a law returned (checks.cpp). Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "step/narrowphase.hpp"
+#include "world/world.hpp"
+
+namespace talus {
+
+/// Steps in contact the guard follows a contact for (docs/physics/guard.md).
+constexpr uint32_t kGuardWatch = 400;
+
+/// Threads the force loop uses for `npairs` pairs this step (Model::setThreads).
+int forceThreads(const World& world, std::size_t npairs);
+/// Keeps every model of this process on one thread (Model::singleThreadedProcess).
+void setSingleThreadedProcess();
+/// The approach limits of the pairs that were apart in this force loop, from the step's
+/// complete forces.
+void noteApproaches(const World& world, const std::vector<uint32_t>& apart, StepLimits& limits);
+/// The per-ball sums of the threads' per-pair actions, in pair order.
+void gatherPairActions(World& world, int nthreads, bool automatic);
+/// The balls' pairs in pair order, for the threads' gather.
+void buildIncidence(World& world);
+void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl);
+bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
+void endContact(World& world, Pair& p, PairCold& c, bool check_guard);
+/// The ABI's energy contract for one FDlaw (rare path). `strain_old`, `bond_old`: what the
+/// contact stored before it; `before`: the run's dissipation totals before this step.
+void checkEnergyContract(World& world, const Pair& p, double strain_old, double bond_old,
+                         const FdBlock& fd, double fn_old, double fs_old, double m_old,
+                         const EnergyTotals& before);
+/// Notes a contact born overlapping; returns the placement energy to book (tracing on).
+double notePlacement(World& world, const Pair& p, const PairCold& c, double overlap,
+                     const FdBlock& fd, bool energy);
+void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after);
+void queueBreak(World& world, std::size_t index, const Vec2& point, const FdBlock& fd);
+/// The same from the FdBlock's fields: the break mode, and the stresses at failure if the model
+/// gave them (kFdBreakStress).
+void queueBreak(World& world, std::size_t index, const Vec2& point, int32_t mode, bool with_stress,
+                double sigma, double tau);
+[[noreturn]] void reportFailedLaw(const World& world, const Pair& p, const FdBlock& fd);
+[[noreturn]] void findNonFiniteContact(const World& world);
+[[noreturn]] void reportPassThrough(const World& world, const Pair& p, const ContactGeometry& g);
+
+}  // namespace talus

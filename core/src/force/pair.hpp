@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+//
+// One pair through the three passes (geometry, law, finish), on one thread or in the threads'
+// serial part, and the rare pairs that take the serial path: a first touch (activation) and a
+// wall contact handed over at a vertex. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "force/pass_finish.hpp"
+#include "force/pass_geometry.hpp"
+#include "force/pass_law.hpp"
+#include "step/detection.hpp"
+#include "world/lanes.hpp"
+
+namespace talus {
+
+/// The contact objects live apart from the pairs, which only point to them: ask for the first
+/// three cache lines of the object a few pairs ahead of pair i (the shipped models' objects are
+/// 88 to 184 bytes).
+constexpr std::size_t kPrefetchAhead = 4;
+__attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std::size_t i,
+                                                         std::size_t end) {
+    if (i + kPrefetchAhead >= end) return;
+    const Pair& ahead = v.pairs[i + kPrefetchAhead];
+    if (!ahead.active || ahead.lane != kNoLane) return;  // (a lane contact's object rests)
+    const char* obj = reinterpret_cast<const char*>(ahead.model);
+    __builtin_prefetch(obj);
+    __builtin_prefetch(obj + 64);
+    __builtin_prefetch(obj + 128);
+}
+
+/// A contact whose model has a lane law goes into its rule's lanes after an FDlaw, if the law
+/// takes it now (docs/plugin-abi.md, "Lanes").
+inline bool laneable(const Pair& p) { return !p.wall && p.rule->factory && p.rule->factory->lanes; }
+inline void offerLane(const ForceView& v, Pair& p) {
+    if (v.lanes_on && p.active && p.lane == kNoLane && laneable(p)) enterLane(p);
+}
+
+/// A rare pair, alone (never in a thread's range); returns the next pair to process. Pass 1
+/// left its geometry in `e` and its FdBlock in `fd`.
+template <class Features, Delivery kMode>
+std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, PairStep stop,
+                            PairEntry& e, FdBlock& fd, std::string& error) {
+    World& world = v.world;
+    if (stop == PairStep::HandOver) {
+        // The contact crossed a convex vertex and moves, state and all, to the holder's pair,
+        // which now sits in slot i: process slot i again (a pair may have been created).
+        if (handOverWallContact(world, i)) return i;
+        // No pair can take it (no holder, or one with a contact of its own): the contact ends
+        // here, and what it still stores is released.
+        Pair& p = v.pairs[i];
+        const double stored = v.cold[i].strain + v.cold[i].bond;
+        if constexpr (Features::kEnergy) {
+            if constexpr (kMode == Delivery::Direct) world.books.acc.released += stored;
+            if (v.groups) bookReleasedToGroups(world, p, stored);
+        }
+        endContact(world, p, v.cold[i], Features::kGuard);
+        finishApart<Features, kMode>(v, i, PairStep::Elsewhere, nullptr);
+        if constexpr (Features::kEnergy && kMode != Delivery::Direct) {
+            v.energies[i] = PairEnergy{};
+            v.energies[i].what = PairEnergy::kHandOver;
+            v.energies[i].released_end = stored;
+        }
+        return i + 1;
+    }
+    // A pair touching for the first time: activate it, then its law (FDlaw, and the first
+    // call's flags), then its finish.
+    Pair& p = v.pairs[i];
+    const bool first = activate(world, p, v.cold[i], e.g, e.vrel);
+    if (first) {
+        fd.flags |= kFdFirstCall | world.contacts.activation_flags;
+    } else {
+        // A wall pair that took over its chain's contact from a neighbouring segment's pair
+        // (activate, adoptWallContact): the forces are that contact's.
+        fd.n_force = p.n_force;
+        fd.s_force = p.s_force;
+        fd.moment = p.moment;
+    }
+    callLaw(p.model, fd, error);
+    finishContact<Features, kMode>(v, sums, i, e, fd, first, nullptr);
+    offerLane(v, p);
+    return i + 1;
+}
+
+/// One pair, all three passes, on one thread (Direct) or in the threads' serial part; returns
+/// the next pair to process.
+template <class Features, Delivery kMode>
+__attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, ForceSums& sums,
+                                                          std::size_t i, std::size_t end,
+                                                          PairEntry& e, FdBlock& fd,
+                                                          std::string& error,
+                                                          int64_t& batched_count) {
+    prefetchModel(v, i, end);
+    const PairStep step = geometryPass<Features>(v, i, e, &fd);
+    if (step == PairStep::Contact) {
+        Pair& p = v.pairs[i];
+        lawPass(v, p, fd, error, batched_count);
+        finishContact<Features, kMode>(v, sums, i, e, fd, false, nullptr);
+        offerLane(v, p);
+        return i + 1;
+    }
+    if (step == PairStep::Apart || step == PairStep::Elsewhere) {
+        finishApart<Features, kMode>(v, i, step, nullptr);
+        return i + 1;
+    }
+    return processRarePair<Features, kMode>(v, sums, i, step, e, fd, error);
+}
+
+}  // namespace talus

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: MIT
+//
+// The force loop's scratch (force/loop.cpp; docs/architecture.md, "Force loop" and
+// "Threads"): what pass 1 (geometry) of a pair hands to its law and its finish, and, when threads
+// run the loop, what each pair does to its ends (PairAction), the balls' pairs in pair order
+// (the incidence the gather reads) and each thread's deferred work. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "step/narrowphase.hpp"
+#include "talus/contact_model.hpp"
+#include "world/types.hpp"
+
+namespace talus {
+
+/// What pass 1 found for a pair.
+enum class PairStep : uint8_t {
+    Apart,      // not touching (nor within the model's activity distance)
+    Elsewhere,  // a wall pair whose ball is in a neighbouring segment's region, no contact
+    Contact,    // an active contact: its law runs
+    Touch,      // touching for the first time: to activate (rare; serial)
+    HandOver,   // an active wall contact whose point crossed a vertex (rare; serial)
+};
+
+/// Pass 1's result for one pair.
+struct PairEntry {
+    ContactGeometry g;
+    Vec2 x2{0.0, 0.0};    // centre of end 2: the ball's, or the wall's (moment arms)
+    Vec2 vrel{0.0, 0.0};  // contact-point velocity of end 2 relative to end 1 (activation)
+    // The law's kinematic inputs (FdBlock's names): rates at the half step.
+    double u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
+};
+
+/// What the finish of a pair reads of an FdBlock, for a contact a lane law stepped
+/// (docs/plugin-abi.md, "Lanes"), under FdBlock's names: the finish is one template for both.
+/// A lane law reports no failure and no break (it declines such a step).
+struct LaneResult {
+    static constexpr int32_t status = 0;
+    static constexpr const char* error = nullptr;
+    static constexpr int32_t break_mode = kBreakNone;
+    static constexpr double reserved[3] = {0.0, 0.0, 0.0};
+    uint32_t flags = 0;
+    double u_n = 0.0, u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
+    double du_n = 0.0, du_s = 0.0, dtheta = 0.0;
+    double n_force = 0.0, s_force = 0.0, moment = 0.0;
+    double knest = 0.0, ksest = 0.0, krest = 0.0;
+    double energy[kEnergyCount];
+    /// The same as an FdBlock (the energy contract's rare path, which takes one).
+    FdBlock block(const FdBlock& tmpl) const;
+};
+
+/// What one thread's loop counts of the laws it ran (Profile).
+struct LaneCounts {
+    int64_t batched = 0;   // laws run through a batched FDlaw
+    int64_t steps = 0;     // contacts stepped by lane laws
+    int64_t declined = 0;  // ... of which the law declined (FDlaw ran instead)
+};
+
+/// The lane batches of one thread's force loop: a block of up to kBlock consecutive pairs (lane
+/// contacts of one rule, and pairs apart) and the LaneBatch of its contacts, structure of
+/// arrays (force/lane_block.hpp).
+struct LaneScratch {
+    static constexpr int kBlock = 64;
+    PairEntry entry[kBlock];
+    PairStep step[kBlock];
+    int32_t slot[kBlock];  // the pair's index in the batch (contacts)
+    uint32_t row[kBlock];
+    double u_n[kBlock], u_dot_n[kBlock], u_dot_s[kBlock], t_dot_rel[kBlock];
+    double mass_eff[kBlock], inv_mass_eff_s[kBlock];
+    double n_force[kBlock], s_force[kBlock], moment[kBlock];
+    double knest[kBlock], ksest[kBlock], krest[kBlock];
+    uint32_t flags_out[kBlock];
+    double energy[kEnergyCount][kBlock];
+    std::vector<FdBlock> declined;  // kBlock: the FdBlocks of the contacts a lane law declined
+    LaneBatch batch{};              // points into the arrays above (prepare)
+    /// Sets the batch's array pointers (once: the scratch does not move afterwards).
+    void prepare();
+    /// Contact k's result under FdBlock's names (the increments as the law computed them).
+    LaneResult result(int k, double tdel) const {
+        LaneResult r;
+        r.flags = flags_out[k] & ~(kFdBroken | kFdBreakStress);
+        r.u_n = u_n[k], r.u_dot_n = u_dot_n[k], r.u_dot_s = u_dot_s[k];
+        r.t_dot_rel = t_dot_rel[k];
+        r.du_n = r.u_dot_n * tdel, r.du_s = r.u_dot_s * tdel, r.dtheta = r.t_dot_rel * tdel;
+        r.n_force = n_force[k], r.s_force = s_force[k], r.moment = moment[k];
+        r.knest = knest[k], r.ksest = ksest[k], r.krest = krest[k];
+        for (int e = 0; e < kEnergyCount; ++e)
+            r.energy[e] = (flags_out[k] & kFdEnergyOn) ? energy[e][k] : 0.0;
+        return r;
+    }
+};
+
+/// What one pair did to its balls in this step, kept per pair when threads run the loop: every
+/// ball then adds its pairs' actions in pair order (gatherPairActions), the same
+/// additions in the same order as one thread adding each contact onto its ends at once.
+/// add[e] is what end e (0: end 1, 1: end 2) gets: force x, force y, moment. End 1's are the
+/// negated values one thread subtracts (x - y == x + (-y) exactly in IEEE 754), and a pair that
+/// did nothing holds -0.0, which leaves every sum as it was (x + (-0.0) == x, -0.0 included): so
+/// the gather adds without a branch.
+struct PairAction {
+    double add[2][3];
+};
+
+/// The same for the automatic step's stiffness sums: translational, rotational per end.
+struct PairStiffness {
+    double add[2][2];
+};
+
+/// Work a thread leaves for the serial part of the step, in pair order: what allocates or frees
+/// model objects, grows or reorders the pairs, raises events or reads another pair.
+enum class Deferred : uint8_t {
+    Pair,      // a wall pair or a pair touching for the first time: processed whole, serially
+    Break,     // a bond broke (queueBreak)
+    End,       // a contact ended (endContact), then its pair's broadphase check
+    Remove,    // a pair whose ends' fat boxes no longer overlap: to remove after the loop
+    Contract,  // a law's energies to check against the ABI (rare; ForceThreadPart::contracts)
+};
+
+/// What one pair adds to the energy books in a step (tracing on), kept per pair when threads
+/// run the loop and added in pair order afterwards: the additions one thread makes at once.
+struct PairEnergy {
+    enum : uint8_t {
+        kContact = 1,    // slip, dashpot, plastic and the law's released energy
+        kPlacement = 2,  // born overlapping: placement
+        kHeld = 4,       // the baseline of contacts older than the tracing: held
+        kEnds = 8,       // the contact ended: its stored energy released (released_end)
+        kStored = 16,    // it goes on: strain and bond stored
+        kHandOver = 32,  // a wall contact nobody took over: released_end
+    };
+    double slip = 0.0, dashpot = 0.0, plastic = 0.0, released = 0.0, released_end = 0.0;
+    double placement = 0.0, held = 0.0, strain = 0.0, bond = 0.0;
+    uint8_t what = 0;  // the flags above; 0: nothing this step
+};
+
+/// A law's output kept for the energy contract's check (Deferred::Contract).
+struct ContractNote {
+    FdBlock fd;
+    double fn_old, fs_old, m_old, strain_old, bond_old;
+};
+
+struct DeferredItem {
+    uint32_t pair = 0;
+    Deferred kind = Deferred::Pair;
+    int32_t break_mode = 0;
+    uint32_t flags = 0;  // the FdBlock's, for a break
+    Vec2 point{0.0, 0.0};
+    double sigma = 0.0, tau = 0.0;
+};
+
+/// One thread's share of a threaded force loop. Each on cache lines of its own: the threads
+/// write their FdBlock and counters at every contact, and a line shared by two of them would
+/// move between the cores at every write (false sharing; two lines, for the adjacent-line
+/// prefetch).
+struct alignas(128) ForceThreadPart {
+    FdBlock fd;                          // the thread's FdBlock (a copy of the step's template)
+    LaneScratch lanes;                   // the thread's lane blocks
+    std::vector<uint32_t> lane_entries;  // contacts to put into the lanes (serially, after)
+    std::vector<std::pair<LaneTable*, uint32_t>> lane_releases;  // rows to free (ditto)
+    int64_t lane_steps = 0;                                      // contacts stepped by lane laws
+    int64_t lane_declined = 0;                                   // ... of which declined
+    std::vector<DeferredItem> items;                             // in pair order
+    std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
+    std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)
+    StepLimits limits;                    // automatic step: from its contacts
+    double finite_check = 0.0;            // sum of the laws' outputs (non-finite if one was)
+    int64_t batched = 0;                  // laws run through a batched FDlaw
+    std::string error;                    // an exception's text caught at the plugin boundary
+    std::exception_ptr failure;           // what stopped the thread ...
+    std::size_t failure_pair = SIZE_MAX;  // ... at this pair
+};
+
+struct ForceScratch {
+    FdBlock fd{};                          // one thread's FdBlock
+    LaneScratch lanes;                     // one thread's lane blocks
+    std::string error;                     // one thread's caught exception text
+    std::vector<uint32_t> apart;           // one thread: pairs apart (automatic step)
+    std::vector<ForceThreadPart> parts;    // threads: one per thread
+    std::vector<PairAction> actions;       // threads: per pair
+    std::vector<PairStiffness> stiffness;  // threads, automatic step: per pair
+    std::vector<PairEnergy> energies;      // threads, energy tracing: per pair
+    // Threads: ball -> its pairs in pair order, as (pair index << 1) | (ball is end 2), CSR.
+    std::vector<uint32_t> incidence_start, incidence;
+    uint64_t incidence_version = UINT64_MAX;  // ContactStore::pairs_version it was built for
+};
+
+}  // namespace talus

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+//
+// The force loop's view of the world for one step (as Box2D's solver takes its arrays into a
+// context before its stages): the arrays the passes read and write, taken once per step, and
+// the step's constants. The passes (pass_*.hpp) are inline functions of this view and a pair
+// index; loop.cpp builds it and runs them. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "force/scratch.hpp"
+#include "world/world.hpp"
+
+namespace talus {
+
+/// What a finish does with what reaches beyond its pair (loop.cpp, "Threads").
+enum class Delivery {
+    Direct,    // one thread: onto the ends at once
+    Serial,    // threads, serial part: actions recorded
+    Parallel,  // threads, a range: actions recorded, rare work deferred
+};
+
+/// The loop's compile-time switches: a scene pays only for the extras it asks for.
+template <bool Auto, bool Energy, bool Guard>
+struct LoopFeatures {
+    static constexpr bool kAuto = Auto;      // gather the automatic step's limits and sums
+    static constexpr bool kEnergy = Energy;  // book the contacts' energies
+    static constexpr bool kGuard = Guard;    // the stability guard's per-contact checks
+};
+
+struct ForceView {
+    World& world;  // the rare paths
+    // Pairs through their vectors: a wall contact's hand-over may add a pair (and move the
+    // arrays) in the middle of the loop.
+    std::vector<Pair>& pairs;
+    std::vector<PairCold>& cold;
+    // Balls and walls do not change size during the loop.
+    const Vec2* pos;
+    const Vec2* vel;
+    const double* radius;
+    const double* spin;
+    const Box* fat;
+    Vec2* force;
+    double* moment;
+    WallData* walls;
+    const Segment* segments;
+    const uint8_t* ball_moved;
+    const uint8_t* segment_moved;
+    // Threads: per pair, what it does to its ends (gathered after the loop).
+    PairAction* actions;
+    PairStiffness* stiffness;
+    PairEnergy* energies;
+    std::vector<uint32_t>& to_remove;  // pairs whose fat boxes stopped overlapping
+    std::vector<uint32_t>& apart;      // one thread, automatic step: pairs apart
+    // The step.
+    double dt;
+    double window;               // between the half-step velocities around this force's time
+    FdBlock fd_template;         // the step's FdBlock fields
+    EnergyTotals totals_before;  // the energy contract's reference
+    bool batched;                // the batched FDlaw where a model offers one
+    bool lanes_on;               // the lanes run this step
+    bool groups;                 // energy per group
+};
+
+/// One thread's running sums in a step without threads, or in the threads' serial part.
+struct ForceSums {
+    double finite_check = 0.0;  // the laws' outputs, summed: non-finite if one of them was
+    double strain_now = 0.0, bond_now = 0.0;  // stored energies, this step
+    double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
+};
+
+}  // namespace talus

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+//
+// Phase 5: bookkeeping. Events queued by the force loop (bond breaks) are delivered here, after
+// the hot loop and in the order they happened, then the cycle hooks run (histories, Lua
+// callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "step/step.hpp"
+#include "talus/errors.hpp"
+#include "world/body_store.hpp"
+#include "world/contact_store.hpp"
+#include "world/messages.hpp"
+#include "world/types.hpp"
+
+namespace talus {
+
+void bookkeeping(World& world, const StepContext& step) {
+    if (step.energy && world.settings.guard.balance != GuardAction::Off) checkBalance(world);
+    if (!world.callbacks.events.empty()) {
+        // Swap out first: a handler may cycle the model or queue events of its own.
+        std::vector<Event> events;
+        events.swap(world.callbacks.events);
+        if (world.callbacks.event_handler)
+            for (const Event& e : events) world.callbacks.event_handler(e);
+    }
+    if (world.callbacks.hooks.empty()) return;
+    // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
+    // added now first run at the next step.
+    ++world.callbacks.hooks_running;
+    const std::size_t n = world.callbacks.hooks.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (world.callbacks.hooks[i].every > 0 &&
+            world.clock.step % world.callbacks.hooks[i].every == 0) {
+            auto fn = world.callbacks.hooks[i].fn;  // copy: the vector may grow during the call
+            fn(world.facade);
+        }
+    }
+    if (--world.callbacks.hooks_running == 0)
+        world.callbacks.hooks.erase(
+            std::remove_if(world.callbacks.hooks.begin(), world.callbacks.hooks.end(),
+                           [](const Hook& h) { return h.every == 0; }),
+            world.callbacks.hooks.end());
+}
+
+namespace {
+
+std::string num(double v) { return messageNumber(v, 4); }
+
+}  // namespace
+
+void checkBalance(World& world) {
+    // Each contact is checked by the guard on its own; this check watches the whole model, so
+    // that many small errors that add up, and work outside contacts (damping, fixities, walls),
+    // cannot go unseen. Reference: the throughput, the larger of the energy put in and the peak
+    // mechanical energy, so that a scene that turns its input over many times (a ball bouncing
+    // on a vibrating floor) is judged against what it moved, not what it holds now.
+    const EnergyTotals& e = world.books.snapshot;  // snapshot at the last whole step
+    world.guard_state.balance.peak =
+        std::max(world.guard_state.balance.peak, e.kinetic + e.strain + e.bond);
+    if (world.clock.step % world.settings.guard.balance_every != 0) return;
+    const double throughput = std::max(e.input(), world.guard_state.balance.peak);
+    const double error = e.balanceError();
+    const double allowed = world.settings.guard.balance_tolerance * throughput;
+    if (std::fabs(error) <= allowed) {
+        world.guard_state.balance.open = e;
+        world.guard_state.balance.open_step = world.clock.step;
+        world.guard_state.balance.reported = 0.0;
+        return;
+    }
+    if (std::fabs(error - world.guard_state.balance.reported) <= allowed) return;
+    world.guard_state.balance.reported = error;
+
+    // Name the window and the items that moved most in it.
+    struct Item {
+        const char* name;
+        double change;
+    };
+    const EnergyTotals& o = world.guard_state.balance.open;
+    Item items[] = {{"kinetic", e.kinetic - o.kinetic},
+                    {"strain", e.strain - o.strain},
+                    {"bond", e.bond - o.bond},
+                    {"body", e.body - o.body},
+                    {"boundary", e.boundary - o.boundary},
+                    {"slip", e.slip - o.slip},
+                    {"dashpot", e.dashpot - o.dashpot},
+                    {"plastic", e.plastic - o.plastic},
+                    {"damping", e.damping - o.damping},
+                    {"released", e.released - o.released},
+                    {"placement", e.placement - o.placement}};
+    std::stable_sort(std::begin(items), std::end(items), [](const Item& a, const Item& b) {
+        return std::fabs(a.change) > std::fabs(b.change);
+    });
+    std::string moved;
+    for (int k = 0; k < 3; ++k)
+        moved += std::string(k ? ", " : "") + items[k].name + " " +
+                 (items[k].change >= 0.0 ? "+" : "") + num(items[k].change) + " J";
+    const std::string what =
+        "energy balance: " + num(std::fabs(error)) + " J " + (error < 0.0 ? "created" : "lost") +
+        " (balance_error " + num(error) + " J, " + num(100.0 * std::fabs(error) / throughput) +
+        "% of the throughput " + num(throughput) + " J, tolerance " +
+        num(100.0 * world.settings.guard.balance_tolerance) + "%) at step " +
+        std::to_string(world.clock.step) + " (t = " + num(world.clock.time) + " s); in steps " +
+        std::to_string(world.guard_state.balance.open_step) + "-" +
+        std::to_string(world.clock.step) + " the items that moved most: " + moved;
+    if (world.settings.guard.balance == GuardAction::Error) throw NumericalError(what);
+    if (world.guard_state.balance.findings++ == 0) world.guard_state.balance.first = what;
+    world.guard_state.balance.last = what;
+}
+
+void flushWarnings(World& world) {
+    if (world.guard_state.placed > 0) {
+        talus::warn(
+            world,
+            std::to_string(world.guard_state.placed) +
+                " contact(s) started overlapping (bodies created or moved into each other), "
+                "holding "
+                "energy no traced work put in (" +
+                num(world.guard_state.placed_energy) +
+                " J in all, booked as the energy item 'placement' when tracing is on); first: " +
+                world.guard_state.placed_first);
+        world.guard_state.placed = 0;
+        world.guard_state.placed_energy = 0.0;
+    }
+    if (world.guard_state.balance.findings > 0) {
+        talus::warn(world, "guard: " + world.guard_state.balance.first +
+                               (world.guard_state.balance.findings > 1
+                                    ? "; it grew further " +
+                                          std::to_string(world.guard_state.balance.findings - 1) +
+                                          " time(s), last: " + world.guard_state.balance.last
+                                    : std::string()));
+        world.guard_state.balance.findings = 0;
+    }
+    if (world.guard_state.underresolved > 0) {
+        talus::warn(
+            world,
+            "guard: " + std::to_string(world.guard_state.underresolved) +
+                " contact(s) had fewer than " + std::to_string(world.settings.guard.min_steps) +
+                " steps per contact duration, so their restitution and peak force are not "
+                "resolved (thesis A asks for 10-20 steps per impact); first: " +
+                world.guard_state.underresolved_first +
+                ". Use the automatic step with its resolution rule, or a smaller fixed step.");
+        world.guard_state.underresolved = 0;
+    }
+    if (world.guard_state.stiffness_lies > 0) {
+        talus::warn(world, "guard: " + std::to_string(world.guard_state.stiffness_lies) +
+                               " contact(s) were stiffer than their model reported; first: " +
+                               world.guard_state.stiffness_lies_first);
+        world.guard_state.stiffness_lies = 0;
+    }
+    if (world.guard_state.energy_gain > 0) {
+        talus::warn(world, "guard: " + std::to_string(world.guard_state.energy_gain) +
+                               " contact(s) gave back more energy than they took; first: " +
+                               world.guard_state.energy_gain_first);
+        world.guard_state.energy_gain = 0;
+    }
+}
+
+}  // namespace talus

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+//
+// Energy per group (group_energy.cpp; docs/physics/energy.md, "Energy per group"): the books
+// of each group, filled by the law of motion and the force loop. Everything here runs only
+// while world.books.groups.on. Not installed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "world/world.hpp"
+
+namespace talus {
+
+/// Tracing switched on (or groups added): size and zero the books.
+void openGroupBooks(World& world);
+/// Books a body's terms of this step to each of its groups (the law of motion; the clump pass
+/// calls it with a clump's mask): kinetic energy at the snapshot, body work, damping and fixity
+/// work (`driven`, split at the snapshot like the whole model's).
+inline void bookBodyToGroups(World& world, uint64_t mask, double kinetic, double body,
+                             double damping, double driven) {
+    auto* groups = world.books.groups.g.data();
+    for (uint64_t m = mask & world.books.groups.traced; m; m &= m - 1) {
+        auto& gr = groups[__builtin_ctzll(m)];
+        gr.step_kinetic += kinetic;
+        gr.step_body += body;
+        gr.step_damping += damping;
+        gr.step_driven += driven;
+    }
+}
+/// The force loop's per-contact share (rare path: called only with groups traced).
+void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool first, bool ends,
+                         double held, const Vec2& f, const Vec2& point);
+void bookReleasedToGroups(World& world, const Pair& p, double released);
+/// Kinetic energy that left the model with a deleted body (or changed at a clump release).
+void bookDeletedToGroups(World& world, uint64_t mask, double kinetic);
+/// A ball slot is being removed (deleted ball or pebble): mark its pending exchange records gone
+/// and follow the last slot, which moves into it.
+void followRemovedSlot(World& world, uint32_t slot);
+void groupForceLoopStart(World& world);         // zero the scratch, drop stale records
+void groupForceLoopEnd(World& world);           // strain/bond current values, baseline
+void gatherExchangeStart(World& world);         // law of motion: rates before the update
+void groupSnapshot(World& world, double lead);  // law of motion: split, snapshot, accumulate
+void bookWallToGroups(World& world, uint64_t mask, double work, double lead);
+/// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
+/// update; the clump pass routes pebble ends to their clump here.
+void endRates(const World& world, uint32_t slot, Vec2& v, double& w);
+/// The point an end's moments are taken about: a ball's centre, a pebble's clump centroid.
+Vec2 endCentre(const World& world, uint32_t slot);
+uint64_t endGroups(const World& world, const Pair& p, bool end2);
+
+}  // namespace talus

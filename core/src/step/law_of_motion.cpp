@@ -1,0 +1,292 @@
+// SPDX-License-Identifier: MIT
+//
+// Phase 2: the law of motion. Central differences (leapfrog) with velocities at half steps:
+//   v(t + dt/2) = v(t - dt/2) + (F/m + g) w,   x(t + dt) = x(t) + v(t + dt/2) dt,
+// where w = (dt_prev + dt)/2 is the time between the two half steps. With that window a
+// constant acceleration is integrated exactly for any sequence of steps (free flight costs no
+// accuracy). On the very first cycle the given velocities are taken as values at t, so w = dt/2.
+//
+// Damping options (docs/physics/damping.md):
+//  - PFC local damping: F_i <- F_i - alpha |F_i| sign(v_i) per degree of freedom
+//    (accuracy-reference 3.4).
+//  - Mass-proportional viscous damping c [1/s], implicit at the time level of the forces
+//    (thesis B eq. 2.41): v+ = ((1 - c w/2) v- + a w) / (1 + c w/2).
+//
+// Energy (only when traced) is a snapshot at the whole step t, taken here before this step's
+// work is booked: the velocity at t is interpolated between the two half-step velocities,
+// v(t) = v(t - dt_prev/2) + (v(t + dt/2) - v(t - dt_prev/2)) (dt_prev/2) / w, which is exact
+// for a constant acceleration over any step sequence; body work is (m g + F_app) . dx. Free
+// flight with a growing automatic step therefore balances to round-off (docs/physics/energy.md).
+//
+// The loop is compiled in two forms: the plain one (no damping, no energy, no fixity), which is
+// what a benchmark or a rockfall run without options executes, and the general one.
+#include <cmath>
+#include <string>
+
+#include "step/body_damping.hpp"
+#include "step/group_energy.hpp"
+#include "step/step.hpp"
+#include "world/body_store.hpp"
+#include "world/contact_store.hpp"
+#include "world/messages.hpp"
+#include "world/types.hpp"
+
+namespace talus {
+
+namespace {
+
+std::string text(double v) { return messageNumber(v); }
+
+template <bool kGeneral>
+void moveBalls(World& world, const StepContext& step);
+
+}  // namespace
+
+void lawOfMotion(World& world, const StepContext& step) {
+    world.clock.window = step.window;
+    // Clumps need the general loop (it skips their pebbles; moveClumps moves them).
+    const bool general = step.energy || world.settings.damping.local > 0.0 ||
+                         world.settings.damping.viscous > 0.0 || world.bodies.fixed_balls > 0 ||
+                         world.bodies.hasClumps();
+    if (step.groups) gatherExchangeStart(world);  // rates before the update (group_energy.cpp)
+    general ? moveBalls<true>(world, step) : moveBalls<false>(world, step);
+    world.clock.first_cycle = false;
+    world.clock.time += step.dt;
+    ++world.clock.step;
+}
+
+namespace {
+
+template <bool kGeneral>
+void moveBalls(World& world, const StepContext& step) {
+    auto& b = world.bodies.balls;
+    const std::size_t n = b.size();
+    const double dt = step.dt;
+    const double w = step.window;
+    const Vec2 g = world.settings.gravity;
+    Vec2* pos = b.pos.data();
+    Vec2* vel = b.vel.data();
+    const Vec2* force = b.force.data();
+    const Vec2* fapp = b.fapp.data();
+    double* spin = b.spin.data();
+    double* angle = b.angle.data();
+    const double* moment = b.moment.data();
+    const double* mapp = b.mapp.data();
+    const double* inv_mass = b.inv_mass.data();
+    const double* inv_inertia = b.inv_inertia.data();
+
+    // Every ball's update is its own: with threads (as many as the force loop took, over the
+    // same static ranges of balls as its gather, so each thread reads the forces it wrote) the
+    // result is the same bit for bit. With energy tracing the sums stay on one thread.
+    const int threads = world.clock.threads;
+    (void)threads;
+    if constexpr (!kGeneral) {
+        bool finite = true;
+        TALUS_OMP(omp parallel for num_threads(threads) schedule(static) reduction(&& : finite) if (threads > 1))
+        for (std::size_t s = 0; s < n; ++s) {
+            const Vec2 v = vel[s] + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
+            const double om = spin[s] + (moment[s] + mapp[s]) * inv_inertia[s] * w;
+            vel[s] = v;
+            spin[s] = om;
+            pos[s] += v * dt;
+            angle[s] += om * dt;
+            finite = finite && std::isfinite(v.x() + v.y() + om);
+        }
+        if (!finite) reportNonFiniteBall(world);
+        return;
+    }
+
+    const double alpha = world.settings.damping.local;
+    const double c = world.settings.damping.viscous;
+    const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
+    const double gain = w / (1.0 + 0.5 * c * w);
+    const bool energy = step.energy;
+    const bool groups = step.groups;
+    const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
+    double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
+    const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
+    for (std::size_t s = 0; s < n; ++s) {
+        if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
+        const Vec2 v_old = vel[s];
+        const double w_old = spin[s];
+        const uint8_t fix = b.fixity[s];
+        const Vec2 f = force[s] + fapp[s];
+        const double mom = moment[s] + mapp[s];
+        Vec2 fd = Vec2::Zero();
+        double md = 0.0;
+        if (alpha > 0.0) {
+            // PFC applies the damping to the unbalanced force including gravity.
+            const Vec2 unbalanced = f + b.mass[s] * g;
+            fd = Vec2(localDamping(alpha, unbalanced.x(), v_old.x()),
+                      localDamping(alpha, unbalanced.y(), v_old.y()));
+            md = localDamping(alpha, mom, w_old);
+        }
+        const Vec2 acc = (f + fd) * inv_mass[s] + g;
+        const double ang = (mom + md) * inv_inertia[s];
+        Vec2 v = keep * v_old + gain * acc;
+        double om = keep * w_old + gain * ang;
+        // Damping coefficients per degree of freedom: a fixed component is driven, not damped.
+        double cx = c, cy = c, cw = c;
+        if (fix) {
+            if (fix & kFixX) v.x() = v_old.x(), fd.x() = 0.0, cx = 0.0;
+            if (fix & kFixY) v.y() = v_old.y(), fd.y() = 0.0, cy = 0.0;
+            if (fix & kFixSpin) om = w_old, md = 0.0, cw = 0.0;
+        }
+        vel[s] = v;
+        spin[s] = om;
+        pos[s] += v * dt;
+        angle[s] += om * dt;
+        if (energy) {
+            const double m = b.mass[s];
+            const double inertia = b.inertia[s];
+            const Vec2 v_now = v_old + (v - v_old) * lead;
+            const double om_now = w_old + (om - w_old) * lead;
+            const double ke = 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
+            const double work = ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
+            kinetic += ke;
+            body += work;
+            // Local damping on the velocity at t, viscous on the mean of the half steps
+            // (body_damping.hpp).
+            const Vec2 v_mid = 0.5 * (v_old + v);
+            const double om_mid = 0.5 * (w_old + om);
+            const double damp =
+                dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
+            damping += damp;
+            double react = 0.0;
+            if (fix) {
+                // A fixed component moves at its set velocity whatever acts on it: the fixity
+                // supplies the reaction R = -(everything else), and R's work goes into
+                // `boundary`, like a wall's (docs/physics/energy.md). R acts as an impulse R w
+                // at the rate v, split at the snapshot like the damping impulse below (the
+                // trapezoidal rule: second order, as the rest of the balance).
+                const Vec2 load = f + m * g;
+                if (fix & kFixX) react -= load.x() * v.x();
+                if (fix & kFixY) react -= load.y() * v.y();
+                if (fix & kFixSpin) react -= mom * om;
+                driven += react * w;
+            }
+            if (groups) bookBodyToGroups(world, b.groups[s], ke, work, damp, react * w);
+        }
+    }
+    if (pebble) moveClumps(world, step, kinetic, body, damping, driven);  // clump_motion.cpp
+    bool finite = true;
+    for (std::size_t s = 0; s < n && finite; ++s)
+        finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
+    if (!finite) reportNonFiniteBall(world);
+    // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
+    // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
+    // contact then ran on with inf in the balance and no word.
+    if (energy && !std::isfinite(kinetic + body + damping + driven))
+        reportNonFiniteEnergy(world, kinetic, body, damping, driven);
+    if (energy) {
+        // Impulses applied now span the window around t: the damping, the fixities' reactions
+        // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
+        // holds the share of their effect before t, so the snapshot holds the same share of
+        // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
+        // the books half a step's dissipation ahead during an impact.)
+        world.books.acc.damping += damping * lead;
+        world.books.acc.boundary += driven * lead;
+        world.books.acc.dashpot += world.books.dashpot_pending * lead;
+        world.books.snapshot = world.books.acc;
+        world.books.snapshot.kinetic = kinetic;
+        world.books.acc.body += body;
+        world.books.acc.boundary += driven * (1.0 - lead);
+        world.books.acc.damping += damping * (1.0 - lead);
+        world.books.acc.dashpot += world.books.dashpot_pending * (1.0 - lead);
+        world.books.dashpot_pending = 0.0;
+        if (groups) groupSnapshot(world, lead);
+    }
+}
+
+}  // namespace
+
+void reportNonFiniteBall(const World& world) {
+    const auto& b = world.bodies.balls;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const Vec2& v = b.vel[s];
+        if (std::isfinite(v.x() + v.y() + b.spin[s] + b.pos[s].x() + b.pos[s].y())) continue;
+        throwNonFinite(world, world.bodies.describeBall(static_cast<uint32_t>(s)) + ": velocity (" +
+                                  text(v.x()) + ", " + text(v.y()) + "), spin " + text(b.spin[s]) +
+                                  ", contact force (" + text(b.force[s].x()) + ", " +
+                                  text(b.force[s].y()) + ")");
+    }
+}
+
+void reportNonFiniteEnergy(const World& world, double kinetic, double body, double damping,
+                           double driven) {
+    // Name the first body whose kinetic energy 1/2 (m v^2 + I w^2) overflows.
+    const auto& b = world.bodies.balls;
+    auto overflows = [](double m, const Vec2& v, double inertia, double om) {
+        return !std::isfinite(0.5 * (m * v.squaredNorm() + inertia * om * om));
+    };
+    std::string who;
+    for (std::size_t s = 0; s < b.size() && who.empty(); ++s) {
+        if (world.bodies.hasClumps() && b.clump[s] != kNoClump) continue;
+        if (overflows(b.mass[s], b.vel[s], b.inertia[s], b.spin[s]))
+            who = world.bodies.describeBall(static_cast<uint32_t>(s)) + ": velocity (" +
+                  text(b.vel[s].x()) + ", " + text(b.vel[s].y()) + "), spin " + text(b.spin[s]) +
+                  ", ";
+    }
+    for (std::size_t i = 0; i < world.bodies.clumps.size() && who.empty(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
+        if (c.alive && overflows(c.mass, c.vel, c.inertia, c.spin))
+            who = "clump " + std::to_string(i + 1) + ": velocity (" + text(c.vel.x()) + ", " +
+                  text(c.vel.y()) + "), spin " + text(c.spin) + ", ";
+    }
+    // No kinetic energy overflows: the work of an applied load did (body work F.v dt or M w dt
+    // with a finite but huge load). Name the body carrying the largest applied load.
+    double largest = 0.0;
+    std::string loaded;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const double load = b.fapp[s].norm() + std::fabs(b.mapp[s]);
+        if (!(world.bodies.hasClumps() && b.clump[s] != kNoClump) && load > largest)
+            largest = load, loaded = world.bodies.describeBall(static_cast<uint32_t>(s)) +
+                                     ": applied force (" + text(b.fapp[s].x()) + ", " +
+                                     text(b.fapp[s].y()) + "), moment " + text(b.mapp[s]) + ", ";
+    }
+    for (std::size_t i = 0; i < world.bodies.clumps.size(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
+        const double load = c.fapp.norm() + std::fabs(c.mapp);
+        if (c.alive && load > largest)
+            largest = load, loaded = "clump " + std::to_string(i + 1) + ": applied force (" +
+                                     text(c.fapp.x()) + ", " + text(c.fapp.y()) + "), moment " +
+                                     text(c.mapp) + ", ";
+    }
+    if (who.empty()) who = loaded;
+    throwNonFinite(world, who + "the energy of this step overflows (kinetic " + text(kinetic) +
+                              " J, body work " + text(body) + " J, damping " + text(damping) +
+                              " J, fixity work " + text(driven) + " J)");
+}
+
+void moveWalls(World& world, const StepContext& step) {
+    const double dt = step.dt;
+    for (std::size_t i = 0; i < world.bodies.walls.size(); ++i) {
+        WallData& w = world.bodies.walls[i];
+        if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
+        if (world.books.on) {
+            // Work done on the balls: minus the force they exert on the wall times its motion.
+            // That force is the last force loop's, whose impulse the law of motion has just
+            // applied over the window w = (dt_prev + dt)/2 around the snapshot's time t; so its
+            // work is over w too, and the part before t belongs in the snapshot, as for the
+            // damping impulse. Booking it over the coming dt, after the snapshot, left it a step
+            // late and short by (w - dt) while the step shrank: a wall whose contacts formed in
+            // a long step created energy (issue 6, item 7: -217 J, 2.5% of the boundary work).
+            const double win = step.window;
+            const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
+            const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
+            world.books.acc.boundary += work;
+            world.books.snapshot.boundary += work * lead;
+            if (world.books.groups.on) bookWallToGroups(world, w.groups, work, lead);
+        }
+        const Vec2 shift = w.vel * dt;
+        const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);
+        for (uint32_t k = 0; k < w.vertex_count; ++k) {
+            Vec2& p = world.bodies.vertices[w.first_vertex + k];
+            const Vec2 r = p - w.center;
+            p = w.center + Vec2(ca * r.x() - sa * r.y(), sa * r.x() + ca * r.y()) + shift;
+        }
+        w.center += shift;
+    }
+}
+
+}  // namespace talus

@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+#include "world/contact_lanes.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <unordered_map>
+
+#include "force/scratch.hpp"
+#include "talus/errors.hpp"
+#include "world/contact_store.hpp"
+#include "world/lanes.hpp"
+#include "world/types.hpp"
+
+namespace talus {
+
+uint32_t LaneTable::allocate() {
+    if (!m_free.empty()) {
+        const uint32_t r = m_free.back();
+        m_free.pop_back();
+        return r;
+    }
+    if (m_rows == UINT32_MAX - 1) throw InputError("lanes: more than 2^32 - 2 contacts");
+    // (a vector grows geometrically: amortized O(1) rows)
+    m_data.resize((std::size_t{m_rows} + 1) * m_size);
+    return m_rows++;
+}
+
+void LaneTable::reorder(const std::vector<uint32_t>& order) {
+    std::vector<double> data(order.size() * m_size);
+    for (std::size_t k = 0; k < order.size(); ++k)
+        std::copy_n(row(order[k]), m_size, data.data() + k * m_size);
+    m_data.swap(data);
+    m_rows = static_cast<uint32_t>(order.size());
+    m_free.clear();
+}
+
+// ------------------------------------------------------------------------ a contact's lane
+
+bool enterLane(Pair& p) {
+    Rule& rule = *p.rule;
+    if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
+    LaneTable& table = *rule.lanes;
+    const uint32_t row = table.allocate();
+    if (table.law().pack(p.model, table.row(row)) == 0) {
+        table.release(row);
+        return false;
+    }
+    p.lane = row;
+    return true;
+}
+
+void syncLane(const Pair& p) {
+    if (p.lane == kNoLane) return;
+    LaneTable& table = *p.rule->lanes;
+    table.law().unpack(p.model, table.row(p.lane));
+}
+
+void leaveLane(Pair& p) {
+    syncLane(p);
+    dropLane(p);
+}
+
+void dropLane(Pair& p) {
+    if (p.lane == kNoLane) return;
+    p.rule->lanes->release(p.lane);
+    p.lane = kNoLane;
+}
+
+void leaveAllLanes(World& world) {
+    for (Pair& p : world.contacts.pairs) leaveLane(p);
+}
+
+void reorderLanes(World& world) {
+    // Each table's rows in the order of their pairs, so that the loop's blocks read them
+    // forward.
+    std::unordered_map<LaneTable*, std::vector<uint32_t>> order;
+    for (Pair& p : world.contacts.pairs) {
+        if (p.lane == kNoLane) continue;
+        std::vector<uint32_t>& rows = order[p.rule->lanes.get()];
+        const auto now = static_cast<uint32_t>(rows.size());
+        rows.push_back(p.lane);
+        p.lane = now;
+    }
+    for (auto& rule : world.contacts.rules)
+        if (rule->lanes) rule->lanes->reorder(order[rule->lanes.get()]);
+}
+
+// ------------------------------------------------------------------------ the loop's scratch
+
+FdBlock LaneResult::block(const FdBlock& tmpl) const {
+    FdBlock fd = tmpl;
+    fd.flags = flags;
+    fd.u_n = u_n, fd.u_dot_n = u_dot_n, fd.u_dot_s = u_dot_s, fd.t_dot_rel = t_dot_rel;
+    fd.du_n = du_n, fd.du_s = du_s, fd.dtheta = dtheta;
+    fd.n_force = n_force, fd.s_force = s_force, fd.moment = moment;
+    fd.knest = knest, fd.ksest = ksest, fd.krest = krest;
+    for (int e = 0; e < kEnergyCount; ++e) fd.energy[e] = energy[e];
+    return fd;
+}
+
+void LaneScratch::prepare() {
+    if (declined.empty()) declined.resize(kBlock);
+    LaneBatch& b = batch;
+    b.size = sizeof(LaneBatch);
+    b.row = row;
+    b.u_n = u_n, b.u_dot_n = u_dot_n, b.u_dot_s = u_dot_s, b.t_dot_rel = t_dot_rel;
+    b.mass_eff = mass_eff, b.inv_mass_eff_s = inv_mass_eff_s;
+    b.n_force = n_force, b.s_force = s_force, b.moment = moment;
+    b.knest = knest, b.ksest = ksest, b.krest = krest;
+    b.flags_out = flags_out;
+    for (int e = 0; e < kEnergyCount; ++e) b.energy[e] = energy[e];
+}
+
+}  // namespace talus

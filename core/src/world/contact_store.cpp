@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// The contact store (contact_store.hpp): pairs, rules and their object pools, the broadphase.
+#include "world/contact_store.hpp"
+
+#include <cstddef>
+#include <utility>
+
+namespace talus {
+
+ObjectPool::ObjectPool(std::size_t block_size) {
+    const std::size_t a = alignof(std::max_align_t);
+    m_block = (block_size + a - 1) / a * a;
+}
+
+void* ObjectPool::allocate() {
+    if (m_free.empty()) {
+        constexpr std::size_t kPerChunk = 256;
+        m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
+        unsigned char* base = m_chunks.back().get();
+        for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);
+    }
+    void* p = m_free.back();
+    m_free.pop_back();
+    return p;
+}
+
+void ObjectPool::release(void* p) { m_free.push_back(p); }
+
+ContactStore::ContactStore()
+    : broadphase(std::make_unique<Broadphase>()), wall_broadphase(std::make_unique<Broadphase>()) {}
+
+Pair* ContactStore::pairByKey(ContactKey key) {
+    auto it = key_index.find(key.value);
+    return it == key_index.end() ? nullptr : &pairs[it->second];
+}
+const Pair* ContactStore::pairByKey(ContactKey key) const {
+    auto it = key_index.find(key.value);
+    return it == key_index.end() ? nullptr : &pairs[it->second];
+}
+
+void ContactStore::swapState(std::size_t i, std::size_t j) {
+    // Everything but the identity (which segment, the key) changes places.
+    std::swap(pairs[i], pairs[j]);
+    std::swap(pairs[i].end2, pairs[j].end2);
+    std::swap(cold[i], cold[j]);
+    std::swap(cold[i].key, cold[j].key);
+}
+
+}  // namespace talus
