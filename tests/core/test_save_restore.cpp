@@ -14,6 +14,7 @@
 #include <string>
 
 #include "talus/errors.hpp"
+#include "world/broadphase.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/save_file.hpp"
 #include "talus/splitmix.hpp"
@@ -100,6 +101,13 @@ TEST_CASE("a restored model saves to the same bytes and continues identically") 
     m->cycle(200);
     r.model->cycle(200);
     CHECK(saveModelBytes(*r.model) == saveModelBytes(*m));
+}
+
+TEST_CASE("Box2D's tree: the library this build runs with has the layout the save mirrors") {
+    // The broadphase saves b2DynamicTree's private node array (world/broadphase.cpp; the node's
+    // layout is checked at compile time there). A Box2D other than 2.4 at run time must be
+    // refused by save and restore with that reason, not misread: Debian's libbox2d-dev is 2.4.1.
+    CHECK(talus::Broadphase::treeLayoutProblem().empty());
 }
 
 TEST_CASE("a free broadphase node is saved as fixed bytes") {

@@ -44,6 +44,40 @@
 
 namespace talus {
 
+ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template,
+                    int nthreads, bool lanes_on, bool groups) {
+    auto& b = world.bodies.balls;
+    ForceScratch& scratch = world.contacts.force_scratch;
+    return ForceView{world,
+                     world.contacts.pairs,
+                     world.contacts.cold,
+                     b.pos.data(),
+                     b.vel.data(),
+                     b.radius.data(),
+                     b.spin.data(),
+                     b.fat.data(),
+                     b.force.data(),
+                     b.moment.data(),
+                     world.bodies.walls.data(),
+                     world.bodies.segments.data(),
+                     world.contacts.ball_moved.data(),
+                     world.contacts.segment_moved.data(),
+                     scratch.actions.data(),
+                     step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
+                     step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
+                     world.contacts.to_remove,
+                     scratch.apart,
+                     step.dt,
+                     step.window,
+                     fd_template,
+                     // the dissipation totals before this step, for the energy contract's check
+                     // (the same for every contact, so for every thread count)
+                     world.books.acc,
+                     world.settings.batched_law,
+                     lanes_on,
+                     groups};
+}
+
 namespace {
 
 /// The threads' ranges: contiguous, of equal pair counts; then the serial part.
@@ -214,17 +248,7 @@ void forceLoop(World& world, const StepContext& step) {
                 break;
             }
     if (nthreads > 1) prepareForceScratch(world, nthreads, fd_template);
-    const ForceView v{world, world.contacts.pairs, world.contacts.cold, b.pos.data(), b.vel.data(),
-                      b.radius.data(), b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
-                      world.bodies.walls.data(), world.bodies.segments.data(),
-                      world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
-                      scratch.actions.data(),
-                      Features::kAuto && nthreads > 1 ? scratch.stiffness.data() : nullptr,
-                      Features::kEnergy && nthreads > 1 ? scratch.energies.data() : nullptr,
-                      world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,
-                      // the dissipation totals before this step, for the energy contract's check
-                      // (the same for every contact, so for every thread count)
-                      world.books.acc, batched, lanes_on, groups};
+    const ForceView v = forceView(world, step, fd_template, nthreads, lanes_on, groups);
     ForceSums sums;
 
     if (nthreads <= 1) {

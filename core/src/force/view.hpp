@@ -65,6 +65,13 @@ struct ForceView {
     bool groups;                 // energy per group
 };
 
+struct StepContext;  // step/step.hpp
+
+/// The view of `world` for the force loop of `step` (loop.cpp): the arrays as they are now, so
+/// it is taken after everything that resizes them (the threads' scratch included).
+ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template,
+                    int nthreads, bool lanes_on, bool groups);
+
 /// One thread's running sums in a step without threads, or in the threads' serial part.
 struct ForceSums {
     double finite_check = 0.0;  // the laws' outputs, summed: non-finite if one of them was

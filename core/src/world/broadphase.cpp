@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "talus/errors.hpp"
 #include "talus/save_file.hpp"
 
 namespace talus {
@@ -30,6 +32,21 @@ float up(double v) {
 // Save and restore need the tree's node array, which b2DynamicTree keeps private and has no API
 // for. An explicit instantiation may name private members (C++17 [temp.explicit]/14), so a
 // template instantiated with pointers to them hands those pointers out through a friend.
+//
+// This is a risk (docs/save-format.md, "Box2D's tree"): it depends on the private layout of
+// Box2D 2.4's b2DynamicTree (Debian's libbox2d-dev 2.4.1). The tree cannot simply be rebuilt on
+// restore instead, because its shape decides the order in which new pairs are found, and with
+// it the order of the force sums: a rebuilt tree continues a run, but not bit for bit. So a
+// Box2D whose tree differs must fail here: the member pointers below must have exactly these
+// types (a renamed or retyped member does not compile), the node must have the fields and the
+// size saved below, and at run time the library must say it is 2.4 (Broadphase::save/restore
+// refuse otherwise; test core.save_restore "Box2D's tree").
+static_assert(sizeof(b2TreeNode) == 48 && offsetof(b2TreeNode, aabb) == 0 &&
+                  offsetof(b2TreeNode, userData) == 16 && offsetof(b2TreeNode, parent) == 24 &&
+                  offsetof(b2TreeNode, child1) == 28 && offsetof(b2TreeNode, child2) == 32 &&
+                  offsetof(b2TreeNode, height) == 36 && offsetof(b2TreeNode, moved) == 40,
+              "b2TreeNode is not Box2D 2.4.1's: the broadphase's save and restore (this file) "
+              "must be checked against the new Box2D");
 struct RootTag {
     using type = int32 b2DynamicTree::*;
 };
@@ -66,6 +83,13 @@ template struct Expose<FreeTag, &b2DynamicTree::m_freeList>;
 template struct Expose<InsertTag, &b2DynamicTree::m_insertionCount>;
 
 }  // namespace
+
+std::string Broadphase::treeLayoutProblem() {
+    if (b2_version.major == 2 && b2_version.minor == 4) return {};
+    return "the broadphase tree is saved in Box2D 2.4's layout, but this Talus runs with Box2D " +
+           std::to_string(b2_version.major) + "." + std::to_string(b2_version.minor) + "." +
+           std::to_string(b2_version.revision) + " (docs/save-format.md, \"Box2D's tree\")";
+}
 
 struct Broadphase::Impl {
     b2DynamicTree tree;
@@ -129,6 +153,7 @@ void Broadphase::query(const Box& box, std::vector<int32_t>& out) const {
 // ------------------------------------------------------------------------ save and restore
 
 void Broadphase::save(SaveWriter& w) const {
+    if (const std::string why = treeLayoutProblem(); !why.empty()) throw InputError("save: " + why);
     const b2DynamicTree& t = m_impl->tree;
     w.f64(m_margin);
     w.f64(m_impl->scale);
@@ -174,6 +199,7 @@ void Broadphase::save(SaveWriter& w) const {
 }
 
 void Broadphase::restore(SaveReader& r) {
+    if (const std::string why = treeLayoutProblem(); !why.empty()) r.fail(why);
     const double margin = r.f64();
     const double scale = r.f64();
     if (!(margin > 0.0) || !std::isfinite(margin) || !(scale > 0.0) || !std::isfinite(scale))

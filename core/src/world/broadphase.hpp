@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "talus/vec.hpp"
@@ -49,6 +50,9 @@ public:
     /// Restores a tree written by save(), checking its structure (every node in range, reached
     /// once, heights and the free list consistent); throws InputError through `r` otherwise.
     void restore(SaveReader& r);
+    /// Why save() and restore() cannot run with the Box2D this process uses (they mirror the
+    /// private node array of Box2D 2.4's tree), or empty.
+    static std::string treeLayoutProblem();
     /// True when `proxy` is a leaf of the tree (a body's proxy).
     bool isLeaf(int32_t proxy) const;
     /// Number of leaves (bodies) in the tree.

@@ -117,7 +117,7 @@ struct WallData {
 /// (step/detection.cpp, "wall vertices").
 ///
 /// The force loop streams through all pairs every step and is limited by memory traffic, so the
-/// data it needs at every step (120 bytes) is kept apart from the rest
+/// data it needs at every step (128 bytes) is kept apart from the rest
 /// (PairCold, same index), which only the time-step, guard and energy variants of the loop, the
 /// queries and the bookkeeping touch.
 struct Pair {
@@ -142,6 +142,7 @@ struct Pair {
     double knest = 0.0, ksest = 0.0;
     double work = 0.0, work_peak = 0.0;  // guard: energy the contact took in this life [J]
 };
+static_assert(sizeof(Pair) == 128, "Pair is 128 bytes: the force loop reads one per candidate pair per step (docs/architecture.md quotes it)");
 
 struct PairCold {
     // Guard, written at touch and at the deepest overlap (when the overlap stops growing).
@@ -160,6 +161,7 @@ struct PairCold {
     double duration = 0.0;            // expected contact duration from the model at touch [s]
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
+static_assert(sizeof(PairCold) == 104, "PairCold is 104 bytes: read only by the time-step, guard and energy variants of the loop (docs/architecture.md)");
 
 struct BallArrays {
     std::vector<Vec2> pos, vel, force, fapp;
