@@ -36,12 +36,20 @@
 // unbonded by writing `bonded` = 0) what it held at the last step plus the trapezoidal work of
 // this step's forces minus what it holds now (pbond's F_old F_trial / 2k for a spring that
 // breaks in tension: docs/models/pbond.md, Energies).
+//
+// Corners (talus/sdk/corners.hpp, as `linear`): an interface without bonded elements that closes
+// or opens flat within a step (all its elements at once: a fresh touch, or a face lifting off
+// square) is a linear spring kn 2R switched on or off inside the step; it pays `linear`'s onset
+// and closing corner impulses, so that impacts of unbonded interfaces are as accurate as
+// `linear`'s. An interface rocking on or off its edge loads and unloads smoothly: no corner.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
 
 #include "talus/contact_model.hpp"
+#include "talus/sdk/corners.hpp"
+#include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/model_base.hpp"
 
 namespace {
@@ -384,6 +392,9 @@ public:
         int mode = kBreakNone;
         double brk_sigma = 0.0, brk_tau = 0.0;
         Normal now[kMaxElements];
+        // Corners of a flat touch (onset) or lift-off (closing) of an unbonded interface.
+        bool onset = false, closing = false, closing_sliding = false;
+        double corner_lead = 0.5, closing_fs = 0.0;
 
         if (install_pending_) {
             // The elements' forces of the last step and what they held, for the energy of a
@@ -431,24 +442,48 @@ public:
             if (!first && energy) released += stored_before + work_in - stored_after;
         } else if (first) {
             // A contact made by a rule without bonds: an unbonded interface that touched within
-            // this step, closed by the overlap (as `linear`'s kn u_n).
+            // this step, closed by the overlap (as `linear`'s kn u_n); only the shear motion
+            // after the touch loads the elements' shear springs.
             started_ = true;
             d_ = fd.u_n;
             theta_ = 0.0;
             keep_gap_ = 0.0;
             unbond_mask_ = 0;
+            corner_lead = onsetFraction(fd.u_n, fd.du_n);
+            onset = true;
+            const double ks_len = fj_ks * len_;
             for (int e = 0; e < n_; ++e) {
                 state_[e] = kUnbonded;
                 now[e] = normal(e, false, d_, theta_);
-                fs_[e] = capped(fd.s_force / n_, now[e].f);
-                slip_[e] = false;
+                const double trial = fd.s_force / n_ - ks_len * fd.du_s * corner_lead;
+                fs_[e] = capped(trial, now[e].f);
+                slip_[e] = fs_[e] != trial;
+                sliding = sliding || slip_[e];
             }
         } else {
             const double d_new = d_ + fd.du_n, th_new = theta_ + fd.dtheta;
             const double ks_len = fj_ks * len_;
+            // A flat touch or lift-off of an interface without bonds (the header's corners).
+            if (fj_nbond == 0.0 && unbond_mask_ == 0) {
+                const double span_old = fj_radius * std::fabs(theta_);
+                const double span_new = fj_radius * std::fabs(th_new);
+                if (d_ + span_old <= 0.0 && d_new - span_new > 0.0) {
+                    onset = true;
+                    corner_lead = onsetFraction(d_new, fd.du_n);
+                } else if (d_ - span_old > 0.0 && d_new + span_new <= 0.0) {
+                    closing = true;
+                    corner_lead = closingFraction(d_, d_new);
+                    for (int e = 0; e < n_; ++e) {
+                        closing_fs += fs_[e];
+                        closing_sliding = closing_sliding || slip_[e];
+                    }
+                }
+            }
+            // On a touch only the shear motion after it loads the shear springs.
+            const double du_s = onset ? fd.du_s * corner_lead : fd.du_s;
             for (int e = 0; e < n_; ++e) {
                 const double fs_old = fs_[e];
-                const double fs_trial = fs_old - ks_len * fd.du_s;
+                const double fs_trial = fs_old - ks_len * du_s;
                 slip_[e] = false;
                 if (state_[e] == kBonded) {
                     const Normal trial = normal(e, true, d_new, th_new);
@@ -485,13 +520,18 @@ public:
                     released += old.energy + shearSpringEnergy(fs_old) +
                                 work(e, old, now[e], fs_old, fs_[e], fd.du_n, fd.du_s, fd.dtheta) -
                                 now[e].energy - shearSpringEnergy(fs_[e]);
+                } else if (closing) {
+                    // A flat lift-off: the shear spring lets go as the face opens, its energy to
+                    // friction, and the closing corner pays the rest of its force's impulse
+                    // (`linear`'s separation step).
+                    slip += shearSpringEnergy(fs_old);
                 } else if (fs_[e] != fs_trial) {
                     // Sliding: the slider's work is the trapezoidal work of the shear force
                     // minus the change of the spring's energy (exactly what closes the books).
                     slip_[e] = true;
                     sliding = true;
                     if (ks_len > 0.0)
-                        slip -= 0.5 * (fs_old + fs_[e]) * (fd.du_s + (fs_[e] - fs_old) / ks_len);
+                        slip -= 0.5 * (fs_old + fs_[e]) * (du_s + (fs_[e] - fs_old) / ks_len);
                 }
             }
             d_ = d_new;
@@ -523,8 +563,19 @@ public:
         // not opened beyond twice its installation gap).
         keep_ = nbond > 0 || d_ + fj_radius * std::fabs(theta_) > -keep_gap_;
 
-        fd.n_force = fn;
-        fd.s_force = fs;
+        // The corners are impulses of this step only, not state (as `linear`'s).
+        Corners corner;
+        if (onset) {
+            bool any_slip = false;
+            for (int e = 0; e < n_; ++e) any_slip = any_slip || slip_[e];
+            corner = linearOnsetCorners(fj_kn * 2.0 * fj_radius, fj_ks * 2.0 * fj_radius, fj_fric,
+                                        fs, any_slip, fd, corner_lead);
+        } else if (closing) {
+            corner = linearClosingCorners(fj_kn * 2.0 * fj_radius, fj_ks * 2.0 * fj_radius, fj_fric,
+                                          closing_fs, closing_sliding, fd, corner_lead, true);
+        }
+        fd.n_force = fn + corner.normal;
+        fd.s_force = fs + corner.shear;
         fd.moment = m;
         // The time step sees the whole interface's stiffness whatever its state: an open or
         // broken element can close within a step (over-estimating is safe).

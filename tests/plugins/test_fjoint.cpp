@@ -600,8 +600,65 @@ TEST_CASE("fjoint: installation states adopt the entry forces; slit opens by fj_
         fd.flags |= kFdNoAutoBond;
         c->FDlaw(fd);
         CHECK(propOf(*c, "fj_nbond") == 0.0);
-        CHECK(fd.n_force == Approx(kKn * A * 1e-9).epsilon(1e-12));  // closed by the overlap
+        // Closed by the overlap, plus linear's onset corner (the touch at lead = 1 step before:
+        // k |rate| dt (lead - 1/2)^2 / 2).
+        CHECK(fd.n_force ==
+              Approx(kKn * A * 1e-9 + 0.5 * kKn * A * 1e-3 * kDt * 0.25).epsilon(1e-12));
     }
+}
+
+TEST_CASE("fjoint: unbonded at touch it is the linear model, corners included", "[fjoint]") {
+    // An oblique impact (approach from a gap, load, slide, separate) without rotation: an
+    // unbonded interface is a linear spring kn = fj_kn 2R with the slider, and pays linear's
+    // onset and closing corners. Same forces and energies as `linear` to round-off (fjoint
+    // accumulates the overlap from its increments where linear takes it whole).
+    const double kn = 1e7, ks = 6e6, fric = 0.3, r1 = 0.05, r2 = 0.07;
+    LawDriver lin("linear", {{"kn", kn}, {"ks", ks}, {"fric", fric}}, true, r1, r2, 2.0);
+    LawDriver fj(
+        "fjoint",
+        {{"fj_kn", kn / (2.0 * r1)}, {"fj_ks", ks / (2.0 * r1)}, {"fj_fric", fric}, {"fj_nr", 3.0}},
+        true, r1, r2, 2.0);
+    ContactModel* a = lin.clone();
+    ContactModel* b = fj.clone();
+    FdBlock fa{}, fb{};
+    bool have = false;
+    const double dt = 1e-5;
+    int n = 0, slid = 0;
+    double worst = 0.0, worst_e = 0.0;
+    for (int i = 0; i < 400; ++i) {
+        const double t = i * dt;
+        const double u = -1e-6 + 2e-3 * std::sin(M_PI * t / 2e-3);
+        const double uprev = -1e-6 + 2e-3 * std::sin(M_PI * (t - dt) / 2e-3);
+        if (u <= 0.0 && !have) continue;
+        FdBlock na =
+            lin.block(u, (u - uprev) / dt, 0.3 * std::cos(t * 900.0), dt, have ? &fa : nullptr);
+        na.du_n = u - uprev;
+        FdBlock nb = na;
+        if (have) nb.n_force = fb.n_force, nb.s_force = fb.s_force, nb.moment = fb.moment;
+        a->FDlaw(na);
+        b->FDlaw(nb);
+        const double scale = kn * 2e-3;
+        worst = std::max({worst, std::fabs(na.n_force - nb.n_force) / scale,
+                          std::fabs(na.s_force - nb.s_force) / scale});
+        worst_e = std::max(
+            {worst_e,
+             std::fabs(na.energy[kEnergyStrain] - nb.energy[kEnergyStrain]) / (0.5 * scale * 2e-3),
+             std::fabs(na.energy[kEnergySlip] - nb.energy[kEnergySlip]) / (0.5 * scale * 2e-3)});
+        CHECK((na.flags & kFdSliding) == (nb.flags & kFdSliding));
+        CHECK(std::fabs(nb.moment) < 1e-14 * kn * 2e-3 * r1);
+        if (na.flags & kFdSliding) ++slid;
+        fa = na, fb = nb, have = true;
+        ++n;
+        if (u < 0.0) break;
+    }
+    std::printf(
+        "fjoint unbonded against linear, oblique impact: %d steps (%d sliding), worst "
+        "force difference %.1e, energy %.1e of the peak\n",
+        n, slid, worst, worst_e);
+    CHECK(n > 50);
+    CHECK(slid > 0);
+    CHECK(worst < 1e-12);
+    CHECK(worst_e < 1e-12);
 }
 
 // ============================================================================ save / restore
