@@ -455,10 +455,13 @@ public:
             for (int e = 0; e < n_; ++e) {
                 state_[e] = kUnbonded;
                 now[e] = normal(e, false, d_, theta_);
-                const double trial = fd.s_force / n_ - ks_len * fd.du_s * corner_lead;
+                const double entry = fd.s_force / n_, du_s = fd.du_s * corner_lead;
+                const double trial = entry - ks_len * du_s;
                 fs_[e] = capped(trial, now[e].f);
                 slip_[e] = fs_[e] != trial;
                 sliding = sliding || slip_[e];
+                if (slip_[e] && ks_len > 0.0)
+                    slip -= 0.5 * (entry + fs_[e]) * (du_s + (fs_[e] - entry) / ks_len);
             }
         } else {
             const double d_new = d_ + fd.du_n, th_new = theta_ + fd.dtheta;
