@@ -19,7 +19,7 @@ local function rand()
 end
 
 local N = { dense = 1500, bonded = 1500, pbond = 1500, rockfall = 2000, servo = 1500,
-            mbond = 1500 }
+            mbond = 1500, fjoint = 1500 }
 
 local scenes = {}
 
@@ -115,6 +115,26 @@ end
 
 -- A rockfall: clump rocks (a template, scaled and turned) and loose balls down a slope of
 -- segments, rolling resistance (rrlinear) and dashpots.
+-- The same specimen with flat joints (fjoint) installed by m:bond: elements break one by one,
+-- unbonded elements slide; the interfaces' element states and shear forces must come back.
+function scenes.fjoint(m)
+    m:gravity({0, -9.81})
+    m:contact_model("linear", { kn = 1e8, ks = 5e7, fric = 0.5, dp_nratio = 0.1 })
+    m:wall{ points = {{-1, 0}, {2, 0}} }
+    for i = 0, 11 do
+        for j = 0, 7 do
+            local x = 0.05 + 0.0999 * i + ((j % 2 == 1) and 0.04995 or 0)
+            m:ball{ pos = {x, 0.05 + 0.0865159 * j}, radius = 0.05, density = 2600,
+                    group = "rock" }
+        end
+    end
+    m:cycle(1)
+    m:bond{ model = "fjoint", group = "rock", reset = true, seed = 7,
+            props = { fj_emod = 1e8, fj_kratio = 2.0, fj_nr = 3, fj_fric = 0.5, fj_fa = 30,
+                      fj_ten = { mean = 3e4, sd = 1e4, dist = "normal" }, fj_coh = 4e4 } }
+    m:wall{ points = {{2, 0.7}, {-1, 0.7}}, vel = {0, -0.5} }
+end
+
 function scenes.rockfall(m)
     m:gravity({0, -9.81})
     m:contact_model("rrlinear", { kn = 1e8, ks = 5e7, fric = 0.6, rr_fric = 0.1,

@@ -1,0 +1,62 @@
+-- SPDX-License-Identifier: MIT
+-- A small flat-jointed specimen crushed in a UCS test (material.lua's genesis, specimen and
+-- compress): it loads elastically, its interfaces crack element by element, and it fails with a
+-- post-peak drop, at a modulus and a strength of the order its micro-properties give.
+-- M.specimen installs `mat.model` with m:bond, passing the material's kn, ks and fric (the
+-- linear part of cbond and pbond) with the bond's properties; fjoint has no linear part, so this
+-- test installs the flat joints through the same hook (M.install_bonds) with the bond's
+-- properties only. The rest is the library's: platens, the linear rule for contacts made later
+-- (as in PFC's flat-jointed material), relaxation, loading, E and nu.
+local T = require("testlib")
+local M = require("material")
+
+local install = M.install_bonds
+M.install_bonds = function(m, mat, gap)
+    if mat.model ~= "fjoint" then return install(m, mat, gap) end
+    return m:bond{ model = "fjoint", props = mat.bond, group = "rock", gap = gap,
+                   seed = mat.seed or 1, reset = true }
+end
+
+local E_MICRO = 6.4e10
+local pk = M.genesis{ width = 0.01, height = 0.02, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                      kn = E_MICRO, ks = E_MICRO / 2.5, seed = 3 }
+local mat = { model = "fjoint", kn = E_MICRO, ks = E_MICRO / 2.5, fric = 0.5, density = 2600,
+              bond = { fj_emod = E_MICRO, fj_kratio = 2.5, fj_nr = 2, fj_fric = 0.6, fj_fa = 0,
+                       fj_ten = { mean = 2e7, sd = 2e6, dist = "normal" },
+                       fj_coh = { mean = 1e8, sd = 1e7, dist = "normal" } } }
+local sp = M.specimen(pk, mat)
+T.check(sp.bonds > #pk.balls, "interfaces " .. sp.bonds .. " for " .. #pk.balls .. " balls")
+local nbond0 = 0
+for c in sp.model:contacts{ model = "fjoint" } do nbond0 = nbond0 + c:prop("fj_nbond") end
+T.check(nbond0 == 2 * sp.bonds, "every interface bonded with two elements")
+
+local r = M.compress(sp, { post_peak = 0.8 })
+local nbond, partial = 0, 0
+for c in sp.model:contacts{ model = "fjoint" } do
+    local k = c:prop("fj_nbond")
+    nbond = nbond + k
+    if k == 1 then partial = partial + 1 end
+end
+local e = sp.model:energies()
+print(string.format("fjoint_ucs: %d balls, %d interfaces; UCS %.1f MPa, E %.1f GPa, nu %.3f, "
+                    .. "peak strain %.3g; element breaks: %d tension, %d shear (events), %d of "
+                    .. "%d elements still bonded, %d interfaces half broken; %d steps, %.1f s; "
+                    .. "balance error %.2e of the boundary work",
+                    #pk.balls, sp.bonds, r.ucs / 1e6, r.E / 1e9, r.nu, r.peak_strain,
+                    r.breaks.tension, r.breaks.shear, nbond, nbond0, partial, r.steps, r.time,
+                    math.abs(e.balance_error) / e.boundary))
+T.check(r.stop == "post_peak", "stopped by " .. r.stop)
+T.check(r.ipeak > 5 and r.ipeak < #r.rows, "the peak is inside the curve")
+T.check(r.rows[#r.rows].sa < 0.8 * r.ucs, "post-peak drop")
+T.check(r.breaks.tension > 0 and r.breaks.shear > 0, "elements broke in tension and in shear")
+T.check(partial > 0, "some interfaces lost one element of two (partial damage)")
+-- The order of magnitude: a bonded disk assembly's modulus is a fraction of the bonds' modulus
+-- (0.2-0.6 kn for the contact-bonded specimen of material_ucs.lua; the flat joints add their
+-- stiffness to no linear part here), and its strength a few times the bonds' tensile strength
+-- (the parallel-bonded Lac du Bonnet material: UCS 178 MPa from pb_ten 157 MPa).
+T.check(r.E > 0.2 * E_MICRO and r.E < 1.5 * E_MICRO, "E " .. r.E)
+T.check(r.ucs > 2e7 and r.ucs < 2e9, "UCS " .. r.ucs)
+T.check(r.nu > 0 and r.nu < 1, "nu " .. r.nu)
+-- The books close while the specimen cracks (the guard's run-level check is at 1e-2).
+T.check(math.abs(e.balance_error) < 1e-2 * e.boundary, "energy balance " .. e.balance_error)
+T.done("fjoint_ucs")
