@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // talus.model{...} and the model's methods that drive it: creation, damping, broadphase and
 // gravity settings, running, callbacks and profile; the shared helpers (model userdata, refs).
-// The other methods are one file per thing: wrap_bodies.cpp (ball, wall, iterators, counts),
-// wrap_contact_model.cpp, wrap_timestep.cpp, wrap_guard.cpp, wrap_energy.cpp, and
-// wrap_history.cpp (histories).
+// The other methods are one file per thing (wrap_bodies.cpp: ball, wall, iterators, counts;
+// wrap_history.cpp, wrap_vtk.cpp, ...), each with its table of methods; kModelMethodTables
+// below lists the tables.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -437,9 +437,23 @@ int w_profile(lua_State* L) {
     });
 }
 
-/// Methods of this file: creation, settings that are one call (damping, broadphase, gravity),
-/// running, callbacks and profile.
-const luaL_Reg kModelMethods[] = {
+int w_index_unknown(lua_State* L) {
+    // __index of the method table's metatable: an unknown method name is an error that lists
+    // the known ones (m:cylce(10) would otherwise say "attempt to call a nil value").
+    return catchexcept(L, [&]() -> int {
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
+        throw ScriptError("model: unknown method or field '" + key +
+                          "' (known: " + joinNames(modelMethodNames()) + ")");
+    });
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ method tables
+
+/// Methods of this file: settings that are one call (damping, broadphase, gravity), running,
+/// callbacks and profile.
+extern const luaL_Reg kModelMethods[] = {
     {"damping", w_damping},   {"broadphase", w_broadphase},
     {"gravity", w_gravity},   {"cycle", w_cycle},
     {"solve", w_solve},       {"time", w_time},
@@ -449,30 +463,36 @@ const luaL_Reg kModelMethods[] = {
     {"profile", w_profile},   {nullptr, nullptr},
 };
 
-/// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
-const luaL_Reg* const kModelMethodTables[] = {
-    kModelMethods,  kModelBodyMethods, kContactModelMethods, kTimestepMethods, kGuardMethods,
-    kEnergyMethods, kClumpMethods,     kMeasureMethods,      kBondMethods,     kForceLoopMethods};
+namespace {
 
-int w_index_unknown(lua_State* L) {
-    // __index of the method table's metatable: an unknown method name is an error that lists
-    // the known ones (m:cylce(10) would otherwise say "attempt to call a nil value").
-    return catchexcept(L, [&]() -> int {
-        std::vector<std::string> names;
-        for (const luaL_Reg* table : kModelMethodTables)
-            for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
-        names.push_back("history");
-        names.push_back("close_history");
-        names.push_back("vtk");
-        names.push_back("picture");
-        std::sort(names.begin(), names.end());
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
-        throw ScriptError("model: unknown method or field '" + key +
-                          "' (known: " + joinNames(names) + ")");
-    });
-}
+/// Every method table of the model, one per thing (lua_bindings.hpp): a new thing's table is
+/// one row here.
+const luaL_Reg* const kModelMethodTables[] = {
+    kModelMethods,         // this file
+    kModelBodyMethods,     // wrap_bodies.cpp
+    kContactModelMethods,  // wrap_contact_model.cpp
+    kTimestepMethods,      // wrap_timestep.cpp
+    kGuardMethods,         // wrap_guard.cpp
+    kEnergyMethods,        // wrap_energy.cpp
+    kClumpMethods,         // wrap_clump.cpp
+    kMeasureMethods,       // wrap_measure.cpp
+    kBondMethods,          // wrap_bond.cpp
+    kForceLoopMethods,     // wrap_force_loop.cpp
+    kModelHistoryMethods,  // wrap_history.cpp
+    kVtkMethods,           // wrap_vtk.cpp
+    kPictureMethods,       // wrap_picture.cpp
+    kSaveMethods,          // wrap_save.cpp
+};
 
 }  // namespace
+
+std::vector<std::string> modelMethodNames() {
+    std::vector<std::string> names;
+    for (const luaL_Reg* table : kModelMethodTables)
+        for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
+    std::sort(names.begin(), names.end());
+    return names;
+}
 
 // ------------------------------------------------------------------ shared with other files
 
@@ -585,10 +605,6 @@ void openModel(lua_State* L) {
     lua_setfield(L, -2, "__tostring");
     lua_newtable(L);
     for (const luaL_Reg* table : kModelMethodTables) luaL_setfuncs(L, table, 0);
-    addHistoryMethods(L, lua_gettop(L));
-    addVtkMethods(L, lua_gettop(L));
-    addPictureMethods(L, lua_gettop(L));
-    addSaveMethods(L, lua_gettop(L));
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);
     lua_setfield(L, -2, "__index");

@@ -197,9 +197,9 @@ void resumePictureSeries(lua_State* L, LuaModel& lm, const SavedPictureSeries& s
     registerOutput(L, lm, std::move(out), false);
 }
 
-void addPictureMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_picture);
-    lua_setfield(L, methods_index, "picture");
-}
+extern const luaL_Reg kPictureMethods[] = {
+    {"picture", w_picture},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

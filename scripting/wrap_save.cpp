@@ -321,14 +321,14 @@ void saveLuaModel(LuaModel& lm, const std::string& path) {
     saveModelFile(*lm.model, path, hostSection(lm));
 }
 
-void addSaveMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_save);
-    lua_setfield(L, methods_index, "save");
-}
+extern const luaL_Reg kSaveMethods[] = {
+    {"save", w_save},
+    {nullptr, nullptr},
+};
 
-void addSaveFunctions(lua_State* L) {
-    lua_pushcfunction(L, w_restore);
-    lua_setfield(L, -2, "restore");
-}
+extern const luaL_Reg kSaveFunctions[] = {
+    {"restore", w_restore},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

@@ -91,10 +91,10 @@ int w_vtk(lua_State* L) {
 
 }  // namespace
 
-void addVtkMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_vtk);
-    lua_setfield(L, methods_index, "vtk");
-}
+extern const luaL_Reg kVtkMethods[] = {
+    {"vtk", w_vtk},
+    {nullptr, nullptr},
+};
 
 std::vector<SavedVtkSeries> vtkSeriesStates(const LuaModel& lm) {
     std::vector<SavedVtkSeries> out;
