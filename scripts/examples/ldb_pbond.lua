@@ -6,8 +6,7 @@
 --
 --   talus run scripts/examples/ldb_pbond.lua [outdir] [nseeds] [scale] [first_seed]
 --
--- Needs the pbond plugin; bonds by m:bond when the build has it, else by pbond's `bonded = 1`
--- rule (material.lua's stand-in). scale < 1 shrinks the specimen
+-- Needs the pbond plugin (the bonds are installed by m:bond). scale < 1 shrinks the specimen
 -- (0.5: 15.9 x 31.7 mm, ~1000 balls) when time is short: P&C note that the ball size is not a
 -- free parameter (it sets the fracture toughness), so a smaller specimen at the same R_min is
 -- a different, noisier test, not a faster copy.

@@ -1,0 +1,59 @@
+-- SPDX-License-Identifier: MIT
+-- material/statistics.lua: elastic constants from a stress-strain history, and the scatter of
+-- results over seeds.
+local St = {}
+
+local function lsq_slope(xs, ys)
+    local n = #xs
+    if n < 2 then return nil end
+    local mx, my = 0, 0
+    for i = 1, n do mx = mx + xs[i]; my = my + ys[i] end
+    mx, my = mx / n, my / n
+    local sxx, sxy = 0, 0
+    for i = 1, n do
+        sxx = sxx + (xs[i] - mx) ^ 2; sxy = sxy + (xs[i] - mx) * (ys[i] - my)
+    end
+    if sxx == 0 then return nil end
+    return sxy / sxx
+end
+
+--- From history rows {ea, sa, el} (axial strain, axial stress, lateral strain) up to the peak:
+--- E = tangent modulus at 50% of peak (ISRM; least-squares slope of the pre-peak rows with
+--- 40% <= stress <= 60% of peak), E50 = secant modulus at 50% of peak, nu = slope of lateral
+--- against axial strain over the same rows.
+function St.analyse(rows, ipeak, lo, hi)
+    lo, hi = lo or 0.4, hi or 0.6
+    local peak = rows[ipeak].sa
+    local xs, ys, ls = {}, {}, {}
+    for i = 1, ipeak do
+        local r = rows[i]
+        if r.sa >= lo * peak and r.sa <= hi * peak then
+            xs[#xs + 1] = r.ea; ys[#ys + 1] = r.sa; ls[#ls + 1] = r.el
+        end
+    end
+    local E = lsq_slope(xs, ys)
+    local nu = lsq_slope(xs, ls)
+    local E50
+    for i = 2, ipeak do
+        local a, b = rows[i - 1], rows[i]
+        if a.sa < 0.5 * peak and b.sa >= 0.5 * peak then
+            local f = (0.5 * peak - a.sa) / (b.sa - a.sa)
+            E50 = 0.5 * peak / (a.ea + f * (b.ea - a.ea))
+            break
+        end
+    end
+    return { E = E, E50 = E50, nu = nu, points = #xs }
+end
+
+
+--- Mean and sample standard deviation of field `key` over a list of result tables (the
+--- scatter over seeds that the examples report); sd = 0 for a single result.
+function St.mean_sd(results, key)
+    local n, s, s2 = #results, 0, 0
+    for _, r in ipairs(results) do s = s + r[key] end
+    local mean = s / n
+    for _, r in ipairs(results) do s2 = s2 + (r[key] - mean) ^ 2 end
+    return mean, n > 1 and math.sqrt(s2 / (n - 1)) or 0
+end
+
+return St
