@@ -94,10 +94,16 @@ struct LuaModel {
     lua_State* L = nullptr;
     std::vector<std::unique_ptr<History>> histories;
     std::vector<std::unique_ptr<Output>> outputs;  // m:vtk, m:picture (wrap_vtk/wrap_picture)
-    int bond_break_ref = LUA_NOREF;                // on_event("bond_break", fn)
-    int contact_created_ref = LUA_NOREF;           // on_event("contact_created", fn)
-    int warning_ref = LUA_NOREF;                   // on_warning(fn)
-    std::vector<std::pair<int, int>> cycle_refs;   // on_cycle: (hook handle, function ref)
+    /// on_event(kind, fn): every handler runs, in the order of registration.
+    struct EventHandler {
+        int handle;
+        EventKind kind;
+        int ref;  // the function (model user-value table)
+    };
+    std::vector<EventHandler> event_handlers;
+    int next_event_handle = 1;
+    int warning_ref = LUA_NOREF;                  // on_warning(fn)
+    std::vector<std::pair<int, int>> cycle_refs;  // on_cycle: (hook handle, function ref)
     /// Nesting depth of cycle/solve calls. While the engine runs its hook loop, removing a hook
     /// from it would shift the loop and skip the next hook for that step, so removals are
     /// deferred: the hook is disabled at once and erased when the outermost run returns.
@@ -109,6 +115,8 @@ struct LuaModel {
     bool hookRemoved(int handle) const;
     /// Called when a run call returns: erases the hooks removed during it.
     void finishRun();
+    /// Whether a handler of `kind` is registered (m:save notes it).
+    bool hasEventHandler(EventKind kind) const;
 
     ~LuaModel();
     /// Releases everything (histories, then the engine model) and leaves an empty, valid object:

@@ -62,9 +62,8 @@ const char* breakModeName(int32_t mode) {
     }
 }
 
-void deliverEvent(LuaModel& lm, const Event& ev) {
-    const int ref = ev.kind == EventKind::BondBreak ? lm.bond_break_ref : lm.contact_created_ref;
-    if (ref == LUA_NOREF) return;
+/// Calls handler `ref` with the event table of `ev`.
+void callEventHandler(LuaModel& lm, int ref, const Event& ev) {
     lua_State* L = lm.L;
     const int base = lua_gettop(L);
     pushRef(L, lm, ref);
@@ -93,6 +92,21 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
     lua_remove(L, model_index);
     callProtected(L, 1, 0, base);
     lua_settop(L, base);
+}
+
+/// Runs every handler of the event's kind in the order they were registered, each with a table
+/// of its own. A handler may add or remove handlers: the ones registered when the event came
+/// run, except those removed before their turn.
+void deliverEvent(LuaModel& lm, const Event& ev) {
+    std::vector<int> handles;
+    for (const auto& h : lm.event_handlers)
+        if (h.kind == ev.kind) handles.push_back(h.handle);
+    for (int handle : handles) {
+        const auto it =
+            std::find_if(lm.event_handlers.begin(), lm.event_handlers.end(),
+                         [&](const LuaModel::EventHandler& h) { return h.handle == handle; });
+        if (it != lm.event_handlers.end()) callEventHandler(lm, it->ref, ev);
+    }
 }
 
 void deliverWarning(LuaModel& lm, const std::string& text) {
@@ -399,17 +413,49 @@ int w_remove_on_cycle(lua_State* L) {
     });
 }
 
+// m:on_event(kind, fn) adds a handler and returns its handle; m:on_event(kind, nil) removes
+// every handler of the kind (a library routine removes only its own, by handle).
 int w_on_event(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "on_event");
-        const int kind = toEnum(L, 2, "on_event: event", {"bond_break", "contact_created"});
+        const int k = toEnum(L, 2, "on_event: event", {"bond_break", "contact_created"});
+        const EventKind kind = k == 0 ? EventKind::BondBreak : EventKind::ContactCreated;
         if (!lua_isnil(L, 3) && lua_type(L, 3) != LUA_TFUNCTION)
             throw ScriptError("on_event: argument 2 must be a function or nil (got " +
                               typeName(L, 3) + ")");
-        int& slot = kind == 0 ? lm.bond_break_ref : lm.contact_created_ref;
-        if (slot != LUA_NOREF) releaseRef(L, lm, slot);
-        slot = lua_isfunction(L, 3) ? storeRef(L, lm, 3) : LUA_NOREF;
-        return 0;
+        if (lua_isnil(L, 3)) {
+            auto& hs = lm.event_handlers;
+            for (const auto& h : hs)
+                if (h.kind == kind) releaseRef(L, lm, h.ref);
+            hs.erase(
+                std::remove_if(hs.begin(), hs.end(),
+                               [&](const LuaModel::EventHandler& h) { return h.kind == kind; }),
+                hs.end());
+            return 0;
+        }
+        const int handle = lm.next_event_handle++;
+        lm.event_handlers.push_back({handle, kind, storeRef(L, lm, 3)});
+        lua_pushinteger(L, handle);
+        return 1;
+    });
+}
+
+// m:remove_on_event(handle): removes that handler; returns whether there was one.
+int w_remove_on_event(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "remove_on_event");
+        const long long handle = toInteger(L, 2, "remove_on_event: handle");
+        auto& hs = lm.event_handlers;
+        const auto it = std::find_if(hs.begin(), hs.end(), [&](const LuaModel::EventHandler& h) {
+            return h.handle == handle;
+        });
+        const bool found = it != hs.end();
+        if (found) {
+            releaseRef(L, lm, it->ref);
+            hs.erase(it);
+        }
+        lua_pushboolean(L, found);
+        return 1;
     });
 }
 
@@ -454,13 +500,21 @@ int w_index_unknown(lua_State* L) {
 /// Methods of this file: settings that are one call (damping, broadphase, gravity), running,
 /// callbacks and profile.
 extern const luaL_Reg kModelMethods[] = {
-    {"damping", w_damping},   {"broadphase", w_broadphase},
-    {"gravity", w_gravity},   {"cycle", w_cycle},
-    {"solve", w_solve},       {"time", w_time},
-    {"step", w_step},         {"dt", w_dt},
-    {"on_cycle", w_on_cycle}, {"remove_on_cycle", w_remove_on_cycle},
-    {"on_event", w_on_event}, {"on_warning", w_on_warning},
-    {"profile", w_profile},   {nullptr, nullptr},
+    {"damping", w_damping},
+    {"broadphase", w_broadphase},
+    {"gravity", w_gravity},
+    {"cycle", w_cycle},
+    {"solve", w_solve},
+    {"time", w_time},
+    {"step", w_step},
+    {"dt", w_dt},
+    {"on_cycle", w_on_cycle},
+    {"remove_on_cycle", w_remove_on_cycle},
+    {"on_event", w_on_event},
+    {"remove_on_event", w_remove_on_event},
+    {"on_warning", w_on_warning},
+    {"profile", w_profile},
+    {nullptr, nullptr},
 };
 
 namespace {
@@ -514,6 +568,7 @@ void LuaModel::close() {
     // Free every container's storage: __gc calls close(), never the destructor.
     std::vector<std::unique_ptr<History>>().swap(histories);
     std::vector<std::pair<int, int>>().swap(cycle_refs);
+    std::vector<EventHandler>().swap(event_handlers);
     std::vector<int>().swap(removed_hooks);
     model.reset();
 }
@@ -533,6 +588,11 @@ void LuaModel::removeHook(int handle) {
         removed_hooks.push_back(handle);
     else
         model->removeCycleHook(handle);
+}
+
+bool LuaModel::hasEventHandler(EventKind kind) const {
+    return std::any_of(event_handlers.begin(), event_handlers.end(),
+                       [&](const EventHandler& h) { return h.kind == kind; });
 }
 
 bool LuaModel::hookRemoved(int handle) const {

@@ -193,8 +193,8 @@ std::vector<uint8_t> hostSection(const LuaModel& lm) {
         }
     }
     w.u64(lm.cycle_refs.size());
-    w.boolean(lm.bond_break_ref != LUA_NOREF);
-    w.boolean(lm.contact_created_ref != LUA_NOREF);
+    w.boolean(lm.hasEventHandler(EventKind::BondBreak));
+    w.boolean(lm.hasEventHandler(EventKind::ContactCreated));
     w.boolean(lm.warning_ref != LUA_NOREF);
     writeSeries(w, lm);
     return std::move(w.data());

@@ -35,7 +35,8 @@ function L.load_platens(sp, opts, measure)
     end
     local breaks = { tension = 0, shear = 0 }
     local on_break = opts.on_break -- the Brazilian test keeps where the bonds broke
-    m:on_event("bond_break", function(ev)
+    -- its own handler beside any the caller has (handlers chain), removed by its handle
+    local handler = m:on_event("bond_break", function(ev)
         if ev.mode == "tension" then breaks.tension = breaks.tension + 1
         elseif ev.mode == "shear" then breaks.shear = breaks.shear + 1 end
         if on_break then on_break(ev) end
@@ -87,7 +88,7 @@ function L.load_platens(sp, opts, measure)
         if m:step() - s0 >= max_steps then break end
     end
     sp.top.wall.vel, sp.bottom.wall.vel = { 0, 0 }, { 0, 0 }
-    m:on_event("bond_break", nil)
+    m:remove_on_event(handler)
     return {
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
         rate = 2 * v / h0, stop = stop_reason, breaks = breaks, time = U.clock() - t0,
