@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "crack.hpp"
 #include "lua_runtime.hpp"
 #include "progress.hpp"
 #include "talus/errors.hpp"
@@ -102,6 +103,8 @@ struct LuaModel {
     };
     std::vector<EventHandler> event_handlers;
     int next_event_handle = 1;
+    /// Every bond break of the model as a crack, in the order they happened (crack.hpp).
+    std::vector<Crack> cracks;
     int warning_ref = LUA_NOREF;                  // on_warning(fn)
     std::vector<std::pair<int, int>> cycle_refs;  // on_cycle: (hook handle, function ref)
     /// Nesting depth of cycle/solve calls. While the engine runs its hook loop, removing a hook

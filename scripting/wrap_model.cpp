@@ -62,8 +62,8 @@ const char* breakModeName(int32_t mode) {
     }
 }
 
-/// Calls handler `ref` with the event table of `ev`.
-void callEventHandler(LuaModel& lm, int ref, const Event& ev) {
+/// Calls handler `ref` with the event table of `ev` (and of its crack, for a bond break).
+void callEventHandler(LuaModel& lm, int ref, const Event& ev, const Crack* crack) {
     lua_State* L = lm.L;
     const int base = lua_gettop(L);
     pushRef(L, lm, ref);
@@ -89,6 +89,23 @@ void callEventHandler(LuaModel& lm, int ref, const Event& ev) {
     }
     pushContact(L, model_index, ev.contact);
     lua_setfield(L, -2, "contact");
+    if (crack) {
+        // The bond as a crack: its ends, its half width and normal, the step (crack.hpp).
+        lua_pushinteger(L, static_cast<lua_Integer>(crack->step));
+        lua_setfield(L, -2, "step");
+        if (lm.model->isAlive(crack->ball1)) {
+            pushBall(L, model_index, crack->ball1);
+            lua_setfield(L, -2, "ball1");
+        }
+        if (lm.model->isAlive(crack->ball2)) {
+            pushBall(L, model_index, crack->ball2);
+            lua_setfield(L, -2, "ball2");
+        }
+        lua_pushnumber(L, crack->radius);
+        lua_setfield(L, -2, "radius");
+        pushVec(L, crack->normal);
+        lua_setfield(L, -2, "normal");
+    }
     lua_remove(L, model_index);
     callProtected(L, 1, 0, base);
     lua_settop(L, base);
@@ -98,6 +115,13 @@ void callEventHandler(LuaModel& lm, int ref, const Event& ev) {
 /// of its own. A handler may add or remove handlers: the ones registered when the event came
 /// run, except those removed before their turn.
 void deliverEvent(LuaModel& lm, const Event& ev) {
+    // A local copy for the handlers: a handler's own cycle may add cracks and move the log.
+    Crack crack;
+    const bool is_break = ev.kind == EventKind::BondBreak;
+    if (is_break) {
+        crack = crackOf(*lm.model, ev);
+        lm.cracks.push_back(crack);
+    }
     std::vector<int> handles;
     for (const auto& h : lm.event_handlers)
         if (h.kind == ev.kind) handles.push_back(h.handle);
@@ -105,7 +129,8 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
         const auto it =
             std::find_if(lm.event_handlers.begin(), lm.event_handlers.end(),
                          [&](const LuaModel::EventHandler& h) { return h.handle == handle; });
-        if (it != lm.event_handlers.end()) callEventHandler(lm, it->ref, ev);
+        if (it != lm.event_handlers.end())
+            callEventHandler(lm, it->ref, ev, is_break ? &crack : nullptr);
     }
 }
 
@@ -569,6 +594,7 @@ void LuaModel::close() {
     std::vector<std::unique_ptr<History>>().swap(histories);
     std::vector<std::pair<int, int>>().swap(cycle_refs);
     std::vector<EventHandler>().swap(event_handlers);
+    std::vector<Crack>().swap(cracks);
     std::vector<int>().swap(removed_hooks);
     model.reset();
 }

@@ -4,6 +4,7 @@
 local U = require("material.util")
 local Wl = require("material.walls")
 local L = require("material.loading")
+local Cr = require("material.cracks")
 
 local Br = {}
 
@@ -95,7 +96,8 @@ end
 --- forces at the peak, D the disk's diameter (ball extent), t = 1 m. Options as for
 --- M.compress, plus `jaws` (optional: it must match the specimen's, a check that the
 --- specimen was made for what the caller means to run). The result also has `fracture`
---- (M.fracture of the bond breaks), `jaws`, `breaks_at` (the breaks {x, y, time}).
+--- (M.fracture of the bond breaks), `jaws`, `cracks` (the crack list, cracks.lua; written as
+--- CSV as M.compress's), `breaks_at` (the breaks {x, y, time}).
 function Br.brazilian(sp, opts)
     opts = opts or {}
     if opts.jaws ~= nil and opts.jaws ~= (sp.jaws or "flat") then
@@ -109,8 +111,6 @@ function Br.brazilian(sp, opts)
     o.jaws = nil
     -- see load_platens: a load that comes back after a break under a platen is not cut
     if o.confirm == nil then o.confirm = 0.5 end
-    local at = {}
-    o.on_break = function(ev) at[#at + 1] = { ev.pos[1], ev.pos[2], ev.time } end
     local e = sp.extent
     local D = 0.5 * ((e[3] - e[1]) + (e[4] - e[2]))
     local res = L.load_platens(sp, o, function(h0, h)
@@ -118,6 +118,10 @@ function Br.brazilian(sp, opts)
         return { ea = (h0 - h) / h0, sa = 2 * F / (math.pi * D), el = 0, force = F }
     end)
     if opts.csv then U.write_csv(opts.csv, res.rows, L.columns) end
+    local crack_csv = Cr.csv_name(opts)
+    if crack_csv then Cr.write_csv(crack_csv, res.cracks) end
+    local at = {}
+    for i, c in ipairs(res.cracks) do at[i] = { c.x, c.y, c.time } end
     res.tensile = res.peak
     res.force = res.rows[res.ipeak].force
     res.diameter = D

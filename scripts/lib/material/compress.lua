@@ -5,6 +5,7 @@ local U = require("material.util")
 local Wl = require("material.walls")
 local L = require("material.loading")
 local St = require("material.statistics")
+local Cr = require("material.cracks")
 
 local C = {}
 
@@ -37,11 +38,14 @@ end
 --- specimen made with opts.sides = true): platens at +-v after a linear ramp; axial stress =
 --- mean of the two platen forces / specimen width (ball extent at the start); axial strain =
 --- platen gap change / initial gap; lateral strain from the side balls (UCS) or the side walls
---- (biaxial). Stops when the stress falls below post_peak x peak. Options: velocity (each
---- platen, m/s) or rate (axial strain rate, 1/s), ramp_steps (2000), every (50), post_peak
---- (0.8), max_steps, max_strain, csv (history file), band (side band width, default 2 rmax).
---- Returns { ucs (peak axial stress, Pa; for biaxial the peak axial stress, deviator =
---- ucs - confinement), E (tangent at 50%), E50 (secant), nu, peak_strain, rows, steps, ... }.
+--- (biaxial); volumetric strain = axial - lateral (2D, compression positive). Stops when the
+--- stress falls below post_peak x peak. Options: velocity (each platen, m/s) or rate (axial
+--- strain rate, 1/s), ramp_steps (2000), every (50), post_peak (0.8), max_steps, max_strain, csv
+--- (history file), cracks_csv (crack list; default next to csv: NAME_cracks.csv), band (side
+--- band width, default 2 rmax). Returns { ucs (peak axial stress, Pa; for biaxial the peak
+--- axial stress, deviator = ucs - confinement), E (tangent at 50%), E50 (secant), nu,
+--- peak_strain, rows, steps, breaks = {tension, shear}, cracks (cracks.lua), crack_damage
+--- (statistics.lua), ... }.
 function C.compress(sp, opts)
     opts = opts or {}
     local m = sp.model
@@ -80,12 +84,18 @@ function C.compress(sp, opts)
         local ft = Wl.push(sp.top)
         local fb = Wl.push(sp.bottom)
         local r = { ea = (h0 - h) / h0, sa = 0.5 * (ft + fb) / width, el = (lateral() - w0) / w0 }
+        -- the area change (2D), compression positive: the axial shortening less the lateral
+        -- extension
+        r.strain_volumetric = r.ea - r.el
         if sp.left then r.sl = 0.5 * (Wl.push(sp.left) + Wl.push(sp.right)) / h end
         if sv then sv.update() end
         return r
     end)
     if sv then sv.stop() end
     if opts.csv then U.write_csv(opts.csv, res.rows, L.columns) end
+    local crack_csv = Cr.csv_name(opts)
+    if crack_csv then Cr.write_csv(crack_csv, res.cracks) end
+    res.crack_damage = St.crack_damage(res.rows, res.ipeak)
     local a = St.analyse(res.rows, res.ipeak)
     res.ucs, res.E, res.E50, res.nu = res.peak, a.E, a.E50, a.nu
     res.fit_points = a.points

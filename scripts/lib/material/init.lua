@@ -25,6 +25,7 @@
 --                   M.fracture: where it broke
 --   jaws.lua        M.make_jaws: the ISRM curved jaws (radius 1.5 R)
 --   loading.lua     the platen loop of the tests, M.columns of its history
+--   cracks.lua      the tests' crack lists: M.write_cracks(file, list), M.crack_columns
 --   statistics.lua  M.analyse (E tangent at 50%, secant E50, nu), M.mean_sd over seeds
 --   ldb.lua         M.lac_du_bonnet(): Lac du Bonnet granite with parallel bonds
 --
@@ -46,6 +47,7 @@ local C = require("material.compress")
 local Br = require("material.brazilian")
 local St = require("material.statistics")
 local Ldb = require("material.ldb")
+local Cr = require("material.cracks")
 
 return {
     -- genesis
@@ -58,7 +60,7 @@ return {
     compress = C.compress,
     disk = Br.disk, brazilian = Br.brazilian, fracture = Br.fracture,
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
-    columns = L.columns,
+    columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
     analyse = St.analyse, mean_sd = St.mean_sd, write_csv = U.write_csv,
     lac_du_bonnet = Ldb.lac_du_bonnet,
     -- tools the parts share

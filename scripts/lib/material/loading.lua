@@ -3,6 +3,7 @@
 -- and the columns of its history.
 local U = require("material.util")
 local Wl = require("material.walls")
+local Cr = require("material.cracks")
 
 local L = {}
 
@@ -10,11 +11,13 @@ local L = {}
 L.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_lateral",
     "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
     "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
-    "energy_boundary [J]", "energy_kinetic [J]" }
+    "energy_boundary [J]", "energy_kinetic [J]", "cracks", "strain_volumetric" }
 
 -- Shared platen loading loop of the UCS, biaxial and Brazilian tests. Platens move toward
 -- each other at +-v/2 each... (velocity of each platen = v), ramped linearly over ramp_steps
 -- (P&C: ramp to the final velocity so the specimen is not hit), rows every `every` steps.
+-- `measure(h0, h)` gives a row's ea, sa, el (sl, strain_volumetric) for the platen gap h. The
+-- result has the rows, the peak, the break counts and the crack list (cracks.lua).
 function L.load_platens(sp, opts, measure)
     local m = sp.model
     local t0 = U.clock()
@@ -34,17 +37,19 @@ function L.load_platens(sp, opts, measure)
         v = 0.5 * rate * h0
     end
     local breaks = { tension = 0, shear = 0 }
-    local on_break = opts.on_break -- the Brazilian test keeps where the bonds broke
-    -- its own handler beside any the caller has (handlers chain), removed by its handle
+    local cracks = {}
+    local s0 = m:step()
+    -- its own handler beside any the caller has (handlers chain), removed by its handle; each
+    -- break is a crack with the axial strain at that step
     local handler = m:on_event("bond_break", function(ev)
         if ev.mode == "tension" then breaks.tension = breaks.tension + 1
         elseif ev.mode == "shear" then breaks.shear = breaks.shear + 1 end
-        if on_break then on_break(ev) end
+        local h = -Wl.pos(sp.top) - Wl.pos(sp.bottom)
+        cracks[#cracks + 1] = Cr.record(ev, s0, (h0 - h) / h0)
     end)
     local energy_on = m:energy{}
     local rows = {}
     local peak, ipeak = -math.huge, 0
-    local s0 = m:step()
     local stop_reason = "max_steps"
     local function row()
         local h = -Wl.pos(sp.top) - Wl.pos(sp.bottom)
@@ -52,6 +57,7 @@ function L.load_platens(sp, opts, measure)
         r.step = m:step() - s0
         r.time = m:time()
         r.breaks_tension, r.breaks_shear = breaks.tension, breaks.shear
+        r.cracks = #cracks
         if energy_on then
             local e = m:energies()
             r["energy_bond [J]"], r["energy_strain [J]"] = e.bond, e.strain
@@ -91,7 +97,7 @@ function L.load_platens(sp, opts, measure)
     m:remove_on_event(handler)
     return {
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
-        rate = 2 * v / h0, stop = stop_reason, breaks = breaks, time = U.clock() - t0,
+        rate = 2 * v / h0, stop = stop_reason, breaks = breaks, cracks = cracks, time = U.clock() - t0,
     }
 end
 

@@ -46,6 +46,23 @@ function St.analyse(rows, ipeak, lo, hi)
 end
 
 
+--- The crack damage threshold (Martin & Chandler 1994): the axial stress where the volumetric
+--- strain (compression positive) stops growing and the specimen starts to dilate as its cracks
+--- open: the row of the largest volumetric strain up to the peak (row ipeak, the peak itself
+--- when it grows until then). Returns { stress, strain_axial, strain_volumetric, cracks, row }
+--- or nil without volumetric strains.
+function St.crack_damage(rows, ipeak)
+    local best
+    for i = 1, ipeak do
+        local v = rows[i].strain_volumetric
+        if v and (not best or v > rows[best].strain_volumetric) then best = i end
+    end
+    if not best then return nil end
+    local r = rows[best]
+    return { stress = r.sa, strain_axial = r.ea, strain_volumetric = r.strain_volumetric, cracks = r.cracks,
+             row = best }
+end
+
 --- Mean and sample standard deviation of field `key` over a list of result tables (the
 --- scatter over seeds that the examples report); sd = 0 for a single result.
 function St.mean_sd(results, key)
