@@ -241,6 +241,7 @@ extern const luaL_Reg kModelHistoryMethods[];  // wrap_history.cpp: history, clo
 extern const luaL_Reg kVtkMethods[];           // wrap_vtk.cpp: vtk
 extern const luaL_Reg kPictureMethods[];       // wrap_picture.cpp: picture
 extern const luaL_Reg kSaveMethods[];          // wrap_save.cpp: save
+extern const luaL_Reg kCrackMethods[];         // wrap_cracks.cpp: cracks
 /// Every model method name in kModelMethodTables, sorted.
 std::vector<std::string> modelMethodNames();
 /// The `talus` module's functions, one table per thing likewise; kModuleFunctionTables

@@ -561,6 +561,7 @@ const luaL_Reg* const kModelMethodTables[] = {
     kVtkMethods,           // wrap_vtk.cpp
     kPictureMethods,       // wrap_picture.cpp
     kSaveMethods,          // wrap_save.cpp
+    kCrackMethods,         // wrap_cracks.cpp
 };
 
 }  // namespace
