@@ -61,8 +61,10 @@ const unsigned kCategorical[] = {0x4E79A7, 0xF28E2B, 0xE15759, 0x76B7B2, 0x59A14
                                  0xEDC948, 0xB07AA1, 0xFF9DA7, 0x9C755F, 0xBAB0AC};
 const unsigned kNoCategory = 0xD9D9D9;  // a ball in none of the groups, a free ball
 const unsigned kWall = 0x303030;
-const unsigned kCrackTension = 0xE41A1C;  // red, and black for shear: both stand out on the
-const unsigned kCrackShear = 0x1A1A1A;    // categorical colours and on viridis
+// Cracks: tension red, shear blue (ColorBrewer's Set1), not black, which the force chains use;
+// each drawn on a white rim, so that it stands out on a ball of its own colour.
+const unsigned kCrackTension = 0xE41A1C;
+const unsigned kCrackShear = 0x377EB8;
 
 // Viridis (perceptually uniform, readable in grey) sampled at nine points; linear in between.
 const unsigned kViridis[] = {0x440154, 0x472D7B, 0x3B528B, 0x2C728E, 0x21918C,

@@ -48,7 +48,7 @@ struct Transform {
 /// particle (free balls and pebbles) in vtk::particleIds() order for ColorBy::Value (NaN: drawn
 /// grey). Returns the transform used. Throws talus::Error naming the file on failure.
 /// `cracks`: drawn when s.cracks, as segments across the broken bonds, tension red (#E41A1C),
-/// shear black (#1A1A1A).
+/// shear blue (#377EB8).
 Transform draw(const Model& m, const Settings& s, const std::vector<double>& values,
                const std::string& file, const std::vector<Crack>& cracks = {});
 

@@ -45,3 +45,11 @@ local f = r.fracture
 print(string.format("fracture: %d breaks, %.0f%% within 0.1 D of the loaded diameter, crack along %.0f%% of it, " ..
     "%.1f degrees off it: %s", f.n, 100 * f.band, 100 * f.cover, f.angle or 0 / 0,
     f.split and "split" or (f.crush and "crushed at a jaw" or "not a split")))
+-- the disk and its cracks (m:picture, docs/output.md); the crack list is in the CSV beside the
+-- history
+local ok_pic, why = pcall(function()
+    sp.model:picture{ file = outdir .. "/brazilian_disk.png", size = { 700, 744 }, color = "none", cracks = true,
+                      title = string.format("Brazilian disk (%s), %s jaws: %d cracks", disk, r.jaws, #r.cracks) }
+end)
+print(ok_pic and ("picture: " .. outdir .. "/brazilian_disk.png, cracks: " .. outdir .. "/brazilian_history_cracks.csv")
+    or ("picture: failed (" .. tostring(why) .. ")"))

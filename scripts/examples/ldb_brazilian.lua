@@ -70,7 +70,7 @@ local res = talus.map(n, function(k)
                 dmin = math.min(dmin, (ball.pos[1] - q[1]) ^ 2 + (ball.pos[2] - q[2]) ^ 2)
             end
             return math.sqrt(dmin) * 1e3
-        end, range = { 0, 1.5 }, label = "distance to a broken bond [mm]", size = { 700, 744 },
+        end, range = { 0, 1.5 }, label = "distance to a broken bond [mm]", size = { 700, 744 }, cracks = true,
         title = string.format("%s disk, %s, seed %d: sigma_t %.1f MPa", disk, jaws, i, b.tensile / 1e6) }
     local pts = {}
     for _, k in ipairs(sp_idx) do pts[#pts + 1] = pd.balls[k] end

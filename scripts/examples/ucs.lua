@@ -45,9 +45,13 @@ local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 
     .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
 if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
 
--- A picture of the crushed specimen with its force chains (m:picture, docs/output.md).
+print(string.format("cracks: %d listed in %s/ucs_history_cracks.csv; crack damage threshold %.2f MPa (%.0f%% of UCS)",
+    #r.cracks, outdir, r.crack_damage.stress / 1e6, 100 * r.crack_damage.stress / r.ucs))
+
+-- A picture of the crushed specimen with its force chains and cracks (m:picture, docs/output.md).
 local ok_pic, why = pcall(function()
-    sp.model:picture{ file = outdir .. "/ucs_specimen.png", size = {600, 1000}, contacts = "force",
+    sp.model:picture{ file = outdir .. "/ucs_specimen.png", size = {600, 1000}, contacts = "force", cracks = true,
+                      color = "none",
                       title = string.format("UCS specimen at %d%% post-peak (%d bond breaks)",
                           80, r.breaks.tension + r.breaks.shear) }
 end)

@@ -4,7 +4,7 @@
 ParaView: the frame's multiblock has a "cracks" block (VTK's own reader, python3-vtk9) with one
 line per crack of m:cracks(), through the contact point, across the bond (perpendicular to its
 normal), as long as the bond is wide, with its mode, width and balls. Picture (python3-pil): at
-each crack's centre the crack's colour (tension #E41A1C, shear #1A1A1A), and in the same
+each crack's centre the crack's colour (tension #E41A1C, shear #377EB8), and in the same
 picture drawn without cracks not.
 
 usage: crack_test.py TALUS OUTDIR [picture]   (picture: also check the pictures, built with cairo)
@@ -88,7 +88,7 @@ for i, c in enumerate(cracks):
 # later crack's white rim would cover it); the centre of a line >= 3 px wide covers its pixel
 if pictures:
     from PIL import Image  # python3-pil
-    colour = {"tension": (0xE4, 0x1A, 0x1C), "shear": (0x1A, 0x1A, 0x1A)}
+    colour = {"tension": (0xE4, 0x1A, 0x1C), "shear": (0x37, 0x7E, 0xB8)}
     w = Image.open(os.path.join(out, "cracks.png")).convert("RGB")
     p = Image.open(os.path.join(out, "plain.png")).convert("RGB")
 
