@@ -45,6 +45,8 @@ local f = r.fracture
 print(string.format("fracture: %d breaks, %.0f%% within 0.1 D of the loaded diameter, crack along %.0f%% of it, " ..
     "%.1f degrees off it: %s", f.n, 100 * f.band, 100 * f.cover, f.angle or 0 / 0,
     f.split and "split" or (f.crush and "crushed at a jaw" or "not a split")))
+print(r.valid and "valid: the disk split along the loaded diameter"
+    or ("NOT VALID, the number above is not a tensile strength: " .. r.reason))
 -- the disk and its cracks (m:picture, docs/output.md); the crack list is in the CSV beside the
 -- history
 local ok_pic, why = pcall(function()

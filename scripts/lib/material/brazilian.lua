@@ -90,6 +90,37 @@ function Br.fracture(breaks, center, D, t_peak)
              jaw_first = near, split = split, crush = (not split) and n > 0 and near >= 0.5 * first }
 end
 
+--- Whether a Brazilian test measured a tensile strength: the disk split along the loaded
+--- diameter, and its peak came from that fracture. Not valid (with the reason) when the test
+--- stopped before the disk failed (max_steps, max_strain); when the load fell after its peak
+--- with no bond breaking (the disk slipped or rolled at a jaw: the peak is a friction limit, not
+--- a strength); when the first breaks were under a jaw and the disk did not split (a crushed
+--- contact: fracture.crush); or when it did not split (fracture.split). res: M.brazilian's
+--- result (stop, rows, ipeak, cracks, fracture). Returns valid, reason.
+function Br.validity(res)
+    if res.stop ~= "post_peak" then
+        return false, string.format("the disk did not fail (the test stopped at %s)", res.stop)
+    end
+    local t_peak, after = res.rows[res.ipeak].time, 0
+    for _, c in ipairs(res.cracks) do
+        if c.time > t_peak then after = after + 1 end
+    end
+    if after == 0 then
+        return false, "the load fell after its peak with no bond breaking: a slip (at a jaw, or on contacts " ..
+            "already broken), not a fracture"
+    end
+    local f = res.fracture
+    if f.crush then
+        return false, string.format("crushed at a jaw (%d of the first %d breaks there), no split", f.jaw_first,
+            math.max(f.pre_peak, 1))
+    end
+    if not f.split then
+        return false, string.format("no split along the loaded diameter (%.0f%% of the breaks within 0.1 D of it, "
+            .. "crack along %.0f%% of it)", 100 * f.band, 100 * f.cover)
+    end
+    return true, nil
+end
+
 --- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })), between
 --- the curved jaws of the ISRM suggested method (the default, M.make_jaws) or flat platens
 --- (M.specimen's opts.jaws = "flat"); sigma_t = 2 F / (pi D t), F the mean of the two jaws'
@@ -97,7 +128,9 @@ end
 --- M.compress, plus `jaws` (optional: it must match the specimen's, a check that the
 --- specimen was made for what the caller means to run). The result also has `fracture`
 --- (M.fracture of the bond breaks), `jaws`, `cracks` (the crack list, cracks.lua; written as
---- CSV as M.compress's), `breaks_at` (the breaks {x, y, time}).
+--- CSV as M.compress's), `breaks_at` (the breaks {x, y, time}), and `valid`, `reason`
+--- (Br.validity): `tensile` is a tensile strength only when `valid`; M.mean_sd leaves the others
+--- out.
 function Br.brazilian(sp, opts)
     opts = opts or {}
     if opts.jaws ~= nil and opts.jaws ~= (sp.jaws or "flat") then
@@ -130,6 +163,7 @@ function Br.brazilian(sp, opts)
     res.breaks_at = at
     local c = sp.disk and sp.disk.center or { 0.5 * (e[1] + e[3]), 0.5 * (e[2] + e[4]) }
     res.fracture = Br.fracture(at, c, D, res.rows[res.ipeak].time)
+    res.valid, res.reason = Br.validity(res)
     return res
 end
 

@@ -4,11 +4,12 @@ local G = require("material.genesis")
 
 local Ldb = {}
 
---- Lac du Bonnet granite with parallel bonds (Potyondy & Cundall 2004, the micro-properties of
---- bodies-bonds-rockfall.md 2.4; docs/material.md "Lac du Bonnet"): returns the material table of
---- M.specimen (frictionless platens; a test that wants others sets mat.platen.fric) and
---- genesis(width, height, seed), the specimen's packing. Shared by scripts/examples/ldb_pbond.lua
---- and ldb_brazilian.lua, which compare tests of one material.
+--- Lac du Bonnet granite with parallel bonds (Potyondy & Cundall 2004; docs/material.md "Lac du
+--- Bonnet"): returns the material table of M.specimen (frictionless platens; a test that wants
+--- others sets mat.platen.fric), genesis(width, height, seed), a block's packing, and
+--- disk(diameter, seed), a Brazilian disk's packing made in a circular vessel (M.genesis_disk).
+--- Shared by scripts/examples/ldb_pbond.lua and ldb_brazilian.lua, which compare tests of one
+--- material.
 function Ldb.lac_du_bonnet()
     local E, kratio = 62e9, 2.5
     local mat = {
@@ -21,9 +22,13 @@ function Ldb.lac_du_bonnet()
     }
     local function genesis(w, h, seed)
         return G.box{ width = w, height = h, rmin = 0.27e-3, rmax = 1.66 * 0.27e-3,
-                          porosity = 0.16, kn = E, ks = E / kratio, density = 2630, seed = seed }
+                      porosity = 0.16, kn = E, ks = E / kratio, density = 2630, seed = seed }
     end
-    return mat, genesis
+    local function disk(diameter, seed)
+        return G.disk{ diameter = diameter, rmin = 0.27e-3, rmax = 1.66 * 0.27e-3, porosity = 0.16,
+                       kn = E, ks = E / kratio, density = 2630, seed = seed }
+    end
+    return mat, genesis, disk
 end
 
 return Ldb
