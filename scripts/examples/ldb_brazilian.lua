@@ -12,7 +12,7 @@
 -- disk = vessel (default: made in a circular vessel of diameter 0.98 x 31.7 mm x scale,
 -- M.genesis_disk) or cut (the balls of a 31.7 x 31.7 mm x scale box packing of M.genesis
 -- inside that circle, M.disk: the disks of ldb_pbond.lua). The vessel disks scatter less and
--- split more often between the curved jaws (docs/material.md, "Disks made in a circular
+-- split more often between the curved jaws (docs/results/material.md, "Disks made in a circular
 -- vessel"), hence the default. jaw_angle: give 20 (the default) to reach the 7th argument.
 --
 -- scale 1: 31.1 mm disks (~1 500 balls; cut: ~30.7 mm, ~1 440); 0.5: 15.5 mm (~378 balls; cut:
@@ -33,7 +33,7 @@ if disk ~= "vessel" and disk ~= "cut" then
 end
 talus.mkdir(outdir)
 -- as ldb_pbond.lua, Brazilian platens/jaws with friction 0.5 (the one change between the two
--- runs compared in docs/material.md is the jaw shape)
+-- runs compared in docs/results/material.md is the jaw shape)
 local mat, genesis, vessel_disk = M.lac_du_bonnet()
 mat.platen.fric = 0.5
 -- The disk's porosity: 1 - (the balls' area) / (pi D^2 / 4), D the ball extent as sigma_t uses

@@ -2,7 +2,7 @@
 --
 -- ldb_pbond.lua: the Lac du Bonnet granite parallel-bond example (the micro-properties of
 -- Potyondy & Cundall 2004): UCS, E, nu and Brazilian tensile strength over seeds, with their
--- scatter (docs/material.md, "Lac du Bonnet"). A Brazilian test that did not split is marked *
+-- scatter (docs/results/material.md, "Lac du Bonnet"). A Brazilian test that did not split is marked *
 -- and left out of sigma_t (M.brazilian's `valid`).
 --
 --   talus run scripts/examples/ldb_pbond.lua [outdir] [nseeds] [scale] [first_seed]
@@ -28,7 +28,7 @@ local res = talus.map(n, function(k)
     -- The Brazilian disk is made in a circular vessel (M.genesis_disk, as brazilian.lua and
     -- ldb_brazilian.lua): its rim balls touch its circle, so the curved jaws load it over an
     -- arc. A disk cut from a box packing has a rim as rough as a ball and was loaded at one ball
-    -- (at full size seed 1 gave 1.62 MPa beside 20.5 MPa for seed 2, docs/material.md). Jaws
+    -- (at full size seed 1 gave 1.62 MPa beside 20.5 MPa for seed 2, docs/results/material.md). Jaws
     -- with friction 0.5: between smooth ones a disk slid or rolled out sideways.
     local pd = disk(0.98 * 0.0317 * scale, 100 + i)
     local md = {}

@@ -48,8 +48,6 @@ function B.group_grains(nbrs, kmax, u01)
     return grains, counts
 end
 
---- Genesis with grains made AS clumps from the start (thesis A appendix B, "randomly placed
-
 --- Single balls with radii uniform in [rmin, rmax]. With clump_max > 1 the packing's touching
 --- balls are grouped at random into grains of up to clump_max (B.group_grains), which
 --- M.specimen makes rigid; clump_max = nil: no grouping and no `genesis.clump_max` in the

@@ -42,7 +42,7 @@ end
 --- circle; the bottom one mirrored.
 --- Sets sp.top, sp.bottom (wall records, apex positions), sp.disk = {center, D, Rj, angle,
 --- segments, top_center, bottom_center, first_contact}.
---- Measured limit (docs/material.md): on a disk cut from a box packing (M.disk) the surface is
+--- Measured limit (docs/results/material.md): on a disk cut from a box packing (M.disk) the surface is
 --- as rough as a ball radius, far rougher than the jaw's departure from the disk's circle
 --- (R theta^2 / 6), so the jaw first touches one ball up to ~20 degrees off the diameter and
 --- the LdB disks split no more often than between flat platens.

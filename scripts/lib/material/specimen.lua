@@ -61,7 +61,7 @@ function S.specimen(pk, mat, opts)
     end
     -- grains (genesis option `grains`): the packing's groups of touching balls become rigid
     -- clumps before any contact exists, so pebbles of one clump never get a contact (nor a
-    -- bond). Mass mode "sum" (PFC 3.x, the thesis's code): the clump's mass is the sum of its
+    -- bond). Mass mode "sum" (PFC 3.x's rule): the clump's mass is the sum of its
     -- disks' (the lens overlaps of ~1e-6 R are counted twice: up to 2e-8 relative above the
     -- union's, measured). A subset (a disk) keeps the members it has; a grain cut to one ball is a ball.
     sp.clumps = {}
@@ -121,12 +121,6 @@ function S.specimen(pk, mat, opts)
     sp.timing.relax = U.clock() - t0
     return sp
 end
-
---- Installs the bond model `mat.model` with the properties mat.bond at the ball-ball contacts
---- of group "rock" (and near-contacts within gap). With m:bond (issue 9, part B): one call,
---- reset = true (stress-free start, PFC practice). Without it: a `cbond` rule that bonds the
---- contacts it creates, applied by recreating the contacts (cb_bond = 1 for one step, then
---- cb_bond = 0 so no later contact is bonded) and strengths drawn per contact with c:set_prop.
 
 --- Installs the bond model `mat.model` (default "cbond") with the properties mat.bond (each a
 --- number or {mean, sd, dist}, drawn per bond with mat.seed) at the ball-ball contacts of group
