@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "crack.hpp"
 #include "lua_runtime.hpp"
 #include "progress.hpp"
 #include "talus/errors.hpp"
@@ -94,10 +95,18 @@ struct LuaModel {
     lua_State* L = nullptr;
     std::vector<std::unique_ptr<History>> histories;
     std::vector<std::unique_ptr<Output>> outputs;  // m:vtk, m:picture (wrap_vtk/wrap_picture)
-    int bond_break_ref = LUA_NOREF;                // on_event("bond_break", fn)
-    int contact_created_ref = LUA_NOREF;           // on_event("contact_created", fn)
-    int warning_ref = LUA_NOREF;                   // on_warning(fn)
-    std::vector<std::pair<int, int>> cycle_refs;   // on_cycle: (hook handle, function ref)
+    /// on_event(kind, fn): every handler runs, in the order of registration.
+    struct EventHandler {
+        int handle;
+        EventKind kind;
+        int ref;  // the function (model user-value table)
+    };
+    std::vector<EventHandler> event_handlers;
+    int next_event_handle = 1;
+    /// Every bond break of the model as a crack, in the order they happened (crack.hpp).
+    std::vector<Crack> cracks;
+    int warning_ref = LUA_NOREF;                  // on_warning(fn)
+    std::vector<std::pair<int, int>> cycle_refs;  // on_cycle: (hook handle, function ref)
     /// Nesting depth of cycle/solve calls. While the engine runs its hook loop, removing a hook
     /// from it would shift the loop and skip the next hook for that step, so removals are
     /// deferred: the hook is disabled at once and erased when the outermost run returns.
@@ -109,6 +118,8 @@ struct LuaModel {
     bool hookRemoved(int handle) const;
     /// Called when a run call returns: erases the hooks removed during it.
     void finishRun();
+    /// Whether a handler of `kind` is registered (m:save notes it).
+    bool hasEventHandler(EventKind kind) const;
 
     ~LuaModel();
     /// Releases everything (histories, then the engine model) and leaves an empty, valid object:
@@ -208,8 +219,15 @@ void openWall(lua_State* L);     // wrap_wall.cpp
 void openContact(lua_State* L);  // wrap_contact.cpp
 void openClump(lua_State* L);    // wrap_clump.cpp
 void openHistory(lua_State* L);  // wrap_history.cpp
-/// The model's methods, one table per wrap_<thing>.cpp; openModel registers them all and the
-/// unknown-method error lists their names.
+void openOutputs(lua_State* L);  // wrap_vtk.cpp: series userdata
+
+// ------------------------------------------------------------------ method tables
+
+/// The model's methods: one table per thing, in its wrap_<thing>.cpp; kModelMethodTables
+/// (wrap_model.cpp) lists the tables. Adding a method is a row in its thing's table; adding a
+/// thing is its table, declared here, and a row in kModelMethodTables. openModel registers
+/// every table and the unknown-method error lists every name in them (modelMethodNames).
+extern const luaL_Reg kModelMethods[];         // wrap_model.cpp: settings, running, callbacks
 extern const luaL_Reg kModelBodyMethods[];     // wrap_bodies.cpp: ball, wall, iterators, counts
 extern const luaL_Reg kContactModelMethods[];  // wrap_contact_model.cpp
 extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
@@ -219,6 +237,19 @@ extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
 extern const luaL_Reg kBondMethods[];          // wrap_bond.cpp: bond, unbond
 extern const luaL_Reg kMeasureMethods[];       // wrap_measure.cpp: measure, unbalanced
+extern const luaL_Reg kModelHistoryMethods[];  // wrap_history.cpp: history, close_history
+extern const luaL_Reg kVtkMethods[];           // wrap_vtk.cpp: vtk
+extern const luaL_Reg kPictureMethods[];       // wrap_picture.cpp: picture
+extern const luaL_Reg kSaveMethods[];          // wrap_save.cpp: save
+extern const luaL_Reg kCrackMethods[];         // wrap_cracks.cpp: cracks
+/// Every model method name in kModelMethodTables, sorted.
+std::vector<std::string> modelMethodNames();
+/// The `talus` module's functions, one table per thing likewise; kModuleFunctionTables
+/// (lua_module.cpp) lists them and luaopen_talus registers every one.
+extern const luaL_Reg kImpactFunctions[];  // wrap_impact.cpp: impact, drive
+extern const luaL_Reg kMapFunctions[];     // wrap_map.cpp: map, rank, ranks
+extern const luaL_Reg kSaveFunctions[];    // wrap_save.cpp: restore
+
 /// m:solve{...}'s options (wrap_timestep.cpp). `time_only`: only `time` was given, and the run
 /// is Model::solveTime as before the other criteria existed. The `until` function stays at
 /// its stack slot (the option table's) for the duration of the run.
@@ -229,25 +260,12 @@ struct SolveRequest {
 SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index);
 /// Lower-case copy of `s` (names compared without case).
 std::string lower(std::string s);
-/// Model methods implemented in other files, added to the model's method table at `index`.
-void addHistoryMethods(lua_State* L, int methods_index);  // wrap_history.cpp
-void addVtkMethods(lua_State* L, int methods_index);      // wrap_vtk.cpp: vtk
-void addPictureMethods(lua_State* L, int methods_index);  // wrap_picture.cpp: picture
-void openOutputs(lua_State* L);                           // wrap_vtk.cpp: series userdata
-/// m:save, added to the model's method table at `index` (wrap_save.cpp).
-void addSaveMethods(lua_State* L, int methods_index);
-/// talus.restore, added to the module table at the top of the stack (wrap_save.cpp).
-void addSaveFunctions(lua_State* L);
 /// What m:save does (wrap_save.cpp): flushes the histories and saves the model with the Lua
 /// layer's section (histories, output series) to `path` through a temporary file and a rename.
 /// Also `talus run --save-on-interrupt FILE` (main.cpp). Throws talus::Error naming the file.
 void saveLuaModel(LuaModel& lm, const std::string& path);
 /// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
 void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
-/// talus.impact and talus.drive, added to the module table at the top of the stack.
-void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
-/// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.
-void addMapFunctions(lua_State* L);  // wrap_map.cpp
 
 }  // namespace talus::lua
 

@@ -101,6 +101,15 @@ const luaL_Reg kModuleFunctions[] = {
     {"mkdir", w_mkdir},   {nullptr, nullptr},
 };
 
+/// Every function table of the module, one per thing (lua_bindings.hpp): a new thing's table
+/// is one row here.
+const luaL_Reg* const kModuleFunctionTables[] = {
+    kModuleFunctions,  // this file
+    kImpactFunctions,  // wrap_impact.cpp
+    kMapFunctions,     // wrap_map.cpp
+    kSaveFunctions,    // wrap_save.cpp
+};
+
 }  // namespace
 
 }  // namespace talus::lua
@@ -114,10 +123,8 @@ extern "C" int luaopen_talus(lua_State* L) {
     openClump(L);
     openHistory(L);
     openOutputs(L);
-    luaL_newlib(L, kModuleFunctions);
-    addImpactFunctions(L);
-    addMapFunctions(L);
-    addSaveFunctions(L);
+    lua_newtable(L);
+    for (const luaL_Reg* table : kModuleFunctionTables) luaL_setfuncs(L, table, 0);
     lua_pushliteral(L, TALUS_VERSION);
     lua_setfield(L, -2, "version");
     // Whether m:threads(n) can run the force loop on n threads (built with OpenMP).

@@ -168,8 +168,11 @@ void setPackagePath(lua_State* L, const std::string& script) {
     }
     // scripts/lib holds the shipped library modules (rockfall, ...); scripts/ itself stays for
     // older scripts that keep modules next to the examples.
-    prefix += std::string(TALUS_SOURCE_LUA_DIR) + "/lib/?.lua;" + TALUS_SOURCE_LUA_DIR + "/?.lua;" +
-              TALUS_INSTALL_LUA_DIR + "/lib/?.lua;" + TALUS_INSTALL_LUA_DIR + "/?.lua;";
+    // A module of several files is a folder with an init.lua (require("material")).
+    prefix += std::string(TALUS_SOURCE_LUA_DIR) + "/lib/?.lua;" + TALUS_SOURCE_LUA_DIR +
+              "/lib/?/init.lua;" + TALUS_SOURCE_LUA_DIR + "/?.lua;" + TALUS_INSTALL_LUA_DIR +
+              "/lib/?.lua;" + TALUS_INSTALL_LUA_DIR + "/lib/?/init.lua;" + TALUS_INSTALL_LUA_DIR +
+              "/?.lua;";
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "path");
     const char* old = lua_tostring(L, -1);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <utility>
 
 #include "talus/errors.hpp"
 #include "vtk_writer.hpp"
@@ -34,7 +35,8 @@ std::string frameName(const std::string& file, int64_t n) {
 
 bool available() { return false; }
 
-Transform draw(const Model&, const Settings&, const std::vector<double>&, const std::string&) {
+Transform draw(const Model&, const Settings&, const std::vector<double>&, const std::string&,
+               const std::vector<Crack>&) {
     throw Error(
         "picture: talus was built without cairo (apt-get install libcairo2-dev, then rebuild: "
         "scripts/build.sh)");
@@ -59,6 +61,10 @@ const unsigned kCategorical[] = {0x4E79A7, 0xF28E2B, 0xE15759, 0x76B7B2, 0x59A14
                                  0xEDC948, 0xB07AA1, 0xFF9DA7, 0x9C755F, 0xBAB0AC};
 const unsigned kNoCategory = 0xD9D9D9;  // a ball in none of the groups, a free ball
 const unsigned kWall = 0x303030;
+// Cracks: tension red, shear blue (ColorBrewer's Set1), not black, which the force chains use;
+// each drawn on a white rim, so that it stands out on a ball of its own colour.
+const unsigned kCrackTension = 0xE41A1C;
+const unsigned kCrackShear = 0x377EB8;
 
 // Viridis (perceptually uniform, readable in grey) sampled at nine points; linear in between.
 const unsigned kViridis[] = {0x440154, 0x472D7B, 0x3B528B, 0x2C728E, 0x21918C,
@@ -117,7 +123,7 @@ Format formatOf(const std::string& file) {
 }  // namespace
 
 Transform draw(const Model& m, const Settings& s, const std::vector<double>& values,
-               const std::string& file) {
+               const std::string& file, const std::vector<Crack>& cracks) {
     const Format fmt = formatOf(file);
     const std::vector<BallId> ids = vtk::particleIds(m);
     const std::vector<WallId> walls = m.wallIds();
@@ -292,6 +298,29 @@ Transform draw(const Model& m, const Settings& s, const std::vector<double>& val
                 cairo_stroke(cr);
             }
     }
+    // ---- cracks: a segment across each broken bond through the point where it broke, as long
+    // as the bond is wide (crack.hpp), on top of everything; at least 3 px wide so that a
+    // crack is seen on a picture of thousands of balls
+    if (s.cracks) {
+        cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
+        for (const Crack& c : cracks) {
+            if (!(c.radius > 0)) continue;
+            const Vec2 a = c.end1(), b = c.end2();
+            const auto pa = tr.toPixel(a.x(), a.y()), pb = tr.toPixel(b.x(), b.y());
+            const double w = std::clamp(0.1 * 2 * c.radius * tr.scale, 3.0, 8.0);
+            // a white rim first, so that a crack stands out on a ball of its own colour
+            cairo_set_source_rgb(cr, 1, 1, 1);
+            cairo_set_line_width(cr, w + 3);
+            cairo_move_to(cr, pa[0], pa[1]);
+            cairo_line_to(cr, pb[0], pb[1]);
+            cairo_stroke(cr);
+            setColor(cr, hex(c.mode == kBreakShear ? kCrackShear : kCrackTension));
+            cairo_set_line_width(cr, w);
+            cairo_move_to(cr, pa[0], pa[1]);
+            cairo_line_to(cr, pb[0], pb[1]);
+            cairo_stroke(cr);
+        }
+    }
     cairo_restore(cr);
 
     // ---- title
@@ -357,6 +386,24 @@ Transform draw(const Model& m, const Settings& s, const std::vector<double>& val
             cairo_set_source_rgb(cr, 0, 0, 0);
             cairo_move_to(cr, x, by + 28);
             cairo_show_text(cr, "colour: one per clump (free balls grey)");
+        }
+        if (s.cracks) {
+            // two short samples and their names, after the colour legend
+            x += 10;
+            for (const auto& [colour, name] :
+                 {std::pair<unsigned, const char*>{kCrackTension, "tension crack"},
+                  std::pair<unsigned, const char*>{kCrackShear, "shear crack"}}) {
+                setColor(cr, hex(colour));
+                cairo_set_line_width(cr, 3);
+                cairo_move_to(cr, x, by + 23);
+                cairo_line_to(cr, x + 16, by + 23);
+                cairo_stroke(cr);
+                cairo_set_source_rgb(cr, 0, 0, 0);
+                cairo_move_to(cr, x + 21, by + 28);
+                cairo_show_text(cr, name);
+                cairo_text_extents(cr, name, &ext);
+                x += 21 + ext.x_advance + 16;
+            }
         }
         if (s.force_chains) {
             cairo_set_source_rgb(cr, 0, 0, 0);

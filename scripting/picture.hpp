@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// Quick-look pictures (docs/output.md, "Pictures"): balls, walls and force chains drawn with
-// cairo to PNG, SVG or PDF, with a scale bar and a colour legend. Lua-free: the binding
+// Quick-look pictures (docs/output.md, "Pictures"): balls, walls, force chains and cracks drawn
+// with cairo to PNG, SVG or PDF, with a scale bar and a colour legend. Lua-free: the binding
 // (wrap_picture.cpp) computes the per-ball colour values and passes them here.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "crack.hpp"
 #include "talus/model.hpp"
 
 namespace talus::picture {
@@ -29,6 +30,7 @@ struct Settings {
     bool range_set = false;
     double range_min = 0, range_max = 1;
     bool force_chains = false;  ///< contacts = "force"
+    bool cracks = false;        ///< the cracks drawn (crack.hpp)
     double chain_width = 0;     ///< line width of the largest force [m]; 0: 0.6 mean radius
     bool legend = true, scale_bar = true;
     std::string title;
@@ -45,8 +47,10 @@ struct Transform {
 /// Draws the model into `file` (format by its extension: .png, .svg, .pdf). `values`: one per
 /// particle (free balls and pebbles) in vtk::particleIds() order for ColorBy::Value (NaN: drawn
 /// grey). Returns the transform used. Throws talus::Error naming the file on failure.
+/// `cracks`: drawn when s.cracks, as segments across the broken bonds, tension red (#E41A1C),
+/// shear blue (#377EB8).
 Transform draw(const Model& m, const Settings& s, const std::vector<double>& values,
-               const std::string& file);
+               const std::string& file, const std::vector<Crack>& cracks = {});
 
 /// The numbered name of frame `n` of a series: "out/frame.png" -> "out/frame_000012.png".
 std::string frameName(const std::string& file, int64_t n);

@@ -246,7 +246,8 @@ Series::Series(SeriesState state) : m_state(std::move(state)) {
 
 std::string Series::pvdPath() const { return m_state.dir + "/" + m_state.name + ".pvd"; }
 
-void Series::writeFrame(const Model& m, const std::vector<BallArray>& extra) {
+void Series::writeFrame(const Model& m, const std::vector<BallArray>& extra,
+                        const std::vector<Crack>& cracks) {
     const int64_t frame = m_state.next_frame;
     const std::string stem = frameStem(m_state, frame);
     const std::string base = m_state.dir + "/" + stem;
@@ -395,6 +396,34 @@ void Series::writeFrame(const Model& m, const std::vector<BallArray>& extra) {
         if (!names.empty()) p.field_data.push_back(strings("model_names", names));
         p.write(base + "_contacts.vtp");
     }
+    // ---- cracks: a line across each broken bond (crack.hpp), through the contact point where
+    // it broke, 2 x the bond's radius long; mode 1 tension, 2 shear
+    if (m_state.cracks) {
+        PolyData p;
+        p.lines = true;
+        p.field_data = field;
+        std::vector<double> time, width, normal;
+        std::vector<int64_t> mode, step, end1, end2;
+        for (const Crack& c : cracks) {
+            const auto first = static_cast<int64_t>(p.pointCount());
+            push3(p.points, c.end1());
+            push3(p.points, c.end2());
+            p.connectivity.push_back(first);
+            p.connectivity.push_back(first + 1);
+            p.offsets.push_back(first + 2);
+            mode.push_back(c.mode);
+            time.push_back(c.time);
+            step.push_back(c.step);
+            width.push_back(2.0 * c.radius);
+            push3(normal, c.normal);
+            end1.push_back(c.ball1.index);
+            end2.push_back(c.ball2.index);
+        }
+        p.cell_data = {i64("mode", mode),   f64("time", time),        i64("step", step),
+                       f64("width", width), f64("normal", normal, 3), i64("ball1", end1),
+                       i64("ball2", end2)};
+        p.write(base + "_cracks.vtp");
+    }
     // ---- the frame's multiblock file
     {
         std::ostringstream s;
@@ -411,6 +440,9 @@ void Series::writeFrame(const Model& m, const std::vector<BallArray>& extra) {
         if (m_state.contacts)
             s << "    <DataSet index=\"" << index++ << "\" name=\"contacts\" file=\""
               << xmlEscape(stem) << "_contacts.vtp\"/>\n";
+        if (m_state.cracks)
+            s << "    <DataSet index=\"" << index++ << "\" name=\"cracks\" file=\""
+              << xmlEscape(stem) << "_cracks.vtp\"/>\n";
         s << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
         writeTextAtomically(base + ".vtm", s.str());
     }

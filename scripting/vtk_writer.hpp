@@ -7,7 +7,8 @@
 // readers (python3-vtk9, tests/scripting/vtk_readback.py).
 //
 // One frame = three PolyData files (balls as vertices with per-point arrays, walls as
-// polylines, contacts as two-point lines with per-cell arrays) bound by a multiblock file
+// polylines, contacts as two-point lines with per-cell arrays; a fourth of the cracks, segments
+// across the broken bonds, when asked) bound by a multiblock file
 // NAME_NNNNNN.vtm, and NAME.pvd lists the frames with their simulated times. Three parts rather
 // than one .vtp: the three kinds carry different arrays, and VTK arrays span every point or
 // cell of a dataset, so one file would pad every ball array onto wall and contact points.
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "crack.hpp"
 #include "talus/model.hpp"
 
 namespace talus::vtk {
@@ -53,6 +55,7 @@ struct SeriesState {
     int64_t every = 0;                ///< steps between frames (0: only on request)
     std::vector<std::string> fields;  ///< optional built-in ball fields
     bool walls = true, contacts = true;
+    bool cracks = false;  ///< the cracks part (the bonds broken so far)
     int64_t next_frame = 0;
     std::vector<FrameEntry> frames;
 };
@@ -63,9 +66,11 @@ public:
     explicit Series(SeriesState state);
 
     /// Writes one frame of the model now and rewrites the .pvd (through a temporary file and a
-    /// rename, so the collection on disk is always whole). `extra`: caller-computed ball arrays.
-    /// Throws talus::Error naming the file on a write failure.
-    void writeFrame(const Model& m, const std::vector<BallArray>& extra);
+    /// rename, so the collection on disk is always whole). `extra`: caller-computed ball arrays;
+    /// `cracks`: the cracks part, when the series has one. Throws talus::Error naming the file
+    /// on a write failure.
+    void writeFrame(const Model& m, const std::vector<BallArray>& extra,
+                    const std::vector<Crack>& cracks = {});
 
     const SeriesState& state() const { return m_state; }
     std::string pvdPath() const;

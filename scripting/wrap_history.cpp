@@ -477,12 +477,11 @@ void reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
     hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
 }
 
-void addHistoryMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_history);
-    lua_setfield(L, methods_index, "history");
-    lua_pushcfunction(L, w_close_history);
-    lua_setfield(L, methods_index, "close_history");
-}
+extern const luaL_Reg kModelHistoryMethods[] = {
+    {"history", w_history},
+    {"close_history", w_close_history},
+    {nullptr, nullptr},
+};
 
 void openHistory(lua_State* L) {
     luaL_newmetatable(L, kHistoryType);

@@ -198,11 +198,10 @@ int w_drive(lua_State* L) {
 
 }  // namespace
 
-void addImpactFunctions(lua_State* L) {
-    lua_pushcfunction(L, w_impact);
-    lua_setfield(L, -2, "impact");
-    lua_pushcfunction(L, w_drive);
-    lua_setfield(L, -2, "drive");
-}
+extern const luaL_Reg kImpactFunctions[] = {
+    {"impact", w_impact},
+    {"drive", w_drive},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

@@ -555,10 +555,11 @@ int w_ranks(lua_State* L) {
 
 }  // namespace
 
-void addMapFunctions(lua_State* L) {
-    const luaL_Reg fns[] = {
-        {"map", w_map}, {"rank", w_rank}, {"ranks", w_ranks}, {nullptr, nullptr}};
-    luaL_setfuncs(L, fns, 0);
-}
+extern const luaL_Reg kMapFunctions[] = {
+    {"map", w_map},
+    {"rank", w_rank},
+    {"ranks", w_ranks},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

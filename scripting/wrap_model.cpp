@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // talus.model{...} and the model's methods that drive it: creation, damping, broadphase and
 // gravity settings, running, callbacks and profile; the shared helpers (model userdata, refs).
-// The other methods are one file per thing: wrap_bodies.cpp (ball, wall, iterators, counts),
-// wrap_contact_model.cpp, wrap_timestep.cpp, wrap_guard.cpp, wrap_energy.cpp, and
-// wrap_history.cpp (histories).
+// The other methods are one file per thing (wrap_bodies.cpp: ball, wall, iterators, counts;
+// wrap_history.cpp, wrap_vtk.cpp, ...), each with its table of methods; kModelMethodTables
+// below lists the tables.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -62,9 +62,8 @@ const char* breakModeName(int32_t mode) {
     }
 }
 
-void deliverEvent(LuaModel& lm, const Event& ev) {
-    const int ref = ev.kind == EventKind::BondBreak ? lm.bond_break_ref : lm.contact_created_ref;
-    if (ref == LUA_NOREF) return;
+/// Calls handler `ref` with the event table of `ev` (and of its crack, for a bond break).
+void callEventHandler(LuaModel& lm, int ref, const Event& ev, const Crack* crack) {
     lua_State* L = lm.L;
     const int base = lua_gettop(L);
     pushRef(L, lm, ref);
@@ -90,9 +89,49 @@ void deliverEvent(LuaModel& lm, const Event& ev) {
     }
     pushContact(L, model_index, ev.contact);
     lua_setfield(L, -2, "contact");
+    if (crack) {
+        // The bond as a crack: its ends, its half width and normal, the step (crack.hpp).
+        lua_pushinteger(L, static_cast<lua_Integer>(crack->step));
+        lua_setfield(L, -2, "step");
+        if (lm.model->isAlive(crack->ball1)) {
+            pushBall(L, model_index, crack->ball1);
+            lua_setfield(L, -2, "ball1");
+        }
+        if (lm.model->isAlive(crack->ball2)) {
+            pushBall(L, model_index, crack->ball2);
+            lua_setfield(L, -2, "ball2");
+        }
+        lua_pushnumber(L, crack->radius);
+        lua_setfield(L, -2, "radius");
+        pushVec(L, crack->normal);
+        lua_setfield(L, -2, "normal");
+    }
     lua_remove(L, model_index);
     callProtected(L, 1, 0, base);
     lua_settop(L, base);
+}
+
+/// Runs every handler of the event's kind in the order they were registered, each with a table
+/// of its own. A handler may add or remove handlers: the ones registered when the event came
+/// run, except those removed before their turn.
+void deliverEvent(LuaModel& lm, const Event& ev) {
+    // A local copy for the handlers: a handler's own cycle may add cracks and move the log.
+    Crack crack;
+    const bool is_break = ev.kind == EventKind::BondBreak;
+    if (is_break) {
+        crack = crackOf(*lm.model, ev);
+        lm.cracks.push_back(crack);
+    }
+    std::vector<int> handles;
+    for (const auto& h : lm.event_handlers)
+        if (h.kind == ev.kind) handles.push_back(h.handle);
+    for (int handle : handles) {
+        const auto it =
+            std::find_if(lm.event_handlers.begin(), lm.event_handlers.end(),
+                         [&](const LuaModel::EventHandler& h) { return h.handle == handle; });
+        if (it != lm.event_handlers.end())
+            callEventHandler(lm, it->ref, ev, is_break ? &crack : nullptr);
+    }
 }
 
 void deliverWarning(LuaModel& lm, const std::string& text) {
@@ -399,17 +438,49 @@ int w_remove_on_cycle(lua_State* L) {
     });
 }
 
+// m:on_event(kind, fn) adds a handler and returns its handle; m:on_event(kind, nil) removes
+// every handler of the kind (a library routine removes only its own, by handle).
 int w_on_event(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "on_event");
-        const int kind = toEnum(L, 2, "on_event: event", {"bond_break", "contact_created"});
+        const int k = toEnum(L, 2, "on_event: event", {"bond_break", "contact_created"});
+        const EventKind kind = k == 0 ? EventKind::BondBreak : EventKind::ContactCreated;
         if (!lua_isnil(L, 3) && lua_type(L, 3) != LUA_TFUNCTION)
             throw ScriptError("on_event: argument 2 must be a function or nil (got " +
                               typeName(L, 3) + ")");
-        int& slot = kind == 0 ? lm.bond_break_ref : lm.contact_created_ref;
-        if (slot != LUA_NOREF) releaseRef(L, lm, slot);
-        slot = lua_isfunction(L, 3) ? storeRef(L, lm, 3) : LUA_NOREF;
-        return 0;
+        if (lua_isnil(L, 3)) {
+            auto& hs = lm.event_handlers;
+            for (const auto& h : hs)
+                if (h.kind == kind) releaseRef(L, lm, h.ref);
+            hs.erase(
+                std::remove_if(hs.begin(), hs.end(),
+                               [&](const LuaModel::EventHandler& h) { return h.kind == kind; }),
+                hs.end());
+            return 0;
+        }
+        const int handle = lm.next_event_handle++;
+        lm.event_handlers.push_back({handle, kind, storeRef(L, lm, 3)});
+        lua_pushinteger(L, handle);
+        return 1;
+    });
+}
+
+// m:remove_on_event(handle): removes that handler; returns whether there was one.
+int w_remove_on_event(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "remove_on_event");
+        const long long handle = toInteger(L, 2, "remove_on_event: handle");
+        auto& hs = lm.event_handlers;
+        const auto it = std::find_if(hs.begin(), hs.end(), [&](const LuaModel::EventHandler& h) {
+            return h.handle == handle;
+        });
+        const bool found = it != hs.end();
+        if (found) {
+            releaseRef(L, lm, it->ref);
+            hs.erase(it);
+        }
+        lua_pushboolean(L, found);
+        return 1;
     });
 }
 
@@ -437,42 +508,71 @@ int w_profile(lua_State* L) {
     });
 }
 
-/// Methods of this file: creation, settings that are one call (damping, broadphase, gravity),
-/// running, callbacks and profile.
-const luaL_Reg kModelMethods[] = {
-    {"damping", w_damping},   {"broadphase", w_broadphase},
-    {"gravity", w_gravity},   {"cycle", w_cycle},
-    {"solve", w_solve},       {"time", w_time},
-    {"step", w_step},         {"dt", w_dt},
-    {"on_cycle", w_on_cycle}, {"remove_on_cycle", w_remove_on_cycle},
-    {"on_event", w_on_event}, {"on_warning", w_on_warning},
-    {"profile", w_profile},   {nullptr, nullptr},
-};
-
-/// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
-const luaL_Reg* const kModelMethodTables[] = {
-    kModelMethods,  kModelBodyMethods, kContactModelMethods, kTimestepMethods, kGuardMethods,
-    kEnergyMethods, kClumpMethods,     kMeasureMethods,      kBondMethods,     kForceLoopMethods};
-
 int w_index_unknown(lua_State* L) {
     // __index of the method table's metatable: an unknown method name is an error that lists
     // the known ones (m:cylce(10) would otherwise say "attempt to call a nil value").
     return catchexcept(L, [&]() -> int {
-        std::vector<std::string> names;
-        for (const luaL_Reg* table : kModelMethodTables)
-            for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
-        names.push_back("history");
-        names.push_back("close_history");
-        names.push_back("vtk");
-        names.push_back("picture");
-        std::sort(names.begin(), names.end());
         const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
         throw ScriptError("model: unknown method or field '" + key +
-                          "' (known: " + joinNames(names) + ")");
+                          "' (known: " + joinNames(modelMethodNames()) + ")");
     });
 }
 
 }  // namespace
+
+// ------------------------------------------------------------------ method tables
+
+/// Methods of this file: settings that are one call (damping, broadphase, gravity), running,
+/// callbacks and profile.
+extern const luaL_Reg kModelMethods[] = {
+    {"damping", w_damping},
+    {"broadphase", w_broadphase},
+    {"gravity", w_gravity},
+    {"cycle", w_cycle},
+    {"solve", w_solve},
+    {"time", w_time},
+    {"step", w_step},
+    {"dt", w_dt},
+    {"on_cycle", w_on_cycle},
+    {"remove_on_cycle", w_remove_on_cycle},
+    {"on_event", w_on_event},
+    {"remove_on_event", w_remove_on_event},
+    {"on_warning", w_on_warning},
+    {"profile", w_profile},
+    {nullptr, nullptr},
+};
+
+namespace {
+
+/// Every method table of the model, one per thing (lua_bindings.hpp): a new thing's table is
+/// one row here.
+const luaL_Reg* const kModelMethodTables[] = {
+    kModelMethods,         // this file
+    kModelBodyMethods,     // wrap_bodies.cpp
+    kContactModelMethods,  // wrap_contact_model.cpp
+    kTimestepMethods,      // wrap_timestep.cpp
+    kGuardMethods,         // wrap_guard.cpp
+    kEnergyMethods,        // wrap_energy.cpp
+    kClumpMethods,         // wrap_clump.cpp
+    kMeasureMethods,       // wrap_measure.cpp
+    kBondMethods,          // wrap_bond.cpp
+    kForceLoopMethods,     // wrap_force_loop.cpp
+    kModelHistoryMethods,  // wrap_history.cpp
+    kVtkMethods,           // wrap_vtk.cpp
+    kPictureMethods,       // wrap_picture.cpp
+    kSaveMethods,          // wrap_save.cpp
+    kCrackMethods,         // wrap_cracks.cpp
+};
+
+}  // namespace
+
+std::vector<std::string> modelMethodNames() {
+    std::vector<std::string> names;
+    for (const luaL_Reg* table : kModelMethodTables)
+        for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
+    std::sort(names.begin(), names.end());
+    return names;
+}
 
 // ------------------------------------------------------------------ shared with other files
 
@@ -494,6 +594,8 @@ void LuaModel::close() {
     // Free every container's storage: __gc calls close(), never the destructor.
     std::vector<std::unique_ptr<History>>().swap(histories);
     std::vector<std::pair<int, int>>().swap(cycle_refs);
+    std::vector<EventHandler>().swap(event_handlers);
+    std::vector<Crack>().swap(cracks);
     std::vector<int>().swap(removed_hooks);
     model.reset();
 }
@@ -513,6 +615,11 @@ void LuaModel::removeHook(int handle) {
         removed_hooks.push_back(handle);
     else
         model->removeCycleHook(handle);
+}
+
+bool LuaModel::hasEventHandler(EventKind kind) const {
+    return std::any_of(event_handlers.begin(), event_handlers.end(),
+                       [&](const EventHandler& h) { return h.kind == kind; });
 }
 
 bool LuaModel::hookRemoved(int handle) const {
@@ -585,10 +692,6 @@ void openModel(lua_State* L) {
     lua_setfield(L, -2, "__tostring");
     lua_newtable(L);
     for (const luaL_Reg* table : kModelMethodTables) luaL_setfuncs(L, table, 0);
-    addHistoryMethods(L, lua_gettop(L));
-    addVtkMethods(L, lua_gettop(L));
-    addPictureMethods(L, lua_gettop(L));
-    addSaveMethods(L, lua_gettop(L));
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);
     lua_setfield(L, -2, "__index");

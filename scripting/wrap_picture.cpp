@@ -46,7 +46,7 @@ struct PictureOutput : Output {
         // to a folder of their own.
         const auto slash = name.find_last_of('/');
         if (slash != std::string::npos && slash > 0) ::mkdir(name.substr(0, slash).c_str(), 0777);
-        transform = picture::draw(*lm.model, settings, values, name);
+        transform = picture::draw(*lm.model, settings, values, name, lm.cracks);
         written_files.push_back(name);
         ++written;
     }
@@ -66,8 +66,8 @@ int w_picture(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "picture");
         const Options o(L, 2, "picture",
-                        {"file", "color", "contacts", "every", "size", "view", "groups", "range",
-                         "legend", "scale_bar", "title", "chain_width", "label"});
+                        {"file", "color", "contacts", "cracks", "every", "size", "view", "groups",
+                         "range", "legend", "scale_bar", "title", "chain_width", "label"});
         if (!picture::available())
             throw ScriptError(
                 "picture: talus was built without cairo (apt-get install libcairo2-dev, then "
@@ -156,6 +156,7 @@ int w_picture(lua_State* L) {
                                            : joinNames(lm.model->groupNames())) +
                                       ")");
         }
+        s.cracks = o.boolean("cracks", false);
         s.legend = o.boolean("legend", true);
         s.scale_bar = o.boolean("scale_bar", true);
         s.title = o.string("title", "");
@@ -197,9 +198,9 @@ void resumePictureSeries(lua_State* L, LuaModel& lm, const SavedPictureSeries& s
     registerOutput(L, lm, std::move(out), false);
 }
 
-void addPictureMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_picture);
-    lua_setfield(L, methods_index, "picture");
-}
+extern const luaL_Reg kPictureMethods[] = {
+    {"picture", w_picture},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

@@ -26,7 +26,7 @@ namespace talus::lua {
 namespace {
 
 // 1: histories and callbacks. 2: then the ParaView and picture series. A restore reads both.
-constexpr uint32_t kHostVersion = 2;
+constexpr uint32_t kHostVersion = 3;
 
 const char* energyName(double EnergyTotals::*member) {
     for (const EnergyItem& e : energyItems())
@@ -45,7 +45,8 @@ std::vector<std::string> readStrings(SaveReader& r, const char* what) {
     return v;
 }
 
-/// Version 2: the open output series, as they are (vtk_writer.hpp, picture.hpp).
+/// Version 2: the open output series, as they are (vtk_writer.hpp, picture.hpp); version 3 adds
+/// each series' `cracks` switch.
 void writeSeries(SaveWriter& w, const LuaModel& lm) {
     const std::vector<SavedVtkSeries> vtk = vtkSeriesStates(lm);
     w.u64(vtk.size());
@@ -54,6 +55,7 @@ void writeSeries(SaveWriter& w, const LuaModel& lm) {
         w.str(s.dir), w.str(s.name), w.i64(s.every);
         writeStrings(w, s.fields);
         w.boolean(s.walls), w.boolean(s.contacts);
+        w.boolean(s.cracks);
         w.i64(s.next_frame);
         w.u64(s.frames.size());
         for (const vtk::FrameEntry& f : s.frames)
@@ -74,6 +76,7 @@ void writeSeries(SaveWriter& w, const LuaModel& lm) {
         w.boolean(s.range_set), w.f64(s.range_min), w.f64(s.range_max);
         w.boolean(s.force_chains), w.f64(s.chain_width);
         w.boolean(s.legend), w.boolean(s.scale_bar);
+        w.boolean(s.cracks);
         w.str(s.title);
         writeStrings(w, p.files);
     }
@@ -81,8 +84,9 @@ void writeSeries(SaveWriter& w, const LuaModel& lm) {
 
 /// Reads the series of a version-2 host section (checked as the engine's sections are: a
 /// damaged file is refused, never half applied) and collects the ones to continue.
-void readSeries(SaveReader& r, const LuaModel& lm, std::vector<vtk::SeriesState>& vtk_out,
-                std::vector<SavedPictureSeries>& pic_out, std::vector<std::string>& notes) {
+void readSeries(SaveReader& r, uint32_t version, const LuaModel& lm,
+                std::vector<vtk::SeriesState>& vtk_out, std::vector<SavedPictureSeries>& pic_out,
+                std::vector<std::string>& notes) {
     const auto checkGroups = [&](const std::vector<std::string>& groups, const std::string& what) {
         for (const std::string& g : groups)
             if (lm.model->groupIndex(g, false) < 0) r.fail(what + ": unknown group '" + g + "'");
@@ -95,6 +99,7 @@ void readSeries(SaveReader& r, const LuaModel& lm, std::vector<vtk::SeriesState>
         s.every = r.i64();
         s.fields = readStrings(r, "vtk fields");
         s.walls = r.boolean(), s.contacts = r.boolean();
+        if (version >= 3) s.cracks = r.boolean();
         s.next_frame = r.i64();
         s.frames.resize(r.count(8 + 8 + 8 + 8, "vtk frames"));
         for (vtk::FrameEntry& f : s.frames)
@@ -151,6 +156,7 @@ void readSeries(SaveReader& r, const LuaModel& lm, std::vector<vtk::SeriesState>
         s.range_set = r.boolean(), s.range_min = r.f64(), s.range_max = r.f64();
         s.force_chains = r.boolean(), s.chain_width = r.f64();
         s.legend = r.boolean(), s.scale_bar = r.boolean();
+        if (version >= 3) s.cracks = r.boolean();
         s.title = r.str();
         p.files = readStrings(r, "picture files");
         // The ranges m:picture accepts (wrap_picture.cpp).
@@ -173,6 +179,40 @@ void readSeries(SaveReader& r, const LuaModel& lm, std::vector<vtk::SeriesState>
     }
 }
 
+/// Version 3: the crack log (crack.hpp), so a restored run's pictures and series draw the cracks
+/// made before the save and m:cracks() lists them.
+void writeCracks(SaveWriter& w, const LuaModel& lm) {
+    w.u64(lm.cracks.size());
+    for (const Crack& c : lm.cracks) {
+        w.f64(c.time), w.i64(c.step);
+        w.f64(c.pos.x()), w.f64(c.pos.y()), w.f64(c.normal.x()), w.f64(c.normal.y());
+        w.f64(c.radius), w.i32(c.mode);
+        w.u32(c.ball1.index), w.u32(c.ball1.generation);
+        w.u32(c.ball2.index), w.u32(c.ball2.generation);
+        w.f64(c.sigma), w.f64(c.tau);
+    }
+}
+
+/// Reads the crack log into `lm` (replacing it: a restored model has an empty log).
+void readCracks(SaveReader& r, LuaModel& lm) {
+    std::vector<Crack> cracks(r.count(8 * 8 + 4 + 16, "cracks"));
+    for (Crack& c : cracks) {
+        c.time = r.f64(), c.step = r.i64();
+        const double x = r.f64(), y = r.f64(), nx = r.f64(), ny = r.f64();
+        c.pos = Vec2(x, y), c.normal = Vec2(nx, ny);
+        c.radius = r.f64();
+        c.mode = r.i32();
+        c.ball1.index = r.u32(), c.ball1.generation = r.u32();
+        c.ball2.index = r.u32(), c.ball2.generation = r.u32();
+        c.sigma = r.f64(), c.tau = r.f64();
+        if (!std::isfinite(c.time) || !std::isfinite(x) || !std::isfinite(y) || !(c.radius >= 0) ||
+            !std::isfinite(c.radius) ||
+            (c.mode != kBreakNone && c.mode != kBreakTension && c.mode != kBreakShear))
+            r.fail("crack " + std::to_string(&c - cracks.data() + 1) + ": invalid values");
+    }
+    lm.cracks = std::move(cracks);
+}
+
 std::vector<uint8_t> hostSection(const LuaModel& lm) {
     SaveWriter w;
     w.u32(kHostVersion);
@@ -193,10 +233,11 @@ std::vector<uint8_t> hostSection(const LuaModel& lm) {
         }
     }
     w.u64(lm.cycle_refs.size());
-    w.boolean(lm.bond_break_ref != LUA_NOREF);
-    w.boolean(lm.contact_created_ref != LUA_NOREF);
+    w.boolean(lm.hasEventHandler(EventKind::BondBreak));
+    w.boolean(lm.hasEventHandler(EventKind::ContactCreated));
     w.boolean(lm.warning_ref != LUA_NOREF);
     writeSeries(w, lm);
+    writeCracks(w, lm);
     return std::move(w.data());
 }
 
@@ -250,7 +291,8 @@ void applyHostSection(lua_State* L, LuaModel& lm, const std::vector<uint8_t>& by
     const bool bond_break = r.boolean(), contact_created = r.boolean(), warning = r.boolean();
     std::vector<vtk::SeriesState> vtk_series;
     std::vector<SavedPictureSeries> pictures;
-    if (version >= 2) readSeries(r, lm, vtk_series, pictures, notes);
+    if (version >= 2) readSeries(r, version, lm, vtk_series, pictures, notes);
+    if (version >= 3) readCracks(r, lm);
     r.expectEnd();
     for (auto& h : restored) {
         const std::string path = h->path;
@@ -321,14 +363,14 @@ void saveLuaModel(LuaModel& lm, const std::string& path) {
     saveModelFile(*lm.model, path, hostSection(lm));
 }
 
-void addSaveMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_save);
-    lua_setfield(L, methods_index, "save");
-}
+extern const luaL_Reg kSaveMethods[] = {
+    {"save", w_save},
+    {nullptr, nullptr},
+};
 
-void addSaveFunctions(lua_State* L) {
-    lua_pushcfunction(L, w_restore);
-    lua_setfield(L, -2, "restore");
-}
+extern const luaL_Reg kSaveFunctions[] = {
+    {"restore", w_restore},
+    {nullptr, nullptr},
+};
 
 }  // namespace talus::lua

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// m:vtk{dir =, every =, name =, fields =, walls =, contacts =, append =}: ParaView series
+// m:vtk{dir =, every =, name =, fields =, walls =, contacts =, cracks =, append =}: ParaView series
 // (vtk_writer.hpp; docs/output.md). Also the userdata both outputs return (m:vtk and
 // m:picture): out:write(), out:close(), out.frames, out.files, out.dir, out.pvd.
 #include <algorithm>
@@ -49,15 +49,16 @@ void VtkOutput::write(LuaModel& lm) {
             extra.push_back(std::move(a));
         }
     }
-    series.writeFrame(*lm.model, extra);
+    series.writeFrame(*lm.model, extra, lm.cracks);
     ++written;
 }
 
 int w_vtk(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "vtk");
-        const Options o(L, 2, "vtk",
-                        {"dir", "every", "name", "fields", "walls", "contacts", "append"});
+        const Options o(
+            L, 2, "vtk",
+            {"dir", "every", "name", "fields", "walls", "contacts", "cracks", "append"});
         vtk::SeriesState st;
         st.dir = o.string("dir", "");
         if (st.dir.empty()) throw ScriptError("vtk: 'dir' is required (the output directory)");
@@ -71,6 +72,7 @@ int w_vtk(lua_State* L) {
         st.every = every;
         st.walls = o.boolean("walls", true);
         st.contacts = o.boolean("contacts", true);
+        st.cracks = o.boolean("cracks", false);
         std::vector<std::pair<std::string, int>> functions;
         if (o.has("fields")) {
             readFields(L, lm, o, "vtk", vtk::optionalBallFields(), st.fields, functions);
@@ -91,10 +93,10 @@ int w_vtk(lua_State* L) {
 
 }  // namespace
 
-void addVtkMethods(lua_State* L, int methods_index) {
-    lua_pushcfunction(L, w_vtk);
-    lua_setfield(L, methods_index, "vtk");
-}
+extern const luaL_Reg kVtkMethods[] = {
+    {"vtk", w_vtk},
+    {nullptr, nullptr},
+};
 
 std::vector<SavedVtkSeries> vtkSeriesStates(const LuaModel& lm) {
     std::vector<SavedVtkSeries> out;

@@ -1,18 +1,19 @@
 -- SPDX-License-Identifier: MIT
 --
--- berea_ucs.lua: thesis A appendix B (Berea sandstone, contact bonds) reproduced over seeds:
--- kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600, contact-bond strengths normal : shear =
--- 1e9 : 1e10 N. Thesis result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
+-- berea_ucs.lua: the PFC2D calibration of Berea sandstone with contact bonds in An's MSc thesis
+-- (the basis of An & Tannant 2007, appendix B), reproduced over seeds: kn 6.4e10 N/m, ks 9.6e9
+-- N/m, fric 0.5, density 2600, contact-bond strengths normal : shear = 1e9 : 1e10 N. The
+-- thesis's result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
 --
 --   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [ball|contact] [balls|clumps|clumpgen] [elastic]
 --
 -- "ball" (default): kn, ks are the balls' stiffnesses, as PFC2D 3.x reads them (the contact gets
 -- the two balls' springs in series, kn/2 and ks/2 for equal balls; docs/lua-api.md, "inherited
--- ... springs in series"); docs/material.md says why this is the thesis's reading. "contact":
+-- ... springs in series"); docs/results/material.md says why this is the thesis's reading. "contact":
 -- the same numbers as the contacts' stiffnesses (twice as stiff), for comparison.
 --
 -- "clumps": the grains are rigid clumps of up to three touching balls, grouped at random after
--- genesis (M.genesis grains option, docs/material.md), as the thesis's specimen; "balls"
+-- genesis (M.genesis grains option, docs/material.md), as in the thesis's specimen; "balls"
 -- (default): single balls. "clumpgen": the grains are generated AS clumps (M.clump_genesis: rigid
 -- templates of 1, 2 or 3 touching balls, a third of the grains each, placed at random and
 -- compacted as clumps; docs/material.md); "clumpgen:p1,p2,p3" with grain shares p1 : p2 : p3.
@@ -20,8 +21,8 @@
 -- thesis's first calibration step, "match E with infinite strengths"): E and nu of the bonded
 -- assembly before any crack.
 --
--- The thesis does not give its ball size (seed digest section 7); we use balls of R 0.5-0.83
--- mm. In 2D with unit thickness a bond strength F is a
+-- The thesis does not give its ball size; we use balls of R 0.5-0.83 mm. In 2D with unit
+-- thickness a bond strength F is a
 -- stress times a length, so at fixed kn, ks and packing UCS scales exactly as F / R and E does
 -- not depend on R. The script therefore runs a normal strength of 4.6e4 N at this ball size and
 -- reports UCS * R_mean / F_n, from which the thesis's values follow for any ball size.

@@ -2,15 +2,15 @@
 --
 -- brazilian.lua: Brazilian (diametral compression) test on a bonded disk made by P&C's
 -- genesis in a circular vessel (default) or cut from a box packing; sigma_t = 2 F / (pi D t),
--- t = 1 m (bodies-bonds-rockfall.md 2.3; docs/material.md).
+-- t = 1 m (docs/material.md).
 --
 --   talus run scripts/examples/brazilian.lua [outdir] [seed] [jaws] [disk]
 --
 -- jaws = curved (default: the ISRM jaws of radius 1.5 R, M.make_jaws) or flat (platens).
 -- disk = vessel (default: M.genesis_disk, a 29.4 mm vessel) or cut (M.disk: the balls of a
 -- 30 x 30 mm box packing inside the 29.4 mm circle, the disk of before).
--- Same micro-properties as scripts/examples/ucs.lua (thesis A appendix B contact bonds,
--- strength scaled to the ball size).
+-- Same micro-properties as scripts/examples/ucs.lua (contact bonds, the strength scaled to the
+-- ball size).
 local M = require("material")
 local outdir = arg[1] or "out"
 local seed = tonumber(arg[2] or "1")
@@ -45,3 +45,13 @@ local f = r.fracture
 print(string.format("fracture: %d breaks, %.0f%% within 0.1 D of the loaded diameter, crack along %.0f%% of it, " ..
     "%.1f degrees off it: %s", f.n, 100 * f.band, 100 * f.cover, f.angle or 0 / 0,
     f.split and "split" or (f.crush and "crushed at a jaw" or "not a split")))
+print(r.valid and "valid: the disk split along the loaded diameter"
+    or ("NOT VALID, the number above is not a tensile strength: " .. r.reason))
+-- the disk and its cracks (m:picture, docs/output.md); the crack list is in the CSV beside the
+-- history
+local ok_pic, why = pcall(function()
+    sp.model:picture{ file = outdir .. "/brazilian_disk.png", size = { 700, 744 }, color = "none", cracks = true,
+                      title = string.format("Brazilian disk (%s), %s jaws: %d cracks", disk, r.jaws, #r.cracks) }
+end)
+print(ok_pic and ("picture: " .. outdir .. "/brazilian_disk.png, cracks: " .. outdir .. "/brazilian_history_cracks.csv")
+    or ("picture: failed (" .. tostring(why) .. ")"))

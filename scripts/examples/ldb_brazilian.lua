@@ -12,7 +12,7 @@
 -- disk = vessel (default: made in a circular vessel of diameter 0.98 x 31.7 mm x scale,
 -- M.genesis_disk) or cut (the balls of a 31.7 x 31.7 mm x scale box packing of M.genesis
 -- inside that circle, M.disk: the disks of ldb_pbond.lua). The vessel disks scatter less and
--- split more often between the curved jaws (docs/material.md, "Disks made in a circular
+-- split more often between the curved jaws (docs/results/material.md, "Disks made in a circular
 -- vessel"), hence the default. jaw_angle: give 20 (the default) to reach the 7th argument.
 --
 -- scale 1: 31.1 mm disks (~1 500 balls; cut: ~30.7 mm, ~1 440); 0.5: 15.5 mm (~378 balls; cut:
@@ -33,8 +33,8 @@ if disk ~= "vessel" and disk ~= "cut" then
 end
 talus.mkdir(outdir)
 -- as ldb_pbond.lua, Brazilian platens/jaws with friction 0.5 (the one change between the two
--- runs compared in docs/material.md is the jaw shape)
-local mat, genesis = M.lac_du_bonnet()
+-- runs compared in docs/results/material.md is the jaw shape)
+local mat, genesis, vessel_disk = M.lac_du_bonnet()
 mat.platen.fric = 0.5
 -- The disk's porosity: 1 - (the balls' area) / (pi D^2 / 4), D the ball extent as sigma_t uses
 -- it (the same measure for a cut and a vessel disk; a cut disk's rough rim counts as pore).
@@ -48,8 +48,7 @@ local res = talus.map(n, function(k)
     local t0 = os.clock()
     local pd
     if disk == "vessel" then
-        pd = M.genesis_disk{ diameter = 0.98 * 0.0317 * scale, rmin = 0.27e-3, rmax = 1.66 * 0.27e-3,
-                             porosity = 0.16, kn = mat.kn, ks = mat.ks, density = mat.density, seed = 100 + i }
+        pd = vessel_disk(0.98 * 0.0317 * scale, 100 + i)
     else
         pd = genesis(0.0317 * scale, 0.0317 * scale, 100 + i)
     end
@@ -70,7 +69,7 @@ local res = talus.map(n, function(k)
                 dmin = math.min(dmin, (ball.pos[1] - q[1]) ^ 2 + (ball.pos[2] - q[2]) ^ 2)
             end
             return math.sqrt(dmin) * 1e3
-        end, range = { 0, 1.5 }, label = "distance to a broken bond [mm]", size = { 700, 744 },
+        end, range = { 0, 1.5 }, label = "distance to a broken bond [mm]", size = { 700, 744 }, cracks = true,
         title = string.format("%s disk, %s, seed %d: sigma_t %.1f MPa", disk, jaws, i, b.tensile / 1e6) }
     local pts = {}
     for _, k in ipairs(sp_idx) do pts[#pts + 1] = pd.balls[k] end
@@ -78,7 +77,7 @@ local res = talus.map(n, function(k)
              D = b.diameter, tensile = b.tensile,
              force = b.force, breaks = fr.n, band = fr.band, cover = fr.cover, angle = fr.angle or -1,
              pre_peak = fr.pre_peak, jaw_first = fr.jaw_first, split = fr.split and 1 or 0,
-             crush = fr.crush and 1 or 0, steps = b.steps, stop = b.stop,
+             crush = fr.crush and 1 or 0, steps = b.steps, stop = b.stop, valid = b.valid, reason = b.reason,
              segments = sp.disk.segments or 0,
              -- where the jaws/platens first touch: degrees off the loaded diameter
              contact_top = sp.disk.first_contact[1], contact_bottom = sp.disk.first_contact[2],
@@ -95,11 +94,14 @@ for _, r in ipairs(res) do
         r.jaw_first, r.pre_peak, r.split, r.crush, r.steps, r.stop, r.cpu_genesis, r.cpu_test,
         r.contact_top, r.contact_bottom))
 end
-local t, st = M.mean_sd(res, "tensile")
+local t, st, nvalid = M.mean_sd(res, "tensile")
 local ncrush = 0
 for _, r in ipairs(res) do ncrush = ncrush + r.crush end
-print(string.format("sigma_t %.2f +- %.2f MPa (mean +- sd, %d seeds); %d of %d split along the loaded diameter, %d crushed",
-    t / 1e6, st / 1e6, #res, nsplit, #res, ncrush))
+print(string.format("sigma_t %.2f +- %.2f MPa (mean +- sd over the %d valid tests of %d seeds); %d of %d split along the "
+    .. "loaded diameter, %d crushed", t / 1e6, st / 1e6, nvalid, #res, nsplit, #res, ncrush))
+for _, r in ipairs(res) do
+    if not r.valid then print(string.format("seed %d not valid: %s", r.seed, r.reason)) end
+end
 M.write_csv(string.format("%s/ldb_brazilian_%s_%s_%g.csv", outdir, disk, jaws, scale), res,
     { "seed", "balls", "porosity", "bonds", "D", "tensile", "force", "breaks", "band", "cover", "angle", "pre_peak",
       "jaw_first", "split", "crush", "steps", "cpu_genesis", "cpu_test", "contact_top", "contact_bottom" })

@@ -5,11 +5,11 @@
 --
 --   talus run scripts/examples/ucs.lua [outdir] [seed]        (about 8 s of CPU)
 --
--- Material: thesis A appendix B's contact-bond micro-properties (kn 6.4e10 N/m, ks 9.6e9 N/m,
--- fric 0.5, density 2600, shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470
--- balls (R 0.5-0.83 mm). A contact bond's strength is a force, so the UCS scales as strength /
+-- Material: the contact-bond micro-properties of An's Berea sandstone (MSc thesis, the basis of
+-- An & Tannant 2007, appendix B: kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600,
+-- shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470 balls (R 0.5-0.83 mm). A contact bond's strength is a force, so the UCS scales as strength /
 -- ball size in 2D; the normal strength here, 4.6e4 N, is the one that gives about 40 MPa at this
--- ball size (docs/material.md, "Berea").
+-- ball size (docs/results/material.md, "Berea sandstone").
 
 local M = require("material")
 local outdir = arg[1] or "out"
@@ -45,9 +45,13 @@ local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 
     .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
 if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
 
--- A picture of the crushed specimen with its force chains (m:picture, docs/output.md).
+print(string.format("cracks: %d listed in %s/ucs_history_cracks.csv; crack damage threshold %.2f MPa (%.0f%% of UCS)",
+    #r.cracks, outdir, r.crack_damage.stress / 1e6, 100 * r.crack_damage.stress / r.ucs))
+
+-- A picture of the crushed specimen with its force chains and cracks (m:picture, docs/output.md).
 local ok_pic, why = pcall(function()
-    sp.model:picture{ file = outdir .. "/ucs_specimen.png", size = {600, 1000}, contacts = "force",
+    sp.model:picture{ file = outdir .. "/ucs_specimen.png", size = {600, 1000}, contacts = "force", cracks = true,
+                      color = "none",
                       title = string.format("UCS specimen at %d%% post-peak (%d bond breaks)",
                           80, r.breaks.tension + r.breaks.shear) }
 end)

@@ -1,7 +1,8 @@
 -- SPDX-License-Identifier: MIT
--- Clumped grains (material.genesis option `grains`, docs/material.md "Grains"): the grouping
--- of touching balls into clumps of up to three (thesis A appendix B), the clumps M.specimen
--- makes of them, and the bonds it installs between different bodies only.
+-- Clumped grains (material.genesis option `grains`, docs/material.md "Genesis"): the grouping
+-- of touching balls into clumps of up to three (as in An's MSc thesis, the basis of An &
+-- Tannant 2007), the clumps M.specimen makes of them, and the bonds it installs between
+-- different bodies only.
 local T = require("testlib")
 local M = require("material")
 

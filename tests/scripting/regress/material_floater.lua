@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
--- Genesis' floater step (material.lua, docs/material.md "Genesis" step 3): the circles tangent
--- to three sites (balls and walls) against closed forms, and the choice of a floater's new
--- circle.
+-- Genesis' floater step (scripts/lib/material/floaters.lua, docs/material.md "Genesis" step 3):
+-- the circles tangent to three sites (balls and walls) against closed forms, and the choice of
+-- a floater's new circle.
 local T = require("testlib")
 local M = require("material")
 

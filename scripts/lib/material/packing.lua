@@ -1,0 +1,40 @@
+-- SPDX-License-Identifier: MIT
+-- material/packing.lua: a packing (a genesis' result, a plain table) written to and read from a
+-- Lua file, exactly (17 significant digits), so calibration loops reuse one genesis.
+local P = {}
+
+local function ser(v, ind)
+    if type(v) == "number" then
+        if math.type(v) == "integer" then return tostring(v) end
+        return string.format("%.17g", v)
+    elseif type(v) == "string" then return string.format("%q", v)
+    elseif type(v) == "boolean" then return tostring(v)
+    elseif type(v) == "table" then
+        local parts = {}
+        local n = #v
+        for i = 1, n do parts[#parts + 1] = ser(v[i], ind) end
+        local keys = {}
+        for k in pairs(v) do
+            if not (math.type(k) == "integer" and k >= 1 and k <= n) then keys[#keys + 1] = k end
+        end
+        table.sort(keys, function(a, b) return tostring(a) < tostring(b) end)
+        for _, k in ipairs(keys) do parts[#parts + 1] = "[" .. ser(k) .. "]=" .. ser(v[k], ind) end
+        return "{" .. table.concat(parts, ",") .. "}"
+    end
+    error("material.save_packing: cannot write a " .. type(v))
+end
+
+--- Writes a packing as a Lua file (exact: 17 significant digits).
+function P.save(pk, file)
+    local f = assert(io.open(file, "w"))
+    f:write("return ", ser(pk), "\n")
+    f:close()
+end
+
+function P.load(file)
+    local chunk, err = loadfile(file, "t", {})
+    if not chunk then error("material.load_packing: " .. err, 2) end
+    return chunk()
+end
+
+return P

@@ -1,0 +1,79 @@
+-- SPDX-License-Identifier: MIT
+-- M.brazilian says whether its number is a tensile strength (docs/material.md "Brazilian
+-- test"): a disk that split along the loaded diameter gives valid = true; one that did not
+-- fail, whose load fell with no bond breaking (a slip), that was crushed under a jaw or did not
+-- split gives valid = false with the reason, and M.mean_sd leaves it out. (Before, every test
+-- returned a number: a cut disk gave 1.62 MPa beside 20.5 MPa for the next seed, unflagged.)
+local T = require("testlib")
+local M = require("material")
+
+local mat = { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
+              bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 } }
+local function with(t)
+    local o = {}
+    for k, v in pairs(mat) do o[k] = v end
+    for k, v in pairs(t) do o[k] = v end
+    return o
+end
+
+-- 1. Disks made in a vessel between the curved jaws with friction (scripts/examples/
+-- brazilian.lua): seed 1 splits, and the test is valid; seed 2's first breaks are under a jaw
+-- and it does not split: a crushed contact, not valid.
+local function vessel_disk(seed)
+    return M.genesis_disk{ diameter = 0.016, rmin = 0.5e-3, rmax = 0.83e-3, kn = 6.4e10, ks = 9.6e9, seed = seed }
+end
+local disk = vessel_disk(1)
+local sp = M.specimen(disk, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk) })
+local b = M.brazilian(sp, { post_peak = 0.5 })
+T.check(b.fracture.split and b.valid == true and b.reason == nil,
+    "a split disk: valid (" .. tostring(b.reason) .. ")")
+local disk2 = vessel_disk(2)
+local crushed = M.brazilian(M.specimen(disk2, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk2) }),
+    { post_peak = 0.5 })
+T.check(crushed.fracture.crush and crushed.valid == false and crushed.reason:find("crushed at a jaw", 1, true),
+    "crushed under a jaw: not valid (" .. tostring(crushed.reason) .. ")")
+
+-- 2. The same disk stopped before it failed: no strength measured.
+local sp2 = M.specimen(disk, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk) })
+local short = M.brazilian(sp2, { post_peak = 0.5, max_steps = 1000 })
+T.check(short.stop == "max_steps" and short.valid == false and short.reason:find("did not fail", 1, true),
+    "stopped before failure: not valid (" .. tostring(short.reason) .. ")")
+
+-- 3. Disks cut from box packings between smooth flat platens (fric 0): seed 1's load fell
+-- after its peak with no bond breaking (it slipped), seed 2 broke but did not split.
+local function cut(seed)
+    local pk = M.genesis{ width = 0.014, height = 0.014, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                          kn = 6.4e10, ks = 9.6e9, seed = seed }
+    local s = M.specimen(pk, with{ platen = { fric = 0 } }, { balls = M.disk(pk), jaws = "flat" })
+    return M.brazilian(s, { post_peak = 0.5 })
+end
+local slip = cut(1)
+local t_peak, after = slip.rows[slip.ipeak].time, 0
+for _, c in ipairs(slip.cracks) do if c.time > t_peak then after = after + 1 end end
+T.check(slip.stop == "post_peak" and after == 0 and slip.rows[#slip.rows].sa < 0.5 * slip.peak,
+    string.format("seed 1: the load fell to half its peak with %d bonds breaking after the peak", after))
+T.check(slip.valid == false and slip.reason:find("no bond breaking", 1, true),
+    "a slip: not valid (" .. tostring(slip.reason) .. ")")
+local nosplit = cut(2)
+T.check(not nosplit.fracture.split and nosplit.valid == false and nosplit.reason:find("no split", 1, true),
+    "no split: not valid (" .. tostring(nosplit.reason) .. ")")
+
+-- 4. The rules on their own
+local function fake(fr, cracks_after)
+    local r = { stop = "post_peak", ipeak = 1, rows = { { time = 1 } }, cracks = {}, fracture = fr }
+    if cracks_after then r.cracks[1] = { time = 2 } end
+    return r
+end
+local v, why = M.brazilian_validity(fake({ split = false, crush = true, jaw_first = 3, pre_peak = 4 }, true))
+T.check(v == false and why:find("crushed at a jaw (3 of the first 4", 1, true), "crushed: " .. tostring(why))
+v, why = M.brazilian_validity(fake({ split = true, crush = false }, true))
+T.check(v == true and why == nil, "split, cracks after the peak: valid")
+
+-- 5. mean and sd over the valid tests only, and how many
+local mean, sd, n = M.mean_sd({ { tensile = 1 }, { tensile = 100, valid = false }, { tensile = 3, valid = true } }, "tensile")
+T.check(mean == 2 and sd == math.sqrt(2) and n == 2, string.format("mean_sd over valid: %g %g %d", mean, sd, n))
+local m0, s0, n0 = M.mean_sd({ { tensile = 5, valid = false } }, "tensile")
+T.check(n0 == 0 and m0 ~= m0 and s0 ~= s0, "no valid test: NaN, 0 used")
+print(string.format("material_brazilian_valid: split disk %.2f MPa (valid); crushed %.2f, slip %.2f, no split %.2f MPa "
+    .. "(not valid)", b.tensile / 1e6, crushed.tensile / 1e6, slip.tensile / 1e6, nosplit.tensile / 1e6))
+T.done("material_brazilian_valid")
