@@ -125,11 +125,19 @@ end
 --- Installs the bond model `mat.model` (default "cbond") with the properties mat.bond (each a
 --- number or {mean, sd, dist}, drawn per bond with mat.seed) at the ball-ball contacts of group
 --- "rock" and the near-contacts within `gap` (m:bond, reset = true: a stress-free start, PFC
---- practice; mat.reset = false keeps the forces). Returns the number of bonds.
+--- practice; mat.reset = false keeps the forces). The material's kn, ks and fric go to the bond
+--- model only if it has them (the linear part of cbond and pbond; a flat joint has its own).
+--- Returns the number of bonds.
 function S.install_bonds(m, mat, gap)
-    local props = { kn = mat.kn, ks = mat.ks or mat.kn, fric = mat.fric or 0 }
+    local model = mat.model or "cbond"
+    local has = {}
+    for _, p in ipairs(talus.contact_model_info(model).properties) do has[p.name] = true end
+    local props = {}
+    if has.kn then props.kn = mat.kn end
+    if has.ks then props.ks = mat.ks or mat.kn end
+    if has.fric then props.fric = mat.fric or 0 end
     for k, v in pairs(mat.bond or {}) do props[k] = v end
-    return m:bond{ model = mat.model or "cbond", props = props, group = "rock", gap = gap, seed = mat.seed or 1,
+    return m:bond{ model = model, props = props, group = "rock", gap = gap, seed = mat.seed or 1,
                    reset = mat.reset ~= false }
 end
 

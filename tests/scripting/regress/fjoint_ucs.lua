@@ -2,20 +2,12 @@
 -- A small flat-jointed specimen crushed in a UCS test (material.lua's genesis, specimen and
 -- compress): it loads elastically, its interfaces crack element by element, and it fails with a
 -- post-peak drop, at a modulus and a strength of the order its micro-properties give.
--- M.specimen installs `mat.model` with m:bond, passing the material's kn, ks and fric (the
--- linear part of cbond and pbond) with the bond's properties; fjoint has no linear part, so this
--- test installs the flat joints through the same hook (M.install_bonds) with the bond's
--- properties only. The rest is the library's: platens, the linear rule for contacts made later
--- (as in PFC's flat-jointed material), relaxation, loading, E and nu.
+-- M.specimen installs `mat.model` with m:bond and the bond's properties (the material's kn, ks and
+-- fric only go to a model that has them: fjoint has no linear part). The rest is the library's:
+-- platens, the linear rule for contacts made later (as in PFC's flat-jointed material),
+-- relaxation, loading, E and nu.
 local T = require("testlib")
 local M = require("material")
-
-local install = M.install_bonds
-M.install_bonds = function(m, mat, gap)
-    if mat.model ~= "fjoint" then return install(m, mat, gap) end
-    return m:bond{ model = "fjoint", props = mat.bond, group = "rock", gap = gap,
-                   seed = mat.seed or 1, reset = true }
-end
 
 local E_MICRO = 6.4e10
 local pk = M.genesis{ width = 0.01, height = 0.02, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
