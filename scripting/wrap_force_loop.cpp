@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law, m:lanes and m:threads.
+// How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law, m:lanes, m:kernels and
+// m:threads.
 // None changes a result: they are for measurements and for tests that prove it.
 #include <string>
 
@@ -40,6 +41,13 @@ int w_lanes(lua_State* L) {
         [](const Model& m) { return m.lanes(); });
 }
 
+/// m:kernels(on): the host's kernels of the shipped models' laws, or their FDlaw.
+int w_kernels(lua_State* L) {
+    return loopSwitch(
+        L, "kernels", [](Model& m, bool on) { m.setKernels(on); },
+        [](const Model& m) { return m.kernels(); });
+}
+
 /// m:threads(n [, grain]) sets the force loop's threads, m:threads() reads them.
 int w_threads(lua_State* L) {
     return catchexcept(L, [&] {
@@ -74,6 +82,7 @@ int w_threads(lua_State* L) {
 extern const luaL_Reg kForceLoopMethods[] = {
     {"batched_law", w_batched_law},
     {"lanes", w_lanes},
+    {"kernels", w_kernels},
     {"threads", w_threads},
     {nullptr, nullptr},
 };

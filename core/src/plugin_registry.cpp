@@ -265,6 +265,12 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
             ? reinterpret_cast<TalusPluginLanesFn>(::dlsym(handle, TALUS_PLUGIN_LANES_ENTRY))
             : nullptr;
 
+    // Optional (ABI 1.3): the SDK law a model runs on its lane rows (docs/plugin-abi.md, "Kernels").
+    auto kernel_entry =
+        info->abi_minor >= 3
+            ? reinterpret_cast<TalusPluginKernelFn>(::dlsym(handle, TALUS_PLUGIN_KERNEL_ENTRY))
+            : nullptr;
+
     auto lib = std::make_unique<Library>();
     lib->path = path;
     lib->handle = handle;
@@ -313,6 +319,8 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
                 throw PluginError("load_plugin: '" + path + "': model '" + name +
                                   "': talus_plugin_lanes returned a bad LaneLaw: " + why);
         }
+        if (kernel_entry)
+            if (const char* id = kernel_entry(i)) f.kernel = id;
         added.push_back(f);
     }
     std::vector<std::string> names;

@@ -75,3 +75,9 @@ TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index) {
 TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
     return index == 0 ? talus::sdk::laneLawOf<Linear>() : nullptr;
 }
+
+// The kernel (docs/plugin-abi.md, "Kernels"): this model is the SDK's linear law on its lane rows,
+// so a host that has the same law compiled in runs it inline.
+TALUS_PLUGIN_EXPORT const char* talus_plugin_kernel(int32_t index) {
+    return index == 0 ? talus::sdk::LinearLaw::kKernelId : nullptr;
+}

@@ -58,7 +58,7 @@ struct Scene {
     }
     StepContext step() const { return beginStep(world); }
     ForceView view(const StepContext& s) {
-        return forceView(world, s, world.contacts.fd_template, 1, false, false);
+        return forceView(world, s, world.contacts.fd_template, 1, false, false, false);
     }
 };
 

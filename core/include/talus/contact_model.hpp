@@ -30,7 +30,7 @@
 #include <cstdint>
 
 #define TALUS_ABI_MAJOR 1
-#define TALUS_ABI_MINOR 2
+#define TALUS_ABI_MINOR 3
 #define TALUS_DIM 2
 
 #if defined(__GNUC__) || defined(__clang__)
@@ -349,6 +349,16 @@ struct LaneLaw {
 /// returning the lane law of model `index` or nullptr.
 #define TALUS_PLUGIN_LANES_ENTRY "talus_plugin_lanes"
 using TalusPluginLanesFn = const talus::LaneLaw* (*)(int32_t);
+
+/// Name of the optional fourth entry point (ABI 1.3): a library whose model runs one of the SDK's
+/// laws on that law's lane rows (talus/sdk/*.hpp names the law with a kernel id, e.g.
+/// sdk::LinearLaw::kKernelId) exports TALUS_PLUGIN_EXPORT const char* talus_plugin_kernel(int32_t
+/// index), returning the id or nullptr. A host that knows the id runs that law itself inside its
+/// force loop, compiled from the same SDK header, on the lane rows the model declared: the same
+/// bits as FDlaw, without a call per contact (docs/plugin-abi.md, "Kernels"). A host that does not
+/// know it, or a model whose lanes do not match, runs FDlaw.
+#define TALUS_PLUGIN_KERNEL_ENTRY "talus_plugin_kernel"
+using TalusPluginKernelFn = const char* (*)(int32_t);
 
 /// Name of the optional second entry point: a library that offers a batched law for some of its
 /// models exports TALUS_PLUGIN_EXPORT talus::BatchFdLawFn talus_plugin_batch(int32_t index),

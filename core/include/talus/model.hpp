@@ -252,6 +252,11 @@ public:
     /// docs/benchmarks.md). The same bits either way; needs the batched law on.
     void setLanes(bool on);
     bool lanes() const;
+    /// Runs the laws of the shipped models that name one (`linear`) inside the force loop, on
+    /// host-owned rows of their state (docs/plugin-abi.md, "Kernels"; default on). The same bits
+    /// either way; off runs their FDlaw, for tests and measurements.
+    void setKernels(bool on);
+    bool kernels() const;
     /// Threads of the force loop (docs/architecture.md, "Threads"), n >= 1; results are
     /// bit-identical for any n. The default is the environment's TALUS_THREADS, else 1. A step
     /// runs on one thread in a build without OpenMP, with a contact model that lacks

@@ -26,6 +26,8 @@ struct ModelFactory {
     BatchFdLawFn batch = nullptr;
     /// The model's lane law (talus_plugin_lanes, ABI 1.2), or nullptr: no lanes.
     const LaneLaw* lanes = nullptr;
+    /// The SDK law the model runs on its lane rows (talus_plugin_kernel, ABI 1.3), or empty.
+    std::string kernel;
 };
 
 /// Most doubles of state per contact a lane law may declare (LaneLaw::state_size).

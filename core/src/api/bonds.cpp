@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "force/kernels.hpp"
 #include "api/operations.hpp"
 #include "force/force.hpp"
 #include "props.hpp"
@@ -279,6 +280,7 @@ std::size_t Model::bond(const BondSettings& s) {
     auto rule = std::make_unique<Rule>();
     rule->factory = &factory;
     rule->batch = factory.batch;
+    rule->kernel = kernelOf(factory);
     rule->model_name = factory.name;
     rule->prototype = std::move(proto);
     rule->specificity = 0;  // never matched (ruleFor skips specificity-0 rules after the first)

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "force/kernels.hpp"
 #include "api/operations.hpp"
 #include "props.hpp"
 #include "step/detection.hpp"
@@ -43,6 +44,7 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     auto rule = std::make_unique<Rule>();
     rule->factory = &world.registry.find(name);
     rule->batch = rule->factory->batch;
+    rule->kernel = kernelOf(*rule->factory);
     rule->model_name = rule->factory->name;
     rule->prototype = world.registry.createPrototype(*rule->factory);
     applyProps(*rule->prototype, props, "contact_model");

@@ -239,6 +239,7 @@ std::string Profile::report(std::size_t balls) const {
     os << "  broadphase re-insertions " << proxy_moves << ", pairs created " << pairs_created
        << ", contacts created " << contacts_created << ", batched laws " << batched_laws
        << ", lane steps " << lane_steps << " (declined " << lane_declined << ")"
+       << ", kernel steps " << kernel_steps << " (declined " << kernel_declined << ")"
        << ", threaded steps " << threaded_steps << "\n";
     return os.str();
 }
@@ -254,6 +255,9 @@ void Model::setLanes(bool on) {
     if (!on) leaveAllLanes(world);
     world.settings.lanes = on;
 }
+
+void Model::setKernels(bool on) { m_world->settings.kernels = on; }
+bool Model::kernels() const { return m_world->settings.kernels; }
 
 void Model::setThreads(int n, int grain) {
     World& world = *m_world;

@@ -16,6 +16,7 @@
 #include <limits>
 #include <unordered_set>
 
+#include "force/kernels.hpp"
 #include "step/detection.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
@@ -601,6 +602,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
                 try {
                     rule->factory = &registry.find(rule->model_name);
                     rule->batch = rule->factory->batch;
+    rule->kernel = kernelOf(*rule->factory);
                 } catch (const std::exception& e) {
                     r.fail("contact model '" + rule->model_name + "' (plugin version " +
                            plugin_version + ") is not available: " + e.what());

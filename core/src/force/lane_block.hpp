@@ -28,7 +28,9 @@ std::size_t runLaneBlock(const ForceView& v, ForceSums& sums, std::size_t i, std
         const Pair& p = v.pairs[j];
         if (p.wall) break;
         if (p.active) {
-            if (p.lane == kNoLane || (table && p.rule->lanes.get() != table)) break;
+            if (p.lane == kNoLane || p.rule->lane_mode != LaneMode::Blocks ||
+                (table && p.rule->lanes.get() != table))
+                break;
             if (!table) {
                 table = p.rule->lanes.get();
                 row_bytes = sizeof(double) * std::size_t(table->law().state_size);

@@ -45,7 +45,7 @@
 namespace talus {
 
 ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template,
-                    int nthreads, bool lanes_on, bool groups) {
+                    int nthreads, bool lanes, bool blocks, bool groups) {
     auto& b = world.bodies.balls;
     ForceScratch& scratch = world.contacts.force_scratch;
     return ForceView{world,
@@ -74,7 +74,8 @@ ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_tem
                      // (the same for every contact, so for every thread count)
                      world.books.acc,
                      world.settings.batched_law,
-                     lanes_on,
+                     lanes,
+                     blocks,
                      groups};
 }
 
@@ -98,9 +99,9 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
         try {
             PairEntry e;
             LaneCounts counts;
-            if (v.lanes_on) part.lanes.prepare();
+            if (v.blocks) part.lanes.prepare();
             while (i < hi) {
-                if (v.lanes_on) {
+                if (v.blocks) {
                     std::size_t at = i;
                     try {
                         const std::size_t next = runLaneBlock<Features, Delivery::Parallel>(
@@ -120,13 +121,19 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                     ++i;
                     continue;
                 }
-                const PairStep step = geometryPass<Features>(v, i, e, &part.fd);
+                const bool kernel = v.pairs[i].lane != kNoLane;  // (blocks ran above)
+                const PairStep step = geometryPass<Features>(v, i, e, kernel ? nullptr : &part.fd);
                 if (step == PairStep::Contact) {
                     Pair& p = v.pairs[i];
-                    lawPass(v, p, part.fd, part.error, counts.batched);
-                    finishContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd, false,
-                                                                &part);
-                    if (v.lanes_on && p.lane == kNoLane && laneable(p))
+                    if (kernel) {
+                        kernelContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd,
+                                                                    part.error, counts, &part);
+                    } else {
+                        lawPass(v, p, part.fd, part.error, counts.batched);
+                        finishContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd, false,
+                                                                    &part);
+                    }
+                    if (v.lanes && p.lane == kNoLane && laneable(p))
                         part.lane_entries.push_back(static_cast<uint32_t>(i));
                 } else if (step == PairStep::Apart) {
                     finishApart<Features, Delivery::Parallel>(v, i, step, &part);
@@ -138,6 +145,8 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
             part.batched = counts.batched;
             part.lane_steps = counts.steps;
             part.lane_declined = counts.declined;
+            part.kernel_steps = counts.kernel;
+            part.kernel_declined = counts.kernel_declined;
         } catch (...) {
             part.failure = std::current_exception();
             part.failure_pair = i;
@@ -152,7 +161,7 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
             failed = part.failure_pair, failed_part = &part;
     PairEntry e;
     FdBlock& fd = parts[0].fd;
-    int64_t batched_count = 0;
+    LaneCounts serial;
     for (auto& part : parts) {
         for (const DeferredItem& item : part.items) {
             const std::size_t i = item.pair;
@@ -162,7 +171,7 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                     // (a vertex hand-over leaves the contact's new holder in slot i: again)
                     for (std::size_t next = i; next == i;)
                         next = runPair<Features, Delivery::Serial>(v, sums, i, npairs, e, fd,
-                                                                   scratch.error, batched_count);
+                                                                   scratch.error, serial);
                     break;
                 case Deferred::Break:
                     queueBreak(world, i, item.point, item.break_mode,
@@ -183,12 +192,18 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
             }
         }
         sums.finite_check += part.finite_check;
-        batched_count += part.batched;
+        serial.batched += part.batched;
         world.profile.lane_steps += part.lane_steps;
         world.profile.lane_declined += part.lane_declined;
+        world.profile.kernel_steps += part.kernel_steps;
+        world.profile.kernel_declined += part.kernel_declined;
         if constexpr (Features::kAuto) world.stepping.limits.merge(part.limits);
     }
-    world.profile.batched_laws += batched_count;
+    world.profile.batched_laws += serial.batched;
+    world.profile.lane_steps += serial.steps;
+    world.profile.lane_declined += serial.declined;
+    world.profile.kernel_steps += serial.kernel;
+    world.profile.kernel_declined += serial.kernel_declined;
     // The lanes' rows the threads let go, then the contacts they offer (in pair order).
     for (auto& part : parts)
         for (const auto& [table, row] : part.lane_releases) table->release(row);
@@ -233,22 +248,30 @@ void forceLoop(World& world, const StepContext& step) {
     world.contacts.to_remove.clear();
     const bool groups = Features::kEnergy && step.groups;
     if (groups) groupForceLoopStart(world);
-    const bool batched = world.settings.batched_law;
-    // Lanes (docs/plugin-abi.md, "Lanes") are part of the batched path; per-group energy books
-    // every contact through its FdBlock (bookContactToGroups), so it runs without them.
-    bool lanes_on = false;
-    if (world.settings.lanes && batched && !groups)
-        for (const auto& rule : world.contacts.rules)
-            lanes_on = lanes_on || (rule->factory && rule->factory->lanes);
-    // A step without them takes every contact out first (their objects run FDlaw).
-    if (!lanes_on)
-        for (const auto& rule : world.contacts.rules)
-            if (rule->lanes && rule->lanes->used() > 0) {
-                leaveAllLanes(world);
-                break;
-            }
+    // How each rule's contacts run this step (LaneMode): the model's lane law over blocks if
+    // m:lanes asks for it, else the host's kernel of the model's law (kernels.hpp) where it has
+    // one, else its law per contact. Per-group energy books every contact through its FdBlock
+    // (bookContactToGroups), so it runs without lanes. A rule without them takes its contacts
+    // out first (their objects run FDlaw).
+    bool lanes = false, blocks = false, leave = false;
+    for (const auto& rule : world.contacts.rules) {
+        LaneMode mode = LaneMode::None;
+        if (!groups && rule->factory) {
+            if (world.settings.lanes && world.settings.batched_law && rule->factory->lanes)
+                mode = LaneMode::Blocks;
+            else if (rule->kernel != Kernel::None && world.settings.kernels)
+                mode = LaneMode::Kernel;
+        }
+        leave = leave || (mode != rule->lane_mode && rule->lanes && rule->lanes->used() > 0);
+        rule->lane_mode = mode;
+        lanes = lanes || mode != LaneMode::None;
+        blocks = blocks || mode == LaneMode::Blocks;
+    }
+    if (leave)
+        for (Pair& p : world.contacts.pairs)
+            if (p.lane != kNoLane && p.rule->lane_mode == LaneMode::None) leaveLane(p);
     if (nthreads > 1) prepareForceScratch(world, nthreads, fd_template);
-    const ForceView v = forceView(world, step, fd_template, nthreads, lanes_on, groups);
+    const ForceView v = forceView(world, step, fd_template, nthreads, lanes, blocks, groups);
     ForceSums sums;
 
     if (nthreads <= 1) {
@@ -256,24 +279,26 @@ void forceLoop(World& world, const StepContext& step) {
         FdBlock fd = fd_template;
         LaneCounts counts;
         LaneScratch& ls = scratch.lanes;
-        if (lanes_on) ls.prepare();
+        if (blocks) ls.prepare();
         std::size_t at = 0;
-        if (lanes_on) {
+        if (blocks) {
             for (std::size_t i = 0; i < npairs;) {
                 const std::size_t next = runLaneBlock<Features, Delivery::Direct>(
                     v, sums, i, npairs, ls, nullptr, scratch.error, counts, at);
                 i = next != i ? next
                               : runPair<Features, Delivery::Direct>(v, sums, i, npairs, e, fd,
-                                                                    scratch.error, counts.batched);
+                                                                    scratch.error, counts);
             }
         } else {
             for (std::size_t i = 0; i < npairs;)
                 i = runPair<Features, Delivery::Direct>(v, sums, i, npairs, e, fd, scratch.error,
-                                                        counts.batched);
+                                                        counts);
         }
         world.profile.batched_laws += counts.batched;
         world.profile.lane_steps += counts.steps;
         world.profile.lane_declined += counts.declined;
+        world.profile.kernel_steps += counts.kernel;
+        world.profile.kernel_declined += counts.kernel_declined;
     } else {
         runThreads<Features>(v, sums, npairs, nthreads);
     }

@@ -10,6 +10,7 @@
 
 #include "force/pass_finish.hpp"
 #include "force/pass_geometry.hpp"
+#include "force/kernels.hpp"
 #include "force/pass_law.hpp"
 #include "step/detection.hpp"
 #include "world/lanes.hpp"
@@ -31,11 +32,61 @@ __attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std
     __builtin_prefetch(obj + 128);
 }
 
-/// A contact whose model has a lane law goes into its rule's lanes after an FDlaw, if the law
-/// takes it now (docs/plugin-abi.md, "Lanes").
-inline bool laneable(const Pair& p) { return !p.wall && p.rule->factory && p.rule->factory->lanes; }
+/// A contact whose rule runs in lanes this step (a kernel, or lane blocks) goes into them after an
+/// FDlaw, if the model's lane law takes it now (docs/plugin-abi.md, "Lanes").
+inline bool laneable(const Pair& p) { return !p.wall && p.rule->lane_mode != LaneMode::None; }
 inline void offerLane(const ForceView& v, Pair& p) {
-    if (v.lanes_on && p.active && p.lane == kNoLane && laneable(p)) enterLane(p);
+    if (v.lanes && p.active && p.lane == kNoLane && laneable(p)) enterLane(p);
+}
+
+/// Passes 2 and 3 for a contact in its rule's lanes whose law the host runs (kernels.hpp): the
+/// kernel on the contact's row, or, where it declines, the object brought up to date, FDlaw, and
+/// back into its row if the model takes it. Pass 1 left the law's inputs in `e`.
+template <class Features, Delivery kMode>
+__attribute__((always_inline)) inline void kernelContact(const ForceView& v, ForceSums& sums,
+                                                         std::size_t i, const PairEntry& e,
+                                                         FdBlock& fd, std::string& error,
+                                                         LaneCounts& counts,
+                                                         ForceThreadPart* part) {
+    Pair& p = v.pairs[i];
+    LaneTable& table = *p.rule->lanes;
+    double* row = table.row(p.lane);
+    KernelFd kf;
+    kf.flags = v.fd_template.flags;
+    kf.tdel = v.dt;
+    kf.time = v.fd_template.time;
+    kf.u_n = e.g.overlap;
+    kf.u_dot_n = e.u_dot_n;
+    kf.u_dot_s = e.u_dot_s;
+    kf.t_dot_rel = e.t_dot_rel;
+    kf.du_n = kf.u_dot_n * v.dt;
+    kf.du_s = kf.u_dot_s * v.dt;
+    kf.dtheta = kf.t_dot_rel * v.dt;
+    kf.mass_eff = p.mass_eff;
+    kf.inv_mass_eff_s = p.inv_mass_eff_s;
+    kf.n_force = p.n_force;
+    kf.s_force = p.s_force;
+    kf.moment = p.moment;
+    if constexpr (Features::kEnergy)
+        for (double& en : kf.energy) en = 0.0;
+    ++counts.kernel;
+    if (runKernel(p.rule->kernel, row, kf)) {
+        finishContact<Features, kMode>(v, sums, i, e, kf, false, part);
+        return;
+    }
+    ++counts.kernel_declined;
+    table.law().unpack(p.model, row);
+    fd = v.fd_template;
+    fillFd<Features>(v, p, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
+    lawPass(v, p, fd, error, counts.batched);
+    if (table.law().pack(p.model, row) == 0) {
+        if constexpr (kMode == Delivery::Parallel)
+            part->lane_releases.emplace_back(&table, p.lane);
+        else
+            table.release(p.lane);
+        p.lane = kNoLane;
+    }
+    finishContact<Features, kMode>(v, sums, i, e, fd, false, part);
 }
 
 /// A rare pair, alone (never in a thread's range); returns the next pair to process. Pass 1
@@ -91,14 +142,21 @@ __attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, Fo
                                                           std::size_t i, std::size_t end,
                                                           PairEntry& e, FdBlock& fd,
                                                           std::string& error,
-                                                          int64_t& batched_count) {
+                                                          LaneCounts& counts) {
     prefetchModel(v, i, end);
-    const PairStep step = geometryPass<Features>(v, i, e, &fd);
+    // A contact in lanes here is a kernel's (lane blocks take theirs before this): its law's
+    // inputs stay in `e`.
+    const bool kernel = v.pairs[i].lane != kNoLane;
+    const PairStep step = geometryPass<Features>(v, i, e, kernel ? nullptr : &fd);
     if (step == PairStep::Contact) {
         Pair& p = v.pairs[i];
-        lawPass(v, p, fd, error, batched_count);
-        finishContact<Features, kMode>(v, sums, i, e, fd, false, nullptr);
-        offerLane(v, p);
+        if (kernel) {
+            kernelContact<Features, kMode>(v, sums, i, e, fd, error, counts, nullptr);
+        } else {
+            lawPass(v, p, fd, error, counts.batched);
+            finishContact<Features, kMode>(v, sums, i, e, fd, false, nullptr);
+            offerLane(v, p);
+        }
         return i + 1;
     }
     if (step == PairStep::Apart || step == PairStep::Elsewhere) {

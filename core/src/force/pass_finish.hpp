@@ -34,7 +34,17 @@ double storedBefore(const Fd& fd, double fn_old, double fs_old, double m_old) {
 
 /// A law's output as an FdBlock (the energy contract's rare path takes one).
 inline const FdBlock& asFdBlock(const FdBlock& fd, const FdBlock&) { return fd; }
-inline FdBlock asFdBlock(const LaneResult& r, const FdBlock& tmpl) { return r.block(tmpl); }
+template <class Fd>  // a lane contact's LaneResult, a kernel's KernelFd
+FdBlock asFdBlock(const Fd& r, const FdBlock& tmpl) {
+    FdBlock fd = tmpl;
+    fd.flags = r.flags;
+    fd.u_n = r.u_n, fd.u_dot_n = r.u_dot_n, fd.u_dot_s = r.u_dot_s, fd.t_dot_rel = r.t_dot_rel;
+    fd.du_n = r.du_n, fd.du_s = r.du_s, fd.dtheta = r.dtheta;
+    fd.n_force = r.n_force, fd.s_force = r.s_force, fd.moment = r.moment;
+    fd.knest = r.knest, fd.ksest = r.ksest, fd.krest = r.krest;
+    for (int e = 0; e < kEnergyCount; ++e) fd.energy[e] = r.energy[e];
+    return fd;
+}
 
 /// What one contact adds to the books, in the order one thread adds it (PairEnergy).
 __attribute__((always_inline)) inline void bookPairEnergy(EnergyBooks& books, ForceSums& sums,

@@ -52,8 +52,6 @@ struct LaneResult {
     double n_force = 0.0, s_force = 0.0, moment = 0.0;
     double knest = 0.0, ksest = 0.0, krest = 0.0;
     double energy[kEnergyCount];
-    /// The same as an FdBlock (the energy contract's rare path, which takes one).
-    FdBlock block(const FdBlock& tmpl) const;
 };
 
 /// What one thread's loop counts of the laws it ran (Profile).
@@ -61,6 +59,8 @@ struct LaneCounts {
     int64_t batched = 0;   // laws run through a batched FDlaw
     int64_t steps = 0;     // contacts stepped by lane laws
     int64_t declined = 0;  // ... of which the law declined (FDlaw ran instead)
+    int64_t kernel = 0;    // contacts stepped by the host's kernels
+    int64_t kernel_declined = 0;
 };
 
 /// The lane batches of one thread's force loop: a block of up to kBlock consecutive pairs (lane
@@ -168,6 +168,7 @@ struct alignas(128) ForceThreadPart {
     std::vector<std::pair<LaneTable*, uint32_t>> lane_releases;  // rows to free (ditto)
     int64_t lane_steps = 0;                                      // contacts stepped by lane laws
     int64_t lane_declined = 0;                                   // ... of which declined
+    int64_t kernel_steps = 0, kernel_declined = 0;               // kernels
     std::vector<DeferredItem> items;                             // in pair order
     std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
     std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)

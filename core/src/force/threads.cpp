@@ -122,6 +122,7 @@ void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl) {
         part.lane_entries.clear();
         part.lane_releases.clear();
         part.lane_steps = part.lane_declined = 0;
+        part.kernel_steps = part.kernel_declined = 0;
     }
     // (pairs a vertex hand-over adds in this step are not processed in it: npairs is enough)
     s.actions.resize(world.contacts.pairs.size());

@@ -87,16 +87,6 @@ void reorderLanes(World& world) {
 
 // ------------------------------------------------------------------------ the loop's scratch
 
-FdBlock LaneResult::block(const FdBlock& tmpl) const {
-    FdBlock fd = tmpl;
-    fd.flags = flags;
-    fd.u_n = u_n, fd.u_dot_n = u_dot_n, fd.u_dot_s = u_dot_s, fd.t_dot_rel = t_dot_rel;
-    fd.du_n = du_n, fd.du_s = du_s, fd.dtheta = dtheta;
-    fd.n_force = n_force, fd.s_force = s_force, fd.moment = moment;
-    fd.knest = knest, fd.ksest = ksest, fd.krest = krest;
-    for (int e = 0; e < kEnergyCount; ++e) fd.energy[e] = energy[e];
-    return fd;
-}
 
 void LaneScratch::prepare() {
     if (declined.empty()) declined.resize(kBlock);

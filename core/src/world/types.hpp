@@ -58,6 +58,14 @@ private:
     std::vector<void*> m_free;
 };
 
+/// An SDK law the host runs itself on a model's lane rows (force/kernels.hpp; docs/plugin-abi.md,
+/// "Kernels").
+enum class Kernel : uint8_t { None, Linear };
+
+/// How a rule's contacts run this step (force/loop.cpp): the model's law per contact; its lane
+/// law over blocks of contacts (m:lanes); or the host's kernel of its law, inline.
+enum class LaneMode : uint8_t { None, Blocks, Kernel };
+
 /// A contact-model assignment: which model, with which properties, for which groups.
 struct Rule {
     std::string model_name;
@@ -65,6 +73,8 @@ struct Rule {
     /// factory->batch, here so that the force loop finds it one load from the pair (measured:
     /// through the factory, a second dependent load per contact cost 3-10%).
     BatchFdLawFn batch = nullptr;
+    Kernel kernel = Kernel::None;       // the host's kernel of the model's law (kernelOf)
+    LaneMode lane_mode = LaneMode::None;  // this step's (force/loop.cpp)
     PluginRegistry::PrototypePtr prototype;
     int group_a = -1;  // -1 = any
     int group_b = -1;

@@ -253,6 +253,10 @@ public:
     // dashpot history on its row, the same code as FDlaw, so the same bits. The row: the
     // constants the step reads (kLinearLaneConstants), then the state it writes.
     static constexpr int kLinearLaneConstants = 10;
+    /// The law's kernel id (ABI 1.3, talus_plugin_kernel): a model that runs linearLaneStep on
+    /// these rows may name it, and a host that knows it runs the step itself. Raise the number
+    /// whenever the rows or the step change.
+    static constexpr const char* kKernelId = "talus.sdk.LinearLaw/1";
     static constexpr int kLinearLaneStateSize =
         kLinearLaneConstants + 6 + DashpotHistory::kLaneStateSize;
     static const char* const* linearLaneStateNames() {
