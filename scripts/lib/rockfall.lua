@@ -563,7 +563,8 @@ local SEEDER_KEYS = { "kind", "name", "at", "from", "to", "weight", "rock", "vx"
 local ANALYSIS_KEYS = {
     "profile", "materials", "zones", "material", "roughness", "seeders", "collectors", "barriers",
     "seed", "n", "envelope", "gravity", "margin", "rest_speed", "rest_ke", "rest_time", "t_max",
-    "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance",
+    "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance", "shadow_apex",
+    "shadow_steep",
 }
 
 local function check_model(name, props, where)
@@ -791,6 +792,12 @@ local function analysis(opts)
     an.rock_contact = { model = rc.model or "linear",
         props = rc.props or { kn = 1e9, ks = 5e8, fric = 0.5, dp_nratio = 0.3 } }
     check_model(an.rock_contact.model, an.rock_contact.props, W .. ".rock_contact")
+    -- Shadow angles (rockfall_stats): the apex, or the steepness from which a downslope
+    -- segment counts as the cliff whose toe is the apex.
+    if opts.shadow_apex ~= nil then an.shadow_apex = point(opts.shadow_apex, W .. ".shadow_apex") end
+    if opts.shadow_steep ~= nil then
+        an.shadow_steep = num(opts.shadow_steep, W .. ".shadow_steep", 1e-9, 90)
+    end
     an.y_min = math.huge
     for _, p in ipairs(an.points) do an.y_min = math.min(an.y_min, p[2]) end
     an.is_analysis = true
@@ -816,6 +823,8 @@ function rockfall.describe(an)
     return {
         profile = prof, envelope = { x0 = an.envelope.x0, x1 = an.envelope.x1, dx = an.envelope.dx },
         collectors = cols, barriers = bars, release = { x = sx / sw, y = sy / sw }, seed = an.seed, n = an.n,
+        shadow_apex = an.shadow_apex and { an.shadow_apex[1], an.shadow_apex[2] } or nil,
+        shadow_steep = an.shadow_steep,
     }
 end
 
@@ -1379,8 +1388,17 @@ local function monte_carlo(an, opts)
         if opts.stats ~= false then
             local ok, stats = pcall(require, "rockfall_stats")
             if ok and type(stats) == "table" and stats.write then
-                stats.write(records, rockfall.describe(an), opts.outdir)
+                local summary = stats.write(records, rockfall.describe(an), opts.outdir)
                 info.stats = true
+                info.apex, info.shadow_note = summary.apex, summary.shadow_note
+                if not opts.quiet then
+                    -- The apex decides every shadow angle: say which one was used.
+                    local a = summary.apex
+                    print(a and string.format("rockfall: shadow angles from the apex (%.4g, %.4g): %s",
+                        a.x, a.y, a.rule)
+                        or "rockfall: no shadow angles (no steep downslope segment and no shadow_apex)")
+                    if summary.shadow_note then print("rockfall: note: " .. summary.shadow_note) end
+                end
             elseif not opts.quiet then
                 print("rockfall: statistics module rockfall_stats not found; wrote per-rock CSVs only")
             end

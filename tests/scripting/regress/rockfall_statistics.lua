@@ -346,7 +346,7 @@ T.near(ang.energy_line.q05, 42.41030491810688, 1e-12, "energy line p05")
 T.check(isnan(ang.energy_line.q05_lo), "energy line p05: no lower bound from 17 rocks")
 T.near(ang.energy_line.q05_hi, 45.47350805873493, EPS, "energy line p05 upper bound x_(4)")
 T.near(ang.energy_line.median, 51.34019174590991, EPS, "energy line median")
--- Shadow: apex = toe of the last segment steeper than 45 deg = (5, 10) (the talus slope is
+-- Shadow: apex = toe of the last downslope segment of 45 deg or steeper = (5, 10) (the talus slope is
 -- 26.6 deg). Rock 4 (35): atan(10/30) = 18.4349 deg; a rock on the talus slope: the slope
 -- angle atan(1/2) = 26.5651 deg.
 T.check(ang.apex.x == 5 and ang.apex.y == 10, "apex at the cliff toe")
