@@ -173,6 +173,17 @@ const std::vector<std::string>& guardOptionNames();
 /// Enum properties accept their names; keys are applied in sorted order (deterministic).
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
                                  const std::string& what);
+/// Friction coefficients above this are taken for angles in degrees typed by mistake (a
+/// coefficient of 2 is a friction angle of 63 degrees; rock joints and rock on rock stay below 1).
+inline constexpr double kPlausibleFrictionMax = 2.0;
+/// Is property `name` (of a contact model whose metadata is `meta`, or none) a friction
+/// coefficient: fric, or a dimensionless *_fric (rr_fric, pb_fric, ...)?
+bool isFrictionCoefficient(const std::string& name, const ContactModel* meta);
+/// One warning for the friction coefficients among `values` (name, value) that exceed
+/// kPlausibleFrictionMax, naming tan(phi); through lm's warning channel (m:on_warning), or on
+/// stderr when there is no model (talus.impact). Nothing when all are plausible.
+void warnImplausibleFriction(LuaModel* lm, const std::string& what,
+                             const std::vector<std::pair<std::string, double>>& values);
 /// Pushes {body=, boundary=, ..., balance_error=}.
 void pushEnergies(lua_State* L, const EnergyTotals& e);
 

@@ -227,11 +227,13 @@ void setField(lua_State* L, const BallRef& b, const std::string& name, int index
             break;
         case Field::Kn:
         case Field::Ks:
-        case Field::Fric:
+        case Field::Fric: {
             // nil removes the ball's own value: its contacts use the model's property again.
-            m.setBallContactProp(id, name,
-                                 lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+            const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+            m.setBallContactProp(id, name, v);
+            if (info->field == Field::Fric) warnImplausibleFriction(b.lm, "ball", {{name, v}});
             break;
+        }
         default:
             break;
     }

@@ -73,6 +73,7 @@ int w_ball(lua_State* L) {
         d.ks = optionalProp(o, "ks");
         d.fric = optionalProp(o, "fric");
         const BallId id = lm.model->createBall(d);
+        warnImplausibleFriction(&lm, "ball", {{"fric", d.fric}});
         pushBall(L, 1, id);
         return 1;
     });
@@ -112,6 +113,7 @@ int w_wall(lua_State* L) {
         d.ks = optionalProp(o, "ks");
         d.fric = optionalProp(o, "fric");
         const WallId id = lm.model->createWall(d);
+        warnImplausibleFriction(&lm, "wall", {{"fric", d.fric}});
         pushWall(L, 1, id);
         return 1;
     });

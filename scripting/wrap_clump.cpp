@@ -214,6 +214,7 @@ int w_clump(lua_State* L) {
         pushClump(
             L, 1,
             balls.empty() ? lm.model->createClump(d) : lm.model->createClumpFromBalls(balls, d));
+        warnImplausibleFriction(&lm, "clump", {{"fric", d.fric}});
         return 1;
     });
 }
@@ -388,7 +389,9 @@ void setField(lua_State* L, const ClumpRef& c, const std::string& name, int inde
     if (name == "mapp") return m.setClumpAppliedMoment(id, toNumber(L, index, what));
     if (name == "fix") return m.setClumpFixity(id, toFixity(L, index, what));
     // kn, ks, fric; nil removes the clump's own value (and its pebbles').
-    m.setClumpContactProp(id, name, lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+    const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+    m.setClumpContactProp(id, name, v);
+    if (name == "fric") warnImplausibleFriction(c.lm, "clump", {{name, v}});
 }
 
 int w_index(lua_State* L) {

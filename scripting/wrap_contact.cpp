@@ -183,6 +183,8 @@ int w_set_prop(lua_State* L) {
             value = toNumber(L, 3, "contact: property '" + name + "'");
         }
         c.lm->model->setContactProp(c.key, name, value);
+        if (isFrictionCoefficient(name, c.lm->model->contactModelFactory(info.model).reference))
+            warnImplausibleFriction(c.lm, "contact", {{name, value}});
         return 0;
     });
 }

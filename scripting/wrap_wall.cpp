@@ -137,10 +137,12 @@ void setField(lua_State* L, const WallRef& w, const std::string& name, int index
         }
         case Field::Kn:
         case Field::Ks:
-        case Field::Fric:
-            m.setWallContactProp(w.id, name,
-                                 lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+        case Field::Fric: {
+            const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+            m.setWallContactProp(w.id, name, v);
+            if (info->field == Field::Fric) warnImplausibleFriction(w.lm, "wall", {{name, v}});
             break;
+        }
         default:
             break;
     }

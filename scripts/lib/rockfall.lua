@@ -584,6 +584,23 @@ local function check_model(name, props, where)
                     table.concat(names, ", "))
             end
         end
+        -- A friction angle typed as a coefficient (RocFall gives angles): said once here, not
+        -- by every rock's model (run_rock collects the engine's warnings in the record).
+        local implausible = {}
+        for _, k in ipairs(sorted_keys(props)) do
+            local v, key = props[k], k:lower()
+            if type(v) == "number" and v > 2 and (key == "fric" or key:match("_fric$")) then
+                implausible[#implausible + 1] = v < 90
+                    and string.format("%s = %g is a friction coefficient (tan of the friction angle), "
+                        .. "not an angle: for a friction angle of %g\u{b0} use %s = tan(%g\u{b0}) = %.3g",
+                        k, v, v, k, v, math.tan(math.rad(v)))
+                    or string.format("%s = %g is a friction coefficient; above 2 it is not plausible", k, v)
+            end
+        end
+        if #implausible > 0 then
+            io.stderr:write(string.format("warning: rockfall.analysis: %s: %s\n", where,
+                table.concat(implausible, "; ")))
+        end
     end
 end
 
@@ -1123,8 +1140,11 @@ end
 
 -- --------------------------------------------------------------------------------- running
 
-local function new_model(an, margin)
+--- A rock's model; the engine's warnings (from the first call on) go into `warnings`, which
+--- the record carries, instead of one line on stderr per rock.
+local function new_model(an, margin, warnings)
     local m = talus.model{ gravity = an.gravity, mass = "disk" }
+    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     m:contact_model(an.rock_contact.model, an.rock_contact.props)
     if an.timestep then m:timestep(an.timestep) end
     m:broadphase{ margin = margin }
@@ -1147,12 +1167,11 @@ local function run_rock(an, i, opts)
     -- A margin of the rock's size: free-flight steps grow until the rock would leave its fat box
     -- (the kinematic rule), so a wide box means few steps in flight; a rock has only the slope's
     -- few segments as candidates, so the wider box costs nothing measurable.
-    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3))
+    local warnings = {}
+    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3), warnings)
     local wall_material = build_slope(m, an, s.points, s.materials)
     local body = place_rock(m, s)
     m:energy{ on = true }
-    local warnings = {}
-    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local tr = new_tracker(an, i, s, body, opts)
     local contact_info, all = {}, {}
     local function hook(model)
@@ -1224,7 +1243,8 @@ local function mass_release(an, opts)
         end
         samples[i] = si
     end
-    local m = new_model(an, an.margin or rmax)
+    local warnings = {}
+    local m = new_model(an, an.margin or rmax, warnings)
     local wall_material = build_slope(m, an, pts, mats)
     local trackers, by_ball, by_clump = {}, {}, {}
     for i = 1, n do
@@ -1233,8 +1253,6 @@ local function mass_release(an, opts)
         if samples[i].rock.ball then by_ball[body.id] = i else by_clump[body.id] = i end
     end
     m:energy{ on = true }
-    local warnings = {}
-    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local left = n
     local touching = {}
     local function hook(model)
