@@ -13,6 +13,7 @@
 #include <new>
 
 #include "lua_bindings.hpp"
+#include "solve_watch.hpp"
 #include "talus/errors.hpp"
 #include "talus/plugin_registry.hpp"
 
@@ -252,18 +253,38 @@ void runModel(lua_State* L, LuaModel& lm, const std::function<void(Model&)>& ste
               const ProgressTarget& target) {
     ActiveThread active(lm, L);
     ++lm.running;
-    // The progress line follows the outermost run call only (a cycle inside an on_cycle
-    // callback is part of the step that called it).
+    // The progress line and the watch on a solve's ratio follow the outermost run call only (a
+    // cycle inside an on_cycle callback is part of the step that called it).
     std::unique_ptr<ProgressLine> progress;
-    if (lm.running == 1 && progressEnabled()) {
-        progress = std::make_unique<ProgressLine>(*lm.model, target);
+    std::unique_ptr<SolveWatch> watch;
+    if (lm.running == 1) {
+        try {
+            if (progressStyle() != ProgressStyle::Off)
+                progress = std::make_unique<ProgressLine>(*lm.model, target);
+            if (target.ratio > 0) {
+                LuaModel* lmp = &lm;
+                watch = std::make_unique<SolveWatch>(target.ratio, [lmp](const std::string& text) {
+                    if (lmp->model) lmp->model->warn(text);
+                });
+            }
+        } catch (...) {
+            --lm.running;
+            throw;
+        }
+    }
+    if (progress || watch) {
         ProgressLine* p = progress.get();
-        lm.model->setStepObserver([p](const Model& m) { p->update(m); });
+        SolveWatch* w = watch.get();
+        lm.model->setStepObserver([p, w](const Model& m) {
+            if (p) p->update(m);
+            if (w) w->update(m);
+        });
     }
     const auto finish = [&] {
-        if (progress) {
+        if (progress || watch) {
             lm.model->setStepObserver(nullptr);
             progress.reset();
+            watch.reset();
         }
         --lm.running;
         lm.finishRun();
@@ -314,6 +335,7 @@ int w_solve(lua_State* L) {
         ProgressTarget target;  // the progress line's "time left" (-1: not known)
         if (!std::isnan(req.spec.time)) target.time = req.spec.time;
         if (req.spec.steps >= 0) target.steps = req.spec.steps;
+        if (!std::isnan(req.spec.ratio)) target.ratio = req.spec.ratio;
         SolveStop stop = SolveStop::Time;
         try {
             runModel(
