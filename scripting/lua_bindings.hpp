@@ -51,6 +51,9 @@ struct History {
     std::vector<Column> columns;
     int hook = 0;  // Model cycle-hook handle, 0 once closed
     int64_t rows = 0;
+    /// Data rows the file already held when this history opened it (append = true): a save
+    /// records base_rows + rows, the rows of the file up to the saved step.
+    int64_t base_rows = 0;
     bool writing = false;        // a row is being written (a column function is running)
     bool close_pending = false;  // close() was asked for while writing
 
@@ -253,8 +256,10 @@ void addSaveFunctions(lua_State* L);
 /// layer's section (histories, output series) to `path` through a temporary file and a rename.
 /// Also `talus run --save-on-interrupt FILE` (main.cpp). Throws talus::Error naming the file.
 void saveLuaModel(LuaModel& lm, const std::string& path);
-/// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
-void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
+/// Re-opens a restored history (wrap_history.cpp): cuts its file back to the header and the
+/// h->rows rows written up to the saved step (the saving run may have written more), then
+/// appends, a row every `every` steps. Returns a note for the restore's list ("" if none).
+std::string reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
 /// talus.impact and talus.drive, added to the module table at the top of the stack.
 void addImpactFunctions(lua_State* L);  // wrap_impact.cpp
 /// talus.map, talus.rank and talus.ranks, added to the module table at the top of the stack.
