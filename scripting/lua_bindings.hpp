@@ -106,6 +106,8 @@ struct LuaModel {
     /// deferred: the hook is disabled at once and erased when the outermost run returns.
     int running = 0;
     std::vector<int> removed_hooks;
+    /// m:ball_by_id's cache: ball id (slot index) -> the ball's handle, refreshed on a miss.
+    std::vector<BallId> ball_slots;
 
     /// Removes a cycle hook (deferred while running, see above).
     void removeHook(int handle);
