@@ -189,6 +189,9 @@ bool isFrictionCoefficient(const std::string& name, const ContactModel* meta);
 /// stderr when there is no model (talus.impact). Nothing when all are plausible.
 void warnImplausibleFriction(LuaModel* lm, const std::string& what,
                              const std::vector<std::pair<std::string, double>>& values);
+/// Throws "<what>: unknown property 'knn' for model 'linear'; did you mean 'kn'? (known: ...)"
+/// when `name` (any case) is not a property of the model `meta` (nothing when meta is null).
+void checkPropertyName(const ContactModel* meta, const std::string& name, const std::string& what);
 /// Pushes {body=, boundary=, ..., balance_error=}.
 void pushEnergies(lua_State* L, const EnergyTotals& e);
 

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "talus/suggest.hpp"
+
 namespace talus::lua {
 
 void pushWhere(lua_State* L) {
@@ -59,6 +61,20 @@ std::string numberText(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%g", v);
     return buf;
+}
+
+std::string didYouMeanIn(const std::string& key, const std::string& joined) {
+    std::vector<std::string> names;
+    std::size_t pos = 0;
+    while (pos <= joined.size()) {
+        std::size_t end = joined.find(", ", pos);
+        if (end == std::string::npos) end = joined.size();
+        std::string n = joined.substr(pos, end - pos);
+        if (const std::size_t paren = n.find('('); paren != std::string::npos) n.resize(paren);
+        if (!n.empty()) names.push_back(n);
+        pos = end + 2;
+    }
+    return didYouMean(key, names);
 }
 
 std::string joinNames(const std::vector<std::string>& names) {
@@ -231,8 +247,9 @@ Options::Options(lua_State* L, int index, std::string what, std::vector<std::str
         std::sort(unknown.begin(), unknown.end());
         std::vector<std::string> sorted = known;
         std::sort(sorted.begin(), sorted.end());
-        throw ScriptError(m_what + ": unknown option '" + unknown.front() +
-                          "' (known: " + joinNames(sorted) + ")");
+        throw ScriptError(m_what + ": unknown option '" + unknown.front() + "'" +
+                          didYouMean(unknown.front(), sorted) + " (known: " + joinNames(sorted) +
+                          ")");
     }
 }
 

@@ -192,8 +192,9 @@ void pushField(lua_State* L, const BallRef& b, Field f) {
 void setField(lua_State* L, const BallRef& b, const std::string& name, int index) {
     const FieldInfo* info = findField(name.c_str());
     if (!info)
-        throw ScriptError("ball: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("ball: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("ball: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -251,8 +252,9 @@ int w_index(lua_State* L) {
             }
         const FieldInfo* info = findField(key.c_str());
         if (!info)
-            throw ScriptError("ball: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("ball: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, b, info->field);
         return 1;
     });

@@ -32,6 +32,7 @@ std::vector<BondProp> readBondProps(lua_State* L, int index, const std::string& 
     const ContactModel* meta = PluginRegistry::global().find(model).reference;
     for (const std::string& key :
          sortedKeys(L, index, "bond: 'props' must be named (pb_ten = 1e7, ...)")) {
+        checkPropertyName(meta, key, "bond");
         BondProp bp;
         bp.name = key;
         const std::string what = "bond: property '" + key + "'";

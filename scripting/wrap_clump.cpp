@@ -373,8 +373,9 @@ void pushField(lua_State* L, const ClumpRef& c, const std::string& f) {
 void setField(lua_State* L, const ClumpRef& c, const std::string& name, int index) {
     const FieldInfo* info = findField(name);
     if (!info)
-        throw ScriptError("clump: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("clump: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("clump: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -404,8 +405,9 @@ int w_index(lua_State* L) {
                 return 1;
             }
         if (!findField(key))
-            throw ScriptError("clump: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("clump: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, c, key);
         return 1;
     });

@@ -103,6 +103,20 @@ void warnImplausibleFriction(LuaModel* lm, const std::string& what,
     }
 }
 
+void checkPropertyName(const ContactModel* meta, const std::string& name, const std::string& what) {
+    if (!meta) return;
+    const std::string key = lower(name);
+    for (int32_t i = 0; i < meta->PropCount(); ++i) {
+        const PropInfo* pi = meta->PropInfoAt(i);
+        if (pi && lower(pi->name) == key) return;
+    }
+    std::string known;
+    for (const char* c = meta->PropNames(); c && *c; ++c)
+        known += (*c == ',') ? std::string(", ") : std::string(1, *c);
+    throw ScriptError(what + ": unknown property '" + name + "' for model '" + meta->Name() + "'" +
+                      didYouMeanIn(name, known) + " (known: " + known + ")");
+}
+
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
                                  const std::string& what) {
     index = lua_absindex(L, index);
@@ -117,6 +131,12 @@ std::vector<PropValue> readProps(lua_State* L, int index, const std::string& mod
         }
         PropValue pv;
         pv.name = lua_tostring(L, -2);
+        try {
+            checkPropertyName(meta, pv.name, what);
+        } catch (...) {
+            lua_pop(L, 2);
+            throw;
+        }
         const int t = lua_type(L, -1);
         std::string text;
         if (t == LUA_TNUMBER)

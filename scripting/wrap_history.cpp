@@ -375,8 +375,9 @@ int w_h_index(lua_State* L) {
             for (const auto& c : h.history->columns) names.push_back(c.name);
             pushStringList(L, names);
         } else {
-            throw ScriptError("history: unknown field '" + key +
-                              "' (known: file, rows, open, columns, close(), flush())");
+            throw ScriptError("history: unknown field '" + key + "'" +
+                              didYouMeanIn(key, "file, rows, open, columns, close(), flush()") +
+                              " (known: file, rows, open, columns, close(), flush())");
         }
         return 1;
     });

@@ -16,6 +16,7 @@
 #include "solve_watch.hpp"
 #include "talus/errors.hpp"
 #include "talus/plugin_registry.hpp"
+#include "talus/suggest.hpp"
 
 namespace talus::lua {
 
@@ -489,8 +490,8 @@ int w_index_unknown(lua_State* L) {
         names.push_back("picture");
         std::sort(names.begin(), names.end());
         const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
-        throw ScriptError("model: unknown method or field '" + key +
-                          "' (known: " + joinNames(names) + ")");
+        throw ScriptError("model: unknown method or field '" + key + "'" + didYouMean(key, names) +
+                          " (known: " + joinNames(names) + ")");
     });
 }
 

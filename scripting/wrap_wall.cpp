@@ -114,8 +114,9 @@ void pushField(lua_State* L, const WallRef& w, Field f) {
 void setField(lua_State* L, const WallRef& w, const std::string& name, int index) {
     const FieldInfo* info = findField(name);
     if (!info)
-        throw ScriptError("wall: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("wall: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("wall: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -159,8 +160,9 @@ int w_index(lua_State* L) {
         }
         const FieldInfo* info = findField(key);
         if (!info)
-            throw ScriptError("wall: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("wall: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, w, info->field);
         return 1;
     });

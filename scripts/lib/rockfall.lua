@@ -47,6 +47,12 @@ local function sorted_keys(t)
     return k
 end
 
+--- "; did you mean 'x'?" for an unknown name among `known`, worded as the engine's errors.
+local function hint(name, known)
+    if type(name) ~= "string" or not (talus and talus.did_you_mean) then return "" end
+    return talus.did_you_mean(name, known)
+end
+
 --- Refuses unknown option names (a typo is never ignored, as in the engine's API).
 local function check_keys(t, known, where)
     if type(t) ~= "table" then fail("%s must be a table (got %s)", where, type(t)) end
@@ -54,7 +60,8 @@ local function check_keys(t, known, where)
     for _, k in ipairs(known) do set[k] = true end
     for k in pairs(t) do
         if not set[k] then
-            fail("unknown option '%s' in %s (known: %s)", tostring(k), where, table.concat(known, ", "))
+            fail("unknown option '%s' in %s%s (known: %s)", tostring(k), where, hint(k, known),
+                table.concat(known, ", "))
         end
     end
 end
@@ -425,7 +432,8 @@ local function check_rock(spec, where)
     check_keys(spec, ROCK_KEYS, where)
     local shape = spec.shape or "ball"
     if not SHAPES[shape] then
-        fail("%s: unknown shape '%s' (known: ball, thesis_a, ngon, fitted, pebbles)", where, tostring(shape))
+        fail("%s: unknown shape '%s'%s (known: ball, thesis_a, ngon, fitted, pebbles)", where, tostring(shape),
+            hint(shape, { "ball", "thesis_a", "ngon", "fitted", "pebbles" }))
     end
     if spec.radius ~= nil then num(spec.radius, where .. ".radius", 1e-9) end
     if shape == "ngon" then
@@ -580,8 +588,8 @@ local function check_model(name, props, where)
         end
         for k in pairs(props) do
             if type(k) ~= "string" or not known[k:lower()] then
-                fail("%s: unknown property '%s' for model '%s' (known: %s)", where, tostring(k), name,
-                    table.concat(names, ", "))
+                fail("%s: unknown property '%s' for model '%s'%s (known: %s)", where, tostring(k), name,
+                    hint(k, names), table.concat(names, ", "))
             end
         end
         -- A friction angle typed as a coefficient (RocFall gives angles): said once here, not
@@ -626,8 +634,8 @@ local function zone_profile(pts, zones, materials, default, where)
         end
         for k, z in ipairs(zones) do
             if type(z) ~= "string" or not materials[z] then
-                fail("%s.zones[%d]: unknown material '%s' (materials: %s)", where, k, tostring(z),
-                    table.concat(sorted_keys(materials), ", "))
+                fail("%s.zones[%d]: unknown material '%s'%s (materials: %s)", where, k, tostring(z),
+                    hint(z, sorted_keys(materials)), table.concat(sorted_keys(materials), ", "))
             end
             seg[k] = z
         end
@@ -640,7 +648,8 @@ local function zone_profile(pts, zones, materials, default, where)
         check_keys(z, { "material", "name", "x_from", "x_to" }, w)
         local mat = z.material or z.name
         if type(mat) ~= "string" or not materials[mat] then
-            fail("%s: unknown material '%s' (materials: %s)", w, tostring(mat), table.concat(sorted_keys(materials), ", "))
+            fail("%s: unknown material '%s'%s (materials: %s)", w, tostring(mat), hint(mat, sorted_keys(materials)),
+                table.concat(sorted_keys(materials), ", "))
         end
         num(z.x_from, w .. ".x_from")
         num(z.x_to, w .. ".x_to")
