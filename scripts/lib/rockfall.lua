@@ -1165,12 +1165,23 @@ local function body_state(b)
     return p[1], p[2], v[1], v[2], b.spin
 end
 
+--- A hook option (on_model, on_end) is a function or absent.
+local function check_hook(opts, name, where)
+    if opts[name] ~= nil and type(opts[name]) ~= "function" then
+        fail("%s.%s must be a function (got %s)", where, name, type(opts[name]))
+    end
+end
+
 --- Runs rock i of the analysis alone on its own slope; returns its record (Interface 2).
---- opts: trajectory = true records the path every analysis.path_every samples.
+--- opts: trajectory = true records the path every analysis.path_every samples; on_model(m,
+--- info) is called once the model is built, before the first step (attach m:vtk, m:picture,
+--- m:history there), info = {rock =, seed =, body =}; on_end(m, record) once the rock ended.
 local function run_rock(an, i, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "trajectory", "chunk" }, "run_rock options")
+    check_keys(opts, { "trajectory", "chunk", "on_model", "on_end" }, "run_rock options")
+    check_hook(opts, "on_model", "run_rock options")
+    check_hook(opts, "on_end", "run_rock options")
     if math.type(i) ~= "integer" or i < 1 then fail("rock index must be an integer >= 1 (got %s)", tostring(i)) end
     local s = sample(an, i)
     -- A margin of the rock's size: free-flight steps grow until the rock would leave its fat box
@@ -1204,6 +1215,7 @@ local function run_rock(an, i, opts)
     end
     hook(m) -- the release state
     m:on_cycle(hook)
+    if opts.on_model then opts.on_model(m, { rock = i, seed = s.seed, body = body }) end
     local chunk = opts.chunk or 50
     while not tr.done do m:cycle(chunk) end
     local rec = tr.record
@@ -1212,6 +1224,7 @@ local function run_rock(an, i, opts)
         dashpot = e.dashpot, strain = e.strain, balance_error = e.balance_error }
     rec.steps = m:step()
     if #warnings > 0 then rec.warnings = warnings end
+    if opts.on_end then opts.on_end(m, rec) end
     return rec
 end
 rockfall.run_rock = api("run_rock", run_rock)
@@ -1222,7 +1235,9 @@ rockfall.run_rock = api("run_rock", run_rock)
 local function mass_release(an, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "n", "trajectory", "every", "chunk" }, "mass_release options")
+    check_keys(opts, { "n", "trajectory", "every", "chunk", "on_model", "on_end" }, "mass_release options")
+    check_hook(opts, "on_model", "mass_release options")
+    check_hook(opts, "on_end", "mass_release options")
     local n = opts.n or an.n
     local samples, rmax = {}, 0
     local pts, mats = an.nominal, an.segment_material
@@ -1293,6 +1308,11 @@ local function mass_release(an, opts)
     end
     hook(m)
     m:on_cycle(hook, opts.every or 1)
+    if opts.on_model then
+        local bodies = {}
+        for i, tr in ipairs(trackers) do bodies[i] = tr.body end
+        opts.on_model(m, { rocks = n, bodies = bodies, mass_release = true })
+    end
     local chunk = opts.chunk or 50
     while left > 0 do m:cycle(chunk) end
     local recs = {}
@@ -1301,6 +1321,7 @@ local function mass_release(an, opts)
         recs[i] = tr.record
     end
     if #warnings > 0 then recs.warnings = warnings end
+    if opts.on_end then opts.on_end(m, recs) end
     return recs
 end
 rockfall.mass_release = api("mass_release", mass_release)
@@ -1391,27 +1412,109 @@ local function serial_map(n, fn)
     return r
 end
 
+--- A fixed text of a plain value (keys sorted, numbers exact): the analysis' fingerprint.
+local function canonical(v, out)
+    local t = type(v)
+    if t == "table" then
+        local keys = {}
+        for k in pairs(v) do keys[#keys + 1] = k end
+        table.sort(keys, function(a, b)
+            if type(a) ~= type(b) then return type(a) < type(b) end
+            return a < b
+        end)
+        out[#out + 1] = "{"
+        for _, k in ipairs(keys) do
+            canonical(k, out)
+            out[#out + 1] = "="
+            canonical(v[k], out)
+            out[#out + 1] = ";"
+        end
+        out[#out + 1] = "}"
+    elseif t == "number" then
+        out[#out + 1] = math.type(v) == "integer" and string.format("%d", v) or string.format("%a", v)
+    else
+        out[#out + 1] = t:sub(1, 1) .. tostring(v)
+    end
+    return out
+end
+
+--- 64-bit FNV-1a hash of a string, as 16 hex digits (Lua integers wrap modulo 2^64).
+local function fnv1a(text)
+    local h = -3750763034362895579 -- 0xcbf29ce484222325
+    for k = 1, #text do h = (h ~ text:byte(k)) * 0x100000001b3 end
+    return string.format("%016x", h)
+end
+
 --- Runs the analysis' rocks independently (talus.map when present: all cores, MPI ranks),
 --- writes the CSVs on rank 0, then the statistics of rockfall_stats when that module exists.
 --- opts: n, outdir, jobs, impacts (bool), trajectories (bool, or a number of rocks to keep
---- paths of: the first k), quiet.
+--- paths of: the first k), quiet, stats, on_model / on_end (run_rock's hooks, called in the
+--- process that runs the rock), resume (default true with an outdir: rocks a previous run of
+--- the same analysis wrote are taken from outdir/checkpoint, not run again).
+--- A rock that fails (an error in its run or in a hook) is recorded in info.failed ({rock =,
+--- seed =, message =}) and in outdir/rock_failed.csv; the others go on. Returns the records of
+--- the rocks that ran, in rock order, and info.
 local function monte_carlo(an, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "n", "outdir", "jobs", "impacts", "trajectories", "quiet", "stats" }, "monte_carlo options")
+    check_keys(opts, { "n", "outdir", "jobs", "impacts", "trajectories", "quiet", "stats", "on_model",
+        "on_end", "resume" }, "monte_carlo options")
+    check_hook(opts, "on_model", "monte_carlo options")
+    check_hook(opts, "on_end", "monte_carlo options")
     local n = opts.n or an.n
     if math.type(n) ~= "integer" or n < 1 then fail("monte_carlo: n must be an integer >= 1 (got %s)", tostring(n)) end
     local traj = opts.trajectories
     local keep = traj == true and n or (type(traj) == "number" and traj or 0)
-    local map = talus.map or serial_map
     local clock = os.clock()
-    local records = map(n, function(i) return run_rock(an, i, { trajectory = i <= keep }) end,
-        { jobs = opts.jobs })
+    local run = function(i)
+        return run_rock(an, i, { trajectory = i <= keep, on_model = opts.on_model, on_end = opts.on_end })
+    end
+    local results
+    if talus.map then
+        local mopts = { jobs = opts.jobs }
+        if opts.outdir and opts.resume ~= false then
+            -- Each finished rock is kept on disk at once; the key ties it to this analysis, so a
+            -- changed analysis in the same outdir runs every rock again.
+            mopts.checkpoint = opts.outdir .. "/checkpoint"
+            mopts.key = "rockfall " .. rockfall.version .. " talus " .. tostring(talus.version) .. " "
+                .. fnv1a(table.concat(canonical(an, {})))
+                .. " paths " .. keep
+        end
+        results = talus.map(n, run, mopts)
+    else
+        results = serial_map(n, run)
+    end
     local cpu = os.clock() - clock
+    -- The rocks that ran, in order; the failed ones with their seeds.
+    local records, failed = {}, nil
+    for i = 1, n do
+        if results[i] ~= nil then records[#records + 1] = results[i] end
+    end
+    if results.failed then
+        failed = {}
+        for k, f in ipairs(results.failed) do
+            failed[k] = { rock = f.index, seed = rockfall.rock_seed(an.seed, f.index), message = f.message }
+        end
+    end
     local rank = talus.rank and talus.rank() or 0
-    local info = { cpu = cpu, files = {}, parallel = talus.map ~= nil }
+    local info = { cpu = cpu, files = {}, parallel = talus.map ~= nil, failed = failed }
+    if failed and not opts.quiet and rank == 0 then
+        print(string.format("rockfall: %d of %d rocks failed; the first, rock %d (seed %d): %s%s", #failed, n,
+            failed[1].rock, failed[1].seed, failed[1].message,
+            opts.outdir and "; all in " .. opts.outdir .. "/rock_failed.csv; a rerun into the same outdir runs "
+                .. "only the rocks not written" or ""))
+    end
     if opts.outdir and rank == 0 then
         info.files = write_csv(records, an, opts.outdir, { impacts = opts.impacts, trajectories = keep > 0 })
+        local rows = {}
+        for k, f in ipairs(failed or {}) do rows[k] = { f.rock, f.seed, f.message } end
+        local file = opts.outdir .. "/rock_failed.csv"
+        if #rows > 0 then
+            write_rows(file, { "rock", "seed", "message" }, rows)
+            info.files[#info.files + 1] = file
+        else
+            os.remove(file) -- from an earlier run whose failed rocks ran now
+        end
         if opts.stats ~= false then
             local ok, stats = pcall(require, "rockfall_stats")
             if ok and type(stats) == "table" and stats.write then
