@@ -24,6 +24,11 @@
 
 #include "talus/contact_model.hpp"
 #include "talus/sdk/model_base.hpp"
+// The SDK's helpers most laws need (the null law uses none of them): springEnergy and the
+// shear spring with its Coulomb limit (shear_spring.hpp), the viscous dashpot (dashpot.hpp),
+// PFC's linear law to build on (linear_law.hpp). Remove what your model does not use.
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/shear_spring.hpp"
 
 namespace {
 
