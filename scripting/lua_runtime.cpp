@@ -101,7 +101,7 @@ double toNumber(lua_State* L, int index, const std::string& what) {
     if (lua_type(L, index) != LUA_TNUMBER)
         throw ScriptError(what + " must be a number (got " + typeName(L, index) + ")");
     const double v = lua_tonumber(L, index);
-    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    // NaN (0/0) is never an input: the engine uses it for "not set".
     if (std::isnan(v)) throw ScriptError(what + " must be a number (got nan)");
     return v;
 }
@@ -280,7 +280,7 @@ double Options::number(const char* key, double fallback) const {
     const std::string got = ok ? "" : typeName(m_L, -1);
     lua_pop(m_L, 1);
     if (!ok) throw ScriptError(field(key) + " must be a number (got " + got + ")");
-    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    // NaN (0/0) is never an input: the engine uses it for "not set".
     if (std::isnan(v)) throw ScriptError(field(key) + " must be a number (got nan)");
     return v;
 }

@@ -456,7 +456,7 @@ void History::writeRow(LuaModel& lm) {
     writing = false;
     if (open()) {
         // A full disk or a closed pipe shows here (or at the next flush, for buffered rows):
-        // stop the run rather than report rows that never reach the file (issue 6, item 11).
+        // stop the run rather than report rows that never reach the file.
         if (std::fprintf(file, "%s\n", row.c_str()) < 0 || std::ferror(file))
             fail(lm, "writing a row", errno);
         ++rows;

@@ -186,7 +186,7 @@ int w_damping(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "damping");
         // `damp` is PFC's name for local damping; `local` (a Lua keyword, so only ['local'] =)
-        // is still accepted for old scripts (issue 6, item 13).
+        // is still accepted for old scripts.
         const Options o(L, 2, "damping", {"damp", "local", "viscous"}, true);
         DampingSettings d = lm.model->damping();
         if (o.has("damp") && o.has("local"))

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Sequence
 
 # The energy items a talus history can record (docs/lua-api.md, "Histories"), all in joules.
-# "exchanged" is the per-group item planned by issue 7; listing it early costs nothing.
+# "exchanged" is the per-group item; listing it early costs nothing.
 ENERGY_ITEMS = (
     "kinetic", "body", "boundary", "strain", "bond", "slip", "dashpot", "plastic", "damping",
     "released", "deleted", "initial_kinetic", "initial_strain", "placement", "balance_error",

@@ -188,7 +188,7 @@ public:
             cb_fn = kn * (u - u_ref_);
             cb_fs -= ks * du_s;  // no slip while bonded
             // A bond made at touch (cb_gap = 0) engages inside the step, as an unbonded
-            // contact does: the same onset corner (issue 6, stress seed 2800).
+            // contact does: the same onset corner (stress seed 2800).
             if (first && u - u_ref_ > 0.0)
                 corner = linearOnsetCorners(kn, ks, fric, cb_fs, false, fd,
                                             onsetFraction(u - u_ref_, fd.du_n));

@@ -149,10 +149,10 @@ public:
 
         const double frac = first ? onsetFraction(u, fd.du_n) : 1.0;
         // While the overlap shrinks, k_s falls with the contact radius. Holding the shear force
-        // (the thesis' incremental spring) raises the stored energy F_s^2 / 2k_s with no work:
-        // the law created energy in every load cycle of a sticking contact, booked as negative
-        // slip (-2% of the throughput for a ball rolling on a floor, fric = 1; issue 6, item
-        // 10). Thornton's unloading rule scales the force with the contact radius, F_s *=
+        // (a plain incremental spring) raises the stored energy F_s^2 / 2k_s with
+        // no work: the law created energy in every load cycle of a sticking contact, booked as
+        // negative slip (-2% of the throughput for a ball rolling on a floor, fric = 1).
+        // Thornton's unloading rule scales the force with the contact radius, F_s *=
         // k_s(u) / k_s(u_old) (Thornton, Cummins & Cleary 2011, Powder Technol. 210, 189): the
         // stored energy falls by k_s/k_s_old instead, what the annulus leaving contact lets go,
         // and the slip increment (1 - rho)/2 (rho F^2/k_s - F du_s), rho = k_s/k_s_old, is >= 0

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall.lua: the rockfall workflow (issue 8). Slope profiles split into material zones,
+-- rockfall.lua: the rockfall workflow. Slope profiles split into material zones,
 -- optional roughness, rock shapes (balls and clumps), point and line seeders with random
 -- distributions, collectors, barriers, per-rock impacts and trajectories, end rules, mass
 -- release and a Monte Carlo driver. docs/rockfall.md is the user's page; this header is the map.

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall_stats: Monte Carlo statistics of a rockfall analysis (issue 8), over the per-rock
+-- rockfall_stats: Monte Carlo statistics of a rockfall analysis, over the per-rock
 -- records of scripts/lib/rockfall.lua (one plain table per rock: end point, stop rule,
 -- collector crossings, barrier impacts, envelope maxima; docs/rockfall-statistics.md).
 --

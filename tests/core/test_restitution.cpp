@@ -117,7 +117,7 @@ TEST_CASE("the two tension modes really differ", "[core][restitution]") {
 // reaction equal the load; in steady sliding the dashpot force is c times the slip rate. With
 // the prediction that left gravity out, a resting linear ball (dp_nratio 0.3, kn 1e9) had a
 // floor reaction 1.1% above its weight and booked dashpot work for ever, and the disk below slid
-// 0.6% too slowly (issue 6 item 3, ../shared/repro/resting-ball-dashpot.lua).
+// 0.6% too slowly.
 
 namespace {
 

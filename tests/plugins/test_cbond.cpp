@@ -226,7 +226,7 @@ TEST_CASE("cbond: a bonded ring spinning as a rigid body keeps its energy", "[cb
     // power equals minus the rate of its energy F_s^2/(2 ks) (the torque arms sum to the
     // centre distance), so kinetic + strain energy is conserved exactly, and the leapfrog keeps
     // it within a bounded oscillation for any stable fixed step.
-    // Issue 6 item 6: the shear rate mixed the centre line's sweep seen over the old distance
+    // The shear rate mixed the centre line's sweep seen over the old distance
     // with spin arms at the new one, so the breathing leaked into the shear spring
     // (dF_s ~ ks w dt dd, a one-sided coupling). The pair gained 2.4% in 100 revolutions, the
     // ring of three blew up (a pass-through error) after 35 revolutions.
@@ -407,7 +407,7 @@ TEST_CASE("cbond: bonded strain energy and the drive through a tensile break", "
 TEST_CASE("cbond: a cb_bond rule does not re-bond a contact that re-forms after a break",
           "[cbond]") {
     // The engine remembers the pair whose bond broke and sets kFdNoAutoBond at its next first
-    // FDlaw (issue 9; before, the rule bonded it again and a later cb_bond = 0 rule was the
+    // FDlaw (before, the rule bonded it again and a later cb_bond = 0 rule was the
     // workaround, which still works).
     for (bool retire : {false, true}) {
         Model m;

@@ -500,7 +500,7 @@ TEST_CASE("hertz: SaveRestore mid-contact continues bit for bit", "[hertz][save]
 
 // ------------------------------------------------------------------ persistent contacts
 //
-// Equilibrium and steady sliding with a dashpot (issue 6 item 3; sdk/dashpot.hpp, "The rest of
+// Equilibrium and steady sliding with a dashpot (sdk/dashpot.hpp, "The rest of
 // the model"). With the prediction that left gravity out, a resting ball's dashpot pulled by
 // 3.8% of the weight at beta 0.7 (the Hertz spring carrying that much more) and the disk below
 // slid 0.9% too slowly. Scenes: tests/core/dashpot_rest_scenes.hpp. The transient is damped at

@@ -102,7 +102,7 @@ TEST_CASE("ng: shear stiffness 4 G a/(2-nu), Coulomb cap, Thornton's unloading r
     for (int i = 1; i <= 10; ++i)
         CHECK(r.trace[9 + i].shear_force == Approx(-ks * ds * i).epsilon(1e-9));
     // Normal unloading scales the shear force with the contact radius, k_s(0.8 u1) / k_s(u1) =
-    // sqrt(0.8) (Thornton's rule; holding it created energy, issue 6 item 10).
+    // sqrt(0.8) (Thornton's rule; holding it created energy).
     CHECK(r.trace[20].shear_force ==
           Approx(std::sqrt(0.8) * r.trace[19].shear_force).epsilon(1e-12));
 

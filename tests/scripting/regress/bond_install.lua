@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- m:bond / m:unbond (issue 9, "Installing bonds"; docs/lua-api.md, "Bonds"): which contacts a
+-- m:bond / m:unbond (docs/lua-api.md, "Bonds"): which contacts a
 -- call bonds, the drawn properties, the forces kept or reset, the energy of a reset, unbond, and
 -- that contacts formed later are not bonded.
 local T = require("testlib")

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- talus.map (issue 8, Monte Carlo across cores): results equal the serial loop bit for bit,
+-- talus.map (Monte Carlo across cores): results equal the serial loop bit for bit,
 -- whatever the number of worker processes; errors name the index and the script line; values
 -- that cannot cross are refused with their path; a dead worker is reported with its range.
 -- The comparisons are exact (no tolerance): map carries numbers by their bits.

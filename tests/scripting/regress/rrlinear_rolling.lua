@@ -55,7 +55,7 @@ print(string.format("rrlinear_rolling: disk %.6f m (closed form %.6f), sphere %.
     dd, cd, ds, cs))
 -- A lumped-mass rolling friction tan(beta) (STONE, rockfall-inputs B3a: bedrock 0.30) stops a
 -- point mass after v0^2 / (2 g tan(beta)); rr_fric = (1 + kappa) tan(beta) gives a round rock
--- the same run-out (issue 8's bench check).
+-- the same run-out (the bench check).
 local tan_beta = 0.30
 local db = roll("disk", 0.5, 1.5 * tan_beta)
 T.near(db / (v0 * v0 / (2 * g * tan_beta)), 1, 5e-5,
