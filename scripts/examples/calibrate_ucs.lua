@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 --
--- calibrate_ucs.lua: thesis A's calibration procedure for a contact-bonded rock (appendix B;
--- seed digest section 7), automated with a root finder over full UCS tests:
+-- calibrate_ucs.lua: An's (2006) calibration procedure for a contact-bonded rock (appendix B),
+-- automated with a root finder over full UCS tests:
 --   1. unbreakable bonds: the ratio ks/kn for the target Poisson's ratio (root of nu - target),
 --      then kn for the target E (E is proportional to kn at a fixed ratio in a linear
 --      assembly, so one scaling, checked by a test);
@@ -11,7 +11,7 @@
 --
 --   talus run scripts/examples/calibrate_ucs.lua [outdir] [nseeds]     (a few minutes)
 --
--- Targets: Berea sandstone (thesis A app. B): E 16 GPa, nu 0.28, UCS 40 MPa, density 2600.
+-- Targets: Berea sandstone (An 2006 app. B): E 16 GPa, nu 0.28, UCS 40 MPa, density 2600.
 local M = require("material")
 local C = require("calibrate")
 local outdir = arg[1] or "out"

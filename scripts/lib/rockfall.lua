@@ -8,7 +8,7 @@
 --   local rockfall = require("rockfall")
 --   local an = rockfall.analysis{ profile = {...}, materials = {...}, zones = {...},
 --                                 seeders = {...}, collectors = {...}, barriers = {...}, seed = 1 }
---   local rec = rockfall.run_rock(an, 1)                  -- one independent rock (Interface 2)
+--   local rec = rockfall.run_rock(an, 1)                  -- one independent rock
 --   local recs = rockfall.monte_carlo(an, { n = 300, outdir = "out" })
 --   local recs = rockfall.mass_release(an, { n = 50 })     -- rocks together, rock-rock contact
 --
@@ -368,13 +368,15 @@ rockfall.roughen = api("roughen", roughen)
 -- means. The clump's centroid (exact union, engine) is put at the release point.
 local SHAPES = {}
 
--- Thesis A chapter 6: three equal balls in mutual contact (an equilateral triangle of side 2R),
--- R = 0.04 m (seed digest section 7). Centred on the triangle's centroid.
-SHAPES.thesis_a = function(spec)
+-- An's (2006, chapter 6) rock: three equal balls in mutual contact (an equilateral triangle of
+-- side 2R), R = 0.04 m. Centred on the triangle's centroid. `thesis_a` is its older name, still
+-- accepted.
+SHAPES.three_balls = function(spec)
     local R = spec.radius or 0.04
     local h = R * math.sqrt(3) / 3
     return { { -R, -h, R }, { R, -h, R }, { 0, 2 * h, R } }
 end
+SHAPES.thesis_a = SHAPES.three_balls
 
 SHAPES.ball = function(spec) return { { 0, 0, spec.radius or 0.5 } } end
 
@@ -432,8 +434,8 @@ local function check_rock(spec, where)
     check_keys(spec, ROCK_KEYS, where)
     local shape = spec.shape or "ball"
     if not SHAPES[shape] then
-        fail("%s: unknown shape '%s'%s (known: ball, thesis_a, ngon, fitted, pebbles)", where, tostring(shape),
-            hint(shape, { "ball", "thesis_a", "ngon", "fitted", "pebbles" }))
+        fail("%s: unknown shape '%s'%s (known: ball, three_balls, ngon, fitted, pebbles)", where, tostring(shape),
+            hint(shape, { "ball", "three_balls", "ngon", "fitted", "pebbles" }))
     end
     if spec.radius ~= nil then num(spec.radius, where .. ".radius", 1e-9) end
     if shape == "ngon" then
@@ -831,7 +833,7 @@ local function analysis(opts)
 end
 rockfall.analysis = api("analysis", analysis)
 
---- The analysis description H5's statistics receive (docs/rockfall.md, Interface 2).
+--- The analysis description the statistics module (rockfall_stats) receives.
 function rockfall.describe(an)
     local cols, bars = {}, {}
     for k, c in ipairs(an.collectors) do cols[k] = { name = c.name, x = c.x } end
@@ -1172,7 +1174,7 @@ local function check_hook(opts, name, where)
     end
 end
 
---- Runs rock i of the analysis alone on its own slope; returns its record (Interface 2).
+--- Runs rock i of the analysis alone on its own slope; returns its record.
 --- opts: trajectory = true records the path every analysis.path_every samples; on_model(m,
 --- info) is called once the model is built, before the first step (attach m:vtk, m:picture,
 --- m:history there), info = {rock =, seed =, body =}; on_end(m, record) once the rock ended.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Bodies and user errors: mass and inertia in disk and sphere mode (accuracy-reference 3.1),
+// Bodies and user errors: mass and inertia in disk and sphere mode (PFC2D's documentation),
 // invalid radius/density/mass/inertia, stale ball ids, invalid walls, unknown property and model
 // names (the messages must say what and where, and list what is known), and fixity.
 #include <catch2/catch.hpp>

@@ -4,7 +4,7 @@
 // stability rule's formula, and what the resolution and approach rules promise:
 //  - free flight far from anything: kinematic (stay inside the broadphase fat box) or growth;
 //  - an isolated impact: resolution, dt = duration / 30 with duration = pi sqrt(m*/knest);
-//  - resolution = 0: stability, dt = safety sqrt(m / sum(knest + ksest)) (accuracy-reference 3.5;
+//  - resolution = 0: stability, dt = safety sqrt(m / sum(knest + ksest)) (PFC's time step;
 //    knest is raised by 1/(sqrt(1 + beta^2) - beta)^2 for a dashpot);
 //  - fixed: the fixed step;
 //  - an impact is resolved in >= 30 steps, and the step in which a contact starts is already the

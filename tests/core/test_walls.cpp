@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Walls (accuracy-reference 3.3, core/src/narrowphase.hpp): end-point regions, shared vertices
+// Walls (PFC2D's documentation, core/src/narrowphase.hpp): end-point regions, shared vertices
 // of a chain (convex: one contact, concave: two), crossing a vertex, and moving and rotating
 // walls with energy tracing. All with the linear model and the default automatic step unless
 // said otherwise.

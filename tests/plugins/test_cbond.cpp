@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // Tests of the `cbond` contact model (plugins/cbond, docs/models/cbond.md): the linear model
-// with a PFC contact bond (accuracy-reference 4 "Contact bond", seed digest section 1).
+// with a PFC contact bond (Potyondy & Cundall 2004 "Contact bond", PFC2D's documentation).
 // Closed forms: two bonded balls separated at a constant relative speed v with a fixed step dt
 // break at the first step k with kn v k dt >= cb_tenf (separation cb_tenf / kn); a shear
 // displacement imposed at speed w breaks the bond at the first k with ks w k dt >= cb_shearf.

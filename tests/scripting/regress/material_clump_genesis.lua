@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Grains generated AS clumps (material.clump_genesis, docs/material.md "Thesis A appendix B"):
+-- Grains generated AS clumps (material.clump_genesis, docs/material.md "An (2006) appendix B"):
 -- the physics of the packing it returns on a small specimen. Rigid grains (pebble distances
 -- are the templates' after placement, expansion, scaling and servo), no overlap between
 -- different grains beyond what the isotropic stress itself makes, each wall's stress within the

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- Clumped grains (material.genesis option `grains`, docs/material.md "Grains"): the grouping
--- of touching balls into clumps of up to three (thesis A appendix B), the clumps M.specimen
+-- of touching balls into clumps of up to three (An 2006 appendix B), the clumps M.specimen
 -- makes of them, and the bonds it installs between different bodies only.
 local T = require("testlib")
 local M = require("material")

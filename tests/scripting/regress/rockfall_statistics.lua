@@ -362,7 +362,7 @@ T.near(a2.shadow.min, math.deg(math.atan(0, 10)), EPS, "given apex on the flat: 
 local a3 = S.angles(records, { profile = profile, release = analysis.release, shadow_steep = 80 })
 T.check(a3.apex == nil and a3.shadow.n == 0 and isnan(a3.shadow.min), "no steep segment: no apex")
 T.check(ang.note == nil, "apex above the floor: no note")
--- A cliff straight onto a flat floor (thesis B's last step): the derived apex is the bottom of
+-- A cliff straight onto a flat floor (Nejati's 2008 last step): the derived apex is the bottom of
 -- the profile, every shadow angle on the floor is atan(0) = 0, and the result says so.
 local a4 = S.angles(records,
     { profile = { { 0, 30 }, { 5, 0 }, { 60, 0 } }, release = analysis.release })
