@@ -518,6 +518,7 @@ void LuaModel::close() {
     std::vector<std::unique_ptr<History>>().swap(histories);
     std::vector<std::pair<int, int>>().swap(cycle_refs);
     std::vector<int>().swap(removed_hooks);
+    std::vector<BallId>().swap(ball_slots);
     model.reset();
 }
 
