@@ -52,6 +52,9 @@ struct History {
     std::vector<Column> columns;
     int hook = 0;  // Model cycle-hook handle, 0 once closed
     int64_t rows = 0;
+    /// Data rows the file already held when this history opened it (append = true): a save
+    /// records base_rows + rows, the rows of the file up to the saved step.
+    int64_t base_rows = 0;
     bool writing = false;        // a row is being written (a column function is running)
     bool close_pending = false;  // close() was asked for while writing
 
@@ -112,6 +115,8 @@ struct LuaModel {
     /// deferred: the hook is disabled at once and erased when the outermost run returns.
     int running = 0;
     std::vector<int> removed_hooks;
+    /// m:ball_by_id's cache: ball id (slot index) -> the ball's handle, refreshed on a miss.
+    std::vector<BallId> ball_slots;
 
     /// Removes a cycle hook (deferred while running, see above).
     void removeHook(int handle);
@@ -184,6 +189,20 @@ const std::vector<std::string>& guardOptionNames();
 /// Enum properties accept their names; keys are applied in sorted order (deterministic).
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
                                  const std::string& what);
+/// Friction coefficients above this are taken for angles in degrees typed by mistake (a
+/// coefficient of 2 is a friction angle of 63 degrees; rock joints and rock on rock stay below 1).
+inline constexpr double kPlausibleFrictionMax = 2.0;
+/// Is property `name` (of a contact model whose metadata is `meta`, or none) a friction
+/// coefficient: fric, or a dimensionless *_fric (rr_fric, pb_fric, ...)?
+bool isFrictionCoefficient(const std::string& name, const ContactModel* meta);
+/// One warning for the friction coefficients among `values` (name, value) that exceed
+/// kPlausibleFrictionMax, naming tan(phi); through lm's warning channel (m:on_warning), or on
+/// stderr when there is no model (talus.impact). Nothing when all are plausible.
+void warnImplausibleFriction(LuaModel* lm, const std::string& what,
+                             const std::vector<std::pair<std::string, double>>& values);
+/// Throws "<what>: unknown property 'knn' for model 'linear'; did you mean 'kn'? (known: ...)"
+/// when `name` (any case) is not a property of the model `meta` (nothing when meta is null).
+void checkPropertyName(const ContactModel* meta, const std::string& name, const std::string& what);
 /// Pushes {body=, boundary=, ..., balance_error=}.
 void pushEnergies(lua_State* L, const EnergyTotals& e);
 
@@ -264,8 +283,10 @@ std::string lower(std::string s);
 /// layer's section (histories, output series) to `path` through a temporary file and a rename.
 /// Also `talus run --save-on-interrupt FILE` (main.cpp). Throws talus::Error naming the file.
 void saveLuaModel(LuaModel& lm, const std::string& path);
-/// Re-opens a restored history (wrap_history.cpp): appends to its file, hook every `every`.
-void reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
+/// Re-opens a restored history (wrap_history.cpp): cuts its file back to the header and the
+/// h->rows rows written up to the saved step (the saving run may have written more), then
+/// appends, a row every `every` steps. Returns a note for the restore's list ("" if none).
+std::string reopenHistory(LuaModel& lm, std::unique_ptr<History> h);
 
 }  // namespace talus::lua
 

@@ -8,6 +8,7 @@
 #include "lua_bindings.hpp"
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
+#include "talus/suggest.hpp"
 
 #ifndef TALUS_VERSION
 #error "TALUS_VERSION must be defined by the build (project version)"
@@ -95,10 +96,29 @@ int w_mkdir(lua_State* L) {
     });
 }
 
+/// talus.did_you_mean(name, {candidates}): "; did you mean 'x'?" or "" (talus/suggest.hpp), for
+/// the "unknown name" errors of Lua libraries (rockfall.lua), worded as the engine's.
+int w_did_you_mean(lua_State* L) {
+    return catchexcept(L, [&] {
+        const std::string name = stringArg(L, 1, "did_you_mean: argument 1 must be the name");
+        requireTable(L, 2, "did_you_mean: argument 2 (the known names)");
+        std::vector<std::string> names;
+        const auto n = static_cast<lua_Integer>(lua_rawlen(L, 2));
+        for (lua_Integer i = 1; i <= n; ++i) {
+            if (lua_rawgeti(L, 2, i) == LUA_TSTRING) names.push_back(lua_tostring(L, -1));
+            lua_pop(L, 1);
+        }
+        const std::string hint = didYouMean(name, names);
+        lua_pushlstring(L, hint.data(), hint.size());
+        return 1;
+    });
+}
+
 const luaL_Reg kModuleFunctions[] = {
     {"model", newModel},  {"load_plugin", w_load_plugin},
     {"models", w_models}, {"contact_model_info", w_contact_model_info},
-    {"mkdir", w_mkdir},   {nullptr, nullptr},
+    {"mkdir", w_mkdir},   {"did_you_mean", w_did_you_mean},
+    {nullptr, nullptr},
 };
 
 /// Every function table of the module, one per thing (lua_bindings.hpp): a new thing's table

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "talus/suggest.hpp"
+
 namespace talus::lua {
 
 void pushWhere(lua_State* L) {
@@ -61,6 +63,20 @@ std::string numberText(double v) {
     return buf;
 }
 
+std::string didYouMeanIn(const std::string& key, const std::string& joined) {
+    std::vector<std::string> names;
+    std::size_t pos = 0;
+    while (pos <= joined.size()) {
+        std::size_t end = joined.find(", ", pos);
+        if (end == std::string::npos) end = joined.size();
+        std::string n = joined.substr(pos, end - pos);
+        if (const std::size_t paren = n.find('('); paren != std::string::npos) n.resize(paren);
+        if (!n.empty()) names.push_back(n);
+        pos = end + 2;
+    }
+    return didYouMean(key, names);
+}
+
 std::string joinNames(const std::vector<std::string>& names) {
     std::string out;
     for (const auto& n : names) {
@@ -85,7 +101,7 @@ double toNumber(lua_State* L, int index, const std::string& what) {
     if (lua_type(L, index) != LUA_TNUMBER)
         throw ScriptError(what + " must be a number (got " + typeName(L, index) + ")");
     const double v = lua_tonumber(L, index);
-    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    // NaN (0/0) is never an input: the engine uses it for "not set".
     if (std::isnan(v)) throw ScriptError(what + " must be a number (got nan)");
     return v;
 }
@@ -231,8 +247,9 @@ Options::Options(lua_State* L, int index, std::string what, std::vector<std::str
         std::sort(unknown.begin(), unknown.end());
         std::vector<std::string> sorted = known;
         std::sort(sorted.begin(), sorted.end());
-        throw ScriptError(m_what + ": unknown option '" + unknown.front() +
-                          "' (known: " + joinNames(sorted) + ")");
+        throw ScriptError(m_what + ": unknown option '" + unknown.front() + "'" +
+                          didYouMean(unknown.front(), sorted) + " (known: " + joinNames(sorted) +
+                          ")");
     }
 }
 
@@ -263,7 +280,7 @@ double Options::number(const char* key, double fallback) const {
     const std::string got = ok ? "" : typeName(m_L, -1);
     lua_pop(m_L, 1);
     if (!ok) throw ScriptError(field(key) + " must be a number (got " + got + ")");
-    // NaN (0/0) is never an input: the engine uses it for "not set" (issue 6, item 12).
+    // NaN (0/0) is never an input: the engine uses it for "not set".
     if (std::isnan(v)) throw ScriptError(field(key) + " must be a number (got nan)");
     return v;
 }

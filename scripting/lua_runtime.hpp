@@ -92,6 +92,9 @@ std::string numberText(double v);
 
 /// Joins names as "a, b, c".
 std::string joinNames(const std::vector<std::string>& names);
+/// "; did you mean 'x'?" for an unknown `key` among the names of a list as the errors print it
+/// ("a, b, c()": "()" marks a method), or "" when none is close (talus/suggest.hpp).
+std::string didYouMeanIn(const std::string& key, const std::string& joined);
 std::string joinNames(std::initializer_list<const char*> names);
 
 /// Reads a vector {x, y} at `index`; throws ScriptError naming `what` if it is not one.

@@ -42,7 +42,8 @@ const char* const kUsage =
     "\n"
     "options:\n"
     "  --traceback   on error, also print the Lua stack traceback\n"
-    "  --quiet       no progress line (it is shown only on a terminal anyway)\n"
+    "  --quiet       no progress line (on a terminal: one line rewritten in place; else\n"
+    "                a line of its own every minute of a long run, TALUS_PROGRESS_INTERVAL)\n"
     "  --save-on-interrupt FILE\n"
     "                on Ctrl-C, save the model whose run stopped to FILE (as m:save does)\n"
     "  --threads N   threads of every model's force loop (default 1, or TALUS_THREADS);\n"
@@ -311,7 +312,11 @@ int main(int argc, char** argv) {
     // Under mpirun only (talus.rank/ranks/map); a plain run does not touch MPI.
     talus::mpi::start();
     g_stderr_tty = ::isatty(STDERR_FILENO) == 1;
-    talus::lua::setProgressEnabled(!quiet && g_stderr_tty);
+    // Progress on rank 0 only: under mpirun every rank runs the same script, and one log line a
+    // minute per rank would bury the job's output.
+    talus::lua::setProgressStyle(quiet || talus::mpi::rank() != 0 ? talus::lua::ProgressStyle::Off
+                                 : g_stderr_tty ? talus::lua::ProgressStyle::Terminal
+                                                : talus::lua::ProgressStyle::Log);
     installInterruptHandler();
     if (!save_on_interrupt.empty()) installSaveOnInterrupt(save_on_interrupt);
     int status = 1;

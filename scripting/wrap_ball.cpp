@@ -192,8 +192,9 @@ void pushField(lua_State* L, const BallRef& b, Field f) {
 void setField(lua_State* L, const BallRef& b, const std::string& name, int index) {
     const FieldInfo* info = findField(name.c_str());
     if (!info)
-        throw ScriptError("ball: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("ball: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("ball: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -227,11 +228,13 @@ void setField(lua_State* L, const BallRef& b, const std::string& name, int index
             break;
         case Field::Kn:
         case Field::Ks:
-        case Field::Fric:
+        case Field::Fric: {
             // nil removes the ball's own value: its contacts use the model's property again.
-            m.setBallContactProp(id, name,
-                                 lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+            const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+            m.setBallContactProp(id, name, v);
+            if (info->field == Field::Fric) warnImplausibleFriction(b.lm, "ball", {{name, v}});
             break;
+        }
         default:
             break;
     }
@@ -249,8 +252,9 @@ int w_index(lua_State* L) {
             }
         const FieldInfo* info = findField(key.c_str());
         if (!info)
-            throw ScriptError("ball: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("ball: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, b, info->field);
         return 1;
     });

@@ -73,6 +73,7 @@ int w_ball(lua_State* L) {
         d.ks = optionalProp(o, "ks");
         d.fric = optionalProp(o, "fric");
         const BallId id = lm.model->createBall(d);
+        warnImplausibleFriction(&lm, "ball", {{"fric", d.fric}});
         pushBall(L, 1, id);
         return 1;
     });
@@ -112,6 +113,7 @@ int w_wall(lua_State* L) {
         d.ks = optionalProp(o, "ks");
         d.fric = optionalProp(o, "fric");
         const WallId id = lm.model->createWall(d);
+        warnImplausibleFriction(&lm, "wall", {{"fric", d.fric}});
         pushWall(L, 1, id);
         return 1;
     });
@@ -179,8 +181,33 @@ int contactIterator(lua_State* L) {
     });
 }
 
-/// Pushes the iterator closure over `ids` (already packed) for the model at index 1.
-void pushIterator(lua_State* L, lua_CFunction fn, const std::vector<lua_Integer>& ids) {
+/// __index and __len of an iterator: it is not a list, say what to use instead (upvalue 1:
+/// the method's name, "balls").
+int iteratorMisuse(lua_State* L) {
+    return catchexcept(L, [&]() -> int {
+        const std::string fn = lua_tostring(L, lua_upvalueindex(1));
+        const std::string what = fn == "balls" ? "ball" : fn == "walls" ? "wall" : "contact";
+        std::string instead;
+        if (fn == "balls")
+            instead = "; a ball by its id: m:ball_by_id(id); their number: m:ball_count()";
+        else if (fn == "walls")
+            instead = "; their number: m:wall_count()";
+        else
+            instead = "; their number: m:contact_count()";
+        throw ScriptError(fn + "(): m:" + fn + "() is an iterator for a for loop (for " +
+                          what.substr(0, 1) + " in m:" + fn + "() do ... end), not a list" +
+                          instead);
+    });
+}
+
+/// Pushes the iterator over `ids` (already packed) for the model at index 1: a table callable
+/// as the iterator function (a C closure over the model, the ids and the position), whose
+/// indexing is an error that names what to use instead (m:balls()[3] would otherwise say
+/// "attempt to index a function value").
+void pushIterator(lua_State* L, lua_CFunction fn, const std::vector<lua_Integer>& ids,
+                  const char* name) {
+    lua_createtable(L, 0, 0);
+    lua_createtable(L, 0, 4);
     lua_pushvalue(L, 1);
     lua_createtable(L, static_cast<int>(ids.size()), 0);
     for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -189,6 +216,44 @@ void pushIterator(lua_State* L, lua_CFunction fn, const std::vector<lua_Integer>
     }
     lua_pushinteger(L, 0);
     lua_pushcclosure(L, fn, 3);
+    lua_setfield(L, -2, "__call");
+    lua_pushstring(L, name);
+    lua_pushcclosure(L, iteratorMisuse, 1);
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, "__index");
+    lua_setfield(L, -2, "__len");
+    lua_pushfstring(L, "talus.%s iterator", name);
+    lua_setfield(L, -2, "__name");
+    lua_setmetatable(L, -2);
+}
+
+int w_ball_by_id(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "ball_by_id");
+        const long long id = toInteger(L, 2, "ball_by_id: id");
+        Model& m = *lm.model;
+        const auto find = [&](bool refresh) -> BallId {
+            if (refresh) {
+                lm.ball_slots.clear();
+                for (const BallId b : m.ballIds()) {
+                    if (b.index >= lm.ball_slots.size()) lm.ball_slots.resize(b.index + 1);
+                    lm.ball_slots[b.index] = b;
+                }
+            }
+            if (id < 1 || static_cast<unsigned long long>(id) >= lm.ball_slots.size()) return {};
+            const BallId b = lm.ball_slots[static_cast<std::size_t>(id)];
+            return b.valid() && m.isAlive(b) ? b : BallId{};
+        };
+        // The cached handle of a live ball is that ball (a deleted ball's handle is dead even
+        // when its id went to a new ball); a miss refreshes the cache once.
+        BallId b = find(false);
+        if (!b.valid()) b = find(true);
+        if (b.valid())
+            pushBall(L, 1, b);
+        else
+            lua_pushnil(L);
+        return 1;
+    });
 }
 
 int w_balls(lua_State* L) {
@@ -209,7 +274,7 @@ int w_balls(lua_State* L) {
             }
             ids.push_back(packBall(id));
         }
-        pushIterator(L, ballIterator, ids);
+        pushIterator(L, ballIterator, ids, "balls");
         return 1;
     });
 }
@@ -220,7 +285,7 @@ int w_walls(lua_State* L) {
         std::vector<lua_Integer> ids;
         for (const WallId id : lm.model->wallIds())
             ids.push_back(static_cast<lua_Integer>((uint64_t(id.index) << 32) | id.generation));
-        pushIterator(L, wallIterator, ids);
+        pushIterator(L, wallIterator, ids, "walls");
         return 1;
     });
 }
@@ -245,7 +310,7 @@ int w_contacts(lua_State* L) {
             if (ball.valid() && c.ball1 != ball && c.ball2 != ball) continue;
             keys.push_back(static_cast<lua_Integer>(c.key.value));
         }
-        pushIterator(L, contactIterator, keys);
+        pushIterator(L, contactIterator, keys, "contacts");
         return 1;
     });
 }
@@ -282,6 +347,7 @@ extern const luaL_Reg kModelBodyMethods[] = {
     {"ball", w_ball},
     {"wall", w_wall},
     {"balls", w_balls},
+    {"ball_by_id", w_ball_by_id},
     {"walls", w_walls},
     {"contacts", w_contacts},
     {"ball_count", w_ball_count},

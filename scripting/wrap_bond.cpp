@@ -32,6 +32,7 @@ std::vector<BondProp> readBondProps(lua_State* L, int index, const std::string& 
     const ContactModel* meta = PluginRegistry::global().find(model).reference;
     for (const std::string& key :
          sortedKeys(L, index, "bond: 'props' must be named (pb_ten = 1e7, ...)")) {
+        checkPropertyName(meta, key, "bond");
         BondProp bp;
         bp.name = key;
         const std::string what = "bond: property '" + key + "'";
@@ -111,6 +112,11 @@ int w_bond(lua_State* L) {
         s.reset = o.boolean("reset", false);
         s.walls = o.boolean("walls", false);
         lua_pushinteger(L, static_cast<lua_Integer>(lm.model->bond(s)));
+        const ContactModel* meta = PluginRegistry::global().find(s.model).reference;
+        std::vector<std::pair<std::string, double>> fric;
+        for (const BondProp& p : s.props)
+            if (isFrictionCoefficient(p.name, meta)) fric.emplace_back(p.name, p.mean);
+        warnImplausibleFriction(&lm, "bond", fric);
         return 1;
     });
 }

@@ -214,6 +214,7 @@ int w_clump(lua_State* L) {
         pushClump(
             L, 1,
             balls.empty() ? lm.model->createClump(d) : lm.model->createClumpFromBalls(balls, d));
+        warnImplausibleFriction(&lm, "clump", {{"fric", d.fric}});
         return 1;
     });
 }
@@ -372,8 +373,9 @@ void pushField(lua_State* L, const ClumpRef& c, const std::string& f) {
 void setField(lua_State* L, const ClumpRef& c, const std::string& name, int index) {
     const FieldInfo* info = findField(name);
     if (!info)
-        throw ScriptError("clump: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("clump: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("clump: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -388,7 +390,9 @@ void setField(lua_State* L, const ClumpRef& c, const std::string& name, int inde
     if (name == "mapp") return m.setClumpAppliedMoment(id, toNumber(L, index, what));
     if (name == "fix") return m.setClumpFixity(id, toFixity(L, index, what));
     // kn, ks, fric; nil removes the clump's own value (and its pebbles').
-    m.setClumpContactProp(id, name, lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+    const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+    m.setClumpContactProp(id, name, v);
+    if (name == "fric") warnImplausibleFriction(c.lm, "clump", {{name, v}});
 }
 
 int w_index(lua_State* L) {
@@ -401,8 +405,9 @@ int w_index(lua_State* L) {
                 return 1;
             }
         if (!findField(key))
-            throw ScriptError("clump: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("clump: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, c, key);
         return 1;
     });

@@ -126,8 +126,8 @@ int w_index(lua_State* L) {
         else if (key == "active")
             lua_pushboolean(L, info.active);
         else
-            throw ScriptError("contact: unknown field '" + key + "' (known: " + knownFields() +
-                              ")");
+            throw ScriptError("contact: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields()) + " (known: " + knownFields() + ")");
         return 1;
     });
 }
@@ -160,7 +160,8 @@ int w_prop(lua_State* L) {
     return catchexcept(L, [&] {
         ContactRef& c = checkContact(L, 1, "prop");
         const std::string name = nameArg(L, 2, "prop");
-        lookup(c);  // a clear message if the contact ended
+        const ContactInfo info = lookup(c);  // a clear message if the contact ended
+        checkPropertyName(c.lm->model->contactModelFactory(info.model).reference, name, "contact");
         lua_pushnumber(L, c.lm->model->contactProp(c.key, name));
         return 1;
     });
@@ -171,6 +172,7 @@ int w_set_prop(lua_State* L) {
         ContactRef& c = checkContact(L, 1, "set_prop");
         const std::string name = nameArg(L, 2, "set_prop");
         const ContactInfo info = lookup(c);
+        checkPropertyName(c.lm->model->contactModelFactory(info.model).reference, name, "contact");
         double value = 0.0;
         if (lua_type(L, 3) == LUA_TSTRING) {
             // An integer mode by name, as in contact_model{...}.
@@ -183,6 +185,8 @@ int w_set_prop(lua_State* L) {
             value = toNumber(L, 3, "contact: property '" + name + "'");
         }
         c.lm->model->setContactProp(c.key, name, value);
+        if (isFrictionCoefficient(name, c.lm->model->contactModelFactory(info.model).reference))
+            warnImplausibleFriction(c.lm, "contact", {{name, value}});
         return 0;
     });
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -39,6 +40,11 @@ int w_contact_model(lua_State* L) {
         else
             lm.model->addContactModelRule(name, props, groups[0],
                                           groups.size() > 1 ? groups[1] : std::string());
+        const ContactModel* meta = PluginRegistry::global().find(name).reference;
+        std::vector<std::pair<std::string, double>> fric;
+        for (const PropValue& p : props)
+            if (isFrictionCoefficient(p.name, meta)) fric.emplace_back(p.name, p.value);
+        warnImplausibleFriction(&lm, "contact_model '" + name + "'", fric);
         return 0;
     });
 }
@@ -49,6 +55,67 @@ extern const luaL_Reg kContactModelMethods[] = {
     {"contact_model", w_contact_model},
     {nullptr, nullptr},
 };
+
+bool isFrictionCoefficient(const std::string& name, const ContactModel* meta) {
+    const std::string key = lower(name);
+    const bool named =
+        key == "fric" || (key.size() > 5 && key.compare(key.size() - 5, 5, "_fric") == 0);
+    if (!named) return false;
+    // A model may call an angle *_fric: only dimensionless properties are coefficients.
+    for (int32_t i = 0; meta && i < meta->PropCount(); ++i) {
+        const PropInfo* pi = meta->PropInfoAt(i);
+        if (pi && lower(pi->name) == key)
+            return !pi->units || std::string(pi->units) == "-" || std::string(pi->units).empty();
+    }
+    return true;
+}
+
+void warnImplausibleFriction(LuaModel* lm, const std::string& what,
+                             const std::vector<std::pair<std::string, double>>& values) {
+    std::string text;
+    for (const auto& [name, v] : values) {
+        if (!(v > kPlausibleFrictionMax) || !std::isfinite(v)) continue;
+        text += text.empty() ? what + ": " : "; ";
+        text +=
+            name + " = " + numberText(v) + " is a friction coefficient (tan of the friction angle)";
+        if (v < 90.0) {
+            char buf[160];
+            std::snprintf(
+                buf, sizeof buf,
+                ", not an angle: for a friction angle of %s\u00b0 use %s = tan(%s\u00b0) = "
+                "%.3g (math.tan(math.rad(%s)))",
+                numberText(v).c_str(), name.c_str(), numberText(v).c_str(),
+                std::tan(v * 3.14159265358979323846 / 180.0), numberText(v).c_str());
+            text += buf;
+        } else {
+            text += "; above " + numberText(kPlausibleFrictionMax) + " it is not plausible";
+        }
+    }
+    if (text.empty()) return;
+    text += " (a coefficient above " + numberText(kPlausibleFrictionMax) +
+            " makes contacts that almost never slip)";
+    if (lm && lm->model) {
+        lm->model->warn(text);
+    } else {
+        clearProgressLine();
+        std::fflush(stdout);
+        std::fprintf(stderr, "warning: %s\n", text.c_str());
+    }
+}
+
+void checkPropertyName(const ContactModel* meta, const std::string& name, const std::string& what) {
+    if (!meta) return;
+    const std::string key = lower(name);
+    for (int32_t i = 0; i < meta->PropCount(); ++i) {
+        const PropInfo* pi = meta->PropInfoAt(i);
+        if (pi && lower(pi->name) == key) return;
+    }
+    std::string known;
+    for (const char* c = meta->PropNames(); c && *c; ++c)
+        known += (*c == ',') ? std::string(", ") : std::string(1, *c);
+    throw ScriptError(what + ": unknown property '" + name + "' for model '" + meta->Name() + "'" +
+                      didYouMeanIn(name, known) + " (known: " + known + ")");
+}
 
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
                                  const std::string& what) {
@@ -64,6 +131,12 @@ std::vector<PropValue> readProps(lua_State* L, int index, const std::string& mod
         }
         PropValue pv;
         pv.name = lua_tostring(L, -2);
+        try {
+            checkPropertyName(meta, pv.name, what);
+        } catch (...) {
+            lua_pop(L, 2);
+            throw;
+        }
         const int t = lua_type(L, -1);
         std::string text;
         if (t == LUA_TNUMBER)

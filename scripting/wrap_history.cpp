@@ -7,9 +7,12 @@
 // row every `every` steps. Rows are flushed after every run call (cycle/solve), so a script that
 // ends with os.exit() loses nothing; the file is closed by h:close(), m:close_history() or when
 // the model is collected.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "lua_bindings.hpp"
@@ -149,6 +152,50 @@ std::string csvCell(const std::string& s) {
     return out + "\"";
 }
 
+/// The data rows of an existing history file (its lines after the header; 0 if it is missing
+/// or empty).
+int64_t dataRows(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return 0;
+    int64_t lines = 0;
+    char buf[1 << 16];
+    std::size_t got;
+    while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) lines += std::count(buf, buf + got, '\n');
+    std::fclose(f);
+    return lines > 0 ? lines - 1 : 0;
+}
+
+/// Cuts a history file after its header and `rows` data rows, as the ParaView series of a
+/// restore drops the frames past the save. Returns the rows the file had beyond them (0: it
+/// ended there), or -1 when it has fewer (then it is left as it is).
+int64_t trimRows(const std::string& path, int64_t rows, int& err) {
+    err = 0;
+    std::FILE* f = std::fopen(path.c_str(), "r+b");
+    if (!f) {
+        err = errno;
+        return errno == ENOENT ? -1 : 0;
+    }
+    const int64_t keep = rows + 1;  // the header, then the rows
+    int64_t lines = 0, cut = -1, offset = 0;
+    char buf[1 << 16];
+    std::size_t got;
+    while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
+        for (std::size_t i = 0; i < got; ++i)
+            if (buf[i] == '\n' && ++lines == keep && cut < 0)
+                cut = offset + static_cast<int64_t>(i) + 1;
+        offset += static_cast<int64_t>(got);
+    }
+    int64_t beyond = 0;
+    if (cut < 0) {
+        beyond = -1;  // fewer lines than the save recorded
+    } else if (cut < offset) {
+        beyond = lines - keep;
+        if (::ftruncate(::fileno(f), static_cast<off_t>(cut)) != 0) err = errno;
+    }
+    std::fclose(f);
+    return beyond;
+}
+
 HistoryRef& checkHistory(lua_State* L, int index, const char* fn) {
     auto* h = static_cast<HistoryRef*>(testUserdata(L, index, kHistoryType));
     if (!h)
@@ -251,6 +298,7 @@ int w_history(lua_State* L) {
         // append = true (after a restore): continue an existing file; the header is written
         // only when the file is new or empty.
         const bool append = o.boolean("append", false);
+        if (append) h->base_rows = dataRows(h->path);
         h->file = std::fopen(h->path.c_str(), append ? "a" : "w");
         if (!h->file)
             throw ScriptError("history: cannot write '" + h->path + "' (" + std::strerror(errno) +
@@ -327,8 +375,9 @@ int w_h_index(lua_State* L) {
             for (const auto& c : h.history->columns) names.push_back(c.name);
             pushStringList(L, names);
         } else {
-            throw ScriptError("history: unknown field '" + key +
-                              "' (known: file, rows, open, columns, close(), flush())");
+            throw ScriptError("history: unknown field '" + key + "'" +
+                              didYouMeanIn(key, "file, rows, open, columns, close(), flush()") +
+                              " (known: file, rows, open, columns, close(), flush())");
         }
         return 1;
     });
@@ -407,7 +456,7 @@ void History::writeRow(LuaModel& lm) {
     writing = false;
     if (open()) {
         // A full disk or a closed pipe shows here (or at the next flush, for buffered rows):
-        // stop the run rather than report rows that never reach the file (issue 6, item 11).
+        // stop the run rather than report rows that never reach the file.
         if (std::fprintf(file, "%s\n", row.c_str()) < 0 || std::ferror(file))
             fail(lm, "writing a row", errno);
         ++rows;
@@ -464,9 +513,24 @@ void History::closeQuietly(LuaModel& lm) {
     }
 }
 
-void reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
+std::string reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
     // A restored history continues its file: no header, no first row (the saving run wrote the
-    // row of the saved step if it was due), then a row every `every` steps as before.
+    // row of the saved step if it was due), then a row every `every` steps as before. Rows the
+    // saving run wrote after the save are cut first, so that no time appears twice.
+    std::string note;
+    int err = 0;
+    const int64_t beyond = trimRows(h->path, h->rows, err);
+    if (err != 0 && err != ENOENT)
+        throw ScriptError("restore: history '" + h->path + "': cannot cut it back to the " +
+                          std::to_string(h->rows) + " rows of the save (" + std::strerror(err) +
+                          ")");
+    if (beyond > 0)
+        note = "history '" + h->path + "' continues (appending) after its row " +
+               std::to_string(h->rows) + ", the saved step; the " + std::to_string(beyond) +
+               " row(s) written after the save were dropped";
+    else if (beyond < 0)
+        note = "history '" + h->path + "' continues (appending), but it has fewer than the " +
+               std::to_string(h->rows) + " rows of the save (missing, edited or replaced?)";
     h->file = std::fopen(h->path.c_str(), "a");
     if (!h->file)
         throw ScriptError("restore: history '" + h->path + "': cannot append (" +
@@ -475,6 +539,7 @@ void reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
     LuaModel* lmp = &lm;
     lm.histories.push_back(std::move(h));
     hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
+    return note;
 }
 
 extern const luaL_Reg kModelHistoryMethods[] = {

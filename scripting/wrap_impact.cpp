@@ -6,6 +6,7 @@
 
 #include "lua_bindings.hpp"
 #include "talus/impact_rig.hpp"
+#include "talus/plugin_registry.hpp"
 
 namespace talus::lua {
 
@@ -55,6 +56,11 @@ std::vector<PropValue> propsOption(const Options& o, const std::string& model) {
         return {};
     }
     std::vector<PropValue> props = readProps(o.state(), -1, model, o.what());
+    const ContactModel* meta = PluginRegistry::global().find(model).reference;
+    std::vector<std::pair<std::string, double>> fric;
+    for (const PropValue& p : props)
+        if (isFrictionCoefficient(p.name, meta)) fric.emplace_back(p.name, p.value);
+    warnImplausibleFriction(nullptr, o.what(), fric);
     lua_pop(o.state(), 1);
     return props;
 }

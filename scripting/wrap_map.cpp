@@ -1,12 +1,21 @@
 // SPDX-License-Identifier: MIT
 //
-// talus.map(n, fn [, {jobs = J}]), talus.rank(), talus.ranks(): independent items (the rocks of
-// a Monte Carlo) on all cores of a machine and across the ranks of an mpirun.
+// talus.map(n, fn [, {jobs =, on_error =, checkpoint =, key =}]), talus.rank(), talus.ranks():
+// independent items (the rocks of a Monte Carlo) on all cores of a machine and across the
+// ranks of an mpirun.
 //
 // How the items are shared. The n indices are cut into contiguous blocks of sizes that differ
-// by at most one: first one block per MPI rank, then, inside a rank, one block per worker
-// process. Each worker is a fork() of the caller: it inherits the whole Lua state (fn, its
-// upvalues, loaded models and modules) and runs fn(i) for the indices of its block, in order.
+// by at most one: first one block per MPI rank, then, inside a rank, the items still to run
+// (those the checkpoint does not hold) are cut into one block per worker process. Each worker
+// is a fork() of the caller: it inherits the whole Lua state (fn, its upvalues, loaded models
+// and modules) and runs fn(i) for the indices of its block, in order.
+//
+// Failures. on_error = "record" (the default): a worker that meets a failing item sends it as a
+// failure frame and goes on; one that dies is replaced by a new fork of the caller (whose state
+// the map does not change) for the rest of its block; the item it was running is the failure.
+// on_error = "raise": the first failure stops the map (the lowest index, as a serial loop).
+// With a checkpoint directory the caller writes each value it receives to its own file, and a
+// later map with the same key reads them back instead of running those items.
 // Every result is encoded (map_codec.hpp) and sent through a pipe as one frame
 //     kind (1 byte: 'v' value, 'e' failure) | index (8 bytes) | length (8 bytes) | bytes
 // The caller reads every pipe with poll(), so a worker never blocks on a full pipe while the
@@ -40,7 +49,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "lua_bindings.hpp"
@@ -65,12 +76,89 @@ public:
     DepthGuard& operator=(const DepthGuard&) = delete;
 };
 
-/// What running a block of indices gave: one encoded value per index, or the first failure.
+/// How a failed item is handled (the `on_error` option).
+enum class OnError {
+    Record,  ///< the item's result is nil, the failure goes into results.failed; the rest runs
+    Raise,   ///< the map stops and raises the failure with the lowest index
+};
+
+/// Finished values kept on disk as they arrive (the `checkpoint` option), so that a rerun of
+/// the same map, after a failure or a killed job, runs only what is missing. One file per item,
+/// `<dir>/item_<i>.tmv`, written through a temporary file and a rename (a half-written file is
+/// never taken): "talus.map item\n", the key (8-byte length, bytes), the encoded value.
+struct Checkpoint {
+    std::string dir;  // "" = none
+    std::string key;
+
+    bool on() const { return !dir.empty(); }
+    std::string file(int64_t i) const { return dir + "/item_" + std::to_string(i) + ".tmv"; }
+
+    /// The stored value of item i, if there is one written with this key. `other` is set when
+    /// a file is there but was written with another key (another run: it is run again).
+    bool load(int64_t i, std::string& value, bool& other) const {
+        other = false;
+        std::FILE* f = std::fopen(file(i).c_str(), "rb");
+        if (!f) return false;
+        std::string bytes;
+        char buf[1 << 16];
+        std::size_t got;
+        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, got);
+        std::fclose(f);
+        static const std::string magic = "talus.map item\n";
+        uint64_t klen = 0;
+        if (bytes.size() < magic.size() + 8 || bytes.compare(0, magic.size(), magic) != 0)
+            return other = true, false;
+        std::memcpy(&klen, bytes.data() + magic.size(), 8);
+        const std::size_t at = magic.size() + 8;
+        if (bytes.size() - at < klen || bytes.compare(at, klen, key) != 0 || klen != key.size())
+            return other = true, false;
+        value = bytes.substr(at + klen);
+        return !value.empty();
+    }
+
+    /// Stores item i's value; a failure to write is reported once on stderr and the map goes
+    /// on (the results are still returned; only the rerun loses them).
+    void store(int64_t i, const std::string& value) const {
+        static const std::string magic = "talus.map item\n";
+        const std::string path = file(i), tmp = dir + "/.item_" + std::to_string(i) + ".tmp";
+        std::FILE* f = std::fopen(tmp.c_str(), "wb");
+        bool ok = f != nullptr;
+        if (ok) {
+            const uint64_t klen = key.size();
+            char len[8];
+            std::memcpy(len, &klen, 8);
+            ok = std::fwrite(magic.data(), 1, magic.size(), f) == magic.size() &&
+                 std::fwrite(len, 1, 8, f) == 8 &&
+                 std::fwrite(key.data(), 1, key.size(), f) == key.size() &&
+                 std::fwrite(value.data(), 1, value.size(), f) == value.size();
+            ok = (std::fclose(f) == 0) && ok;
+        }
+        if (ok && std::rename(tmp.c_str(), path.c_str()) == 0) return;
+        const int err = errno;
+        std::remove(tmp.c_str());
+        static bool said = false;
+        if (!said) {
+            said = true;
+            std::fprintf(stderr,
+                         "talus: warning: map: cannot write the checkpoint file '%s' (%s); the "
+                         "map goes on, but a rerun will run such items again\n",
+                         path.c_str(), std::strerror(err));
+        }
+    }
+};
+
+/// What running some items of [lo, hi] gave: one encoded value per index ("" for an item with
+/// no value: failed in record mode, or not run because the map stopped), the failures.
 struct Outcome {
     std::vector<std::string> values;  // values[i - lo]
+    // Raise mode: the first failure (the lowest index).
     bool failed = false;
     int64_t index = 0;    // the failed item (for a dead worker: the one it was running)
     std::string message;  // "fn(5) failed: script.lua:12: boom"
+    // Record mode: every failed item, in index order once sorted.
+    std::vector<std::pair<int64_t, std::string>> failures;
+    int64_t from_checkpoint = 0;  // items taken from the checkpoint, not run
+    int64_t other_key = 0;        // checkpoint files of another run (another key), run again
 };
 
 /// Block w of `count` items cut into `parts` contiguous blocks: first index (0-based) and size.
@@ -105,12 +193,19 @@ bool runItem(lua_State* L, int fn, int64_t i, std::string& encoded, std::string&
     return true;
 }
 
-void runInPlace(lua_State* L, int fn, int64_t lo, int64_t hi, Outcome& out) {
-    out.values.assign(static_cast<std::size_t>(hi - lo + 1), std::string());
-    for (int64_t i = lo; i <= hi; ++i) {
-        if (!runItem(L, fn, i, out.values[static_cast<std::size_t>(i - lo)], out.message)) {
+void runInPlace(lua_State* L, int fn, const std::vector<int64_t>& todo, int64_t lo, OnError mode,
+                const Checkpoint& ckpt, Outcome& out) {
+    std::string encoded, message;
+    for (const int64_t i : todo) {
+        if (runItem(L, fn, i, encoded, message)) {
+            if (ckpt.on()) ckpt.store(i, encoded);
+            out.values[static_cast<std::size_t>(i - lo)] = encoded;
+        } else if (mode == OnError::Record) {
+            out.failures.emplace_back(i, message);
+        } else {
             out.failed = true;
             out.index = i;
+            out.message = message;
             return;
         }
     }
@@ -141,8 +236,9 @@ bool writeFrame(int fd, char kind, int64_t index, const std::string& bytes) {
 }
 
 struct WorkerJob {
-    int64_t lo, hi;
+    const std::vector<int64_t>* items;  // the indices to run, in order
     int fd;
+    bool record;      // go on after a failed item (OnError::Record)
     int status;       // exit status for _exit
     int64_t current;  // the item being run
 };
@@ -156,7 +252,7 @@ int workerBody(lua_State* L) {
     const int fn = 1;
     std::string encoded, message;
     job->status = 0;
-    for (int64_t i = job->lo; i <= job->hi; ++i) {
+    for (const int64_t i : *job->items) {
         job->current = i;
         if (runItem(L, fn, i, encoded, message)) {
             if (!writeFrame(job->fd, 'v', i, encoded)) {
@@ -165,14 +261,15 @@ int workerBody(lua_State* L) {
             }
         } else {
             if (!writeFrame(job->fd, 'e', i, message)) job->status = 3;
-            break;
+            if (!job->record || job->status != 0) break;
         }
     }
     return 0;
 }
 
-[[noreturn]] void workerMain(lua_State* L, int fn, int64_t lo, int64_t hi, int fd) {
-    WorkerJob job{lo, hi, fd, 4, lo};
+[[noreturn]] void workerMain(lua_State* L, int fn, const std::vector<int64_t>& items, bool record,
+                             int fd) {
+    WorkerJob job{&items, fd, record, 4, items.empty() ? 0 : items.front()};
     try {
         lua_pushvalue(L, fn);
         lua_pushcclosure(L, workerBody, 1);
@@ -198,15 +295,19 @@ int workerBody(lua_State* L) {
 struct Worker {
     pid_t pid = -1;
     int fd = -1;
-    int64_t lo = 0, hi = 0;
-    int64_t next = 0;  // the index whose value is expected next
+    std::vector<int64_t> items;  // the indices of its block still to come, in order
+    std::size_t next = 0;        // position in items of the value expected next
     std::string buf;
     std::size_t used = 0;  // bytes of buf already parsed
     bool eof = false;
     bool killed = false;        // we sent SIGTERM (a worker of a lower block failed)
-    bool sent_failure = false;  // an 'e' frame arrived
+    bool sent_failure = false;  // an 'e' frame arrived (raise mode: it stopped there)
     bool reaped = false;
     int status = 0;
+    int64_t block_lo = 0, block_hi = 0;  // for messages: the range of its block
+
+    bool done() const { return next >= items.size(); }
+    int64_t current() const { return done() ? block_hi : items[next]; }
 };
 
 /// Owns the workers: whatever happens in the caller, they are stopped and reaped.
@@ -224,20 +325,56 @@ public:
             }
         }
     }
-    /// Stops the workers whose blocks start after `index` (a failure there): they cannot fail
-    /// at a lower index. Workers of lower blocks run on, so that the failure reported is the
-    /// one of the lowest index, the one a serial loop would meet first, whatever the jobs.
+    /// Stops the workers whose blocks start after `index` (a failure there, raise mode): they
+    /// cannot fail at a lower index. Workers of lower blocks run on, so that the failure
+    /// reported is the one of the lowest index, the one a serial loop would meet first,
+    /// whatever the jobs.
     void stopAbove(int64_t index) {
         for (Worker& x : w)
-            if (x.pid > 0 && !x.eof && !x.killed && x.lo > index) {
+            if (x.pid > 0 && !x.eof && !x.killed && !x.items.empty() && x.items.front() > index) {
                 ::kill(x.pid, SIGTERM);
                 x.killed = true;
             }
     }
 };
 
+/// Forks worker k over x.items (from position x.next on).
+void startWorker(lua_State* L, int fn, Workers& ws, std::size_t k, bool record) {
+    Worker& x = ws.w[k];
+    x.items.erase(x.items.begin(), x.items.begin() + static_cast<std::ptrdiff_t>(x.next));
+    x.next = 0;
+    x.buf.clear();
+    x.used = 0;
+    x.eof = x.killed = x.sent_failure = x.reaped = false;
+    x.status = 0;
+    int fds[2];
+    if (::pipe(fds) != 0)
+        throw std::runtime_error(std::string("map: cannot create a pipe: ") + std::strerror(errno));
+    // Buffers the caller has not written yet would be copied into the worker.
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        const int err = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        throw std::runtime_error(std::string("map: cannot start a worker process: ") +
+                                 std::strerror(err));
+    }
+    if (pid == 0) {
+        talus::Model::singleThreadedProcess();
+        ::close(fds[0]);
+        for (std::size_t j = 0; j < ws.w.size(); ++j)
+            if (j != k && ws.w[j].fd >= 0) ::close(ws.w[j].fd);
+        workerMain(L, fn, x.items, record, fds[1]);
+    }
+    ::close(fds[1]);
+    x.pid = pid;
+    x.fd = fds[0];
+}
+
 /// Parses the complete frames in x.buf; stores values into out; records a failure.
-void parseFrames(Worker& x, Outcome& out, int64_t lo, Workers& all) {
+void parseFrames(Worker& x, Outcome& out, int64_t lo, Workers& all, OnError mode,
+                 const Checkpoint& ckpt) {
     for (;;) {
         const std::size_t avail = x.buf.size() - x.used;
         if (avail < 17) break;
@@ -248,14 +385,17 @@ void parseFrames(Worker& x, Outcome& out, int64_t lo, Workers& all) {
         std::memcpy(&len, head + 9, 8);
         if (avail - 17 < len) break;
         const char kind = head[0];
-        if ((kind != 'v' && kind != 'e') || index < x.lo || index > x.hi ||
-            (kind == 'v' && index != x.next))
+        if ((kind != 'v' && kind != 'e') || x.done() || index != x.items[x.next])
             throw std::runtime_error("map: corrupt frame from worker " + std::to_string(x.pid));
         std::string bytes(head + 17, static_cast<std::size_t>(len));
         x.used += 17 + static_cast<std::size_t>(len);
         if (kind == 'v') {
+            if (ckpt.on()) ckpt.store(index, bytes);
             out.values[static_cast<std::size_t>(index - lo)] = std::move(bytes);
             ++x.next;
+        } else if (mode == OnError::Record) {
+            out.failures.emplace_back(index, std::move(bytes));
+            ++x.next;  // the worker goes on with its next item
         } else {
             x.sent_failure = true;
             if (!out.failed || index < out.index) {
@@ -275,9 +415,9 @@ void parseFrames(Worker& x, Outcome& out, int64_t lo, Workers& all) {
 std::string describeExit(const Worker& x, int64_t jobs, std::size_t k) {
     std::string who = "worker " + std::to_string(k + 1) + " of " + std::to_string(jobs) +
                       (mpi::size() > 1 ? " on rank " + std::to_string(mpi::rank()) : "") +
-                      " (pid " + std::to_string(x.pid) + ", indices " + std::to_string(x.lo) +
-                      ".." + std::to_string(x.hi) + ")";
-    std::string when = x.next <= x.hi ? " while running " + itemName(x.next) : "";
+                      " (pid " + std::to_string(x.pid) + ", indices " + std::to_string(x.block_lo) +
+                      ".." + std::to_string(x.block_hi) + ")";
+    std::string when = !x.done() ? " while running " + itemName(x.current()) : "";
     if (WIFSIGNALED(x.status)) {
         const int sig = WTERMSIG(x.status);
         const char* name = strsignal(sig);
@@ -286,44 +426,30 @@ std::string describeExit(const Worker& x, int64_t jobs, std::size_t k) {
     }
     if (WIFEXITED(x.status) && WEXITSTATUS(x.status) != 0)
         return who + " exited with status " + std::to_string(WEXITSTATUS(x.status)) + when;
-    return who + " ended without returning " + itemName(x.next) + " (did fn call os.exit?)";
+    return who + " ended without returning " + itemName(x.current()) + " (did fn call os.exit?)";
 }
 
-void runForked(lua_State* L, int fn, int64_t lo, int64_t hi, int64_t jobs, Outcome& out) {
-    const int64_t count = hi - lo + 1;
-    out.values.assign(static_cast<std::size_t>(count), std::string());
-    // Buffers the caller has not written yet would be copied into every worker.
-    std::fflush(nullptr);
+void reap(Worker& x) {
+    while (::waitpid(x.pid, &x.status, 0) < 0) {
+        if (errno != EINTR) throw std::runtime_error("map: waitpid failed");
+    }
+    x.reaped = true;
+}
+
+void runForked(lua_State* L, int fn, const std::vector<int64_t>& todo, int64_t lo, int64_t jobs,
+               OnError mode, const Checkpoint& ckpt, Outcome& out) {
+    const int64_t count = static_cast<int64_t>(todo.size());
+    const bool record = mode == OnError::Record;
     Workers ws;
     ws.w.resize(static_cast<std::size_t>(jobs));
     for (int64_t k = 0; k < jobs; ++k) {
         Worker& x = ws.w[static_cast<std::size_t>(k)];
         int64_t first, size;
         block(count, jobs, k, first, size);
-        x.lo = lo + first;
-        x.hi = x.lo + size - 1;
-        x.next = x.lo;
-        int fds[2];
-        if (::pipe(fds) != 0)
-            throw std::runtime_error(std::string("map: cannot create a pipe: ") +
-                                     std::strerror(errno));
-        const pid_t pid = ::fork();
-        if (pid < 0) {
-            const int err = errno;
-            ::close(fds[0]);
-            ::close(fds[1]);
-            throw std::runtime_error(std::string("map: cannot start a worker process: ") +
-                                     std::strerror(err));
-        }
-        if (pid == 0) {
-            talus::Model::singleThreadedProcess();
-            ::close(fds[0]);
-            for (int64_t j = 0; j < k; ++j) ::close(ws.w[static_cast<std::size_t>(j)].fd);
-            workerMain(L, fn, x.lo, x.hi, fds[1]);
-        }
-        ::close(fds[1]);
-        x.pid = pid;
-        x.fd = fds[0];
+        x.items.assign(todo.begin() + first, todo.begin() + first + size);
+        x.block_lo = x.items.front();
+        x.block_hi = x.items.back();
+        startWorker(L, fn, ws, static_cast<std::size_t>(k), record);
     }
 
     std::vector<pollfd> pfds;
@@ -344,40 +470,52 @@ void runForked(lua_State* L, int fn, int64_t lo, int64_t hi, int64_t jobs, Outco
         }
         for (std::size_t p = 0; p < pfds.size(); ++p) {
             if (!(pfds[p].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-            Worker& x = ws.w[which[p]];
+            const std::size_t k = which[p];
+            Worker& x = ws.w[k];
             const ssize_t got = ::read(x.fd, chunk, sizeof chunk);
             if (got < 0) {
                 if (errno == EINTR || errno == EAGAIN) continue;
                 throw std::runtime_error(std::string("map: reading a worker failed: ") +
                                          std::strerror(errno));
             }
-            if (got == 0) {
-                x.eof = true;
-                ::close(x.fd);
-                x.fd = -1;
-                // Ended before its last value without saying why: it died (or called os.exit)
-                // while running fn(next). Reported once reaped, below; stop higher blocks now.
-                if (!x.killed && !x.sent_failure && x.next <= x.hi) ws.stopAbove(x.next);
+            if (got > 0) {
+                x.buf.append(chunk, static_cast<std::size_t>(got));
+                parseFrames(x, out, lo, ws, mode, ckpt);
                 continue;
             }
-            x.buf.append(chunk, static_cast<std::size_t>(got));
-            parseFrames(x, out, lo, ws);
+            x.eof = true;
+            ::close(x.fd);
+            x.fd = -1;
+            if (x.killed || x.sent_failure || x.done()) continue;
+            // Ended before its last value without saying why: it died (or called os.exit)
+            // while running its next item.
+            if (!record) {
+                ws.stopAbove(x.current());  // reported once reaped, below
+                continue;
+            }
+            // Record mode: that item failed; a new worker (a fork of the caller, whose state
+            // the map has not changed) goes on with the rest of the block.
+            reap(x);
+            // Status 5: an error outside fn, already sent as that item's failure frame.
+            if (!(WIFEXITED(x.status) && WEXITSTATUS(x.status) == 5)) {
+                out.failures.emplace_back(x.current(),
+                                          describeExit(x, static_cast<int64_t>(ws.w.size()), k));
+                ++x.next;
+            }
+            if (!x.done()) startWorker(L, fn, ws, k, record);
         }
     }
 
     for (std::size_t k = 0; k < ws.w.size(); ++k) {
         Worker& x = ws.w[k];
-        while (::waitpid(x.pid, &x.status, 0) < 0) {
-            if (errno != EINTR) throw std::runtime_error("map: waitpid failed");
-        }
-        x.reaped = true;
-        if (x.killed || x.sent_failure) continue;  // stopped by us, or failed in fn and said so
+        if (!x.reaped) reap(x);
+        if (x.killed || x.sent_failure || record) continue;  // stopped by us, or said why
         const bool clean = WIFEXITED(x.status) && WEXITSTATUS(x.status) == 0;
-        if (clean && x.next > x.hi) continue;
+        if (clean && x.done()) continue;
         // Died, or stopped early without a failure frame: report with its index range.
-        if (!out.failed || x.next < out.index) {
+        if (!out.failed || x.current() < out.index) {
             out.failed = true;
-            out.index = x.next;
+            out.index = x.current();
             out.message = describeExit(x, static_cast<int64_t>(ws.w.size()), k);
         }
     }
@@ -426,7 +564,9 @@ uint64_t get64(const std::string& s, std::size_t& pos) {
     return v;
 }
 
-/// This rank's outcome as bytes: 'F' index message | 'V' (length bytes)...
+/// This rank's outcome as bytes: 'F' index message (raise mode), or 'V' then per item its
+/// length and bytes (0: no value), the failures (count, then index, length, message each), the
+/// items taken from the checkpoint and those of another key.
 std::string pack(const Outcome& o) {
     std::string s;
     if (o.failed) {
@@ -440,7 +580,48 @@ std::string pack(const Outcome& o) {
         put64(s, v.size());
         s += v;
     }
+    put64(s, o.failures.size());
+    for (const auto& [i, msg] : o.failures) {
+        put64(s, static_cast<uint64_t>(i));
+        put64(s, msg.size());
+        s += msg;
+    }
+    put64(s, static_cast<uint64_t>(o.from_checkpoint));
+    put64(s, static_cast<uint64_t>(o.other_key));
     return s;
+}
+
+std::string getBytes(const std::string& s, std::size_t& pos) {
+    const uint64_t len = get64(s, pos);
+    if (s.size() - pos < len) throw std::runtime_error("map: corrupt data from another rank");
+    std::string v = s.substr(pos, static_cast<std::size_t>(len));
+    pos += static_cast<std::size_t>(len);
+    return v;
+}
+
+/// pack() read back, for rank r's block of n items among `ranks`.
+Outcome unpack(const std::string& s, int64_t n, int64_t ranks, int64_t r) {
+    Outcome o;
+    if (s.empty()) throw std::runtime_error("map: corrupt data from another rank");
+    std::size_t pos = 1;
+    if (s[0] == 'F') {
+        o.failed = true;
+        o.index = static_cast<int64_t>(get64(s, pos));
+        o.message = s.substr(pos);
+        return o;
+    }
+    int64_t first, size;
+    block(n, ranks, r, first, size);
+    o.values.resize(static_cast<std::size_t>(size));
+    for (auto& v : o.values) v = getBytes(s, pos);
+    const uint64_t nf = get64(s, pos);
+    for (uint64_t k = 0; k < nf; ++k) {
+        const auto i = static_cast<int64_t>(get64(s, pos));
+        o.failures.emplace_back(i, getBytes(s, pos));
+    }
+    o.from_checkpoint = static_cast<int64_t>(get64(s, pos));
+    o.other_key = static_cast<int64_t>(get64(s, pos));
+    return o;
 }
 
 // ------------------------------------------------------------------ Lua functions
@@ -451,12 +632,21 @@ int w_map(lua_State* L) {
         if (n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(n) + ")");
         if (lua_type(L, 2) != LUA_TFUNCTION)
             throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
-        const Options opts(L, 3, "map", {"jobs"}, true);
+        const Options opts(L, 3, "map", {"jobs", "on_error", "checkpoint", "key"}, true);
         int64_t jobs = opts.integer("jobs", 0);
         const bool jobs_given = opts.has("jobs");
         if (jobs_given && jobs < 1)
             throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) +
                               ")");
+        const OnError mode =
+            opts.choice("on_error", 0, {"record", "raise"}) == 0 ? OnError::Record : OnError::Raise;
+        Checkpoint ckpt;
+        ckpt.dir = opts.string("checkpoint", "");
+        ckpt.key = opts.string("key", "");
+        if (opts.has("checkpoint") && ckpt.dir.empty())
+            throw ScriptError(opts.field("checkpoint") + " must be a directory name");
+        if (opts.has("key") && !ckpt.on())
+            throw ScriptError(opts.field("key") + " goes with 'checkpoint' (a directory)");
         const bool nested = g_depth > 0;
         // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a
         // fork under MPI is fragile with some interconnects: one process per rank unless asked.
@@ -474,15 +664,33 @@ int w_map(lua_State* L) {
         lua_settop(L, 3);
         const int fn = 2;
         Outcome mine;
+        mine.values.assign(static_cast<std::size_t>(std::max<int64_t>(0, hi - lo + 1)),
+                           std::string());
         {
             DepthGuard depth;
-            const int64_t count = hi - lo + 1;
-            const int64_t workers = std::min<int64_t>(jobs, count);
+            // The items to run: all of this rank's block but those the checkpoint holds.
+            std::vector<int64_t> todo;
+            if (ckpt.on()) {
+                std::error_code ec;
+                std::filesystem::create_directories(ckpt.dir, ec);
+                if (ec)
+                    throw ScriptError("map: cannot create the checkpoint directory '" + ckpt.dir +
+                                      "' (" + ec.message() + ")");
+            }
+            for (int64_t i = lo; i <= hi; ++i) {
+                bool other = false;
+                if (ckpt.on() && ckpt.load(i, mine.values[static_cast<std::size_t>(i - lo)], other))
+                    ++mine.from_checkpoint;
+                else
+                    todo.push_back(i);
+                mine.other_key += other;
+            }
+            const int64_t workers = std::min<int64_t>(jobs, static_cast<int64_t>(todo.size()));
             try {
                 if (workers <= 1)
-                    runInPlace(L, fn, lo, hi, mine);
+                    runInPlace(L, fn, todo, lo, mode, ckpt, mine);
                 else
-                    runForked(L, fn, lo, hi, workers, mine);
+                    runForked(L, fn, todo, lo, workers, mode, ckpt, mine);
             } catch (const std::exception& e) {
                 // A system failure (no pipe, no fork, corrupt frame) becomes this block's
                 // failure: under MPI it must still reach the exchange, or the other ranks
@@ -500,29 +708,9 @@ int w_map(lua_State* L) {
         std::vector<Outcome> ranks;
         if (collective) {
             const std::vector<std::string> all = mpi::allgather(pack(mine));
-            ranks.resize(all.size());
-            for (std::size_t r = 0; r < all.size(); ++r) {
-                const std::string& s = all[r];
-                Outcome& o = ranks[r];
-                if (s.empty()) throw std::runtime_error("map: corrupt data from another rank");
-                std::size_t pos = 1;
-                if (s[0] == 'F') {
-                    o.failed = true;
-                    o.index = static_cast<int64_t>(get64(s, pos));
-                    o.message = s.substr(pos);
-                    continue;
-                }
-                int64_t first, size;
-                block(n, static_cast<int64_t>(all.size()), static_cast<int64_t>(r), first, size);
-                o.values.resize(static_cast<std::size_t>(size));
-                for (auto& v : o.values) {
-                    const uint64_t len = get64(s, pos);
-                    if (s.size() - pos < len)
-                        throw std::runtime_error("map: corrupt data from another rank");
-                    v.assign(s, pos, static_cast<std::size_t>(len));
-                    pos += static_cast<std::size_t>(len);
-                }
-            }
+            for (std::size_t r = 0; r < all.size(); ++r)
+                ranks.push_back(
+                    unpack(all[r], n, static_cast<int64_t>(all.size()), static_cast<int64_t>(r)));
         } else {
             ranks.push_back(std::move(mine));
         }
@@ -534,11 +722,54 @@ int w_map(lua_State* L) {
 
         lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
         lua_Integer i = 1;
-        for (const Outcome& o : ranks)
+        std::vector<std::pair<int64_t, std::string>> failures;
+        int64_t from_checkpoint = 0, other_key = 0;
+        for (const Outcome& o : ranks) {
             for (const std::string& v : o.values) {
-                decodeValue(L, v.data(), v.size());
-                lua_rawseti(L, -2, i++);
+                if (!v.empty()) {
+                    decodeValue(L, v.data(), v.size());
+                    lua_rawseti(L, -2, i);
+                }
+                ++i;
             }
+            failures.insert(failures.end(), o.failures.begin(), o.failures.end());
+            from_checkpoint += o.from_checkpoint;
+            other_key += o.other_key;
+        }
+        std::sort(failures.begin(), failures.end());
+        const bool speak = mpi::rank() == 0 && !nested;
+        if (speak && (from_checkpoint > 0 || other_key > 0)) {
+            std::fflush(stdout);
+            std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
+                         static_cast<long long>(from_checkpoint), n, ckpt.dir.c_str());
+            if (other_key > 0)
+                std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
+                             static_cast<long long>(other_key));
+            std::fprintf(stderr, "\n");
+        }
+        if (!failures.empty()) {
+            // results.failed = {{index =, message =}, ...}, in index order.
+            lua_createtable(L, static_cast<int>(failures.size()), 0);
+            for (std::size_t k = 0; k < failures.size(); ++k) {
+                lua_createtable(L, 0, 2);
+                lua_pushinteger(L, static_cast<lua_Integer>(failures[k].first));
+                lua_setfield(L, -2, "index");
+                lua_pushlstring(L, failures[k].second.data(), failures[k].second.size());
+                lua_setfield(L, -2, "message");
+                lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+            }
+            lua_setfield(L, -2, "failed");
+            if (speak) {
+                clearProgressLine();
+                std::fflush(stdout);
+                std::fprintf(stderr,
+                             "talus: warning: map: %zu of %lld items failed (their results are "
+                             "nil; results.failed lists index and message)%s; the first: %s\n",
+                             failures.size(), n,
+                             ckpt.on() ? "; a rerun with the same checkpoint runs only those" : "",
+                             failures.front().second.c_str());
+            }
+        }
         return 1;
     });
 }

@@ -13,8 +13,10 @@
 #include <new>
 
 #include "lua_bindings.hpp"
+#include "solve_watch.hpp"
 #include "talus/errors.hpp"
 #include "talus/plugin_registry.hpp"
+#include "talus/suggest.hpp"
 
 namespace talus::lua {
 
@@ -223,7 +225,7 @@ int w_damping(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "damping");
         // `damp` is PFC's name for local damping; `local` (a Lua keyword, so only ['local'] =)
-        // is still accepted for old scripts (issue 6, item 13).
+        // is still accepted for old scripts.
         const Options o(L, 2, "damping", {"damp", "local", "viscous"}, true);
         DampingSettings d = lm.model->damping();
         if (o.has("damp") && o.has("local"))
@@ -291,18 +293,38 @@ void runModel(lua_State* L, LuaModel& lm, const std::function<void(Model&)>& ste
               const ProgressTarget& target) {
     ActiveThread active(lm, L);
     ++lm.running;
-    // The progress line follows the outermost run call only (a cycle inside an on_cycle
-    // callback is part of the step that called it).
+    // The progress line and the watch on a solve's ratio follow the outermost run call only (a
+    // cycle inside an on_cycle callback is part of the step that called it).
     std::unique_ptr<ProgressLine> progress;
-    if (lm.running == 1 && progressEnabled()) {
-        progress = std::make_unique<ProgressLine>(*lm.model, target);
+    std::unique_ptr<SolveWatch> watch;
+    if (lm.running == 1) {
+        try {
+            if (progressStyle() != ProgressStyle::Off)
+                progress = std::make_unique<ProgressLine>(*lm.model, target);
+            if (target.ratio > 0) {
+                LuaModel* lmp = &lm;
+                watch = std::make_unique<SolveWatch>(target.ratio, [lmp](const std::string& text) {
+                    if (lmp->model) lmp->model->warn(text);
+                });
+            }
+        } catch (...) {
+            --lm.running;
+            throw;
+        }
+    }
+    if (progress || watch) {
         ProgressLine* p = progress.get();
-        lm.model->setStepObserver([p](const Model& m) { p->update(m); });
+        SolveWatch* w = watch.get();
+        lm.model->setStepObserver([p, w](const Model& m) {
+            if (p) p->update(m);
+            if (w) w->update(m);
+        });
     }
     const auto finish = [&] {
-        if (progress) {
+        if (progress || watch) {
             lm.model->setStepObserver(nullptr);
             progress.reset();
+            watch.reset();
         }
         --lm.running;
         lm.finishRun();
@@ -353,6 +375,7 @@ int w_solve(lua_State* L) {
         ProgressTarget target;  // the progress line's "time left" (-1: not known)
         if (!std::isnan(req.spec.time)) target.time = req.spec.time;
         if (req.spec.steps >= 0) target.steps = req.spec.steps;
+        if (!std::isnan(req.spec.ratio)) target.ratio = req.spec.ratio;
         SolveStop stop = SolveStop::Time;
         try {
             runModel(
@@ -513,8 +536,9 @@ int w_index_unknown(lua_State* L) {
     // the known ones (m:cylce(10) would otherwise say "attempt to call a nil value").
     return catchexcept(L, [&]() -> int {
         const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
-        throw ScriptError("model: unknown method or field '" + key +
-                          "' (known: " + joinNames(modelMethodNames()) + ")");
+        const std::vector<std::string> names = modelMethodNames();
+        throw ScriptError("model: unknown method or field '" + key + "'" + didYouMean(key, names) +
+                          " (known: " + joinNames(names) + ")");
     });
 }
 
@@ -597,6 +621,7 @@ void LuaModel::close() {
     std::vector<EventHandler>().swap(event_handlers);
     std::vector<Crack>().swap(cracks);
     std::vector<int>().swap(removed_hooks);
+    std::vector<BallId>().swap(ball_slots);
     model.reset();
 }
 

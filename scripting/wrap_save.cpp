@@ -223,7 +223,7 @@ std::vector<uint8_t> hostSection(const LuaModel& lm) {
         if (!h->open()) continue;
         w.str(h->path);
         w.i64(h->every);
-        w.i64(h->rows);
+        w.i64(h->base_rows + h->rows);  // the file's rows up to this step
         w.u64(h->columns.size());
         for (const History::Column& c : h->columns) {
             w.str(c.name);
@@ -296,8 +296,8 @@ void applyHostSection(lua_State* L, LuaModel& lm, const std::vector<uint8_t>& by
     r.expectEnd();
     for (auto& h : restored) {
         const std::string path = h->path;
-        reopenHistory(lm, std::move(h));
-        notes.push_back("history '" + path + "' continues (appending)");
+        const std::string note = reopenHistory(lm, std::move(h));
+        notes.push_back(note.empty() ? "history '" + path + "' continues (appending)" : note);
     }
     for (const vtk::SeriesState& s : vtk_series) {
         resumeVtkSeries(L, lm, s);

@@ -258,9 +258,9 @@ int w_out_index(lua_State* L) {
         } else if (key == "every") {
             lua_pushinteger(L, r.out->every);
         } else {
-            throw ScriptError(
-                "output: unknown field '" + key +
-                "' (known: file, files, frames, every, open, write(), close(), pixel(x, y))");
+            const char* known = "file, files, frames, every, open, write(), close(), pixel(x, y)";
+            throw ScriptError("output: unknown field '" + key + "'" + didYouMeanIn(key, known) +
+                              " (known: " + known + ")");
         }
         return 1;
     });

@@ -114,8 +114,9 @@ void pushField(lua_State* L, const WallRef& w, Field f) {
 void setField(lua_State* L, const WallRef& w, const std::string& name, int index) {
     const FieldInfo* info = findField(name);
     if (!info)
-        throw ScriptError("wall: unknown field '" + name + "' (writable: " + knownFields(true) +
-                          ")");
+        throw ScriptError("wall: unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownFields(true)) +
+                          " (writable: " + knownFields(true) + ")");
     if (!info->writable)
         throw ScriptError("wall: field '" + name +
                           "' is read-only (writable: " + knownFields(true) + ")");
@@ -137,10 +138,12 @@ void setField(lua_State* L, const WallRef& w, const std::string& name, int index
         }
         case Field::Kn:
         case Field::Ks:
-        case Field::Fric:
-            m.setWallContactProp(w.id, name,
-                                 lua_isnil(L, index) ? kNotSet : toNumber(L, index, what));
+        case Field::Fric: {
+            const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
+            m.setWallContactProp(w.id, name, v);
+            if (info->field == Field::Fric) warnImplausibleFriction(w.lm, "wall", {{name, v}});
             break;
+        }
         default:
             break;
     }
@@ -157,8 +160,9 @@ int w_index(lua_State* L) {
         }
         const FieldInfo* info = findField(key);
         if (!info)
-            throw ScriptError("wall: unknown field '" + key + "' (known: " + knownFields(false) +
-                              ")");
+            throw ScriptError("wall: unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownFields(false)) +
+                              " (known: " + knownFields(false) + ")");
         pushField(L, w, info->field);
         return 1;
     });

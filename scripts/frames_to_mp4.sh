@@ -5,7 +5,7 @@
 #
 #   scripts/frames_to_mp4.sh out/f.png [video.mp4] [frames per second, default 25]
 #
-# Needs ffmpeg (apt-get install ffmpeg, or TALUS_WITH_FFMPEG=1 scripts/setup.sh).
+# Needs ffmpeg (scripts/setup.sh installs it; or apt-get install ffmpeg).
 set -euo pipefail
 if [[ $# -lt 1 || $# -gt 3 ]]; then
     echo "usage: $0 FRAMES.png [VIDEO.mp4] [FPS]   (FRAMES.png: the file given to m:picture)" >&2

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Sequence
 
 # The energy items a talus history can record (docs/lua-api.md, "Histories"), all in joules.
-# "exchanged" is the per-group item planned by issue 7; listing it early costs nothing.
+# "exchanged" is the per-group item; listing it early costs nothing.
 ENERGY_ITEMS = (
     "kinetic", "body", "boundary", "strain", "bond", "slip", "dashpot", "plastic", "damping",
     "released", "deleted", "initial_kinetic", "initial_strain", "placement", "balance_error",
@@ -83,6 +83,7 @@ class Series:
     energy: bool
     x: List[float] = field(default_factory=list)
     y: List[float] = field(default_factory=list)
+    name: str = ""     # the y column's name without its " [unit]" (the axis label adds the unit)
 
 
 def describe_column(header: str) -> Column:
@@ -195,7 +196,7 @@ def load_series(paths: Sequence[str], columns: Optional[Sequence[str]] = None,
             label = c.header if len(paths) == 1 else f"{fname}: {c.header}"
             series.append(Series(file=path, column=c.header, label=label, x_column=xcol.name,
                                  x_unit=xcol.unit, unit=c.unit, energy=c.energy,
-                                 x=list(data[xi]), y=list(data[k])))
+                                 x=list(data[xi]), y=list(data[k]), name=c.name))
     return series
 
 
@@ -209,6 +210,18 @@ def _axis_label(names: Sequence[str], units: Sequence[str], energies: bool) -> s
         return ", ".join(uniq_names) + (f" [{uniq_units[0]}]" if uniq_units[0] else "")
     pairs = list(dict.fromkeys(f"{n} [{u}]" if u else n for n, u in zip(names, units)))
     return ", ".join(pairs)
+
+
+def x_label(series: Sequence[Series]) -> str:
+    """The x axis label: 'time [s]'."""
+    return _axis_label([s.x_column for s in series], [s.x_unit for s in series], False)
+
+
+def y_label(series: Sequence[Series]) -> str:
+    """The y axis label: 'energy [J]', 'stress_axial [Pa]' (the unit once, also when the header
+    cell carries it), 'vx [m/s], spin'."""
+    return _axis_label([s.name or s.column for s in series], [s.unit for s in series],
+                       all(s.energy for s in series))
 
 
 def _linthresh(values: Sequence[float]) -> float:
@@ -270,10 +283,8 @@ def plot(series: Sequence[Series], output: str, title: Optional[str] = None,
             notes.append("symlog x")
     if equal:
         ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(xlabel or _axis_label([s.x_column for s in series],
-                                        [s.x_unit for s in series], False))
-    ax.set_ylabel(ylabel or _axis_label([s.column for s in series], [s.unit for s in series],
-                                        all(s.energy for s in series)))
+    ax.set_xlabel(xlabel or x_label(series))
+    ax.set_ylabel(ylabel or y_label(series))
     if title:
         ax.set_title(title)
     ax.grid(True, color="#e5e5e5", linewidth=0.8)

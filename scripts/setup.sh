@@ -10,12 +10,11 @@ set -euo pipefail
 # python3-vtk9, python3-pil: the output tests read ParaView files back with VTK's own readers
 # and check picture pixels (docs/output.md).
 # clang, libclang-rt-dev: the save-file fuzz target (tests/fuzz, libFuzzer; -DTALUS_FUZZ=ON).
+# ffmpeg: scripts/frames_to_mp4.sh (picture frames to a video) and its test, lua.output.mp4.
 packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2
           python3 python3-matplotlib libopenmpi-dev openmpi-bin libcairo2-dev python3-vtk9
-          python3-pil clang libclang-rt-dev)
+          python3-pil clang libclang-rt-dev ffmpeg)
 if [[ "${TALUS_WITH_LAMMPS:-0}" == 1 ]]; then packages+=(lammps); fi
-# ffmpeg: scripts/frames_to_mp4.sh (picture frames to a video); large, so only when asked.
-if [[ "${TALUS_WITH_FFMPEG:-0}" == 1 ]]; then packages+=(ffmpeg); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -4,6 +4,7 @@
 // Every refusal names the file and both sides' values, so a user can tell which build to redo.
 #include "talus/plugin_registry.hpp"
 
+#include <dirent.h>
 #include <dlfcn.h>
 #include <elf.h>
 #include <fcntl.h>
@@ -20,6 +21,7 @@
 #include <sstream>
 
 #include "talus/errors.hpp"
+#include "talus/suggest.hpp"
 
 #ifndef TALUS_BUILD_PLUGIN_DIR
 #define TALUS_BUILD_PLUGIN_DIR ""
@@ -349,14 +351,43 @@ const ModelFactory& PluginRegistry::find(const std::string& name) {
             if (const ModelFactory* f = tryFind(name)) return *f;
         }
     }
+    // The models that can be loaded: the loaded ones and every libtalus_<name>.so on the search
+    // path. A name close to one of them is a typo, and the plugin-path advice would mislead.
+    std::vector<std::string> loadable = modelNames();
+    for (const auto& dir : m_dirs) {
+        DIR* d = ::opendir(dir.c_str());
+        if (!d) continue;
+        while (const dirent* e = ::readdir(d)) {
+            const std::string f = e->d_name;
+            if (f.size() > 12 && f.compare(0, 9, "libtalus_") == 0 &&
+                f.compare(f.size() - 3, 3, ".so") == 0) {
+                const std::string stem = f.substr(9, f.size() - 12);
+                bool have = false;
+                for (const auto& n : loadable) have = have || lower(n) == stem;
+                if (!have) loadable.push_back(stem);
+            }
+        }
+        ::closedir(d);
+    }
+    std::sort(loadable.begin(), loadable.end(),
+              [](const std::string& a, const std::string& b) { return lower(a) < lower(b); });
+    std::string available;
+    for (const auto& n : loadable) available += (available.empty() ? "" : ", ") + n;
+    if (available.empty()) available = "none";
+    const std::string hint = didYouMean(name, loadable);
+    if (!hint.empty())
+        throw PluginError("unknown contact model '" + name + "'" + hint +
+                          " (models that can be loaded: " + available + ")");
     std::string known;
     for (const auto& n : modelNames()) known += (known.empty() ? "" : ", ") + n;
     std::string dirs;
     for (const auto& d : m_dirs) dirs += (dirs.empty() ? "" : ":") + d;
-    throw PluginError("unknown contact model '" + name + "' (loaded: " +
-                      (known.empty() ? std::string("none") : known) + "; searched " + file +
-                      " in " + (dirs.empty() ? std::string("no directories") : dirs) +
-                      "; set TALUS_PLUGIN_PATH or call talus.load_plugin)");
+    throw PluginError("unknown contact model '" + name +
+                      "' (models that can be loaded: " + available +
+                      "; loaded: " + (known.empty() ? std::string("none") : known) + "; searched " +
+                      file + " in " + (dirs.empty() ? std::string("no directories") : dirs) +
+                      "; for a model of your own, set TALUS_PLUGIN_PATH or call "
+                      "talus.load_plugin)");
 }
 
 std::vector<std::string> PluginRegistry::modelNames() const {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 //
-// `cbond`: the linear contact model with a PFC contact bond (accuracy-reference 4 "Contact
-// bond", seed digest section 1; docs/models/cbond.md).
+// `cbond`: the linear contact model with a PFC contact bond (PFC2D's documentation; Potyondy
+// & Cundall 2004; docs/models/cbond.md).
 //
 //   normal   F_n = kn (u_n - u_ref)          bonded: tension allowed
 //            F_n = max(0, kn (u_n - u_ref))  unbonded (u_ref = 0 unless the bond formed at a gap)
 //   shear    F_s <- F_s - ks dU_s            bonded: no slip
-//            |F_s| <= fric F_n               unbonded: Coulomb slider (accuracy-reference 3.2)
+//            |F_s| <= fric F_n               unbonded: Coulomb slider (PFC's linear model)
 //   bond     strengths are forces: cb_tenf (tensile), cb_shearf (shear)
 //            -F_n >= cb_tenf       -> breaks in tension; both forces go to zero
 //            |F_s| >= cb_shearf    -> breaks in shear; the forces are kept if F_n > 0 and
@@ -188,7 +188,7 @@ public:
             cb_fn = kn * (u - u_ref_);
             cb_fs -= ks * du_s;  // no slip while bonded
             // A bond made at touch (cb_gap = 0) engages inside the step, as an unbonded
-            // contact does: the same onset corner (issue 6, stress seed 2800).
+            // contact does: the same onset corner (stress seed 2800).
             if (first && u - u_ref_ > 0.0)
                 corner = linearOnsetCorners(kn, ks, fric, cb_fs, false, fd,
                                             onsetFraction(u - u_ref_, fd.du_n));
@@ -255,7 +255,7 @@ public:
             touching_ = false;
             sliding_ = false;
         } else if (u - u_ref_ > 0.0) {
-            // Unbonded: the linear law without tension (accuracy-reference 3.2), with the
+            // Unbonded: the linear law without tension (PFC's linear model), with the
             // corner impulses at touch (talus/sdk/corners.hpp).
             const bool first = !touching_;
             cb_fn = kn * (u - u_ref_);

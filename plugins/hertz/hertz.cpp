@@ -2,7 +2,7 @@
 //
 // `hertz`: Hertz-Mindlin contact as PFC defines it, in shear-modulus form (docs/models/hertz.md).
 //
-//   normal:  F_n^h = (4/3) E* sqrt(R*) u_n^(3/2)                  (accuracy-reference 1.2)
+//   normal:  F_n^h = (4/3) E* sqrt(R*) u_n^(3/2)                  (Johnson 1985)
 //            E* = G/(1-nu) ball-ball (equal materials), 2G/(1-nu) ball-wall (rigid wall)
 //   shear:   F_s^h <- F_s^h - k_t dU_s,  k_t = 8 G* sqrt(R* u_n)  (Mindlin no-slip stiffness)
 //            1/G* = (2-nu)/G + (2-nu)/G ball-ball, (2-nu)/G ball-wall
@@ -10,7 +10,7 @@
 //            normal unloading scales F_s^h by k_t(new)/k_t(old)  (Mindlin-Deresiewicz
 //            simplification: the elastic shear displacement F_s/k_t is kept)
 //   dashpot: c = 2 beta sqrt(m* k), k the current tangent stiffness, so c ~ u_n^(1/4) and the
-//            restitution does not depend on the impact speed (accuracy-reference 1.2);
+//            restitution does not depend on the impact speed (Tsuji, Tanaka & Ishida 1992);
 //            hz_e sets beta for a target restitution by inverting the scaled impact equation
 //
 // Numerics beyond the SDK's dashpot: the coefficient is averaged over each step's impulse
@@ -19,7 +19,7 @@
 // as the engine's leapfrog kinetic energy sees them (docs/models/hertz.md, "Numerics").
 //
 // The sphere law is applied to disks: a modelling choice (a line contact between cylinders has
-// no pure power law); it makes the 3D benchmarks of accuracy-reference section 2 checkable with
+// no pure power law); it makes the 3D benchmarks of Chung & Ooi 2011 checkable with
 // the sphere mass mode.
 #include <algorithm>
 #include <cmath>
@@ -42,7 +42,7 @@ const char* const kDpModes[] = {"full", "no_tension", "no_shear_slip", "no_tensi
 /// Factor of the Hertz contact duration: t_c = durationFactor() (m*^2 / (R* E*^2 v))^(1/5),
 /// i.e. 2.9432 delta_max / v with 2.9432 = 2 sqrt(pi) Gamma(7/5)/Gamma(9/10) and
 /// delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), so the factor is 2.9432 (15/16)^(2/5)
-/// = 2.8683 (accuracy-reference 1.2). Computed to full precision rather than from the rounded
+/// = 2.8683 (Johnson 1985). Computed to full precision rather than from the rounded
 /// constants, which differ from it by 2e-5.
 double durationFactor() {
     static const double f =
@@ -154,8 +154,8 @@ public:
             // A restitution instead of a damping ratio. With the dashpot on the tangent
             // stiffness the impact in units where K = (4/3) E* sqrt(R*), m* and v0 are 1 reads
             // u'' = -(u^1.5 + c u^0.25 u') with c = 2 beta sqrt(3/2): e depends on beta and the
-            // mode only (accuracy-reference 1.2, the speed-independent variant). Invert it once
-            // per setting (about 10 ms).
+            // mode only (Tsuji, Tanaka & Ishida 1992: the speed-independent variant). Invert it
+            // once per setting (about 10 ms).
             char buf[256];
             buf[0] = '\0';
             const double e_min = restitutionForRatio(1.0, noTension());
@@ -229,7 +229,7 @@ public:
         fric = inheritMin(fric, pb.fric);
         const bool wall = pb.end2_type == kEndWall;
         // Equal materials: 1/E* = 2 (1-nu^2)/E = (1-nu)/G for two balls; a rigid wall
-        // contributes nothing, so E* = E/(1-nu^2) = 2G/(1-nu) (accuracy-reference 1.2).
+        // contributes nothing, so E* = E/(1-nu^2) = 2G/(1-nu) (Johnson 1985).
         const double one_side_compliance = (1.0 - hz_poiss) / (2.0 * hz_shear);  // (1-nu^2)/E
         e_star_ =
             hz_shear > 0.0 ? 1.0 / (wall ? one_side_compliance : 2.0 * one_side_compliance) : 0.0;
@@ -256,7 +256,7 @@ public:
     // C(u) = (4/5) c(u) u for u > 0 and 0 otherwise. The dashpot impulse over a window in which
     // the overlap goes from a to b is C(b) - C(a) whatever the path, which is what makes the
     // total dashpot impulse of a full-mode contact exactly zero (the sliding-impulse identity of
-    // accuracy-reference 1.1, for c ~ u^(1/4)).
+    // a linear spring-dashpot, here for c ~ u^(1/4)).
     double dashpotPotential(double overlap) const {
         if (!(overlap > 0.0)) return 0.0;
         return 0.8 * dashpotCoefficient(dp_nratio, mass_eff_, normalTangent(overlap)) * overlap;
@@ -415,7 +415,7 @@ public:
         return touching_ ? shearTangent(last_overlap_) * dashpotStiffnessFactor(dp_sratio) : 0.0;
     }
     double ContactDuration(double mass_eff, double approach_speed) const override {
-        // Elastic Hertz impact (accuracy-reference 1.2); a dashpot changes it by a few percent.
+        // Elastic Hertz impact (Johnson 1985); a dashpot changes it by a few percent.
         if (!(approach_speed > 0.0) || !(e_star_ > 0.0) || !(r_star_ > 0.0)) return HUGE_VAL;
         return durationFactor() *
                std::pow(mass_eff * mass_eff / (r_star_ * e_star_ * e_star_ * approach_speed), 0.2);

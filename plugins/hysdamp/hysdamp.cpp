@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 //
 // `hysdamp`: linear contact with different loading and unloading stiffness (hysteretic
-// damping; seed digest section 4, accuracy-reference 1.3; docs/models/hysdamp.md).
+// damping; Shimizu & Cundall 2001 as cited by An 2006, Walton & Braun 1986;
+// docs/models/hysdamp.md).
 //
 //   k_load = 2 d kn_m / (1 + d),  k_unload = 2 kn_m / (1 + d)   (kn_m their mean, d = ratio)
 //   loading line    F = k_load u                      (anchored at the origin)
@@ -14,15 +15,16 @@
 //
 // Restitution of a free impact: e = sqrt(d) without tension; with tension the bodies also
 // climb out of the tension branch, e = sqrt(d - (1 - d)^2), which is real only for
-// d > (3 - sqrt 5)/2 = 0.382: the origin of the thesis's 0.4 <= d rule with tension.
+// d > (3 - sqrt 5)/2 = 0.382: the origin of An's (2006) 0.4 <= d rule with tension.
 //
 // Why the state is u_max and not the last turning point: an incremental law (dF = k_load du
 // while loading, k_unload du while unloading, reloading from the zero-force point) moves the
 // zero-force overlap inward on every cycle, so that it creeps towards the largest overlap
-// and the contact "loses" its radius (the defect in seed digest section 4). Anchoring the
-// loading line at the origin makes u0 a function of the largest overlap of this contact only:
-// 0 <= u0 = (1 - d) u_max < u_max, constant under repeated cycles of the same amplitude, and
-// reset to 0 when the contact separates (the engine clones a fresh object for the next touch).
+// and the contact "loses" its radius (the defect in Shimizu & Cundall 2001 as cited by An 2006).
+// Anchoring the loading line at the origin makes u0 a function of the largest overlap of this
+// contact only: 0 <= u0 = (1 - d) u_max < u_max, constant under repeated cycles of the same
+// amplitude, and reset to 0 when the contact separates (the engine clones a fresh object for the
+// next touch).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -88,7 +90,7 @@ public:
              0.05,
              1.0,
              false,
-             "(Shimizu-Cundall hysteretic damping, seed digest section 4: 0.05 <= d <= 1 without "
+             "(Shimizu-Cundall hysteretic damping as An (2006) gives it: 0.05 <= d <= 1 without "
              "tension, 0.4 <= d <= 1 with tension) "},
             {{"ks", "N/m", kPropInheritable, 0.0, "shear stiffness", nullptr},
              &HysDamp::ks,
@@ -118,7 +120,7 @@ public:
         return t;
     }
 
-    /// Lower limit of d for the tension mode (seed digest section 4, from the thesis).
+    /// Lower limit of d for the tension mode (An 2006).
     double minRatio() const { return tension == 1.0 ? 0.4 : 0.05; }
 
     const char* PreCycle(const PropBlock& pb) override {
@@ -127,7 +129,7 @@ public:
             char buf[320];
             std::snprintf(buf, sizeof buf,
                           "hysdamp: 'd' must be in [%g, 1] when tension = %d (Shimizu-Cundall "
-                          "hysteretic damping, seed digest section 4: 0.4 <= d <= 1 with tension, "
+                          "hysteretic damping as An (2006) gives it: 0.4 <= d <= 1 with tension, "
                           "0.05 <= d <= 1 without; with tension a free impact cannot separate for "
                           "d < 0.382) (got %g)",
                           minRatio(), static_cast<int>(tension), d);
@@ -147,7 +149,7 @@ public:
     double loadStiffness() const { return 2.0 * d * kn_m / (1.0 + d); }
     double unloadStiffness() const { return 2.0 * kn_m / (1.0 + d); }
 
-    /// Normal force at overlap u for the current u_max (accuracy-reference 1.3).
+    /// Normal force at overlap u for the current u_max (Walton & Braun 1986).
     double normalForce(double u) const {
         const double k1 = loadStiffness(), k2 = unloadStiffness();
         const double f = std::min(k1 * u, k2 * (u - hd_u0));
@@ -239,7 +241,7 @@ public:
             fd.energy[kEnergySlip] = sr.slip_work;
             // Hysteretic loss: trapezoidal work of the applied force over the step's
             // displacement (the work the engine's leapfrog kinetic energy sees, so the books
-            // close) minus the change of recoverable energy (accuracy-reference 3.6). A step
+            // close) minus the change of recoverable energy (PFC's energy tracing). A step
             // across a corner may give a small negative increment, which later steps make up.
             fd.energy[kEnergyPlastic] =
                 0.5 * (fn_old + fn_applied) * fd.du_n - (strain - last_strain_);
@@ -359,7 +361,7 @@ public:
     double KnEstimate() const override { return unloadStiffness(); }
     double KsEstimate() const override { return ks; }
     double ContactDuration(double mass_eff, double) const override {
-        // Time the force acts in a free impact (accuracy-reference 1.3): a quarter period on
+        // Time the force acts in a free impact (Walton & Braun 1986): a quarter period on
         // each line, (pi/2)(sqrt(m/k_load) + sqrt(m/k_unload)); with tension, plus the climb
         // out of the tension branch, asin((1-d)/sqrt(d)) / omega_load. Speed-independent.
         const double k1 = loadStiffness(), k2 = unloadStiffness();

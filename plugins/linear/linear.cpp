@@ -3,7 +3,7 @@
 // `linear`: the PFC linear contact model (docs/models/linear.md).
 //
 //   normal:  F_n^l = kn u_n                       (secant, absolute; no tension)
-//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (accuracy-reference 3.2)
+//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (PFC's linear model)
 //   dashpot: F^d = c (rate), c_n = 2 dp_nratio sqrt(m* kn), c_s = 2 dp_sratio sqrt(m* ks)
 //   dp_mode: 0 full; 1 total normal force >= 0; 2 shear dashpot off while sliding; 3 = 1 and 2
 //

@@ -8,15 +8,15 @@
 //   ng_form 1 (secant):            F_n = k_n(u_n) u_n
 //   shear:  F_s <- F_s - k_s dU_s,  |F_s| <= fric F_n  (no unloading rule besides Coulomb)
 //
-// Citation status: thesis B's equations 2.37-2.39 are not in the project's references. The
+// Citation status: Nejati's (2008) equations 2.37-2.39 could not be checked. The
 // formulas are the Hertz-Mindlin tangent stiffnesses of two equal spheres in contact-radius
-// form (accuracy-reference 1.2: 2 E* a with E* = G/(1-nu), and 8 G* a with G* = G/(2(2-nu))),
-// which is the form Ng's stiffnesses take. How thesis B used k_n (as a tangent, incrementally,
+// form (Johnson 1985: 2 E* a with E* = G/(1-nu), and 8 G* a with G* = G/(2(2-nu))),
+// which is the form Ng's stiffnesses take. How Nejati (2008) used k_n (as a tangent, incrementally,
 // or as a secant like PFC's kn) is not known here: both are offered.
 //
 // How it differs from `hertz`: the formulas are used as written for every contact, so a wall
 // counts as a body of the same material (hertz: a rigid wall, twice the E* and G*); form 1 is
-// 3/2 of Hertz's force; there is no contact dashpot (thesis B damps with the law of motion,
+// 3/2 of Hertz's force; there is no contact dashpot (Nejati 2008 damps with the law of motion,
 // DampingSettings::viscous) and no scaling of the shear force on normal unloading.
 #include <algorithm>
 #include <cmath>
@@ -149,10 +149,10 @@ public:
 
         const double frac = first ? onsetFraction(u, fd.du_n) : 1.0;
         // While the overlap shrinks, k_s falls with the contact radius. Holding the shear force
-        // (the thesis' incremental spring) raises the stored energy F_s^2 / 2k_s with no work:
-        // the law created energy in every load cycle of a sticking contact, booked as negative
-        // slip (-2% of the throughput for a ball rolling on a floor, fric = 1; issue 6, item
-        // 10). Thornton's unloading rule scales the force with the contact radius, F_s *=
+        // (a plain incremental spring) raises the stored energy F_s^2 / 2k_s with
+        // no work: the law created energy in every load cycle of a sticking contact, booked as
+        // negative slip (-2% of the throughput for a ball rolling on a floor, fric = 1).
+        // Thornton's unloading rule scales the force with the contact radius, F_s *=
         // k_s(u) / k_s(u_old) (Thornton, Cummins & Cleary 2011, Powder Technol. 210, 189): the
         // stored energy falls by k_s/k_s_old instead, what the annulus leaving contact lets go,
         // and the slip increment (1 - rho)/2 (rho F^2/k_s - F du_s), rho = k_s/k_s_old, is >= 0
@@ -202,7 +202,7 @@ public:
     double ContactDuration(double mass_eff, double approach_speed) const override {
         // Both forms are Hertz laws, F = (4/3) E sqrt(R*) u^(3/2) with E = G/(1-nu) (form 0)
         // or (3/2) G/(1-nu) (form 1): the Hertz impact duration
-        // 2.8683 (m*^2/(R* E^2 v))^(1/5) (accuracy-reference 1.2).
+        // 2.8683 (m*^2/(R* E^2 v))^(1/5) (Johnson 1985).
         const double e = (secant() ? 1.5 : 1.0) * ng_shear / (1.0 - ng_poiss);
         if (!(approach_speed > 0.0) || !(e > 0.0) || !(r_star_ > 0.0)) return HUGE_VAL;
         static const double factor = 2.0 * std::sqrt(M_PI) * std::tgamma(1.4) / std::tgamma(0.9) *

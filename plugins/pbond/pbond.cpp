@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // `pbond`: the linear contact in parallel with a parallel bond, the 2D form of Potyondy &
-// Cundall (2004) as PFC's `linearpbond` defines it (bodies-bonds-rockfall.md 1.1-1.3;
+// Cundall (2004) as PFC's `linearpbond` defines it (PFC's linearpbond, Itasca's documentation;
 // docs/models/pbond.md).
 //
 // Linear part (the `linear` model's springs, slider and dashpots, talus/sdk/linear_law.hpp):
@@ -56,7 +56,7 @@ using namespace talus::sdk;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 const char* const kLinModes[] = {"absolute", "incremental", nullptr};
 const char* const kBondFlag[] = {"no", "yes", nullptr};
-// PFC's pb_state numbering (bodies-bonds-rockfall.md 1.2).
+// PFC's pb_state numbering (PFC's linearpbond, Itasca's documentation).
 const char* const kStates[] = {"unbonded", "broken_tension", "broken_shear", "bonded", nullptr};
 enum PbState { kUnbonded = 0, kBrokenTension = 1, kBrokenShear = 2, kBonded = 3 };
 
@@ -205,7 +205,8 @@ public:
     /// Stiffnesses from the deformability forms, the bond's geometry and the cached values.
     void refresh() {
         if (r_min_ > 0.0 && r_sum_ > 0.0) {
-            // 2D deformability (bodies-bonds-rockfall.md 1.2): kn = A E / L with A = 2 min(R) t.
+            // 2D deformability (PFC's linearpbond, Itasca's documentation): kn = A E / L with A = 2
+            // min(R) t.
             if (emod > 0.0 && kratio > 0.0) {
                 kn = 2.0 * emod * r_min_ / r_sum_;
                 ks = kn / kratio;

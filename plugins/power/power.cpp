@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// `power`: An's elastic-perfectly plastic power-function contact model (thesis A's UDM;
-// seed digest section 5, accuracy-reference 1.4; docs/models/power.md).
+// `power`: An's elastic-perfectly plastic power-function contact model (An's 2006 UDM;
+// An 2006, An & Tannant 2007; docs/models/power.md).
 //
 //   virgin loading   F = min(kn u, T)                    (elastic to the transition force T,
 //                                                         then perfectly plastic)
@@ -16,34 +16,34 @@
 // (u_B, F_B), then on along the virgin curve (plastic again at T). No tension: F >= 0, and the
 // contact ends when u <= 0 (activity distance 0).
 //
-// Why the state is per contact. Thesis A's UDM kept (u_B, F_B) in function-level statics, so all
-// contacts shared the first contact's turning point (seed digest section 3). Here every datum
+// Why the state is per contact. An's (2006) UDM kept (u_B, F_B) in function-level statics, so all
+// contacts shared the first contact's turning point (An 2006). Here every datum
 // lives in the per-contact object and nothing is static except the property table.
 //
 // A ball passing through: with too low a T the plastic overlap m* (v0^2 - v_y^2)/(2T) reaches
-// the radius (thesis B, seed digest section 6); the model then stops the run with an error
+// the radius (Nejati 2008); the model then stops the run with an error
 // naming the fix instead of pushing the ball on through the wall.
 //
 // Exponent modes (`exp_mode`), chosen once per impact from the approach speed v of the first
 // FDlaw (kFdFirstCall):
 //   fixed        b = exponent
-//   velocity     b = 0.0429 v^3 - 0.4744 v^2 + 2.5508 v + 1.1489       (seed digest eq. 5.2)
-//   velocity_b   b = 7 + (v/8)^3 for v > 4 m/s, else 7                   (thesis B)
+//   velocity     b = 0.0429 v^3 - 0.4744 v^2 + 2.5508 v + 1.1489       (An 2006, appendix C)
+//   velocity_b   b = 7 + (v/8)^3 for v > 4 m/s, else 7                   (Nejati 2008)
 //   restitution  b = (1 + r) / e_t^2 - 1, r = min(1, v_y^2 / v^2), v_y = T / sqrt(kn m*)
-//                (eq. 5.1 inverted: e^2 = (1 + v_y^2/v0^2)/(b + 1), accuracy-reference 1.4;
+//                (eq. 5.1 inverted: e^2 = (1 + v_y^2/v0^2)/(b + 1), An & Tannant 2007;
 //                below yield r = 1, the elastic-power case e^2 = 2/(b+1)); b >= 1 enforced.
 //
 // Time-step contract: knest = max(kn, b F/u), F/u the current secant. b F/u is the tangent of
 // the power curve at the current point, i.e. the stiffness the contact has (unloading) or will
 // have the moment it turns (loading). The step is chosen a cycle ahead of the FDlaw that uses
-// it, so the unloading stiffness must be in the estimate *before* the turn; thesis A's
-// instability (seed digest section 6) was a step that did not follow the stiffness actually used.
-// ContactDuration = t1 + t2 + t3 of accuracy-reference 1.4 for the approach speed given.
+// it, so the unloading stiffness must be in the estimate *before* the turn; An's (2006)
+// instability was a step that did not follow the stiffness actually used.
+// ContactDuration = t1 + t2 + t3 of An & Tannant 2007 for the approach speed given.
 //
 // Energies: strain = the recoverable energy on the current power curve,
 // int_0^u a x^b dx = F u / (b+1), plus F_s^2/(2 ks); plastic (per step) = <F_n> du -
 // d(recoverable) with <F_n> the mean of the old and new force and du the change of the overlap,
-// accuracy-reference 3.6. du is not clipped at touch and separation: the force of the first
+// PFC's energy tracing. du is not clipped at touch and separation: the force of the first
 // contact step acts for the whole step, so the bodies lose (1/2) F_1 (u_1 - u_0) although the
 // contact began part-way; booking that keeps the energy balance closed. Over an impact the
 // plastic work is W_L - W_U (1.4) up to the discretisation error of the restitution.
@@ -69,7 +69,7 @@ const char* const kExpModes[] = {"fixed", "velocity", "velocity_b", "restitution
 enum ExpMode { kFixed = 0, kVelocity = 1, kVelocityB = 2, kRestitution = 3 };
 
 /// sqrt(pi) Gamma(1 + 1/n) / Gamma(1/2 + 1/n) = int_0^1 ds / sqrt(1 - s^n), n = b + 1:
-/// the unloading time in units of u_B / (peak unloading speed) (accuracy-reference 1.4, t3).
+/// the unloading time in units of u_B / (peak unloading speed) (An & Tannant 2007, t3).
 double unloadFactor(double b) {
     const double n = b + 1.0;
     return std::sqrt(M_PI) * std::exp(std::lgamma(1.0 + 1.0 / n) - std::lgamma(0.5 + 1.0 / n));
@@ -116,7 +116,7 @@ public:
              &Power::transition, 0.0, kInf, true},
             {{"exponent", "-", 0, 1.0, "unloading exponent b (exp_mode fixed)", nullptr},
              &Power::exponent, 1.0, kInf, false,
-             "(accuracy-reference 1.4: b >= 1 keeps the model dissipative)"},
+             "(An & Tannant 2007: b >= 1 keeps the model dissipative)"},
             {{"exp_mode", "-", kPropInteger, 0.0, "how b is chosen per impact", kExpModes},
              &Power::exp_mode, 0.0, 3.0},
             {{"target_e", "-", 0, 0.5, "target restitution (exp_mode restitution)", nullptr},
@@ -155,7 +155,7 @@ public:
         ks = inheritSeries(ks, pb.ks);
         fric = inheritMin(fric, pb.fric);
         // Past R the centre crosses the wall line and the normal flips; past r1 + r2 the
-        // centres cross. Either way the ball is going through (thesis B: too low a T).
+        // centres cross. Either way the ball is going through (Nejati 2008: too low a T).
         wall_ = pb.end2_type == kEndWall;
         u_limit_ = wall_ ? pb.radius[0] : pb.radius[0] + pb.radius[1];
         if (!(kn > 0.0) || !std::isfinite(kn)) {
@@ -172,14 +172,14 @@ public:
         v = std::max(v, 0.0);
         double b = exponent;
         switch (static_cast<int>(exp_mode)) {
-            case kVelocity:  // seed digest eq. 5.2 (thesis A calibration, v in m/s)
+            case kVelocity:  // An 2006, appendix C (v in m/s)
                 b = ((0.0429 * v - 0.4744) * v + 2.5508) * v + 1.1489;
                 break;
-            case kVelocityB:  // thesis B; 7 below 4 m/s (a 0.125 step at 4 m/s, documented)
+            case kVelocityB:  // Nejati (2008); 7 below 4 m/s (a 0.125 step at 4 m/s, documented)
                 b = v > 4.0 ? 7.0 + std::pow(v / 8.0, 3.0) : 7.0;
                 break;
             case kRestitution: {
-                // eq. 5.1 inverted with g from the impact (accuracy-reference 1.4).
+                // eq. 5.1 inverted with g from the impact (An & Tannant 2007).
                 const double vy = yieldSpeed(m);
                 const double r = (v > vy) ? (vy / v) * (vy / v) : 1.0;
                 b = (1.0 + r) / (target_e * target_e) - 1.0;
@@ -188,7 +188,7 @@ public:
             default:
                 break;
         }
-        return std::max(b, 1.0);  // b >= 1 keeps the model dissipative (accuracy-reference 1.4)
+        return std::max(b, 1.0);  // b >= 1 keeps the model dissipative (An & Tannant 2007)
     }
 
     /// v_y = T / sqrt(kn m*): the approach speed at which the force just reaches T.
@@ -224,7 +224,7 @@ public:
                 f_max = fn;
             } else {
                 // The power curve through (u_B, F_B); (u/u_B)^b instead of a u^b because
-                // u_B^b underflows for the large b of thesis A (u_B ~ 1e-4 m, b ~ 80).
+                // u_B^b underflows for the large b of An (2006) (u_B ~ 1e-4 m, b ~ 80).
                 fn = f_max * std::pow(u / u_max, b);
             }
             e_rec = fn * u / (b + 1.0);
@@ -308,7 +308,7 @@ public:
     }
     double KsEstimate() const override { return ks; }
 
-    /// t1 + t2 + t3 of accuracy-reference 1.4 for an impact at approach speed v.
+    /// t1 + t2 + t3 of An & Tannant 2007 for an impact at approach speed v.
     double ContactDuration(double m, double v) const override {
         if (!(kn > 0.0) || !(m > 0.0)) return HUGE_VAL;
         v = std::max(v, 0.0);

@@ -24,6 +24,11 @@
 
 #include "talus/contact_model.hpp"
 #include "talus/sdk/model_base.hpp"
+// The SDK's helpers most laws need (the null law uses none of them): springEnergy and the
+// shear spring with its Coulomb limit (shear_spring.hpp), the viscous dashpot (dashpot.hpp),
+// PFC's linear law to build on (linear_law.hpp). Remove what your model does not use.
+#include "talus/sdk/dashpot.hpp"
+#include "talus/sdk/shear_spring.hpp"
 
 namespace {
 
@@ -44,9 +49,8 @@ public:
     // Every value a script can read or set is a `double` member listed in Table(). ModelBase
     // copies the whole object into each contact (Clone), so the prototype's values are the
     // defaults of new contacts. Per-contact state lives here too, never in a `static` or a global:
-    // a static would be shared by every contact of the model (the defect of the thesis-era PFC
-    // UDM, shared/reference/seed-digest.md section 3) and would race when contacts are cycled in
-    // parallel.
+    // a static would be shared by every contact of the model (the defect of the power-function
+    // UDM of An 2006) and would race when contacts are cycled in parallel.
 
     /// A value the law ignores; it shows a settable property, and the host's routes for it
     /// (rule properties, contact:prop / contact:set). [-]

@@ -39,7 +39,7 @@ def main():
     ap.add_argument("--pack-ns", type=float, default=11.0,
                     help="pack + unpack per item [ns] (measured gather from 25 MB arrays)")
     ap.add_argument("--compute-ns", default="90,35",
-                    help="ns per particle-step: issue 11's measured 50k value, and its target")
+                    help="ns per particle-step: the measured 50k value, and its target")
     a = ap.parse_args()
 
     nets = [  # name, latency [s], bandwidth [B/s]

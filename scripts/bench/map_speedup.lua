@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Speed-up of talus.map on independent DEM items (docs/benchmarks.md, "Independent runs on all
+-- Speed-up of talus.map on independent DEM items (docs/results/benchmarks-history.md, "Independent runs on all
 -- cores"). Each item pours 200 balls of seed-dependent sizes and positions into a box and lets
 -- them settle for 1.2 s (about 0.3 s of wall time on one core); the map runs 16 items with
 -- jobs = 1 and jobs = J, checks that the results are identical and prints the wall times.

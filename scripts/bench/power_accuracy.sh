@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Measures the accuracy of the `power` contact model (docs/models/power.md, "Measured accuracy"):
 # restitution error against impact speed and step rule over random phases of first touch, and
-# the exponent that matches thesis A's calibration target. Prints Markdown.
+# the exponent that matches An's (2006) calibration target. Prints Markdown.
 #   scripts/bench/power_accuracy.sh [build dir] [--phases N] [--only restitution|exponent]
 set -eu
 here=$(cd "$(dirname "$0")/../.." && pwd)

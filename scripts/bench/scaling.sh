@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 #
 # Scaling of the dense-pack benchmark with N, Talus against LAMMPS (1 and 2 MPI ranks), on the
-# same settled states, on this machine, in one session (docs/benchmarks.md, "Scaling, 1k to 1M
+# same settled states, on this machine, in one session (docs/results/benchmarks-history.md, "Scaling, 1k to 1M
 # disks"). One command:
 #
 #   scripts/bench/scaling.sh
@@ -18,7 +18,7 @@
 #
 # Sizes above TALUS_SCALING_SETTLE_MAX are not settled from the lattice (1M disks would take
 # hours): they are K side-by-side copies of a settled N/K pack, every other one mirrored, relaxed
-# with local damping (talus_bench_dense_pack --tiles K; docs/benchmarks.md says why this is the
+# with local damping (talus_bench_dense_pack --tiles K; docs/results/benchmarks-history.md says why this is the
 # same scene per disk). Talus and LAMMPS start from the same state file either way.
 #
 # Settings (environment):

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Helper of scripts/bench/scaling.sh (docs/benchmarks.md, "Scaling, 1k to 1M disks").
+"""Helper of scripts/bench/scaling.sh (docs/results/benchmarks-history.md, "Scaling, 1k to 1M disks").
 
   scaling_plot.py row CSV CODE LOG N KEY=VAL..   read one timed run's log (Talus RESULT line or
                                                  LAMMPS log), append a row to CSV, print a summary

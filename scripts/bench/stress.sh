@@ -13,7 +13,7 @@
 # A sanitizer report ("AddressSanitizer", "runtime error:") is a defect too.
 #
 # Prints every defect line and "stress: N scenes, M defects"; writes the report to
-# scripts/bench/results/stress_<build dir name>.md and into docs/stress.md between the markers
+# scripts/bench/results/stress_<build dir name>.md and into docs/results/stress-results.md between the markers
 # <!-- stress-results:<build dir name> --> ... <!-- /stress-results:<build dir name> -->
 # (TALUS_STRESS_DOC=0 leaves the doc alone). Exit status 1 if there is a defect.
 set -uo pipefail
@@ -126,11 +126,11 @@ fi
 mkdir -p scripts/bench/results
 cp "$report" "scripts/bench/results/stress_$name.md"
 
-if [[ ${TALUS_STRESS_DOC:-1} != 0 && -f docs/stress.md ]]; then
+if [[ ${TALUS_STRESS_DOC:-1} != 0 && -f docs/results/stress-results.md ]]; then
     python3 - "$name" "$doc_report" <<'PY'
 import sys, re
 name, report = sys.argv[1], open(sys.argv[2]).read()
-path = "docs/stress.md"
+path = "docs/results/stress-results.md"
 doc = open(path).read()
 begin, end = f"<!-- stress-results:{name} -->", f"<!-- /stress-results:{name} -->"
 block = f"{begin}\n{report.rstrip()}\n{end}"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 #
-# Threads against ranks on the dense pack (docs/benchmarks.md, "Threads by ownership", "Lanes"):
+# Threads against ranks on the dense pack (docs/results/benchmarks-history.md, "Threads by ownership", "Lanes"):
 # per repeat and size, in turn, Talus on 1 and on 2 threads, on 1 thread with the lanes
 # (--lanes) and with FDlaw per contact (--classic-law), and LAMMPS on 1 and on 2 MPI ranks, from
 # the settled states of scripts/bench/dense_pack.sh (run that first: it builds and caches them).

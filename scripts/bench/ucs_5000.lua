@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 --
 -- ucs_5000.lua: timing of the UCS workflow on a ~5000-ball bonded specimen, per phase
--- (docs/benchmarks.md "UCS"). One process, one core.
+-- (docs/results/benchmarks-history.md "UCS"). One process, one core.
 --
 --   talus run scripts/bench/ucs_5000.lua [outdir] [width] [height] [floater_passes] [v (verbose genesis)]
 --

@@ -1,19 +1,18 @@
 -- SPDX-License-Identifier: MIT
 --
--- berea_ucs.lua: the PFC2D calibration of Berea sandstone with contact bonds in An's MSc thesis
--- (the basis of An & Tannant 2007, appendix B), reproduced over seeds: kn 6.4e10 N/m, ks 9.6e9
--- N/m, fric 0.5, density 2600, contact-bond strengths normal : shear = 1e9 : 1e10 N. The
--- thesis's result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
+-- berea_ucs.lua: An (2006) appendix B (Berea sandstone, contact bonds) reproduced over seeds:
+-- kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600, contact-bond strengths normal : shear =
+-- 1e9 : 1e10 N. Thesis result: UCS 39.6 MPa, E 16.1 GPa (targets 40 MPa, 16 GPa, nu 0.28).
 --
 --   talus run scripts/examples/berea_ucs.lua [outdir] [nseeds] [ball|contact] [balls|clumps|clumpgen] [elastic]
 --
 -- "ball" (default): kn, ks are the balls' stiffnesses, as PFC2D 3.x reads them (the contact gets
 -- the two balls' springs in series, kn/2 and ks/2 for equal balls; docs/lua-api.md, "inherited
--- ... springs in series"); docs/results/material.md says why this is the thesis's reading. "contact":
+-- ... springs in series"); docs/results/material.md says why this is An's (2006) reading. "contact":
 -- the same numbers as the contacts' stiffnesses (twice as stiff), for comparison.
 --
 -- "clumps": the grains are rigid clumps of up to three touching balls, grouped at random after
--- genesis (M.genesis grains option, docs/material.md), as in the thesis's specimen; "balls"
+-- genesis (M.genesis grains option, docs/material.md), as An's (2006) specimen; "balls"
 -- (default): single balls. "clumpgen": the grains are generated AS clumps (M.clump_genesis: rigid
 -- templates of 1, 2 or 3 touching balls, a third of the grains each, placed at random and
 -- compacted as clumps; docs/material.md); "clumpgen:p1,p2,p3" with grain shares p1 : p2 : p3.
@@ -21,11 +20,11 @@
 -- thesis's first calibration step, "match E with infinite strengths"): E and nu of the bonded
 -- assembly before any crack.
 --
--- The thesis does not give its ball size; we use balls of R 0.5-0.83 mm. In 2D with unit
--- thickness a bond strength F is a
+-- An (2006) does not give its ball size; we use balls of R 0.5-0.83
+-- mm. In 2D with unit thickness a bond strength F is a
 -- stress times a length, so at fixed kn, ks and packing UCS scales exactly as F / R and E does
 -- not depend on R. The script therefore runs a normal strength of 4.6e4 N at this ball size and
--- reports UCS * R_mean / F_n, from which the thesis's values follow for any ball size.
+-- reports UCS * R_mean / F_n, from which An's (2006) values follow for any ball size.
 local M = require("material")
 local outdir = arg[1] or "out"
 local n = tonumber(arg[2] or "5")
@@ -33,7 +32,7 @@ talus.mkdir(outdir)
 local Fn = 4.6e4
 local mode = arg[3] or "ball"
 local grains = arg[4] or "balls"
--- "clumps" = clumps of up to 3 balls (the thesis's); "clumpsK" = up to K (a sensitivity check)
+-- "clumps" = clumps of up to 3 balls (An's 2006); "clumpsK" = up to K (a sensitivity check)
 -- "clumpgen:p1,p2,p3": the same with grain shares p1 : p2 : p3 (grains of 1, 2, 3 balls)
 local clumpgen = grains == "clumpgen" or grains:match("^clumpgen:") ~= nil
 local shares
@@ -74,6 +73,20 @@ local res = talus.map(n, function(i)
              shear = r.breaks.shear, f1 = gc[1] / #pk.balls, f2 = 2 * gc[2] / #pk.balls,
              f3 = 3 * gc[3] / #pk.balls, bonds = r.bonds }
 end)
+-- A seed that failed (talus.map records it, nil in its place, and goes on) is left out of the
+-- table and the statistics, and said so.
+local function finished(list, count)
+    local ok = {}
+    for i = 1, count do
+        if list[i] ~= nil then ok[#ok + 1] = list[i] end
+    end
+    if list.failed then
+        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
+            list.failed[1].message))
+    end
+    return ok
+end
+res = finished(res, n)
 local function stats(key) return M.mean_sd(res, key) end
 print("seed balls porosity  UCS[MPa]  E[GPa]  E50[GPa]  nu     UCS*R/Fn  breaks(t/s)  bonds  balls in grains of 1/2/3")
 for _, r in ipairs(res) do
@@ -87,7 +100,7 @@ print(string.format("mean +- sd: UCS %.2f +- %.2f MPa, E %.2f +- %.2f GPa, nu %.
 if elastic then
     print("elastic: unbreakable bonds; 'UCS' is the stress at the 2e-3 axial strain stop, E and nu its tangent over 40-60% of it")
 else
-    print(string.format("with the thesis's Fn = 1e9 N, UCS = 40 MPa needs R_mean = %.2f m", k * 1e9 / 40e6))
+    print(string.format("with An's (2006) Fn = 1e9 N, UCS = 40 MPa needs R_mean = %.2f m", k * 1e9 / 40e6))
 end
 print("stiffness reading: " .. mode .. string.format(" (contact kn %.3g N/m, ks %.3g N/m); grains: ", kn, ks) .. grains)
 M.write_csv(outdir .. "/berea_seeds_" .. tag .. ".csv", res, { "seed", "balls", "porosity", "ucs", "E", "E50", "nu", "k",

@@ -6,10 +6,10 @@
 --
 -- Writes <outdir>/bounce_history.csv (height of the ball's lowest point, vertical velocity and
 -- the energies; plot it with scripts/plot_history.py), and prints the restitution of every
--- bounce against the closed form of accuracy-reference 1.1:
+-- bounce against the closed form of a linear spring-dashpot:
 --     e = exp(-pi beta / sqrt(1 - beta^2)),  beta = dp_nratio
 -- (the dashpot acts until the overlap is back to zero: dp_mode "full"). beta is chosen for
--- e = 0.53, "clean hard bedrock" in rockfall-inputs B3b.
+-- e = 0.53, "clean hard bedrock" in RocFall's classic default materials.
 --
 -- How the restitution is measured: between contacts the ball is in free flight, and central
 -- differences put its positions exactly on the flight parabola, so the speed at the height
@@ -98,7 +98,7 @@ history:close()
 
 print(string.format("bounce: disk R = %.2f m, m = %.2f kg on a wall, kn = %.3g N/m, "
     .. "dp_nratio = %.4f (dp_mode full)", R, mass, kn, beta))
-print(string.format("closed form (accuracy-reference 1.1): e = exp(-pi beta / sqrt(1 - beta^2)) "
+print(string.format("closed form (the closed form of a linear spring-dashpot): e = exp(-pi beta / sqrt(1 - beta^2)) "
     .. "= %.6f", e_closed))
 print("bounce   v_in [m/s]  v_out [m/s]  e measured  e exact, gravity in contact  "
     .. "error vs exact  vs closed form")

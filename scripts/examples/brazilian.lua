@@ -2,15 +2,15 @@
 --
 -- brazilian.lua: Brazilian (diametral compression) test on a bonded disk made by P&C's
 -- genesis in a circular vessel (default) or cut from a box packing; sigma_t = 2 F / (pi D t),
--- t = 1 m (docs/material.md).
+-- t = 1 m (ISRM 1978; docs/material.md).
 --
 --   talus run scripts/examples/brazilian.lua [outdir] [seed] [jaws] [disk]
 --
 -- jaws = curved (default: the ISRM jaws of radius 1.5 R, M.make_jaws) or flat (platens).
 -- disk = vessel (default: M.genesis_disk, a 29.4 mm vessel) or cut (M.disk: the balls of a
 -- 30 x 30 mm box packing inside the 29.4 mm circle, the disk of before).
--- Same micro-properties as scripts/examples/ucs.lua (contact bonds, the strength scaled to the
--- ball size).
+-- Same micro-properties as scripts/examples/ucs.lua (An 2006 appendix B contact bonds,
+-- strength scaled to the ball size).
 local M = require("material")
 local outdir = arg[1] or "out"
 local seed = tonumber(arg[2] or "1")

@@ -1,9 +1,9 @@
 -- SPDX-License-Identifier: MIT
 --
--- calibrate_rocfall.lua: thesis A's rock-impact calibration (chapter 6, appendix C), rebuilt.
+-- calibrate_rocfall.lua: An's (2006) rock-impact calibration (chapter 6, appendix C), rebuilt.
 -- For each impact velocity v = 1..15 m/s, find the exponent b of the `power` model for which the
--- apparent normal restitution equals RocFall's Rn(v) = 0.53 / (1 + (v/9.144)^2) (seed digest
--- eq. 5.4), on the single-contact rig and on thesis A's three-pebble clump, with 2D disk and
+-- apparent normal restitution equals RocFall's Rn(v) = 0.53 / (1 + (v/9.144)^2) (Pfeiffer
+-- & Bowen 1989), on the single-contact rig and on An's (2006) three-pebble clump, with 2D disk and
 -- with sphere masses; then run the per-impact automatic exponent modes against the same law,
 -- and fit T and b jointly. Tables and their explanation: docs/rockfall-calibration.md.
 --
@@ -12,14 +12,14 @@
 -- Writes <outdir>/calibrate_rocfall_b.csv (exponent per velocity and rig) and
 -- <outdir>/calibrate_rocfall_modes.csv (restitution of the automatic modes).
 --
--- Rock (seed digest section 7): three equal pebbles R = 0.04 m in contact (equilateral triangle
+-- Rock (An 2006, chapter 6): three equal pebbles R = 0.04 m in contact (equilateral triangle
 -- of side 2R; the references do not give the arrangement, we chose the compact one), density
 -- 2600 kg/m^3, kn 6.4e10 N/m, ks 9.6e9 N/m, friction 0.5; wall contacts `power` with
 -- T = 3500 N (appendix C's value for Kn 6.4e10, R 0.04). No gravity during the impact; the rock
 -- starts 1e-3 R above the wall at -v. Apparent Rn = vertical velocity of the centroid after /
 -- before. "flat": two pebbles down (angle 0), both touch at once, no spin. "tilted": turned by
 -- 30 degrees, one pebble lands first 0.577 R beside the centroid, the clump spins; for it also
--- thesis A's measure, sqrt(kinetic energy after / before) with rotation included.
+-- An's (2006) measure, sqrt(kinetic energy after / before) with rotation included.
 
 local C = require("calibrate")
 
@@ -31,7 +31,7 @@ local base = { kn = 6.4e10, ks = 9.6e9, fric = 0.5, transition = 3500 }
 local rn = C.rocfall(0.53, 9.144)
 local vs = {}
 for v = 1, 15 do vs[#vs + 1] = v end
--- thesis A appendix C (seed digest section 5), R = 0.04 m, Kn = 6.4e10 N/m
+-- An (2006) appendix C, R = 0.04 m, Kn = 6.4e10 N/m
 local thesis = { 4.5, 4.5, 4.5, 5.5, 7, 8.5, 11, 14, 18, 24, 29, 41, 49, 61, 82 }
 
 local clock0 = os.clock()
@@ -89,7 +89,7 @@ local cols = { { "v", "v (m/s)" }, { "target", "Rn(v)" }, { "b_closed", "closed 
     { "b_single_disk", "single, disk" }, { "b_single_sphere", "single, sphere" },
     { "b_clump_disk", "clump flat, disk" }, { "b_clump_sphere", "clump flat, sphere" },
     { "b_tilt_sphere", "clump tilted 30, sphere" },
-    { "b_tilt_energy", "tilted 30, sphere, sqrt(KE ratio)" }, { "b_thesis", "thesis A app. C" } }
+    { "b_tilt_energy", "tilted 30, sphere, sqrt(KE ratio)" }, { "b_thesis", "An (2006) app. C" } }
 C.print_table(rows, cols)
 for _, r in ipairs(rigs) do
     if notes[r.key] then print("\n- " .. notes[r.key]) end
@@ -99,7 +99,7 @@ C.write_csv(outdir .. "/calibrate_rocfall_b.csv", rows,
       "b_clump_sphere", "b_tilt_sphere", "b_tilt_energy", "b_thesis" })
 
 -- ------------------------------------------------------------------ 2. automatic modes
--- velocity: eq. 5.2; velocity_b: thesis B's 7 + (v/8)^3; restitution: b from eq. 5.1 per impact
+-- velocity: eq. 5.2; velocity_b: Nejati's (2008) 7 + (v/8)^3; restitution: b from eq. 5.1 per impact
 -- for target_e. target_e is a property, so a run has one value for all speeds: "restitution,
 -- 0.53" is what a rockfall run gets; "restitution, Rn(v)" sets it per impact, which only a
 -- rig that knows the speed in advance can do.

@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 --
--- calibrate_ucs.lua: the calibration procedure for a contact-bonded rock of An's MSc thesis (the
--- basis of An & Tannant 2007, appendix B), automated with a root finder over full UCS tests:
+-- calibrate_ucs.lua: An's (2006) calibration procedure for a contact-bonded rock (appendix B),
+-- automated with a root finder over full UCS tests:
 --   1. unbreakable bonds: the ratio ks/kn for the target Poisson's ratio (root of nu - target),
 --      then kn for the target E (E is proportional to kn at a fixed ratio in a linear
 --      assembly, so one scaling, checked by a test);
@@ -11,7 +11,7 @@
 --
 --   talus run scripts/examples/calibrate_ucs.lua [outdir] [nseeds]     (a few minutes)
 --
--- Targets: Berea sandstone (the thesis's appendix B): E 16 GPa, nu 0.28, UCS 40 MPa, density 2600.
+-- Targets: Berea sandstone (An 2006 app. B): E 16 GPa, nu 0.28, UCS 40 MPa, density 2600.
 local M = require("material")
 local C = require("calibrate")
 local outdir = arg[1] or "out"
@@ -27,7 +27,7 @@ local packings = talus.map(nseeds, function(i)
     local o = { seed = i, kn = 6.4e10, ks = 9.6e9 }
     for k, v in pairs(geo) do o[k] = v end
     return M.genesis(o)
-end)
+end, { on_error = "raise" }) -- every specimen is needed: a failed genesis stops the calibration
 print(string.format("%d packings: %s balls", nseeds, table.concat((function()
     local t = {}; for i, p in ipairs(packings) do t[i] = #p.balls end; return t end)(), ", ")))
 
@@ -45,7 +45,7 @@ local function run(props, unbreakable)
         local r = M.compress(sp, unbreakable and { max_strain = 2e-3, every = 100 }
                                   or { post_peak = 0.8 })
         return { E = r.E, nu = r.nu, ucs = r.ucs }
-    end)
+    end, { on_error = "raise" }) -- a mean over fewer seeds would move the calibration silently
     local mean = { E = 0, nu = 0, ucs = 0 }
     for _, r in ipairs(res) do
         for k in pairs(mean) do mean[k] = mean[k] + r[k] / #res end

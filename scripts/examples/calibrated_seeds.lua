@@ -25,7 +25,7 @@ local rows = talus.map(n, function(i)
     -- the packings of calibrate_ucs.lua (its genesis stiffness, not the calibrated one)
     local pk = M.genesis{ width = 0.02, height = 0.04, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
                           density = 2600, seed = i, kn = 6.4e10, ks = 9.6e9 }
-    local out = { balls = #pk.balls, porosity = pk.porosity }
+    local out = { seed = i, balls = #pk.balls, porosity = pk.porosity }
     for _, unbreakable in ipairs({ true, false }) do
         local mat = { model = "cbond", kn = kn, ks = kn * ratio, fric = 0.5, density = 2600, seed = i,
                       bond = unbreakable and { cb_tenf = math.huge, cb_shearf = math.huge }
@@ -41,10 +41,25 @@ local rows = talus.map(n, function(i)
     return out
 end)
 
+-- A seed that failed (talus.map records it, nil in its place, and goes on) is left out of the
+-- table and the statistics, and said so.
+local function finished(list, count)
+    local ok = {}
+    for i = 1, count do
+        if list[i] ~= nil then ok[#ok + 1] = list[i] end
+    end
+    if list.failed then
+        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
+            list.failed[1].message))
+    end
+    return ok
+end
+rows = finished(rows, n)
+
 print(string.format("kn %.6g N/m, ks/kn %.6g, cb_tenf %.6g N, cb_shearf %.6g N", kn, ratio, tenf, 10 * tenf))
 print("seed balls porosity  E0[GPa] nu0    UCS[MPa] E[GPa] nu     stop")
-for i, r in ipairs(rows) do
-    print(string.format("%4d %5d %.3f    %6.2f  %.3f  %7.2f  %6.2f  %.3f  %s", i, r.balls, r.porosity,
+for _, r in ipairs(rows) do
+    print(string.format("%4d %5d %.3f    %6.2f  %.3f  %7.2f  %6.2f  %.3f  %s", r.seed, r.balls, r.porosity,
         r.E0 / 1e9, r.nu0, r.ucs / 1e6, r.E / 1e9, r.nu, r.stop))
 end
 local line = "mean +- sd:"
@@ -52,9 +67,9 @@ for _, k in ipairs({ { "E0", 1e-9, "GPa" }, { "nu0", 1, "" }, { "ucs", 1e-6, "MP
                      { "nu", 1, "" } }) do
     local sum = 0
     for _, r in ipairs(rows) do sum = sum + r[k[1]] * k[2] end
-    local mean, var = sum / n, 0
+    local mean, var = sum / #rows, 0
     for _, r in ipairs(rows) do var = var + (r[k[1]] * k[2] - mean) ^ 2 end
-    line = line .. string.format("  %s %.3f +- %.3f%s", k[1], mean, math.sqrt(var / (n - 1)),
+    line = line .. string.format("  %s %.3f +- %.3f%s", k[1], mean, math.sqrt(var / (#rows - 1)),
                                  k[3] ~= "" and " " .. k[3] or "")
 end
 print(line)

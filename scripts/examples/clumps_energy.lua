@@ -1,8 +1,8 @@
 -- SPDX-License-Identifier: MIT
 --
--- clumps_energy.lua: thesis A's chapter 3 scene, rebuilt. Two rigid rocks (clumps of three
+-- clumps_energy.lua: An's (2006) chapter 3 scene, rebuilt. Two rigid rocks (clumps of three
 -- pebbles) roll and bounce down a segmented slope; energy is traced per rock and for the whole
--- model (seed digest sections 2 and 7, docs/physics/energy.md "Energy per group").
+-- model (An 2006, chapter 3; docs/physics/energy.md "Energy per group").
 --
 --   talus run scripts/examples/clumps_energy.lua [outdir] [--time=8]
 --   python3 scripts/plot_history.py OUT/clumps_energy.csv -o OUT/clumps_energy_rock1.png \
@@ -11,10 +11,10 @@
 -- Writes <outdir>/clumps_energy.csv: time and, per rock and in total, body work, kinetic,
 -- strain and friction (slip) energy, plus the items that close each rock's books: dashpot work,
 -- the work exchanged with the other bodies (`exchanged`), and the balance error. Prints a
--- summary that checks what thesis A checked: the rocks' items sum to the totals.
+-- summary that checks what An (2006) checked: the rocks' items sum to the totals.
 --
--- Scene (thesis A's "random mountain", seed digest section 7): a chain of ten segments with
--- varying run and drop, then a flat landing zone. Rock 1 is thesis A's rock, three equal balls
+-- Scene (An's 2006 "random mountain"): a chain of ten segments with
+-- varying run and drop, then a flat landing zone. Rock 1 is An's (2006) rock, three equal balls
 -- in contact in a triangle (R = 0.15 m); rock 2 three overlapping balls in a row (R = 0.12 m,
 -- spacing 0.15 m); density 2600 kg/m^3 (2D disks, unit thickness). Contacts: linear,
 -- kn = 1e8 N/m, ks = 3e7 N/m, fric = 0.5, normal dashpot ratio 0.2 (restitution 0.53). The two
@@ -76,7 +76,7 @@ for _, r in ipairs({ { "rock1", rock1, e1 }, { "rock2", rock2, e2 } }) do
         name, c.pos[1], c.mass, e.body, e.kinetic, e.slip, e.dashpot, e.exchanged, e.balance_error,
         e.balance_error / e.input))
 end
--- Thesis A's check: the groups partition the model, so their items sum to the totals.
+-- An's (2006) check: the groups partition the model, so their items sum to the totals.
 local worst = 0
 for _, item in ipairs({ "body", "kinetic", "strain", "slip", "dashpot", "balance_error" }) do
     local sum = e1[item] + e2[item] + es[item]

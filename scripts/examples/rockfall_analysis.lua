@@ -1,8 +1,8 @@
 -- SPDX-License-Identifier: MIT
 --
 -- rockfall_analysis.lua: a small rockfall analysis with scripts/lib/rockfall.lua (docs/rockfall.md).
--- Clump rocks from a line seeder at the crest of thesis B's stepped profile (seed digest
--- section 7), two slope materials, a barrier line near the toe and two collectors; a Monte Carlo
+-- Clump rocks from a line seeder at the crest of Nejati's (2008) stepped profile, two slope
+-- materials, a barrier line near the toe and two collectors; a Monte Carlo
 -- of independent rocks (all cores when talus.map exists), per-rock CSVs and, when the module
 -- rockfall_stats is present, the statistics and their plots.
 --
@@ -16,17 +16,17 @@
 --             different perturbation per rock (RocFall-style).
 --   materials bedrock on the three cliff faces, talus on the benches and the toe flat.
 --             Restitution: bedrock Rn = 0.53 ("clean hard bedrock", RocFall defaults,
---             rockfall-inputs.md B3b); talus Rn = 0.45 with rolling friction tan(beta) = 0.35
---             (STONE's "loosely packed clastic deposits", B3a); bedrock tan(beta) = 0.30 (B3a).
+--             RocFall's classic default materials); talus Rn = 0.45 with rolling friction tan(beta) = 0.35
+--             (STONE's "loosely packed clastic deposits"); bedrock tan(beta) = 0.30 (STONE).
 --             Each Rn is the damping ratio of a linear dashpot with that restitution,
 --             dp_nratio = -ln Rn / sqrt(pi^2 + ln^2 Rn) = 0.198 / 0.246. Friction 0.5 (bedrock)
---             and 0.6 (talus). kn = 1e8 N/m (thesis B used 1e6-1e7 N/m for walls; for 1-2 t
+--             and 0.6 (talus). kn = 1e8 N/m (Nejati 2008 used 1e6-1e7 N/m for walls; for 1-2 t
 --             rocks 1e8 keeps a 20 m/s impact's overlap near 8 cm), ks = kn/2.
 --             Rolling resistance: with the rrlinear plugin, rr_fric = (1 + kappa) tan(beta),
 --             kappa = I / (m R^2) = 1/2 for a disk, so that a rolling disk decelerates at
 --             g tan(beta) (rrlinear's run-out v^2 (1 + kappa) / (2 rr_fric g)). Without rrlinear
 --             the script falls back to linear and says so (rounded rocks then roll farther).
---   rocks     thesis A's rock (three equal balls in mutual contact) and rounded hexagons, half
+--   rocks     An's (2006) rock (three equal balls in mutual contact) and rounded hexagons, half
 --             each; mass lognormal, mean 1500 kg, sd 500 kg, truncated to 300-5000 kg (2D,
 --             unit thickness, density 2600 kg/m^3: r_eq about 0.43 m at 1500 kg); random angle.
 --   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-3 m/s, vy 0, spin 0.
@@ -87,7 +87,7 @@ local an = rockfall.analysis{
         kind = "line", from = {0.5, 61}, to = {2.5, 61},
         vx = { dist = "uniform", min = 0.5, max = 3 }, vy = 0, spin = 0,
         rock = {
-            { shape = "thesis_a", weight = 1, mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
+            { shape = "three_balls", weight = 1, mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
             { shape = "ngon", n = 6, name = "hexagon", weight = 1,
               mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
         },
@@ -111,7 +111,7 @@ end
 local cpu = os.clock() - clock
 
 if (talus.rank and talus.rank() or 0) == 0 then
-    print(string.format("rockfall_analysis: %d %s rocks on thesis B's profile, model %s, seed %d",
+    print(string.format("rockfall_analysis: %d %s rocks on Nejati's (2008) profile, model %s, seed %d",
         #records, mass_n and "mass-released" or "independent", model, seed))
     print("  " .. rockfall.summary(records, an))
     local steps, passed, above = 0, {}, {}
@@ -151,7 +151,7 @@ if (talus.rank and talus.rank() or 0) == 0 then
         pic:picture{ file = outdir .. "/rockfall_endpoints.png", size = {1200, 900},
                      view = { -2, -3, 92, 63 }, color = function(b) return b.mass end,
                      label = "rock mass [kg]",
-                     title = string.format("Where %d rocks stopped (thesis B profile, fence at x = 52 m)",
+                     title = string.format("Where %d rocks stopped (Nejati 2008 profile, fence at x = 52 m)",
                          #records) }
     end)
     print(ok_pic and ("  wrote " .. outdir .. "/rockfall_endpoints.png")

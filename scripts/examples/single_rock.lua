@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- single_rock.lua: one rock down the stepped slope profile of thesis B (seed digest section 7).
+-- single_rock.lua: one rock down the stepped slope profile of Nejati (2008).
 --
 --   talus run scripts/examples/single_rock.lua [outdir] [--kn=1e8] [--rn=0.35] [--tan_beta=0.30]
 --                                           [--no-rolling]
@@ -13,18 +13,18 @@
 --
 -- Inputs (docs/getting-started.md discusses them):
 --   rock      disk (unit thickness, PFC2D), R = 0.5 m, density 2600 kg/m^3, m = 2042 kg,
---             released at (R, 60 + R) with velocity (3, -2) m/s (thesis B);
+--             released at (R, 60 + R) with velocity (3, -2) m/s (Nejati 2008);
 --   slope     (0,60) (7.3,40) (19.3,40) (26.2,20) (38.6,20) (46,0) (170,0), one wall;
---   contact   linear model. kn = 1e8 N/m: thesis B used 1e6-1e7 N/m for walls, but for a
+--   contact   linear model. kn = 1e8 N/m: Nejati (2008) used 1e6-1e7 N/m for walls, but for a
 --             2042 kg disk 1e7 N/m lets a 20 m/s impact overlap by 0.29 m (57% of R); 1e8 N/m
 --             keeps it near 0.09 m. ks = kn / 2, fric = 0.5.
 --             Normal restitution Rn = 0.35, "bedrock outcrops" in the RocFall defaults
---             (rockfall-inputs B3b): dp_nratio = -ln(Rn) / sqrt(pi^2 + ln(Rn)^2) = 0.317, full
+--             (RocFall's classic default materials): dp_nratio = -ln(Rn) / sqrt(pi^2 + ln(Rn)^2) = 0.317, full
 --             dashpot mode, so e = exp(-pi beta / sqrt(1 - beta^2)) holds (accuracy-ref. 1.1).
 --   rolling   the rrlinear model (docs/models/rrlinear.md): the linear model plus a rolling
 --             moment limited to rr_fric R Fn, with rr_fric = (1 + I/(m R^2)) tan(beta) so
 --             that a rolling disk decelerates at g tan(beta), the rolling friction of STONE;
---             tan(beta) = 0.30 for bedrock (rockfall-inputs B3a). --no-rolling switches it
+--             tan(beta) = 0.30 for bedrock (STONE, Guzzetti et al. 2002). --no-rolling switches it
 --             off (rr_fric = 0), --tan_beta= changes it. Its work is booked as slip.
 --             For many rocks, shapes, materials and statistics see rockfall_analysis.lua.
 --

@@ -5,9 +5,9 @@
 --
 --   talus run scripts/examples/ucs.lua [outdir] [seed]        (about 8 s of CPU)
 --
--- Material: the contact-bond micro-properties of An's Berea sandstone (MSc thesis, the basis of
--- An & Tannant 2007, appendix B: kn 6.4e10 N/m, ks 9.6e9 N/m, fric 0.5, density 2600,
--- shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470 balls (R 0.5-0.83 mm). A contact bond's strength is a force, so the UCS scales as strength /
+-- Material: An (2006) appendix B's contact-bond micro-properties (kn 6.4e10 N/m, ks 9.6e9 N/m,
+-- fric 0.5, density 2600, shear/normal bond strength 10) on a 20 x 40 mm specimen of ~470
+-- balls (R 0.5-0.83 mm). A contact bond's strength is a force, so the UCS scales as strength /
 -- ball size in 2D; the normal strength here, 4.6e4 N, is the one that gives about 40 MPa at this
 -- ball size (docs/results/material.md, "Berea sandstone").
 

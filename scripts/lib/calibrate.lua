@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 --
 -- calibrate.lua: fit contact-model parameters to a target restitution against impact velocity
--- (thesis A chapter 6; seed digest sections 5 and 7; docs/rockfall-calibration.md).
+-- (An 2006, chapter 6 and appendix C; docs/rockfall-calibration.md).
 --
 --   local C = require("calibrate")
 --   local rn = C.rocfall()                               -- Rn(v) = 0.53 / (1 + (v/9.144)^2)
@@ -14,7 +14,7 @@
 -- Pieces:
 --   C.root(f, a, b, opts)        bracketing root finder (Illinois regula falsi), own code
 --   C.target(t)                  a function e(v) from a function or a table {{v, e}, ...}
---   C.rocfall(rn, vref)          RocFall's velocity-scaled restitution (seed digest eq. 5.4)
+--   C.rocfall(rn, vref)          RocFall's velocity-scaled restitution (Pfeiffer & Bowen 1989)
 --   C.impact_rig{...}            e(params, v) from one impact on talus.impact{}
 --   C.clump_drop_rig{...}        e(params, v) of a clump dropped onto a horizontal wall
 --   C.fit_param{...}             one parameter per impact velocity (root of e - target)
@@ -92,8 +92,8 @@ end
 
 -- ------------------------------------------------------------------ targets
 
---- RocFall's normal restitution scaled by the impact velocity (Pfeiffer and Bowen; seed digest
---- eq. 5.4): Rn(v) = rn / (1 + (v / vref)^2), rn = 0.53 (clean hard sandstone), vref = 9.144 m/s.
+--- RocFall's normal restitution scaled by the impact velocity (Pfeiffer & Bowen
+--- 1989): Rn(v) = rn / (1 + (v / vref)^2), rn = 0.53 (clean hard sandstone), vref = 9.144 m/s.
 function C.rocfall(rn, vref)
     rn, vref = rn or 0.53, vref or 9.144
     return function(v) return rn / (1 + (v / vref) ^ 2) end
@@ -169,7 +169,7 @@ function C.impact_rig(opts)
     end
 end
 
---- Thesis A's rock (seed digest section 7): three equal pebbles of radius R in contact, as an
+--- An's (2006, chapter 6) rock: three equal pebbles of radius R in contact, as an
 --- equilateral triangle of side 2R, in the clump frame with the centroid at the origin and the
 --- base (two pebbles) along -y.
 function C.triangle_pebbles(R)
@@ -180,7 +180,7 @@ end
 --- A clump dropped onto a horizontal wall (y = 0), without gravity (the rebound is then read
 --- without the free-flight correction; gravity during a contact of ~1e-2 s would change the
 --- ratio by g t / v). Returns rig(params, v) -> Rn, info: Rn is the apparent normal restitution,
---- vertical velocity of the centroid after / before (thesis A read the bounce from the clump's
+--- vertical velocity of the centroid after / before (An 2006 read the bounce from the clump's
 --- kinetic energy; info.e_energy gives that ratio too: sqrt(KE after / KE before)).
 --- opts: model, props, pebbles (clump frame; default C.triangle_pebbles(radius)), radius (0.04),
 --- density (2600), angle (rad, default 0: two pebbles down, "dropped flat"), mass ("disk" or
@@ -188,7 +188,7 @@ end
 --- plus the parallel-axis terms, since the model refuses union clumps in sphere mode), gap
 --- (initial gap of the lowest point, default 1e-3 R), timestep (table for m:timestep), max_time,
 --- measure ("vy", default: the centroid's vertical velocity ratio; "energy": sqrt of the
---- kinetic energy after / before, translation and rotation, as thesis A read it).
+--- kinetic energy after / before, translation and rotation, as An (2006) read it).
 function C.clump_drop_rig(opts)
     opts = opts or {}
     local R = opts.radius or 0.04
@@ -413,7 +413,7 @@ end
 
 --- The linear model's normal damping ratio for a restitution e (dp_mode 0, the dashpot may
 --- pull until the overlap is back to zero): closed form beta = -ln e / sqrt(pi^2 + ln^2 e)
---- (docs/models/linear.md, accuracy-reference 1.1).
+--- (docs/models/linear.md, the closed form of a linear spring-dashpot).
 function C.linear_beta(e)
     local l = math.log(e)
     return -l / math.sqrt(math.pi ^ 2 + l * l)

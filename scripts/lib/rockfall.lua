@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall.lua: the rockfall workflow (issue 8). Slope profiles split into material zones,
+-- rockfall.lua: the rockfall workflow. Slope profiles split into material zones,
 -- optional roughness, rock shapes (balls and clumps), point and line seeders with random
 -- distributions, collectors, barriers, per-rock impacts and trajectories, end rules, mass
 -- release and a Monte Carlo driver. docs/rockfall.md is the user's page; this header is the map.
@@ -8,7 +8,7 @@
 --   local rockfall = require("rockfall")
 --   local an = rockfall.analysis{ profile = {...}, materials = {...}, zones = {...},
 --                                 seeders = {...}, collectors = {...}, barriers = {...}, seed = 1 }
---   local rec = rockfall.run_rock(an, 1)                  -- one independent rock (Interface 2)
+--   local rec = rockfall.run_rock(an, 1)                  -- one independent rock
 --   local recs = rockfall.monte_carlo(an, { n = 300, outdir = "out" })
 --   local recs = rockfall.mass_release(an, { n = 50 })     -- rocks together, rock-rock contact
 --
@@ -47,6 +47,12 @@ local function sorted_keys(t)
     return k
 end
 
+--- "; did you mean 'x'?" for an unknown name among `known`, worded as the engine's errors.
+local function hint(name, known)
+    if type(name) ~= "string" or not (talus and talus.did_you_mean) then return "" end
+    return talus.did_you_mean(name, known)
+end
+
 --- Refuses unknown option names (a typo is never ignored, as in the engine's API).
 local function check_keys(t, known, where)
     if type(t) ~= "table" then fail("%s must be a table (got %s)", where, type(t)) end
@@ -54,7 +60,8 @@ local function check_keys(t, known, where)
     for _, k in ipairs(known) do set[k] = true end
     for k in pairs(t) do
         if not set[k] then
-            fail("unknown option '%s' in %s (known: %s)", tostring(k), where, table.concat(known, ", "))
+            fail("unknown option '%s' in %s%s (known: %s)", tostring(k), where, hint(k, known),
+                table.concat(known, ", "))
         end
     end
 end
@@ -361,13 +368,15 @@ rockfall.roughen = api("roughen", roughen)
 -- means. The clump's centroid (exact union, engine) is put at the release point.
 local SHAPES = {}
 
--- Thesis A chapter 6: three equal balls in mutual contact (an equilateral triangle of side 2R),
--- R = 0.04 m (seed digest section 7). Centred on the triangle's centroid.
-SHAPES.thesis_a = function(spec)
+-- An's (2006, chapter 6) rock: three equal balls in mutual contact (an equilateral triangle of
+-- side 2R), R = 0.04 m. Centred on the triangle's centroid. `thesis_a` is its older name, still
+-- accepted.
+SHAPES.three_balls = function(spec)
     local R = spec.radius or 0.04
     local h = R * math.sqrt(3) / 3
     return { { -R, -h, R }, { R, -h, R }, { 0, 2 * h, R } }
 end
+SHAPES.thesis_a = SHAPES.three_balls
 
 SHAPES.ball = function(spec) return { { 0, 0, spec.radius or 0.5 } } end
 
@@ -425,7 +434,8 @@ local function check_rock(spec, where)
     check_keys(spec, ROCK_KEYS, where)
     local shape = spec.shape or "ball"
     if not SHAPES[shape] then
-        fail("%s: unknown shape '%s' (known: ball, thesis_a, ngon, fitted, pebbles)", where, tostring(shape))
+        fail("%s: unknown shape '%s'%s (known: ball, three_balls, ngon, fitted, pebbles)", where, tostring(shape),
+            hint(shape, { "ball", "three_balls", "ngon", "fitted", "pebbles" }))
     end
     if spec.radius ~= nil then num(spec.radius, where .. ".radius", 1e-9) end
     if shape == "ngon" then
@@ -563,7 +573,8 @@ local SEEDER_KEYS = { "kind", "name", "at", "from", "to", "weight", "rock", "vx"
 local ANALYSIS_KEYS = {
     "profile", "materials", "zones", "material", "roughness", "seeders", "collectors", "barriers",
     "seed", "n", "envelope", "gravity", "margin", "rest_speed", "rest_ke", "rest_time", "t_max",
-    "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance",
+    "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance", "shadow_apex",
+    "shadow_steep",
 }
 
 local function check_model(name, props, where)
@@ -579,9 +590,26 @@ local function check_model(name, props, where)
         end
         for k in pairs(props) do
             if type(k) ~= "string" or not known[k:lower()] then
-                fail("%s: unknown property '%s' for model '%s' (known: %s)", where, tostring(k), name,
-                    table.concat(names, ", "))
+                fail("%s: unknown property '%s' for model '%s'%s (known: %s)", where, tostring(k), name,
+                    hint(k, names), table.concat(names, ", "))
             end
+        end
+        -- A friction angle typed as a coefficient (RocFall gives angles): said once here, not
+        -- by every rock's model (run_rock collects the engine's warnings in the record).
+        local implausible = {}
+        for _, k in ipairs(sorted_keys(props)) do
+            local v, key = props[k], k:lower()
+            if type(v) == "number" and v > 2 and (key == "fric" or key:match("_fric$")) then
+                implausible[#implausible + 1] = v < 90
+                    and string.format("%s = %g is a friction coefficient (tan of the friction angle), "
+                        .. "not an angle: for a friction angle of %g\u{b0} use %s = tan(%g\u{b0}) = %.3g",
+                        k, v, v, k, v, math.tan(math.rad(v)))
+                    or string.format("%s = %g is a friction coefficient; above 2 it is not plausible", k, v)
+            end
+        end
+        if #implausible > 0 then
+            io.stderr:write(string.format("warning: rockfall.analysis: %s: %s\n", where,
+                table.concat(implausible, "; ")))
         end
     end
 end
@@ -608,8 +636,8 @@ local function zone_profile(pts, zones, materials, default, where)
         end
         for k, z in ipairs(zones) do
             if type(z) ~= "string" or not materials[z] then
-                fail("%s.zones[%d]: unknown material '%s' (materials: %s)", where, k, tostring(z),
-                    table.concat(sorted_keys(materials), ", "))
+                fail("%s.zones[%d]: unknown material '%s'%s (materials: %s)", where, k, tostring(z),
+                    hint(z, sorted_keys(materials)), table.concat(sorted_keys(materials), ", "))
             end
             seg[k] = z
         end
@@ -622,7 +650,8 @@ local function zone_profile(pts, zones, materials, default, where)
         check_keys(z, { "material", "name", "x_from", "x_to" }, w)
         local mat = z.material or z.name
         if type(mat) ~= "string" or not materials[mat] then
-            fail("%s: unknown material '%s' (materials: %s)", w, tostring(mat), table.concat(sorted_keys(materials), ", "))
+            fail("%s: unknown material '%s'%s (materials: %s)", w, tostring(mat), hint(mat, sorted_keys(materials)),
+                table.concat(sorted_keys(materials), ", "))
         end
         num(z.x_from, w .. ".x_from")
         num(z.x_to, w .. ".x_to")
@@ -791,6 +820,12 @@ local function analysis(opts)
     an.rock_contact = { model = rc.model or "linear",
         props = rc.props or { kn = 1e9, ks = 5e8, fric = 0.5, dp_nratio = 0.3 } }
     check_model(an.rock_contact.model, an.rock_contact.props, W .. ".rock_contact")
+    -- Shadow angles (rockfall_stats): the apex, or the steepness from which a downslope
+    -- segment counts as the cliff whose toe is the apex.
+    if opts.shadow_apex ~= nil then an.shadow_apex = point(opts.shadow_apex, W .. ".shadow_apex") end
+    if opts.shadow_steep ~= nil then
+        an.shadow_steep = num(opts.shadow_steep, W .. ".shadow_steep", 1e-9, 90)
+    end
     an.y_min = math.huge
     for _, p in ipairs(an.points) do an.y_min = math.min(an.y_min, p[2]) end
     an.is_analysis = true
@@ -798,7 +833,7 @@ local function analysis(opts)
 end
 rockfall.analysis = api("analysis", analysis)
 
---- The analysis description H5's statistics receive (docs/rockfall.md, Interface 2).
+--- The analysis description the statistics module (rockfall_stats) receives.
 function rockfall.describe(an)
     local cols, bars = {}, {}
     for k, c in ipairs(an.collectors) do cols[k] = { name = c.name, x = c.x } end
@@ -816,6 +851,8 @@ function rockfall.describe(an)
     return {
         profile = prof, envelope = { x0 = an.envelope.x0, x1 = an.envelope.x1, dx = an.envelope.dx },
         collectors = cols, barriers = bars, release = { x = sx / sw, y = sy / sw }, seed = an.seed, n = an.n,
+        shadow_apex = an.shadow_apex and { an.shadow_apex[1], an.shadow_apex[2] } or nil,
+        shadow_steep = an.shadow_steep,
     }
 end
 
@@ -1114,8 +1151,11 @@ end
 
 -- --------------------------------------------------------------------------------- running
 
-local function new_model(an, margin)
+--- A rock's model; the engine's warnings (from the first call on) go into `warnings`, which
+--- the record carries, instead of one line on stderr per rock.
+local function new_model(an, margin, warnings)
     local m = talus.model{ gravity = an.gravity, mass = "disk" }
+    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     m:contact_model(an.rock_contact.model, an.rock_contact.props)
     if an.timestep then m:timestep(an.timestep) end
     m:broadphase{ margin = margin }
@@ -1127,23 +1167,33 @@ local function body_state(b)
     return p[1], p[2], v[1], v[2], b.spin
 end
 
---- Runs rock i of the analysis alone on its own slope; returns its record (Interface 2).
---- opts: trajectory = true records the path every analysis.path_every samples.
+--- A hook option (on_model, on_end) is a function or absent.
+local function check_hook(opts, name, where)
+    if opts[name] ~= nil and type(opts[name]) ~= "function" then
+        fail("%s.%s must be a function (got %s)", where, name, type(opts[name]))
+    end
+end
+
+--- Runs rock i of the analysis alone on its own slope; returns its record.
+--- opts: trajectory = true records the path every analysis.path_every samples; on_model(m,
+--- info) is called once the model is built, before the first step (attach m:vtk, m:picture,
+--- m:history there), info = {rock =, seed =, body =}; on_end(m, record) once the rock ended.
 local function run_rock(an, i, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "trajectory", "chunk" }, "run_rock options")
+    check_keys(opts, { "trajectory", "chunk", "on_model", "on_end" }, "run_rock options")
+    check_hook(opts, "on_model", "run_rock options")
+    check_hook(opts, "on_end", "run_rock options")
     if math.type(i) ~= "integer" or i < 1 then fail("rock index must be an integer >= 1 (got %s)", tostring(i)) end
     local s = sample(an, i)
     -- A margin of the rock's size: free-flight steps grow until the rock would leave its fat box
     -- (the kinematic rule), so a wide box means few steps in flight; a rock has only the slope's
     -- few segments as candidates, so the wider box costs nothing measurable.
-    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3))
+    local warnings = {}
+    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3), warnings)
     local wall_material = build_slope(m, an, s.points, s.materials)
     local body = place_rock(m, s)
     m:energy{ on = true }
-    local warnings = {}
-    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local tr = new_tracker(an, i, s, body, opts)
     local contact_info, all = {}, {}
     local function hook(model)
@@ -1167,6 +1217,7 @@ local function run_rock(an, i, opts)
     end
     hook(m) -- the release state
     m:on_cycle(hook)
+    if opts.on_model then opts.on_model(m, { rock = i, seed = s.seed, body = body }) end
     local chunk = opts.chunk or 50
     while not tr.done do m:cycle(chunk) end
     local rec = tr.record
@@ -1175,6 +1226,7 @@ local function run_rock(an, i, opts)
         dashpot = e.dashpot, strain = e.strain, balance_error = e.balance_error }
     rec.steps = m:step()
     if #warnings > 0 then rec.warnings = warnings end
+    if opts.on_end then opts.on_end(m, rec) end
     return rec
 end
 rockfall.run_rock = api("run_rock", run_rock)
@@ -1185,7 +1237,9 @@ rockfall.run_rock = api("run_rock", run_rock)
 local function mass_release(an, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "n", "trajectory", "every", "chunk" }, "mass_release options")
+    check_keys(opts, { "n", "trajectory", "every", "chunk", "on_model", "on_end" }, "mass_release options")
+    check_hook(opts, "on_model", "mass_release options")
+    check_hook(opts, "on_end", "mass_release options")
     local n = opts.n or an.n
     local samples, rmax = {}, 0
     local pts, mats = an.nominal, an.segment_material
@@ -1215,7 +1269,8 @@ local function mass_release(an, opts)
         end
         samples[i] = si
     end
-    local m = new_model(an, an.margin or rmax)
+    local warnings = {}
+    local m = new_model(an, an.margin or rmax, warnings)
     local wall_material = build_slope(m, an, pts, mats)
     local trackers, by_ball, by_clump = {}, {}, {}
     for i = 1, n do
@@ -1224,8 +1279,6 @@ local function mass_release(an, opts)
         if samples[i].rock.ball then by_ball[body.id] = i else by_clump[body.id] = i end
     end
     m:energy{ on = true }
-    local warnings = {}
-    m:on_warning(function(text) warnings[#warnings + 1] = text end)
     local left = n
     local touching = {}
     local function hook(model)
@@ -1257,6 +1310,11 @@ local function mass_release(an, opts)
     end
     hook(m)
     m:on_cycle(hook, opts.every or 1)
+    if opts.on_model then
+        local bodies = {}
+        for i, tr in ipairs(trackers) do bodies[i] = tr.body end
+        opts.on_model(m, { rocks = n, bodies = bodies, mass_release = true })
+    end
     local chunk = opts.chunk or 50
     while left > 0 do m:cycle(chunk) end
     local recs = {}
@@ -1265,6 +1323,7 @@ local function mass_release(an, opts)
         recs[i] = tr.record
     end
     if #warnings > 0 then recs.warnings = warnings end
+    if opts.on_end then opts.on_end(m, recs) end
     return recs
 end
 rockfall.mass_release = api("mass_release", mass_release)
@@ -1355,32 +1414,123 @@ local function serial_map(n, fn)
     return r
 end
 
+--- A fixed text of a plain value (keys sorted, numbers exact): the analysis' fingerprint.
+local function canonical(v, out)
+    local t = type(v)
+    if t == "table" then
+        local keys = {}
+        for k in pairs(v) do keys[#keys + 1] = k end
+        table.sort(keys, function(a, b)
+            if type(a) ~= type(b) then return type(a) < type(b) end
+            return a < b
+        end)
+        out[#out + 1] = "{"
+        for _, k in ipairs(keys) do
+            canonical(k, out)
+            out[#out + 1] = "="
+            canonical(v[k], out)
+            out[#out + 1] = ";"
+        end
+        out[#out + 1] = "}"
+    elseif t == "number" then
+        out[#out + 1] = math.type(v) == "integer" and string.format("%d", v) or string.format("%a", v)
+    else
+        out[#out + 1] = t:sub(1, 1) .. tostring(v)
+    end
+    return out
+end
+
+--- 64-bit FNV-1a hash of a string, as 16 hex digits (Lua integers wrap modulo 2^64).
+local function fnv1a(text)
+    local h = -3750763034362895579 -- 0xcbf29ce484222325
+    for k = 1, #text do h = (h ~ text:byte(k)) * 0x100000001b3 end
+    return string.format("%016x", h)
+end
+
 --- Runs the analysis' rocks independently (talus.map when present: all cores, MPI ranks),
 --- writes the CSVs on rank 0, then the statistics of rockfall_stats when that module exists.
 --- opts: n, outdir, jobs, impacts (bool), trajectories (bool, or a number of rocks to keep
---- paths of: the first k), quiet.
+--- paths of: the first k), quiet, stats, on_model / on_end (run_rock's hooks, called in the
+--- process that runs the rock), resume (default true with an outdir: rocks a previous run of
+--- the same analysis wrote are taken from outdir/checkpoint, not run again).
+--- A rock that fails (an error in its run or in a hook) is recorded in info.failed ({rock =,
+--- seed =, message =}) and in outdir/rock_failed.csv; the others go on. Returns the records of
+--- the rocks that ran, in rock order, and info.
 local function monte_carlo(an, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "n", "outdir", "jobs", "impacts", "trajectories", "quiet", "stats" }, "monte_carlo options")
+    check_keys(opts, { "n", "outdir", "jobs", "impacts", "trajectories", "quiet", "stats", "on_model",
+        "on_end", "resume" }, "monte_carlo options")
+    check_hook(opts, "on_model", "monte_carlo options")
+    check_hook(opts, "on_end", "monte_carlo options")
     local n = opts.n or an.n
     if math.type(n) ~= "integer" or n < 1 then fail("monte_carlo: n must be an integer >= 1 (got %s)", tostring(n)) end
     local traj = opts.trajectories
     local keep = traj == true and n or (type(traj) == "number" and traj or 0)
-    local map = talus.map or serial_map
     local clock = os.clock()
-    local records = map(n, function(i) return run_rock(an, i, { trajectory = i <= keep }) end,
-        { jobs = opts.jobs })
+    local run = function(i)
+        return run_rock(an, i, { trajectory = i <= keep, on_model = opts.on_model, on_end = opts.on_end })
+    end
+    local results
+    if talus.map then
+        local mopts = { jobs = opts.jobs }
+        if opts.outdir and opts.resume ~= false then
+            -- Each finished rock is kept on disk at once; the key ties it to this analysis, so a
+            -- changed analysis in the same outdir runs every rock again.
+            mopts.checkpoint = opts.outdir .. "/checkpoint"
+            mopts.key = "rockfall " .. rockfall.version .. " talus " .. tostring(talus.version) .. " "
+                .. fnv1a(table.concat(canonical(an, {})))
+                .. " paths " .. keep
+        end
+        results = talus.map(n, run, mopts)
+    else
+        results = serial_map(n, run)
+    end
     local cpu = os.clock() - clock
+    -- The rocks that ran, in order; the failed ones with their seeds.
+    local records, failed = {}, nil
+    for i = 1, n do
+        if results[i] ~= nil then records[#records + 1] = results[i] end
+    end
+    if results.failed then
+        failed = {}
+        for k, f in ipairs(results.failed) do
+            failed[k] = { rock = f.index, seed = rockfall.rock_seed(an.seed, f.index), message = f.message }
+        end
+    end
     local rank = talus.rank and talus.rank() or 0
-    local info = { cpu = cpu, files = {}, parallel = talus.map ~= nil }
+    local info = { cpu = cpu, files = {}, parallel = talus.map ~= nil, failed = failed }
+    if failed and not opts.quiet and rank == 0 then
+        print(string.format("rockfall: %d of %d rocks failed; the first, rock %d (seed %d): %s%s", #failed, n,
+            failed[1].rock, failed[1].seed, failed[1].message,
+            opts.outdir and "; all in " .. opts.outdir .. "/rock_failed.csv; a rerun into the same outdir runs "
+                .. "only the rocks not written" or ""))
+    end
     if opts.outdir and rank == 0 then
         info.files = write_csv(records, an, opts.outdir, { impacts = opts.impacts, trajectories = keep > 0 })
+        local rows = {}
+        for k, f in ipairs(failed or {}) do rows[k] = { f.rock, f.seed, f.message } end
+        local file = opts.outdir .. "/rock_failed.csv"
+        if #rows > 0 then
+            write_rows(file, { "rock", "seed", "message" }, rows)
+            info.files[#info.files + 1] = file
+        else
+            os.remove(file) -- from an earlier run whose failed rocks ran now
+        end
         if opts.stats ~= false then
             local ok, stats = pcall(require, "rockfall_stats")
             if ok and type(stats) == "table" and stats.write then
-                stats.write(records, rockfall.describe(an), opts.outdir)
+                local summary = stats.write(records, rockfall.describe(an), opts.outdir)
                 info.stats = true
+                info.apex, info.shadow_note = summary.apex, summary.shadow_note
+                if not opts.quiet then
+                    -- The apex decides every shadow angle: say which one was used.
+                    local a = summary.apex
+                    print(a and string.format("rockfall: shadow angles from the apex (%.4g, %.4g): %s",
+                        a.x, a.y, a.rule)
+                        or "rockfall: no shadow angles (no steep downslope segment and no shadow_apex)")
+                    if summary.shadow_note then print("rockfall: note: " .. summary.shadow_note) end
+                end
             elseif not opts.quiet then
                 print("rockfall: statistics module rockfall_stats not found; wrote per-rock CSVs only")
             end

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall_stats: Monte Carlo statistics of a rockfall analysis (issue 8), over the per-rock
+-- rockfall_stats: Monte Carlo statistics of a rockfall analysis, over the per-rock
 -- records of scripts/lib/rockfall.lua (one plain table per rock: end point, stop rule,
 -- collector crossings, barrier impacts, envelope maxima; docs/rockfall-statistics.md).
 --
@@ -575,9 +575,19 @@ end
 
 -- ------------------------------------------------------------------ angles
 
+--- The profile's points in the order a rock travelling along d meets them.
+local function travel_order(pts, d)
+    if d * (pts[#pts][1] - pts[1][1]) >= 0 then return pts end
+    local r = {}
+    for i = #pts, 1, -1 do r[#r + 1] = pts[i] end
+    return r
+end
+
 --- The shadow-angle apex: analysis.shadow_apex ({x, y} or {x =, y =}) when given; else the
---- lower end (the toe) of the last segment, in the downslope direction, whose inclination is
---- at least analysis.shadow_steep degrees (default M.SHADOW_STEEP_DEG). nil when neither.
+--- lower end (the toe) of the last DOWNSLOPE segment, in the direction of travel, whose
+--- inclination is at least analysis.shadow_steep degrees (default M.SHADOW_STEEP_DEG). A
+--- segment that rises in the direction of travel (the far wall of a ditch, the face of a
+--- berm) is never a cliff the rocks fell from, so it never defines the apex. nil when neither.
 function M.shadow_apex(analysis)
     local where = "shadow_apex"
     if analysis and analysis.shadow_apex ~= nil then
@@ -588,21 +598,20 @@ function M.shadow_apex(analysis)
     local pts = profile_points(analysis, where)
     if not pts then return nil end
     local d = direction_of(analysis, where)
-    local steep = (analysis.shadow_steep or M.SHADOW_STEEP_DEG)
+    local steep = analysis.shadow_steep or M.SHADOW_STEEP_DEG
+    if not (isnum(steep) and steep > 0 and steep <= 90) then
+        fail(where, "analysis.shadow_steep must be an angle in (0, 90] degrees (got %s)",
+            tostring(steep))
+    end
     local apex
-    -- walk the segments downslope (profile order when d = +1 and x increases; the segment's
-    -- own ends are ordered by d x, so the "toe" is its lower end whatever the listing order)
-    for i = 1, #pts - 1 do
-        local a, b = pts[i], pts[i + 1]
-        local run = math.abs(b[1] - a[1])
-        local rise = math.abs(b[2] - a[2])
-        local incl = math.deg(math.atan(rise, run))
-        if rise > 0 and incl >= steep then
-            local toe = a[2] < b[2] and a or b
-            if not apex or d * toe[1] > d * apex.x then
-                apex = { x = toe[1], y = toe[2],
-                    rule = string.format("toe of the last segment steeper than %g deg", steep) }
-            end
+    local path = travel_order(pts, d)
+    for i = 1, #path - 1 do
+        local a, b = path[i], path[i + 1]
+        local drop = a[2] - b[2] -- > 0: the segment goes down in the direction of travel
+        if drop > 0 and math.deg(math.atan(drop, math.abs(b[1] - a[1]))) >= steep then
+            apex = { x = b[1], y = b[2],
+                rule = string.format("toe of the last downslope segment of %g deg or steeper",
+                    steep) }
         end
     end
     return apex
@@ -661,14 +670,30 @@ function M.angles(records, analysis, opts)
     end
     res.energy_line = M.describe(el, probs, level)
     res.shadow = M.describe(sh, probs, level)
-    -- A derived apex at the lowest height of the profile (a cliff straight onto a flat floor,
-    -- as on a stepped profile) makes every shadow angle on the floor 0: say so.
-    if apex and apex.rule ~= "given" and pts then
-        local lowest = INF
-        for _, pt in ipairs(pts) do lowest = math.min(lowest, pt[2]) end
-        if apex.y <= lowest then
-            res.note = "the apex is at the bottom of the profile (no talus below the last cliff):"
-                .. " shadow angles on the flat run-out are 0; give analysis.shadow_apex"
+    -- An apex at or below the ground the rocks come to rest on (a cliff straight onto a flat
+    -- floor, a ditch at the toe of a slope with no cliff above it) makes the shadow angles
+    -- there 0 or negative, which says nothing: say so, with the way out.
+    if apex then
+        local why
+        if pts then
+            local path = travel_order(pts, d)
+            local lowest, runout = INF, path[#path][2]
+            for _, pt in ipairs(pts) do lowest = math.min(lowest, pt[2]) end
+            if apex.y <= runout then
+                why = string.format("at or below the run-out (the profile ends at y = %.4g)",
+                    runout)
+            elseif apex.y <= lowest then
+                why = "at the bottom of the profile"
+            end
+        end
+        if not why and res.shadow.n > 0 and res.shadow.min <= 0 then
+            why = "not above where some rocks stopped"
+        end
+        if why then
+            res.note = string.format("the shadow-angle apex (%.4g, %.4g) is %s: shadow angles "
+                .. "there are 0 or negative and say nothing; give shadow_apex = {x, y} (the "
+                .. "top of the talus below the cliff the rocks fell from), or rely on the "
+                .. "energy-line angle", apex.x, apex.y, why)
         end
     end
     return res
@@ -942,7 +967,7 @@ function M.print_summary(summary, print_fn)
         if kind == "shadow" then
             extra = s.apex
                 and string.format(" (apex %.4g, %.4g: %s)", s.apex.x, s.apex.y, s.apex.rule)
-                or " (no apex: no steep segment and no analysis.shadow_apex)"
+                or " (no apex: no steep downslope segment and no shadow_apex given)"
         end
         p(string.format("  %s angle [deg]%s: %s", kind == "shadow" and "shadow" or "energy-line",
             extra, table.concat(parts, "; ")))

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: MIT
 //
 // talus_model_accuracy: restitution error against run time as the step varies, for the linear,
-// hertz, ng and hysdamp contact models (a first work-precision measurement, accuracy-reference
-// section 5). Not a test: it prints markdown tables; scripts/bench/model_accuracy.sh builds and
-// runs it, and docs/models/<model>.md quote its output.
+// hertz, ng and hysdamp contact models (a first work-precision measurement). Not a test: it prints
+// markdown tables; scripts/bench/model_accuracy.sh builds and runs it, and docs/models/<model>.md
+// quote its output.
 //
 // Scene: the impact rig (core/include/talus/impact_rig.hpp), a unit-thickness disk R = 0.1 m,
 // 2600 kg/m^3 (81.7 kg) hitting a wall at v0 = 1 m/s. For each step setting, `phases` impacts
 // whose initial gap is drawn uniformly over 20 contact durations of travel, so that the phase of
 // first touch within a step is random even at the coarsest step (about 3 steps per contact).
-// Error = |e - e_exact| / e_exact, e_exact from the closed forms (accuracy-reference 1.1-1.3),
+// Error = |e - e_exact| / e_exact, e_exact from the closed forms (docs/models/*.md),
 // or, for the damped Hertz law, from an RK4 integration of the same ODE at 200000 steps per
 // contact. Time = median wall time of runImpact (model set-up included) per impact.
 //
@@ -66,7 +66,8 @@ struct Row {
 double linearE(double beta, int mode) {
     if (beta == 0.0) return 1.0;
     const double s = std::sqrt(1.0 - beta * beta);
-    // accuracy-reference 1.1: dashpot may pull (mode 0), or total force clipped at zero (mode 1)
+    // the closed form of a linear spring-dashpot: dashpot may pull (mode 0), or total force clipped
+    // at zero (mode 1)
     return mode == 0 ? std::exp(-M_PI * beta / s)
                      : std::exp(-beta * (M_PI - 2.0 * std::asin(beta)) / s);
 }
@@ -100,7 +101,7 @@ std::vector<Config> configs() {
                            tc_lin / std::sqrt(1.0 - beta * beta),
                            false});
         }
-    // Lac du Bonnet granite (seed digest section 8), rigid wall: E* = 2G/(1-nu).
+    // Lac du Bonnet granite (Nejati 2008), rigid wall: E* = 2G/(1-nu).
     const double G = 27.4e9, nu = 0.26, es = 2.0 * G / (1.0 - nu);
     const double tc_hz = lawtest::hertzImpact(kMass, kR, es, kV0).tc;
     out.push_back({"hertz",

@@ -4,15 +4,15 @@
 // Run through scripts/bench/power_accuracy.sh; prints Markdown tables.
 //
 //  1. Restitution error |e_num - e_exact| / e_exact against impact speed and step rule, mean and
-//     worst over random phases of first touch (accuracy-reference 5, measure 1). The phase is
+//     worst over random phases of first touch. The phase is
 //     randomised through the rig's initial gap: gap = 1e-3 R + U v0 dt_touch, U uniform in
 //     [0, 1) from a fixed-seed SplitMix64, dt_touch the step the rule gives at touch, so the
-//     touch falls anywhere within a step. e_exact from eq. 5.1 / accuracy-reference 1.4:
+//     touch falls anywhere within a step. e_exact from eq. 5.1 / An & Tannant 2007:
 //     e^2 = (1 + min(1, v_y^2/v0^2)) / (b + 1).
-//  2. The exponent b that matches RocFall's scaled restitution (seed digest eq. 5.4,
-//     Rn_scaled = 0.53 / (1 + (v/9.144)^2)) with thesis A's parameters (kn 6.4e10 N/m,
+//  2. The exponent b that matches RocFall's scaled restitution (Pfeiffer & Bowen 1989,
+//     Rn_scaled = 0.53 / (1 + (v/9.144)^2)) with An's (2006) parameters (kn 6.4e10 N/m,
 //     R 0.04 m, T 3500 N, 2600 kg/m^3, unit-thickness disk mass), by bisection over b on the
-//     rig's measured restitution, beside thesis A's appendix C values and the closed form
+//     rig's measured restitution, beside An's (2006) appendix C values and the closed form
 //     b = (1 + v_y^2/v^2) / Rn^2 - 1.
 //
 // Usage: talus_power_accuracy [--phases N] [--only restitution|exponent]
@@ -114,9 +114,9 @@ void restitutionTables(int phases) {
 // ------------------------------------------------------------------ 2. exponent vs speed
 
 void exponentTable() {
-    // Thesis A's parameters (seed digest section 5). The plastic overlap m v^2 / (2T) is 4.7 cm
+    // An's (2006) parameters (An 2006). The plastic overlap m v^2 / (2T) is 4.7 cm
     // at 5 m/s and 42 cm at 15 m/s for this 13 kg disk: more than the radius, so a ball on a
-    // wall would pass through it (thesis B's warning). The target is therefore a ball of
+    // wall would pass through it (Nejati's 2008 warning). The target is therefore a ball of
     // radius 2 m and 1e6 times the density (m* = m to 4e-10): the same 1-D impact without the
     // wall geometry breaking down.
     const double R = 0.04, rho = 2600.0, kn = 6.4e10, T = 3500.0;
@@ -127,14 +127,14 @@ void exponentTable() {
     };
     const Row rows[] = {{2, 4.5}, {4, 5.5}, {5, 7},   {6, 8.5}, {7, 11},  {8, 14}, {9, 18},
                         {10, 24}, {11, 29}, {12, 41}, {13, 49}, {14, 61}, {15, 82}};
-    std::printf("## Exponent b matching Rn_scaled (eq. 5.4) with thesis A's parameters\n\n");
+    std::printf("## Exponent b matching Rn_scaled (eq. 5.4) with An's (2006) parameters\n\n");
     std::printf(
         "kn = %g N/m, R = %g m, T = %g N, %g kg/m^3, 2D disk mass m = %.3f kg, "
         "v_y = %.4g m/s. Bisection on the rig's restitution (ball on a massive R = 2 m "
         "ball; default step rules).\n\n",
         kn, R, T, rho, m, vy);
     std::printf(
-        "| v (m/s) | Rn_scaled | b (Talus, rig) | b closed form | b thesis A (PFC2D, "
+        "| v (m/s) | Rn_scaled | b (Talus, rig) | b closed form | b An (2006) (PFC2D, "
         "3-ball clump) | plastic overlap (m) |\n|---|---|---|---|---|---|\n");
     for (const Row& row : rows) {
         const double v = row.v;

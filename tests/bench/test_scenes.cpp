@@ -32,7 +32,8 @@ std::string tempPath(const char* name) {
 }  // namespace
 
 TEST_CASE("dense pack: damping ratio from restitution", "[scenes]") {
-    // accuracy-reference 1.1: e = exp(-pi beta / sqrt(1 - beta^2)) for the full dashpot.
+    // the closed form of a linear spring-dashpot: e = exp(-pi beta / sqrt(1 - beta^2)) for the full
+    // dashpot.
     for (double e : {0.1, 0.5, 0.9}) {
         const double b = dampingRatioForRestitution(e);
         CHECK(std::exp(-M_PI * b / std::sqrt(1.0 - b * b)) == Approx(e).epsilon(1e-12));

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Persistent-contact scenes for the dashpot's equilibrium tests (issue 6 item 3), shared by the
+// Persistent-contact scenes for the dashpot's equilibrium tests, shared by the
 // linear model's tests (tests/core/test_restitution.cpp) and every other model with a dashpot
 // (tests/plugins/test_hertz.cpp). Each scene is run with the engine's automatic step and read
 // out after the transient has decayed; the closed forms are in the test files.

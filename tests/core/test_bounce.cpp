@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 //
-// Undamped bounces (linear model, beta = 0): the exact restitution is 1 (accuracy-reference 1.1).
-// Central differences conserve a modified energy of the linear oscillator, so the error comes
-// only from the two non-smooth instants (touch and separation) falling between steps; it depends
-// on the phase of first touch within a step, so every figure here is a mean/worst over random
-// phases (accuracy-reference 5, item 1), with the same phases at every step size.
+// Undamped bounces (linear model, beta = 0): the exact restitution is 1 (the closed form of a
+// linear spring-dashpot). Central differences conserve a modified energy of the linear oscillator,
+// so the error comes only from the two non-smooth instants (touch and separation) falling between
+// steps; it depends on the phase of first touch within a step, so every figure here is a mean/worst
+// over random phases, with the same phases at every step size.
 #include <catch2/catch.hpp>
 
 #include "test_support.hpp"
@@ -73,7 +73,7 @@ TEST_CASE("undamped bounce: restitution 1, error shrinks at least like dt^2", "[
     // steps per contact (dt = 0.39 .. 0.024 sqrt(m*/k)). The error depends on the phase of touch
     // and on the phase of separation, i.e. on frac; both are drawn at random (the same draws at
     // every n), so the mean over samples is C h^p with one constant C and the order p is clean.
-    // accuracy-reference 5.1 quotes dt^3 for a 1-D sketch; the engine gives 2 in general and 3
+    // a 1-D sketch of the scheme gives dt^3; the engine gives 2 in general and 3
     // when the contact lasts a whole number of steps (frac = 0, reported below), because the
     // touch and separation errors then cancel to leading order. The automatic step is exactly
     // that case: dt = duration / 30.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Chung & Ooi (2011) benchmark tests 1-3 (accuracy-reference 2), run with the linear law.
+// Chung & Ooi (2011) benchmark tests 1-3 (Chung & Ooi 2011), run with the linear law.
 //
 // The paper's reference values (peak force, maximum overlap, duration) are Hertz results; a
 // linear spring has other closed forms, so what can be checked here is:
@@ -8,13 +8,14 @@
 //  - an equivalent linear kn per test chosen so that the linear contact lasts exactly as long
 //    as the Hertz contact of the table (kn = m* pi^2 / t_c,Hertz^2); the linear maximum overlap
 //    v0/omega0 is then 2.9432/pi = 0.937 of the Hertz one and the forces are of the same order;
-//  - against the *linear* closed forms of accuracy-reference 1.1: contact duration
+//  - against the *linear* closed forms of the closed form of a linear spring-dashpot: contact
+//  duration
 //    t_c = pi/omega_d, maximum overlap, peak force v0 sqrt(k m*) (undamped), restitution;
 //  - Test 3: measured restitution = prescribed restitution along the identity line, with the
 //    damping ratio from the linear inverse formula (mode 0) or its no-tension analogue (mode 1).
 // Not applicable to a linear law: the Hertz peak force and overlap values of the table (they
 // follow F ~ delta^(3/2)), the Hertz dependence of t_c on v0^(-1/5), and the paper's damping-
-// ratio-versus-e curve for Hertz (the Thornton fit of accuracy-reference 1.2); those belong to a
+// ratio-versus-e curve for Hertz (the Thornton fit of Johnson 1985); those belong to a
 // Hertz plugin's test. The Hertz numbers are still recomputed below to pin our reading of the
 // table (they are the input for the equivalent kn).
 //
@@ -43,7 +44,7 @@ struct Hertz {
     double fmax, dmax, tc;
 };
 
-/// Hertz closed forms of accuracy-reference 1.2 for m*, R*, E*, v0.
+/// Hertz closed forms of Johnson 1985 for m*, R*, E*, v0.
 Hertz hertz(double m_eff, double r_eff, double e_eff, double v0) {
     Hertz h;
     h.dmax = std::pow(15.0 * m_eff * v0 * v0 / (16.0 * e_eff * std::sqrt(r_eff)), 0.4);
@@ -90,7 +91,7 @@ Measured runLinear(ImpactSetup s, double m_eff, double kn, double v0, double bet
 }  // namespace
 
 TEST_CASE("our reading of the Chung & Ooi Hertz reference values", "[core][chung_ooi]") {
-    // accuracy-reference 2, table rows 1 and 2 (values derived there and matching Kratos' stored
+    // Chung & Ooi 2011, table rows 1 and 2 (values derived there and matching Kratos' stored
     // paper numbers 7108 N and 7233 N). Table values are given to 3-4 digits: 0.5% tolerance.
     const double R1 = 0.010, v1 = 10.0;
     for (auto [mat, F, d, t] : {std::tuple<Material, double, double, double>{
@@ -182,7 +183,7 @@ TEST_CASE("Chung & Ooi test 3: prescribed restitution on a plane", "[core][chung
     // R = 2.5 mm, 3.9 m/s, Al oxide and cast iron; e from 0 (exclusive) to 1. kn from the Hertz
     // duration of the elastic impact. The damping ratio comes from the linear inverse formula;
     // measured e must equal prescribed e. Also the damped duration pi/omega_d and the damped
-    // maximum overlap of accuracy-reference 1.1.
+    // maximum overlap of the closed form of a linear spring-dashpot.
     const double R = 0.0025, v = 3.9;
     const std::vector<double> es = {0.02, 0.05, 0.1, 0.2, 0.3,  0.4,  0.5,
                                     0.6,  0.7,  0.8, 0.9, 0.95, 0.98, 1.0};
@@ -195,8 +196,9 @@ TEST_CASE("Chung & Ooi test 3: prescribed restitution on a plane", "[core][chung
             Stats e_err, t_err, d_err;
             for (double e : es) {
                 // Without tension the restitution cannot fall below exp(-2) = 0.135 for
-                // beta <= 1 (the exponent of accuracy-reference 1.1 tends to 2 as beta -> 1),
-                // and the linear plugin caps dp_nratio at 1: those e are out of reach.
+                // beta <= 1 (the exponent of the closed form of a linear spring-dashpot tends to 2
+                // as beta -> 1), and the linear plugin caps dp_nratio at 1: those e are out of
+                // reach.
                 if (mode == 1 && e < 0.2) continue;
                 const double beta =
                     mode == 0 ? betaForRestitution(e) : betaForRestitutionNoTension(e);

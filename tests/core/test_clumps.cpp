@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Rigid clumps in the engine (docs/physics/clumps.md, issue 7): mass properties reaching the
+// Rigid clumps in the engine (docs/physics/clumps.md): mass properties reaching the
 // body, free motion (conservation), an off-centre elastic impact against the rigid-body impulse
 // formula, a clump on a slope (sticks / slides with a = g (sin a - mu cos a)), bit-identity of a
 // one-pebble clump with the same ball, pebbles of one clump never in contact, release, and the

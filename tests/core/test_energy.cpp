@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Energy tracing (accuracy-reference 3.6, docs/physics/energy.md): the balance identity
+// Energy tracing (PFC's energy tracing, docs/physics/energy.md): the balance identity
 //   initial_kinetic + body + boundary = kinetic + strain + bond + slip + dashpot + plastic
 //                                       + damping + released
 // for bounces with dashpots and friction, free-fall body work, PFC local damping (accuracy-
@@ -221,7 +221,7 @@ TEST_CASE("free fall: body work equals the kinetic energy gained", "[core][energ
 }
 
 TEST_CASE("local damping: free fall and bounce closed forms", "[core][energy]") {
-    // accuracy-reference 3.4: F_d = -alpha |F| sign(v) per degree of freedom, F the unbalanced
+    // PFC's local damping: F_d = -alpha |F| sign(v) per degree of freedom, F the unbalanced
     // force including gravity.
     const double alpha = 0.7, g = 9.81;
     SECTION("free fall with a downward initial velocity: a = g (1 - alpha), exact") {

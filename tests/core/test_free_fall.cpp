@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // Free fall. Central differences with the velocity window w = (dt_prev + dt)/2 integrate a
-// constant acceleration exactly for any sequence of steps (accuracy-reference 5.4; the first
+// constant acceleration exactly for any sequence of steps (the first
 // step uses w = dt/2 and takes the given velocity as the value at t0):
 //   x(t) = x0 + v0 t + g t^2/2,   v(t_n + dt/2) = v0 + g (t_n + dt/2).
 // So the only error allowed is floating-point round-off. Bound used below: every step adds a

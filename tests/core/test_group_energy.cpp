@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Energy per group (docs/physics/energy.md, "Energy per group"; thesis A chapter 3).
+// Energy per group (docs/physics/energy.md, "Energy per group"; An (2006) chapter 3).
 //  - Over a partition of the bodies into groups, every item summed over the groups equals the
 //    whole-model item (the allocation shares of a contact sum to 1), and the exchanged items sum
 //    to 0: checked to round-off at every step of a busy scene.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Oblique impacts of a ball on a wall with the linear model (accuracy-reference 1.5), for disk
+// Oblique impacts of a ball on a wall with the linear model (Maw, Barber & Fawcett 1976), for disk
 // (kappa = I/(m R^2) = 1/2, MassMode::Disk) and sphere (kappa = 2/5, MassMode::Sphere) inertia.
 //
 // Sliding regime (V_s >= (1 + 1/kappa) mu (1 + e) v_n), Chung & Ooi test-4 form (speed v at
@@ -8,20 +8,20 @@
 //   tangential restitution  e_t = v_t'/v_t = 1 - mu (1 + e) / tan(theta)
 //   spin                    R |omega'| = mu (1 + e) v cos(theta) / kappa
 //   contact-point rebound   tan(theta_r) = (tan(theta) - (1 + 1/kappa) mu (1 + e)) / e
-// These follow from the impulse identity of accuracy-reference 1.1: with the Coulomb limit on
-// the spring part only (PFC, and the linear plugin) and the dashpot impulse exactly zero over a
-// contact, the tangential impulse is mu times the normal impulse m (1 + e) v_n whatever the step.
-// So, with e the *measured* normal restitution, they should hold to the extent that the contact
-// slides at every step; we allow 1e-6 (measured: round-off to ~1e-10, see the report). Against the
-// *prescribed* e they also carry the restitution error (<= 0.5%, test_restitution.cpp), scaled
-// by mu (1 + e)/tan(theta) <= 0.26 here: bound 2e-3.
-// One modelling detail enters: the engine puts the contact point at R - overlap/2 from the
-// centre (accuracy-reference 3.3), so the torque arm is shorter than R by overlap/2; kn is
-// chosen stiff (max overlap / R = 4e-4), so the spin is low by about the mean overlap / 2R
-// ~ 1.3e-4: bound 5e-4 on the spin and 2e-4 on tan(theta_r) (slip_out = v_t + omega R carries
-// the same relative spin error times R omega' / (e v_n) <= ~1.5).
+// These follow from the impulse identity of the closed form of a linear spring-dashpot: with the
+// Coulomb limit on the spring part only (PFC, and the linear plugin) and the dashpot impulse
+// exactly zero over a contact, the tangential impulse is mu times the normal impulse m (1 + e) v_n
+// whatever the step. So, with e the *measured* normal restitution, they should hold to the extent
+// that the contact slides at every step; we allow 1e-6 (measured: round-off to ~1e-10, see the
+// report). Against the *prescribed* e they also carry the restitution error (<= 0.5%,
+// test_restitution.cpp), scaled by mu (1 + e)/tan(theta) <= 0.26 here: bound 2e-3. One modelling
+// detail enters: the engine puts the contact point at R - overlap/2 from the centre (PFC2D's
+// documentation), so the torque arm is shorter than R by overlap/2; kn is chosen stiff (max overlap
+// / R = 4e-4), so the spin is low by about the mean overlap / 2R ~ 1.3e-4: bound 5e-4 on the spin
+// and 2e-4 on tan(theta_r) (slip_out = v_t + omega R carries the same relative spin error times R
+// omega' / (e v_n) <= ~1.5).
 //
-// Stick regime with compliance, mu -> infinity, no damping (accuracy-reference 1.5):
+// Stick regime with compliance, mu -> infinity, no damping (Maw, Barber & Fawcett 1976):
 //   V_s'/V_s = cos(pi sqrt((1 + 1/kappa) k_s / k_n))
 // The tangential spring is a harmonic oscillator of mass m/(1 + 1/kappa) running for the normal
 // contact duration pi sqrt(m/k_n). Error sources: the O(dt^2) phase error of central differences
@@ -69,7 +69,7 @@ TEST_CASE("oblique impact, sliding regime: rigid-body formulas", "[core][oblique
     for (MassMode mode : {MassMode::Disk, MassMode::Sphere}) {
         const double kappa = kappaOf(mode);
         // Sliding above theta* = atan((1 + 1/kappa) mu (1 + e)): 28.7 deg (disk), 32.5 deg
-        // (sphere); accuracy-reference 2, test 4.
+        // (sphere); Chung & Ooi 2011, test 4.
         const double theta_star = std::atan((1.0 + 1.0 / kappa) * kMu * (1.0 + kE)) * 180.0 / M_PI;
         CHECK(theta_star == Approx(mode == MassMode::Disk ? 28.7 : 32.5).margin(0.05));
         Rng rng(mode == MassMode::Disk ? 3 : 4);

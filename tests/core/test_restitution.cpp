@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // Linear dashpot restitution e(beta) at the step the engine picks by default, for an isolated
-// impact, against accuracy-reference 1.1:
+// impact, against the closed form of a linear spring-dashpot:
 //   dp_mode 0 (dashpot may pull):   e = exp(-pi beta / sqrt(1 - beta^2))
 //   dp_mode 1 (no tension):         e = exp(-beta (pi - 2 asin beta) / sqrt(1 - beta^2))
 // (modes 2 and 3 differ from 0 and 1 only while a contact slides, so a normal impact must give
@@ -11,9 +11,9 @@
 //
 // Why 0.5% is a fair bound at the default step: the engine resolves the contact in 30 steps of
 // the dashpot-raised stiffness and integrates the dashpot implicitly with exact impulses at both
-// ends (core/include/talus/sdk/dashpot.hpp), a second-order scheme; integration-notes.md measured
-// 0.06-0.25% mean (0.10-0.49% worst) for a cruder version of it at 31 steps, and the elastic
-// part alone is good to < 1e-4 here (test_bounce.cpp).
+// ends (core/include/talus/sdk/dashpot.hpp), a second-order scheme; a stand-alone prototype
+// measured 0.06-0.25% mean (0.10-0.49% worst) for a cruder version of it at 31 steps, and the
+// elastic part alone is good to < 1e-4 here (test_bounce.cpp).
 #include <catch2/catch.hpp>
 
 #include "dashpot_rest_scenes.hpp"
@@ -101,9 +101,9 @@ TEST_CASE("dashpot modes 2 and 3 equal modes 0 and 1 in a normal impact", "[core
 }
 
 TEST_CASE("the two tension modes really differ", "[core][restitution]") {
-    // accuracy-reference 1.1: beta = 0.2 gives 0.527 (full) vs 0.572 (no tension). A plugin
-    // that ignored dp_mode would pass one of the closed-form checks by accident, never both;
-    // this pins the reference values themselves.
+    // the closed form of a linear spring-dashpot: beta = 0.2 gives 0.527 (full) vs 0.572 (no
+    // tension). A plugin that ignored dp_mode would pass one of the closed-form checks by accident,
+    // never both; this pins the reference values themselves.
     CHECK(restitutionFull(0.2) == Approx(0.527).margin(5e-4));
     CHECK(restitutionNoTension(0.2) == Approx(0.572).margin(5e-4));
     CHECK(betaForRestitution(restitutionFull(0.3)) == Approx(0.3).epsilon(1e-12));
@@ -117,7 +117,7 @@ TEST_CASE("the two tension modes really differ", "[core][restitution]") {
 // reaction equal the load; in steady sliding the dashpot force is c times the slip rate. With
 // the prediction that left gravity out, a resting linear ball (dp_nratio 0.3, kn 1e9) had a
 // floor reaction 1.1% above its weight and booked dashpot work for ever, and the disk below slid
-// 0.6% too slowly (issue 6 item 3, ../shared/repro/resting-ball-dashpot.lua).
+// 0.6% too slowly.
 
 namespace {
 

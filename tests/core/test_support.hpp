@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// Helpers shared by the core engine tests: a fixed-seed PRNG, closed forms of
-// ../shared/reference/accuracy-reference.md (section numbers cited there), scene builders,
+// Helpers shared by the core engine tests: a fixed-seed PRNG, closed forms of single impacts
+// (each cites its source), scene builders,
 // a byte hash, statistics and an opt-in report printer.
 //
 // Set TALUS_TEST_REPORT=1 to print the measured numbers (worst/mean errors, orders, residuals)
@@ -73,19 +73,20 @@ struct Stats {
 
 // ------------------------------------------------------------------ closed forms
 
-/// Linear spring-dashpot restitution when the dashpot may pull (accuracy-reference 1.1).
+/// Linear spring-dashpot restitution when the dashpot may pull (the closed form of a linear
+/// spring-dashpot).
 inline double restitutionFull(double beta) {
     return std::exp(-M_PI * beta / std::sqrt(1.0 - beta * beta));
 }
 
-/// Same with the total normal force clipped at zero (accuracy-reference 1.1, no-tension
-/// variant). The derivation holds for every beta < 1: the separation time is the first zero of
-/// k delta + c delta', (pi - 2 asin beta)/omega_d, and there |delta'| = v0 exp(-gamma t_s).
+/// Same with the total normal force clipped at zero (the closed form of a linear spring-dashpot,
+/// no-tension variant). The derivation holds for every beta < 1: the separation time is the first
+/// zero of k delta + c delta', (pi - 2 asin beta)/omega_d, and there |delta'| = v0 exp(-gamma t_s).
 inline double restitutionNoTension(double beta) {
     return std::exp(-beta * (M_PI - 2.0 * std::asin(beta)) / std::sqrt(1.0 - beta * beta));
 }
 
-/// Inverse of restitutionFull (accuracy-reference 1.1).
+/// Inverse of restitutionFull (the closed form of a linear spring-dashpot).
 inline double betaForRestitution(double e) {
     const double l = std::log(e);
     return -l / std::sqrt(M_PI * M_PI + l * l);
@@ -106,7 +107,7 @@ inline double linearDuration(double m_eff, double kn, double beta = 0.0) {
     return M_PI / (std::sqrt(kn / m_eff) * std::sqrt(1.0 - beta * beta));
 }
 
-/// Maximum overlap of a linear spring-dashpot impact (accuracy-reference 1.1).
+/// Maximum overlap of a linear spring-dashpot impact (the closed form of a linear spring-dashpot).
 inline double linearMaxOverlap(double m_eff, double kn, double v0, double beta = 0.0) {
     const double w0 = std::sqrt(kn / m_eff);
     if (beta == 0.0) return v0 / w0;
@@ -114,7 +115,7 @@ inline double linearMaxOverlap(double m_eff, double kn, double v0, double beta =
     return v0 / w0 * std::exp(-(beta / s) * std::atan(s / beta));
 }
 
-/// Disk and sphere masses (accuracy-reference 3.1).
+/// Disk and sphere masses (PFC2D's documentation).
 inline double diskMass(double rho, double r) { return rho * M_PI * r * r; }
 inline double sphereMass(double rho, double r) { return rho * 4.0 / 3.0 * M_PI * r * r * r; }
 

@@ -4,7 +4,7 @@
 // stability rule's formula, and what the resolution and approach rules promise:
 //  - free flight far from anything: kinematic (stay inside the broadphase fat box) or growth;
 //  - an isolated impact: resolution, dt = duration / 30 with duration = pi sqrt(m*/knest);
-//  - resolution = 0: stability, dt = safety sqrt(m / sum(knest + ksest)) (accuracy-reference 3.5;
+//  - resolution = 0: stability, dt = safety sqrt(m / sum(knest + ksest)) (PFC's time step;
 //    knest is raised by 1/(sqrt(1 + beta^2) - beta)^2 for a dashpot);
 //  - fixed: the fixed step;
 //  - an impact is resolved in >= 30 steps, and the step in which a contact starts is already the
@@ -235,7 +235,7 @@ TEST_CASE("a ball released at rest on or near a floor does not start with a deep
 
 TEST_CASE("an idle scene keeps a bounded step, and what starts after it is exact",
           "[core][timestep]") {
-    // Nothing moves, nothing accelerates, no gravity (issue 6 item 1): the growth rule used to
+    // Nothing moves, nothing accelerates, no gravity: the growth rule used to
     // double the step every cycle (6e26 s after 100 cycles, t = inf at 1034), and the first step
     // after gravity, a force or a velocity appeared carried half of that idle step in its
     // velocity update (1e27 m/s). Now: a lone ball (no pair gives a time scale) takes the
@@ -284,7 +284,7 @@ TEST_CASE("the idle step near a wall is the step its contact would need", "[core
 
 TEST_CASE("a Hertz or ng ball released at rest on a floor sinks to the static overlap only",
           "[core][timestep]") {
-    // Issue 6 item 2: a law with no stiffness at zero overlap has an infinite contact duration
+    // A law with no stiffness at zero overlap has an infinite contact duration
     // at zero approach speed, so the approach rule did not limit the first step of a ball
     // released at rest (0.032 s: 4-5 mm into the floor, then 21 m/s upwards). The approach rule
     // now uses the speed the ball will have in the contact (timestep.cpp, approachDuration).
@@ -338,7 +338,7 @@ TEST_CASE("a Hertz or ng ball released at rest on a floor sinks to the static ov
 }
 
 TEST_CASE("a contact bonded as it touches gets the resolution rule", "[core][timestep]") {
-    // docs/models/cbond.md, "Time-step contract"; issue 6 item 6: bonded contacts got the
+    // docs/models/cbond.md, "Time-step contract": bonded contacts got the
     // stability rule only, so a ball bonding to a wall at 2 m/s took 4-5 steps (the step grew
     // 2x per step through the impact). Every step while bonded must be the resolved one.
     auto m = std::make_unique<Model>(ModelDef{});

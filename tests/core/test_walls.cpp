@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Walls (accuracy-reference 3.3, core/src/narrowphase.hpp): end-point regions, shared vertices
+// Walls (PFC2D's documentation, core/src/narrowphase.hpp): end-point regions, shared vertices
 // of a chain (convex: one contact, concave: two), crossing a vertex, and moving and rotating
 // walls with energy tracing. All with the linear model and the default automatic step unless
 // said otherwise.
@@ -325,7 +325,7 @@ TEST_CASE("a rotating wall: exact kinematics and boundary work", "[core][walls]"
     CHECK(std::fabs(en.boundary - gained) < 1e-3 * gained);
 }
 
-// ------------------------------------------------------------------ convex vertices (issue 6.4)
+// ------------------------------------------------------------------ convex vertices
 //
 // Pairs are keyed per (ball, segment); a contact whose point runs over a convex vertex of a
 // chain moves to the next segment's pair with its model object and host state
@@ -340,7 +340,7 @@ struct Law {
     std::vector<PropValue> props;
 };
 
-/// Every shipped model, with the properties of the reproducer (../shared/repro/crest-scan.lua).
+/// Every shipped model, with the properties of the reproducer.
 std::vector<Law> shippedLaws() {
     return {{"power", {{"kn", 1e6}, {"exponent", 5.0}}},
             {"linear", {{"kn", 1e6}, {"ks", 1e6}, {"fric", 0.5}}},
@@ -413,7 +413,7 @@ TEST_CASE("a contact crossing the joint of a straight chain goes on as on one se
     // to the second segment's pair in mid-impact; with its state it computes the same forces
     // from the same overlaps, and only round-off differs (bound 1e-9 relative on the velocity,
     // spin and balance; measured ~1e-15). A contact restarted at the joint lost 3-6% of the
-    // energy (../shared/repro/crest-scan.lua). 21 starting points put the joint at every phase
+    // energy. 21 starting points put the joint at every phase
     // of the impact; both directions of travel, so that the second segment's pair comes after,
     // then before, the first one in the pair list.
     const std::vector<Vec2> joint = {Vec2(-1.0, 0.0), Vec2(0.0, 0.0), Vec2(1.0, 0.0)};
@@ -447,7 +447,7 @@ TEST_CASE("a contact crossing the joint of a straight chain goes on as on one se
 
 TEST_CASE("a contact crossing a convex vertex keeps its state: every shipped model",
           "[core][walls][vertex]") {
-    // Crest scan (../shared/repro/crest-scan.lua): a roof with its crest at the origin, faces
+    // Crest scan: a roof with its crest at the origin, faces
     // of slope 0.05, hit at (3, -1) m/s from 41 starting points, so that the contact point runs
     // over the crest at every phase of the impact; both directions. Before the fix the worst
     // balance error was 3-6% of the input (power 3.6%, linear 3.8%, hysdamp 6.0%, hertz 3.0%,
@@ -461,7 +461,7 @@ TEST_CASE("a contact crossing a convex vertex keeps its state: every shipped mod
     // The normal force at a handover: its second difference is no larger than at the other
     // steps of the same contact, up to a factor 2 (the turning normal alone gives 1.07 for
     // linear); a power contact restarted on its virgin line jumps with ~10 times the contact's
-    // largest second difference (../shared/repro/power-saw.lua).
+    // largest second difference.
     const std::vector<Vec2> roof = {Vec2(-1.0, -0.05), Vec2(0.0, 0.0), Vec2(1.0, -0.05)};
     const std::vector<Vec2> flat = {Vec2(-1.0, -0.05), Vec2(1.0, 0.05)};
     for (const Law& law : shippedLaws()) {

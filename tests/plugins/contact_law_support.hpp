@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 //
 // Helpers for the tests of the hertz, ng, hysdamp and linear contact models: a fixed-seed PRNG
-// for the phase of first touch, error statistics, closed forms of
-// ../shared/reference/accuracy-reference.md (section numbers cited), the Chung & Ooi materials
-// (accuracy-reference 2), a per-contact model object driven directly through the ABI (for
+// for the phase of first touch, error statistics, closed forms of single impacts (each cites its
+// source), the Chung & Ooi materials
+// (Chung & Ooi 2011), a per-contact model object driven directly through the ABI (for
 // SaveRestore tests), and an RK4 reference integrator for single normal impacts whose closed
 // form is not known (damped Hertz).
 #pragma once
@@ -60,7 +60,7 @@ inline HertzImpact hertzImpact(double m_eff, double r_eff, double e_eff, double 
     return h;
 }
 
-/// A material of accuracy-reference 2 (E [Pa], nu, rho [kg/m^3]) and its shear modulus.
+/// A material of Chung & Ooi 2011 (E [Pa], nu, rho [kg/m^3]) and its shear modulus.
 struct Material {
     const char* name;
     double E, nu, rho;
@@ -69,7 +69,7 @@ struct Material {
 
 // ------------------------------------------------------------------ bilinear (accuracy-ref 1.3)
 
-/// Free-impact restitution of hysdamp: sqrt(d) without tension (accuracy-reference 1.3); with
+/// Free-impact restitution of hysdamp: sqrt(d) without tension (Walton & Braun 1986); with
 /// the tension branch (slope k_load below the residual overlap) the bodies also lose
 /// (1/2) k_load u0^2 = (1-d)^2 of the impact energy: e^2 = d - (1-d)^2.
 inline double hysdampRestitution(double d, bool tension) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // Tests of the `cbond` contact model (plugins/cbond, docs/models/cbond.md): the linear model
-// with a PFC contact bond (accuracy-reference 4 "Contact bond", seed digest section 1).
+// with a PFC contact bond (Potyondy & Cundall 2004 "Contact bond", PFC2D's documentation).
 // Closed forms: two bonded balls separated at a constant relative speed v with a fixed step dt
 // break at the first step k with kn v k dt >= cb_tenf (separation cb_tenf / kn); a shear
 // displacement imposed at speed w breaks the bond at the first k with ks w k dt >= cb_shearf.
@@ -226,7 +226,7 @@ TEST_CASE("cbond: a bonded ring spinning as a rigid body keeps its energy", "[cb
     // power equals minus the rate of its energy F_s^2/(2 ks) (the torque arms sum to the
     // centre distance), so kinetic + strain energy is conserved exactly, and the leapfrog keeps
     // it within a bounded oscillation for any stable fixed step.
-    // Issue 6 item 6: the shear rate mixed the centre line's sweep seen over the old distance
+    // The shear rate mixed the centre line's sweep seen over the old distance
     // with spin arms at the new one, so the breathing leaked into the shear spring
     // (dF_s ~ ks w dt dd, a one-sided coupling). The pair gained 2.4% in 100 revolutions, the
     // ring of three blew up (a pass-through error) after 35 revolutions.
@@ -407,7 +407,7 @@ TEST_CASE("cbond: bonded strain energy and the drive through a tensile break", "
 TEST_CASE("cbond: a cb_bond rule does not re-bond a contact that re-forms after a break",
           "[cbond]") {
     // The engine remembers the pair whose bond broke and sets kFdNoAutoBond at its next first
-    // FDlaw (issue 9; before, the rule bonded it again and a later cb_bond = 0 rule was the
+    // FDlaw (before, the rule bonded it again and a later cb_bond = 0 rule was the
     // workaround, which still works).
     for (bool retire : {false, true}) {
         Model m;

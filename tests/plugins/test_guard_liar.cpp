@@ -2,7 +2,7 @@
 //
 // The engine's stability guard against a model that lies about its stiffness (tests/plugins/liar:
 // a linear spring kn that reports knest = kn / lie and a contact duration from that). This is the
-// defect of thesis A's model (seed digest section 6) made on purpose. With the default lie = 100
+// defect of An's (2006) model made on purpose. With the default lie = 100
 // the automatic step is about sqrt(100) = 10 times too large for the true spring: an impact gets
 // 2-3 steps, and depending on the phase of first touch the rebound gains or loses energy.
 //

@@ -2,16 +2,16 @@
 //
 // Tests of the `hertz` contact model (plugins/hertz, docs/models/hertz.md) against closed forms:
 //  - elastic restitution 1 and the Hertz peak force, maximum overlap and duration
-//    (accuracy-reference 1.2), including Chung & Ooi tests 1 and 2 (accuracy-reference 2);
+//    (Johnson 1985), including Chung & Ooi tests 1 and 2 (Chung & Ooi 2011);
 //  - damped restitution against an independent RK4 integration of the same law, and its
-//    independence of the impact speed (c ~ u^(1/4), accuracy-reference 1.2);
-//  - oblique impacts in the sliding regime (accuracy-reference 1.5), disk and sphere inertia;
+//    independence of the impact speed (c ~ u^(1/4), Johnson 1985);
+//  - oblique impacts in the sliding regime (Maw, Barber & Fawcett 1976), disk and sphere inertia;
 //  - driveContact traces against the force law, the Mindlin stiffness and the unloading rule;
 //  - property errors, the time-step contract, energies and SaveRestore.
 //
 // Tolerances, at the default automatic step (resolution rule, 30 steps per contact duration;
 // the stiffness bound pi sqrt(m*/k_t) makes it about 38 near the peak):
-//  - restitution: Hertz's error falls like dt^2.5 (accuracy-reference 5); measured worst over
+//  - restitution: Hertz's error falls like dt^2.5; measured worst over
 //    random phases 4e-5 elastic, 1.4e-4 damped; bounds 2e-4 and 1e-3 (mode 1, whose no-tension
 //    clip is a corner of the force history, measured 9e-4: bound 2e-3);
 //  - peak force and maximum overlap are sampled at steps: near the peak F = F_max (1 - 3/4
@@ -32,7 +32,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// Granite-like rock (seed digest section 8: Lac du Bonnet granite G = 27.4 GPa, nu = 0.26).
+// Granite-like rock (Nejati 2008: Lac du Bonnet granite G = 27.4 GPa, nu = 0.26).
 constexpr double kG = 27.4e9, kNu = 0.26, kR = 0.1, kRho = 2600.0;
 
 std::vector<PropValue> hertzProps(double G, double nu, double fric = 0.0, double beta_n = 0.0,
@@ -41,7 +41,7 @@ std::vector<PropValue> hertzProps(double G, double nu, double fric = 0.0, double
             {"dp_nratio", beta_n}, {"dp_sratio", beta_s}, {"dp_mode", static_cast<double>(mode)}};
 }
 
-/// E* and R* as the model must form them (accuracy-reference 1.2): equal balls
+/// E* and R* as the model must form them (Johnson 1985): equal balls
 /// 1/E* = 2 (1-nu^2)/E = (1-nu)/G; a rigid wall contributes nothing: E* = 2G/(1-nu).
 double eStar(double G, double nu, bool wall) { return (wall ? 2.0 : 1.0) * G / (1.0 - nu); }
 
@@ -89,7 +89,7 @@ TEST_CASE("hertz: Chung & Ooi tests 1 and 2 (sphere masses, rigid wall)", "[hert
         Material mat;
         bool pair;        // test 1: two equal spheres head-on; test 2: sphere on a rigid plane
         double R, speed;  // each sphere's speed (test 1) or the impact speed (test 2)
-        double f_table, d_table, t_table;  // accuracy-reference 2, as printed
+        double f_table, d_table, t_table;  // Chung & Ooi 2011, as printed
         double f_digit, d_digit, t_digit;  // one unit of the last printed digit
     };
     const Case cases[] = {
@@ -227,7 +227,7 @@ TEST_CASE("hertz: damped restitution matches an RK4 integration and does not dep
 TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees",
           "[hertz][damping]") {
     // The plugin inverts its own scaled impact ODE. Independent cross-check: the fit of
-    // accuracy-reference 1.2 (Thornton et al. 2013 via the Yade Chung-Ooi scripts), stated for a
+    // Johnson 1985 (Thornton et al. 2013 via the Yade Chung-Ooi scripts), stated for a
     // Hertz law without attractive force, i.e. our dp_mode 1; the fit reproduces our ratio to
     // 7e-4 for e in [0.2, 0.9] (it drifts above e = 0.93, where it was not fitted).
     auto thornton = [](double e) {
@@ -266,14 +266,14 @@ TEST_CASE("hertz: hz_e gives the restitution asked for; the Thornton fit agrees"
                Contains("needs a damping ratio above 1") && Contains("0.1196"));
 }
 
-TEST_CASE("hertz: oblique impacts in the sliding regime (accuracy-reference 1.5)",
+TEST_CASE("hertz: oblique impacts in the sliding regime (Maw, Barber & Fawcett 1976)",
           "[hertz][oblique]") {
     // Chung & Ooi test 4 set-up: Al oxide, R = 2.5 mm, |v| = 3.9 m/s, mu = 0.092, no spin;
     // angles above the sliding threshold tan(theta) >= (1 + 1/kappa) mu (1 + e). The impulse
     // identity makes e_t = 1 - mu (1+e)/tan(theta) exact for any law whose Coulomb limit acts on
-    // the elastic force (accuracy-reference 1.1): the measured e is used in the formulas, so
-    // the tangential checks are independent of the normal error. The spin is exact only up to
-    // the lever arm: the engine puts the contact point in the middle of the overlap, arm
+    // the elastic force (the closed form of a linear spring-dashpot): the measured e is used in the
+    // formulas, so the tangential checks are independent of the normal error. The spin is exact
+    // only up to the lever arm: the engine puts the contact point in the middle of the overlap, arm
     // R - u/2, so R |omega'| is low by up to u_max/(2R) (measured and bounded below).
     const Material alox{"Al oxide", 380e9, 0.23, 4000};
     const double R = 2.5e-3, V = 3.9, mu = 0.092;
@@ -418,8 +418,8 @@ TEST_CASE("hertz: the energy balance closes over damped, sliding impacts", "[her
     // Strain (2/5) F u + F_s^2/(2 k_t) from the law; dashpot and shear-spring works trapezoidal
     // (force at both ends of the step times the step's displacement), the work the engine's
     // leapfrog kinetic energy sees. What remains is a discretisation error, mostly the normal
-    // spring's trapezoidal work against its exact integral; it must vanish as the step shrinks
-    // (accuracy-reference 5, measure 6). Measured at 30 / 100 steps: 1.1e-4 / 1.2e-5 of the
+    // spring's trapezoidal work against its exact integral; it must vanish as the step
+    // shrinks. Measured at 30 / 100 steps: 1.1e-4 / 1.2e-5 of the
     // impact energy in modes 0 and 1, 2.3e-4 / 1.9e-5 in mode 3 (its shear dashpot switches at
     // the stick-slip transitions).
     for (int mode : {0, 1, 3}) {
@@ -500,7 +500,7 @@ TEST_CASE("hertz: SaveRestore mid-contact continues bit for bit", "[hertz][save]
 
 // ------------------------------------------------------------------ persistent contacts
 //
-// Equilibrium and steady sliding with a dashpot (issue 6 item 3; sdk/dashpot.hpp, "The rest of
+// Equilibrium and steady sliding with a dashpot (sdk/dashpot.hpp, "The rest of
 // the model"). With the prediction that left gravity out, a resting ball's dashpot pulled by
 // 3.8% of the weight at beta 0.7 (the Hertz spring carrying that much more) and the disk below
 // slid 0.9% too slowly. Scenes: tests/core/dashpot_rest_scenes.hpp. The transient is damped at

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 //
 // Tests of the `hysdamp` contact model (plugins/hysdamp, docs/models/hysdamp.md): loading and
-// unloading stiffness k_load = 2 d kn_m/(1+d), k_unload = 2 kn_m/(1+d) (seed digest section 4),
-// the bilinear law of accuracy-reference 1.3. Closed forms used:
-//   e = sqrt(d)                  no tension (accuracy-reference 1.3)
+// unloading stiffness k_load = 2 d kn_m/(1+d), k_unload = 2 kn_m/(1+d) (Shimizu & Cundall 2001 as
+// cited by An 2006), the bilinear law of Walton & Braun 1986. Closed forms used:
+//   e = sqrt(d)                  no tension (Walton & Braun 1986)
 //   e = sqrt(d - (1-d)^2)        tension branch of slope k_load below u0 (docs/models/hysdamp.md:
 //                                the bodies also climb out of it, losing (1/2) k_load u0^2)
 //   u0 = (1 - d) u_max           residual overlap; force duration (pi/2)(1/w_load + 1/w_unload)
@@ -250,7 +250,7 @@ TEST_CASE("hysdamp: the residual overlap does not drift over repeated cycles", "
 }
 
 TEST_CASE("hysdamp: every contact keeps its own state (no shared turning points)", "[hysdamp]") {
-    // Thesis A's UDM kept turning points in static variables (seed digest section 3). Two
+    // An's (2006) UDM kept turning points in static variables (An 2006). Two
     // impacts at different speeds in one model, simultaneously: each residual overlap must
     // belong to its own maximum overlap.
     Model m;
@@ -328,13 +328,16 @@ TEST_CASE("hysdamp: plastic work is the energy an impact loses, and the books cl
             }
 }
 
-TEST_CASE("hysdamp: range errors cite the thesis rule for each tension mode", "[hysdamp][props]") {
+TEST_CASE("hysdamp: range errors cite the rule for each tension mode", "[hysdamp][props]") {
     const std::string with = modelError("hysdamp", {{"kn_m", 1e8}, {"d", 0.3}, {"tension", 1}});
     CHECK_THAT(with, Contains("'d' must be in [0.4, 1] when tension = 1") &&
-                         Contains("seed digest section 4") && Contains("got 0.3"));
+                         Contains("hysteretic damping as An (2006) gives it") &&
+                         Contains("got 0.3"));
+    // The message cites the source by author and year (not a file of the project's own notes).
+    CHECK_THAT(with, !Contains("digest") && !Contains("section 4"));
     const std::string without = modelError("hysdamp", {{"kn_m", 1e8}, {"d", 0.04}});
     CHECK_THAT(without, Contains("'d' must be in [0.05, 1]") && Contains("without tension") &&
-                            Contains("seed digest section 4"));
+                            Contains("hysteretic damping as An (2006) gives it"));
     CHECK_THAT(modelError("hysdamp", {{"d", 1.2}}), Contains("'d' must be in [0.05, 1]"));
     CHECK(modelError("hysdamp", {{"kn_m", 1e8}, {"d", 0.3}, {"tension", 0}}).empty());
     CHECK(modelError("hysdamp", {{"kn_m", 1e8}, {"d", 0.4}, {"tension", 1}}).empty());

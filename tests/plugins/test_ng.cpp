@@ -2,8 +2,8 @@
 //
 // Tests of the `ng` contact model (plugins/ng, docs/models/ng.md): Ng's stiffnesses from the
 // contact radius a = sqrt(R* u), k_n = 2 G a/(1-nu), k_s = 4 G a/(2-nu), used as a tangent
-// (form 0: F = (2/3) k_n u, the Hertz law with E* = G/(1-nu), accuracy-reference 1.2) or as a
-// secant (form 1: F = k_n u). Also the thesis B velocity damping that goes with it: the
+// (form 0: F = (2/3) k_n u, the Hertz law with E* = G/(1-nu), Johnson 1985) or as a
+// secant (form 1: F = k_n u). Also the Nejati (2008) velocity damping that goes with it: the
 // engine's mass-proportional viscous damping (DampingSettings::viscous), checked against the
 // closed form of a damped free flight under gravity.
 #include <catch2/catch.hpp>
@@ -19,7 +19,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// Berea sandstone (seed digest section 8): G = 6.88 GPa, nu = 0.38.
+// Berea sandstone (Nejati 2008): G = 6.88 GPa, nu = 0.38.
 constexpr double kG = 6.88e9, kNu = 0.38, kR = 0.1, kRho = 2600.0;
 
 std::vector<PropValue> ngProps(int form, double fric = 0.0) {
@@ -102,7 +102,7 @@ TEST_CASE("ng: shear stiffness 4 G a/(2-nu), Coulomb cap, Thornton's unloading r
     for (int i = 1; i <= 10; ++i)
         CHECK(r.trace[9 + i].shear_force == Approx(-ks * ds * i).epsilon(1e-9));
     // Normal unloading scales the shear force with the contact radius, k_s(0.8 u1) / k_s(u1) =
-    // sqrt(0.8) (Thornton's rule; holding it created energy, issue 6 item 10).
+    // sqrt(0.8) (Thornton's rule; holding it created energy).
     CHECK(r.trace[20].shear_force ==
           Approx(std::sqrt(0.8) * r.trace[19].shear_force).epsilon(1e-12));
 
@@ -146,7 +146,7 @@ TEST_CASE("ng: impacts follow the Hertz closed forms of each form", "[ng]") {
 
 TEST_CASE("ng: viscous (mass-proportional) damping follows the damped free flight closed form",
           "[ng][damping]") {
-    // Thesis B eq. 2.41 damps the law of motion: m v' = F - c m v (DampingSettings::viscous).
+    // Nejati (2008) eq. 2.41 damps the law of motion: m v' = F - c m v (DampingSettings::viscous).
     // In free flight under gravity g (downwards), from rest at t = 0:
     //   v(t) = -(g/c) (1 - exp(-c t)),  y(t) = y0 - (g/c) t + (g/c^2) (1 - exp(-c t)),
     // and the damping work is m g (y0 - y) - m v^2 / 2. The engine integrates it implicitly

@@ -3,7 +3,7 @@
 // Tests of the `pbond` contact model (plugins/pbond, docs/models/pbond.md): the linear contact in
 // parallel with a Potyondy & Cundall (2004) / PFC `linearpbond` bond in 2D.
 //
-// Closed forms (bodies-bonds-rockfall.md 1.2 and 1.5; t = 1):
+// Closed forms (PFC's linearpbond, Itasca's documentation and 1.5; t = 1):
 //   A = 2 R_b, I = 2 R_b^3 / 3, R_b = pb_rmul min(R_A, R_B) (ball-wall: R)
 //   pb_kn = pb_emod / (R_A + R_B) (ball-wall: / R), pb_ks = pb_kn / pb_kratio
 //   tension break at opening        pb_ten / pb_kn
@@ -35,7 +35,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // A strength out of reach (tests that predate inf strengths; pb_ten = inf is tested below).
 constexpr double kHuge = 1e300;
-// The inputs of bodies-bonds-rockfall.md 1.5.
+// The inputs of PFC's linearpbond, Itasca's documentation.
 constexpr double kEbar = 62e9, kRatio = 2.5, kStrength = 157e6;
 constexpr double kDt = 1e-7;
 
@@ -104,7 +104,7 @@ double propOf(const ContactModel& c, const char* name) {
 
 // ============================================================================ test vectors
 
-TEST_CASE("pbond: exact break vectors of bodies-bonds-rockfall.md 1.5", "[pbond]") {
+TEST_CASE("pbond: exact break vectors of PFC's linearpbond, Itasca's documentation", "[pbond]") {
     // Bisection brackets each threshold to 1e-17 relative; the bond law is a product and a
     // quotient of the inputs, so the measured thresholds must agree with the closed forms to a
     // few ulps. 1e-9 relative (the brief's bound) leaves room for nothing but a wrong formula.

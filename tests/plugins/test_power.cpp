@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
 //
 // Tests of the `power` contact model (plugins/power, docs/models/power.md): An's
-// elastic-perfectly plastic power-function model, seed digest section 5 and accuracy-reference
-// 1.4. Closed forms used:
-//   e^2 = (1 + r) / (b + 1),  r = min(1, v_y^2 / v0^2),  v_y = T / sqrt(kn m*)      (eq. 5.1)
+// elastic-perfectly plastic power-function model, An 2006 and An &
+// Tannant 2007. Closed forms used:
+//   e^2 = (1 + r) / (b + 1),  r = min(1, v_y^2 / v0^2),  v_y = T / sqrt(kn m*)      (An & Tannant)
 //   W_L - W_U = (1/2) m* v0^2 (1 - e^2)                     (plastic work of one impact)
-//   duration = t1 + t2 + t3                                  (accuracy-reference 1.4)
-// Note on r = min(1, ...): below yield the model still unloads on the power curve (seed digest
-// section 5: a = F_B / u_B^b with F_B = kn u_B), so e = sqrt(2/(b+1)) there, continuous at v_y;
-// accuracy-reference 1.4's "e = 1 below v_y" holds only for b = 1 (see docs/models/power.md).
+//   duration = t1 + t2 + t3                                  (An & Tannant 2007)
+// Note on r = min(1, ...): below yield the model still unloads on the power curve (An
+// 2006: a = F_B / u_B^b with F_B = kn u_B), so e = sqrt(2/(b+1)) there, continuous at v_y;
+// An & Tannant 2007's "e = 1 below v_y" holds only for b = 1 (see docs/models/power.md).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
@@ -37,7 +37,7 @@ const double kMass = kRho * M_PI * kR * kR;
 /// Transition force for a yield speed vy against a wall (m* = m): T = vy sqrt(kn m).
 double tFor(double vy) { return vy * std::sqrt(kKn * kMass); }
 // A yield speed of 1 m/s. The plastic overlap m (v0^2 - v_y^2) / (2T) stays below R up to
-// v0 = 10 v_y; beyond that the ball would pass through the wall (thesis B, seed digest 6).
+// v0 = 10 v_y; beyond that the ball would pass through the wall (Nejati 2008).
 const double kT = tFor(1.0);
 
 double closedFormE(double b, double v0, double vy) {
@@ -187,7 +187,7 @@ TEST_CASE("power: the triangular model (b = 1) never falls below sqrt(0.5)", "[p
             impact(ratio * vy, {{"kn", kKn}, {"transition", tFor(vy)}, {"exponent", 1.0}});
         INFO("v0/v_y = " << ratio << ": e = " << r.restitution);
         CHECK(r.restitution >= std::sqrt(0.5) * (1.0 - 5e-4));
-        CHECK(r.restitution <= last + 1e-3);  // falls with speed (seed digest section 5)
+        CHECK(r.restitution <= last + 1e-3);  // falls with speed (An 2006)
         last = r.restitution;
     }
     CHECK(last == Approx(std::sqrt(0.5)).epsilon(2e-3));  // 100 x yield: g -> 0
@@ -201,7 +201,7 @@ TEST_CASE("power: plastic work of an impact equals W_L - W_U and the balance clo
             const ImpactResult r =
                 impact(v0, {{"kn", kKn}, {"transition", kT}, {"exponent", b}, {"ks", 5e7}});
             const double e = closedFormE(b, v0, vy);
-            // accuracy-reference 1.4 areas: W_L = T(de + 2p)/2 = m v0^2 / 2, W_U = e^2 W_L.
+            // An & Tannant 2007 areas: W_L = T(de + 2p)/2 = m v0^2 / 2, W_U = e^2 W_L.
             const double de = kT / kKn;
             const double p = 0.5 * kMass * (v0 * v0 - vy * vy) / kT;
             const double wl = kT * (de + 2.0 * p) / 2.0;
@@ -386,9 +386,9 @@ TEST_CASE("power: an elastic contact (T = inf) reloads past u_B on the loading l
 
 // ============================================================================ per-contact state
 
-TEST_CASE("power: two contacts never share turning points (thesis A's static-state bug)",
+TEST_CASE("power: two contacts never share turning points (An's 2006 static-state bug)",
           "[power]") {
-    // Regression test for seed digest section 3: thesis A kept (u_B, F_B) in function statics.
+    // Regression test for An 2006: An (2006) kept (u_B, F_B) in function statics.
     auto proto = prototype({{"kn", 1e7}, {"transition", 1e3}, {"exponent", 4.0}});
     const PropBlock pb = wallBlock(2.0);
     auto history = [](int k, double scale) {
@@ -470,7 +470,7 @@ TEST_CASE("power: property errors name the property and the reason", "[power]") 
     };
     const std::string b = err({{"kn", 1e7}, {"exponent", 0.5}});
     CHECK_THAT(b, Contains("'exponent' must be >= 1") &&
-                      Contains("accuracy-reference 1.4: b >= 1 keeps the model dissipative"));
+                      Contains("An & Tannant 2007: b >= 1 keeps the model dissipative"));
     CHECK_THAT(err({{"exponent", kInf}}), Contains("'exponent' must be finite"));
     CHECK_THAT(err({{"transition", 0.0}}), Contains("'transition' must be > 0"));
     CHECK_THAT(err({{"transition", -5.0}}), Contains("'transition' must be > 0"));
@@ -506,8 +506,9 @@ TEST_CASE("power: property errors name the property and the reason", "[power]") 
 }
 
 TEST_CASE("power: a ball pushed through the wall stops the run with a clear error", "[power]") {
-    // Thesis B: with too low a T the plastic overlap m (v0^2 - v_y^2) / (2T) exceeds the radius
-    // and balls pass through walls. Here 30 v_y gives 0.4 m of plastic overlap for R = 0.1 m.
+    // Nejati (2008): with too low a T the plastic overlap m (v0^2 - v_y^2) / (2T) exceeds the
+    // radius and balls pass through walls. Here 30 v_y gives 0.4 m of plastic overlap for R = 0.1
+    // m.
     ImpactSetup s;
     s.model = "power";
     s.props = {{"kn", kKn}, {"transition", kT}, {"exponent", 3.0}};

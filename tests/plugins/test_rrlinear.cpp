@@ -3,7 +3,7 @@
 // The `rrlinear` model (docs/models/rrlinear.md): the linear law plus a rolling-resistance
 // moment M_r <- M_r - k_r dtheta, |M_r| <= rr_fric R_bar F_n, k_r = ks R_bar^2.
 // Checked against rigid-body closed forms (a disk rolling on a floor and on inclines,
-// ../shared/reference/bodies-bonds-rockfall.md 4.8), the engine's sign conventions (the moment
+// worked out here), the engine's sign conventions (the moment
 // acts on end 2, minus it on end 1; angular momentum is conserved), the energy books, the time
 // step and the property contract.
 // Set TALUS_TEST_REPORT=1 to print the measured numbers.
@@ -279,7 +279,7 @@ TEST_CASE("rrlinear: on an incline a rolling disk accelerates or stops as the cl
     }
 }
 
-TEST_CASE("rrlinear: incline vectors of bodies-bonds-rockfall 4.8, rr_fric = 0 is linear",
+TEST_CASE("rrlinear: incline vectors of RocFall and barrier practice, rr_fric = 0 is linear",
           "[rrlinear][rolling]") {
     // kappa = 1/2: rolls iff tan(theta) <= 3 mu, a = g sin / (1 + kappa); else slides with
     // a = g (sin - mu cos), R alpha = mu g cos / kappa. With the lever arm l = R - u/2

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 //
-// Thesis A's failing scenes (seed digest section 6), built from `power` and `cbond`:
+// An's (2006) failing scenes, built from `power` and `cbond`:
 // two balls (R = 0.04 m, 2600 kg/m^3, ball kn 6.4e10 N/m, ks 9.6e9 N/m) bonded together by a
 // contact bond fall onto a soft wall (kn = ks = 1e6 N/m). Ball-ball contacts get `cbond` and
 // ball-wall contacts get `power` through group rules (rock-rock, rock-ground); stiffnesses are
 // inherited from the bodies (springs in series, PFC).
-//  - elastic-power model, b = 2, T = inf: in thesis A the first contact step reached 0.023 m
+//  - elastic-power model, b = 2, T = inf: in An (2006) the first contact step reached 0.023 m
 //    overlap and 1.5e9 N, and the pair left at 60,000 m/s;
 //  - power-function model, b = 8, T = 3500 N: stable there, restitution about 0.42, force
 //    below 4000 N.
@@ -14,7 +14,7 @@
 // largest contact force stays below the bound sqrt(2 kn E) that no energy-conserving run can
 // exceed; the energy balance closes and no dissipation partition is negative. With the pair
 // level and gravity off the impact is two independent copies of the single-contact closed form
-// (accuracy-reference 1.4), which is checked too.
+// (An & Tannant 2007), which is checked too.
 // Set TALUS_TEST_REPORT=1 to print the measured numbers.
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -144,7 +144,7 @@ void checkNoEnergyCreated(const SceneResult& r) {
     CHECK(r.v_out > 0.0);
     CHECK(r.v_max_after <= r.v_max_before * (1.0 + 1e-3));  // no velocity jump
     CHECK(r.f_max < r.f_bound);
-    CHECK(r.first_overlap < 0.02 * r.max_overlap);  // thesis A: 0.023 m in the first step
+    CHECK(r.first_overlap < 0.02 * r.max_overlap);  // An (2006): 0.023 m in the first step
     CHECK(std::fabs(r.energy.balanceError()) < 1e-4 * r.e_in);
     CHECK(r.energy.plastic >= 0.0);
     CHECK(r.energy.slip >= 0.0);
@@ -166,14 +166,14 @@ TEST_CASE("thesis scene: power-function (b = 8, T = 3500 N) bonded pair on a sof
     const SceneResult r = runScene(8.0, 3500.0, 20.0, true, 3.0);
     print("power b = 8, T = 3500 N, tilted 20 deg, gravity", r);
     checkNoEnergyCreated(r);
-    CHECK(r.f_max <= 3500.0 * (1.0 + 1e-12));  // capped by T: below the thesis's 4000 N
+    CHECK(r.f_max <= 3500.0 * (1.0 + 1e-12));  // capped by T: below An's (2006) 4000 N
 }
 
 TEST_CASE("thesis scene, level pair without gravity: each ball follows the closed form",
           "[scenes]") {
     // Both balls hit together; the bond carries no force, so each contact is one ball on the
     // wall: e = sqrt(2/(b+1)) for T = inf; e^2 = (1 + v_y^2/v0^2)/(b+1) with T
-    // (accuracy-reference 1.4), v_y = T / sqrt(kn m), kn the series stiffness with the wall.
+    // (An & Tannant 2007), v_y = T / sqrt(kn m), kn the series stiffness with the wall.
     const double m = kRho * M_PI * kR * kR, v0 = 3.0;
     const double kn = kWallKn * 6.4e10 / (kWallKn + 6.4e10);
     {

@@ -58,7 +58,7 @@ T.check(tostring(b):find("ball 1 at", 1, true), "tostring")
 -- errors name the field and list the known ones
 local s = T.script()
 local l = T.line(); T.fails(function() return b.radiuss end,
-    { s .. ":" .. (l) .. ":", "ball: unknown field 'radiuss' (known: id, pos, vel" }, "unknown field")
+    { s .. ":" .. (l) .. ":", "ball: unknown field 'radiuss'; did you mean 'radius'? (known: id, pos, vel" }, "unknown field")
 T.fails(function() b.mass = 1 end, { "ball: field 'mass' is read-only (writable: pos" }, "read-only")
 T.fails(function() b.vel = {1} end, { "ball: 'vel' must be a vector {x, y}" }, "bad vector")
 T.fails(function() b:set{ radius = -1 } end, { "ball: radius must be > 0 (got -1)" }, "set radius")

@@ -69,7 +69,7 @@ T.check(n >= 2, "contacts{active = false} includes the candidates")
 T.fails(function() return ball_c.force end, { "contact: unknown field 'force' (known: key, ball1" },
     "unknown field")
 T.fails(function() ball_c:prop("knn") end,
-    { "contact: unknown property 'knn' for model 'linear' (known: kn, ks, fric" }, "unknown prop")
+    { "contact: unknown property 'knn' for model 'linear'; did you mean 'kn'? (known: kn, ks, fric" }, "unknown prop")
 T.fails(function() ball_c:set_prop("lin_fn", 1) end, { "read-only" }, "read-only prop")
 T.fails(function() ball_c.overlap = 1 end, { "contact: field 'overlap' is read-only" }, "read-only")
 

@@ -16,7 +16,7 @@ l = T.line(); T.fails(function() m:ball{ pos = {0, 1}, radius = 0.1, density = 1
 l = T.line(); T.fails(function() m:ball{ pos = "up", radius = 0.1, density = 1 } end,
     { at(l) .. " ball: 'pos' must be a vector {x, y} (got string)" }, "type error")
 l = T.line(); T.fails(function() m:contact_model("linear", { knn = 1e8 }) end,
-    { at(l), "contact_model: unknown property 'knn' for model 'linear' (known: kn, ks, fric, dp_nratio" },
+    { at(l), "contact_model: unknown property 'knn' for model 'linear'; did you mean 'kn'? (known: kn, ks, fric, dp_nratio" },
     "unknown property lists the known ones")
 l = T.line(); T.fails(function() m:contact_model("linear", { dp_nratio = 2 }) end,
     { at(l), "dp_nratio" }, "property range")
@@ -37,18 +37,18 @@ l = T.line(); T.fails(function() m:guard{ balance_tolerance = 0 / 0 } end,
 l = T.line(); T.fails(function() m:guard{ balance_every = 0 } end,
     { at(l), "guard: 'balance_every' must be >= 1 step (got 0)" }, "empty balance window")
 l = T.line(); T.fails(function() m:guard{ stifness = "off" } end,
-    { at(l), "guard: unknown option 'stifness' (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, min_steps, resolution, stiffness)" },
+    { at(l), "guard: unknown option 'stifness'; did you mean 'stiffness'? (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, min_steps, resolution, stiffness)" },
     "misspelt guard option")
 l = T.line(); T.fails(function() m.cycle(10) end,
     { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")
 l = T.line(); T.fails(function() m:cycle(2.5) end,
     { at(l), "cycle: number of steps must be an integer (got 2.5)" }, "integer")
 l = T.line(); T.fails(function() m:cylce(10) end,
-    { at(l), "model: unknown method or field 'cylce' (known: ball, ball_count" }, "misspelt method")
+    { at(l), "model: unknown method or field 'cylce'; did you mean 'cycle'? (known: ball, ball_by_id, ball_count" }, "misspelt method")
 l = T.line(); T.fails(function() m:energies() end,
     { at(l), "energies: energy tracing is off" }, "energies off")
 l = T.line(); T.fails(function() m:solve{ ratoi = 1e-5 } end,
-    { at(l), "solve: unknown option 'ratoi' (known: " }, "misspelt solve option")
+    { at(l), "solve: unknown option 'ratoi'; did you mean 'ratio'? (known: " }, "misspelt solve option")
 -- through pcall directly (no Lua frame in between): the nearest Lua line is used
 l = T.line(); local ok, err = pcall(m.cycle, m, -1)
 T.check(not ok and err:find(at(l) .. " cycle: number of steps must be >= 0 (got -1)", 1, true),

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- talus.impact and talus.drive against closed forms (accuracy-reference 1.1 and 1.5).
+-- talus.impact and talus.drive against closed forms (the closed form of a linear spring-dashpot and 1.5).
 local T = require("testlib")
 local dir = arg[1] or "."
 
@@ -20,7 +20,7 @@ for _, beta in ipairs({ 0.0, 0.2, 0.5 }) do
     T.check(r.energies.kinetic > 0 and r.energy_in > r.energy_out or beta == 0, "energies")
 end
 
--- oblique impact, gross sliding (accuracy-reference 1.5, disk kappa = 1/2, exact for DEM):
+-- oblique impact, gross sliding (Maw, Barber & Fawcett 1976, disk kappa = 1/2, exact for DEM):
 -- e_t = 1 - mu (1 + e) / tan(theta), spin R w = mu (1 + e) v cos(theta) / kappa
 local mu, theta, v = 0.2, 60, 3.0
 local r = talus.impact{ props = { kn = 1e8, ks = 1e8, fric = mu }, radius = 0.1, density = 2600,

@@ -75,6 +75,11 @@ check([x.column for x in s] == ["kinetic[rock]", "height [m]"], "literal and uni
 check(s[1].unit == "m" and s[0].unit == "J" and s[0].x_column == "step", "units from the header")
 check(same(s[1].x, [0, 10, 20, 30, 40]) and same(s[1].y, [1, 0.9, nan, 0.7, 0.6]),
       f"height against step: {s[1].y}")
+# A unit in the header cell is printed once on the axis ("height [m]", not "height [m] [m]").
+check(plot_history.y_label([s[1]]) == "height [m]", f"y label: {plot_history.y_label([s[1]])}")
+check(plot_history.x_label(s) == "step", f"x label: {plot_history.x_label(s)}")
+check(plot_history.y_label(s) == "kinetic[rock] [J], height [m]",
+      f"two units: {plot_history.y_label(s)}")
 check(plot_history._split_columns("kinetic,height [m],kinetic[a,b]") ==
       ["kinetic", "height [m]", "kinetic[a,b]"], "--columns splits outside brackets only")
 

@@ -202,7 +202,7 @@ local function cases(out_dir)
                 end)
             end
         end
-        -- Without properties (issue 6 item 12: linear's kn = 0 lets bodies pass through).
+        -- Without properties (linear's kn = 0 lets bodies pass through).
         list[#list + 1] = { what = "contact_model " .. name, opt = "(no properties)", label = "nil",
             run = function(_, _)
                 return true, nil, 0, { no_contact_model = true, after = function(env) env.m:contact_model(name) end }
@@ -393,7 +393,7 @@ local function runOn(env)
         local h = env.history
         local ok, err, line = attempt(h.close, h)
         if not ok then return false, err, line end
-        -- Every row reported written must be in the file (issue 6 item 11: a full disk).
+        -- Every row reported written must be in the file (a full disk).
         if h.file == "/dev/full" then
             env.lost = string.format("%d rows reported written to /dev/full, no error", h.rows)
         else

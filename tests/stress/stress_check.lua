@@ -16,7 +16,7 @@ local gen = require("stress_gen")
 local check = {}
 
 -- The energy tolerance (docs/stress.md "The 1% criterion"): the guard's own per-contact
--- tolerance (docs/physics/guard.md), issue 6 item 9's run-level criterion. A resolved impact
+-- tolerance (docs/physics/guard.md), the run-level criterion. A resolved impact
 -- errs by ~1e-4 of its energy (docs/models/*.md tables, default step), so an error above 1% of
 -- everything that went through the model is a booking defect, not integration error.
 check.energy_tolerance = 0.01
@@ -243,7 +243,7 @@ function check.scene(S)
             if a.err:sub(1, #prefix) ~= prefix then
                 defect("error", "message does not start with '" .. prefix .. "': " .. a.err)
             elseif a.err:find("contact model '[%w_]+' at step %d+ on ") then
-                -- The engine's check of a plugin's output against the ABI (issue 6 item 10):
+                -- The engine's check of a plugin's output against the ABI:
                 -- a shipped model breaking its contract in a valid scene is a defect of the
                 -- model (or of the check), not an answer to the scene.
                 defect("contract", "a shipped model broke the plugin ABI's contract: " .. a.err:sub(#prefix + 1))
@@ -253,7 +253,7 @@ function check.scene(S)
             end
         end
     end
-    -- The step is the engine's choice: simulated time running away (issue 6 item 1) is a defect
+    -- The step is the engine's choice: simulated time running away is a defect
     -- even when it ends in a clear error (a step growing without bound reaches t = inf within
     -- 1100 steps). A step above 1e3 s is one too, unless a rule that follows the motion set it
     -- (kinematic, approach, or growth from those): a ball creeping at 1e-7 m/s (a slow draw, or

@@ -351,7 +351,7 @@ local function makeWalls(r, kind, x0, x1, y0, y1, rmax)
         walls[1] = { points = { { x0 - w * 0.5, y1 + depth * 0.2 }, { xm - b, y0 - rmax },
                                 { xm + b, y0 - rmax + b * r:uniform(-0.5, 0.5) }, { x1 + w * 0.5, y1 + depth * 0.2 } } }
     elseif kind == "saw" then
-        -- A sawtooth floor: every tooth tip is a convex vertex (issue 6 item 4).
+        -- A sawtooth floor: every tooth tip is a convex vertex.
         local teeth = r:int(2, 40)
         local amp = rmax * r:log(0.05, 3)
         local pts = {}
@@ -409,7 +409,7 @@ function gen.scene(seed, opts)
     local rho_scene = r:log(1e2, 2e4)
     local rho_each = r:chance(0.5)
     local vmax = r:chance(0.15) and 0 or r:log(0.01, 100)
-    S.overlap = r:chance(0.05) -- bodies may be born overlapping (issue 6 item 8)
+    S.overlap = r:chance(0.05) -- bodies may be born overlapping
     S.soft = r:chance(0.15) -- keep the drawn stiffness even if too soft for the impacts
 
     -- Region: the balls' area over a packing fraction.
@@ -445,7 +445,7 @@ function gen.scene(seed, opts)
 
     -- Place by rejection, clear of the other balls and of the walls (unless the scene is one
     -- whose bodies are born overlapping); drop the balls that do not fit.
-    local fixities = r:chance(0.15) -- scene-level, so that most scenes have none (item 5)
+    local fixities = r:chance(0.15) -- scene-level, so that most scenes have none
     local loads = r:chance(0.15)
     S.balls = {}
     local placed = {}
@@ -518,7 +518,7 @@ function gen.scene(seed, opts)
     else
         S.gravity = { 0, 0 }
     end
-    -- Idle start: no gravity and nothing moving for a while, then gravity (issue 6 item 1).
+    -- Idle start: no gravity and nothing moving for a while, then gravity.
     if S.gravity[2] ~= 0 and r:chance(0.08) then
         S.idle = r:int(20, 300)
         for _, b in ipairs(S.balls) do b.vel, b.spin, b.fapp, b.mapp = nil, nil, nil, nil end

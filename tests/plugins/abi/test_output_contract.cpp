@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // The host checks every output of a plugin against the ABI's contract, not only FDlaw's forces
-// (docs/plugin-abi.md; issue 6, item 10): ContactDuration must be > 0 (a NaN switched the
+// (docs/plugin-abi.md): ContactDuration must be > 0 (a NaN switched the
 // resolution rule off and let a ball fall through the floor), energy partitions finite (a NaN
 // made balance_error NaN), dissipation increments >= 0 up to round-off. Each breach is a
 // PluginError naming the model, the contact and the value. The model is tests' `misfit`, a linear

@@ -387,7 +387,7 @@ TEST_CASE("a well-formed test plugin exposes its prototype and metadata", "[abi]
 
 // ----------------------------------------------------------------------- damaged libraries
 // A library cut short (an interrupted copy, a full disk) used to kill the host with SIGBUS inside
-// dlopen, which maps segments past the end of the file (issue 6, item 10). The host now reads the
+// dlopen, which maps segments past the end of the file. The host now reads the
 // ELF headers first; every cut of a real plugin must be a PluginError naming the file. If the
 // check misses a case, this test dies with SIGBUS instead of failing politely.
 

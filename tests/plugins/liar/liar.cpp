@@ -4,7 +4,7 @@
 // It is a linear spring of stiffness kn without tension (F_n = kn u_n), but it reports
 // knest = kn / lie and a contact duration pi sqrt(m* lie / kn) computed from that reported
 // stiffness. The engine therefore picks a step about sqrt(lie) times too large for the force
-// law actually used: the defect thesis A found in its own model (seed digest section 6), made
+// law actually used: the defect An (2006) found in its own model, made
 // deliberate so that the engine's stability guard can be shown to catch it.
 // Built into the build tree's plugin directory only; never installed.
 #include <cmath>

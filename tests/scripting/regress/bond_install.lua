@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- m:bond / m:unbond (issue 9, "Installing bonds"; docs/lua-api.md, "Bonds"): which contacts a
+-- m:bond / m:unbond (docs/lua-api.md, "Bonds"): which contacts a
 -- call bonds, the drawn properties, the forces kept or reset, the energy of a reset, unbond, and
 -- that contacts formed later are not bonded.
 local T = require("testlib")
@@ -282,7 +282,7 @@ do
     local where = T.script() .. ":"
     T.fails(function() m:bond{ model = "linear" } end, { where, "bond: model 'linear' is not a bond model" }, "non-bond model")
     T.fails(function() m:bond{ model = "cbond", props = { cb_tenff = 1 } } end,
-        { where, "bond: unknown property 'cb_tenff' for model 'cbond' (known: kn," }, "unknown property")
+        { where, "bond: unknown property 'cb_tenff' for model 'cbond'; did you mean 'cb_tenf'? (known: kn," }, "unknown property")
     T.fails(function() m:bond{ model = "cbond", props = { cb_state = 1 } } end,
         { "bond: property 'cb_state' of model 'cbond' is read-only" }, "read-only")
     T.fails(function() m:bond{ model = "cbond", props = { cb_tenf = { mean = 1, sd = 1, dist = "uniform" } } } end,

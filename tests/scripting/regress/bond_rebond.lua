@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
--- A pair whose bond broke and which separated is not bonded again when it touches again
--- (issue 9, "Installing bonds"): neither a bond installed by m:bond (the pair goes back to the
+-- A pair whose bond broke and which separated is not bonded again when it touches again:
+-- neither a bond installed by m:bond (the pair goes back to the
 -- ordinary rules) nor one a cbond rule with cb_bond = 1 makes on touch (the host remembers the
 -- pair and sets kFdNoAutoBond). Before this, the cb_bond rule bonded the re-formed contact.
 local T = require("testlib")

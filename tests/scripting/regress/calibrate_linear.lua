@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- calibrate.fit_linear_dp_nratio: the damping ratio fitted on the single-contact rig against the
 -- closed form of linear's dp_mode 0, e = exp(-pi beta / sqrt(1 - beta^2)) (docs/models/linear.md,
--- accuracy-reference 1.1).
+-- the closed form of a linear spring-dashpot).
 local T = require("testlib")
 local C = require("calibrate")
 

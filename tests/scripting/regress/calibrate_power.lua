@@ -1,14 +1,14 @@
 -- SPDX-License-Identifier: MIT
 -- calibrate.fit_param with the power model: (1) the exponent fitted at one velocity reproduces the
 -- target Rn within the root finder's tolerance when rerun with the found b; (2) the elastic-power
--- special case T = inf: the fitted b against e = sqrt(2/(b+1)) (seed digest eq. 5.1, g -> inf).
+-- special case T = inf: the fitted b against e = sqrt(2/(b+1)) (An & Tannant 2007, g -> inf).
 local T = require("testlib")
 local C = require("calibrate")
 
 local rn = C.rocfall()
 local base = { kn = 6.4e10, ks = 9.6e9, fric = 0.5, transition = 3500 }
 
--- (1) thesis A's pebble, sphere mass (plastic overlap stays below R), single contact at 6 m/s
+-- (1) An's (2006) pebble, sphere mass (plastic overlap stays below R), single contact at 6 m/s
 local rig = C.impact_rig{ model = "power", props = base, radius = 0.04, mass = "sphere" }
 local tol = 1e-5
 local row = C.fit_param{ rig = rig, param = "exponent", lo = 1, hi = 1000, target = rn,

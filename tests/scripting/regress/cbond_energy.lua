@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- cbond, unbonded: no energy created when a contact separates while its shear spring unloads
--- (issue 6, item 6; repro cbond-energy.lua, 1% created silently).
+-- (1% of the energy was created silently).
 -- Cause: at separation the slider lets go and the model booked the shear spring's whole energy
 -- F_s^2/(2 ks) of the last contact step as slip work, although that force still did work on
 -- the bodies after that step (half a step of F_s, then the closing corner impulse). A contact

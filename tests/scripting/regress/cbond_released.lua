@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- cbond: the energy a bond releases when it breaks is what it stored, no more (issue 6, item 6;
--- repro cbond-released.lua). The trial force of the breaking step is never applied to the
+-- cbond: the energy a bond releases when it breaks is what it stored, no more. The trial force of the breaking step is never applied to the
 -- bodies, so its energy was never stored: released = F_old F_trial / (2k) per spring
 -- (docs/models/cbond.md, Energies), zero for a bond made and broken in the same step.
 local T = require("testlib")

@@ -1,11 +1,11 @@
 -- SPDX-License-Identifier: MIT
--- An unbreakable bonded cluster of 171 balls with four balls at a fixed spin (issue 6, item 6;
--- repro cbond-unbreakable-171.lua, stress scene seed 2579): kinetic + strain energy doubled
+-- An unbreakable bonded cluster of 171 balls with four balls at a fixed spin
+-- (stress scene seed 2579): kinetic + strain energy doubled
 -- within 2000 steps with no warning, the same with a 4x smaller step, not with ks = 0.
 -- Cause: the fixed spins. A fixed velocity component is a driven boundary (a motor): through
 -- the bonds' shear springs (ks > 0; cbond carries no moment) the four motors, spinning at
 -- different rates in one bonded cluster, turn and strain it, and their work was not booked
--- (item 5). Without the fixed spins the energy stays put. Now that work goes into `boundary`
+-- (booked now). Without the fixed spins the energy stays put. Now that work goes into `boundary`
 -- and the balance closes. (Checking this also found a real O(dt) energy pump in rotating
 -- bonded clusters, fixed in force_displacement.cpp and tested in tests/plugins/test_cbond.cpp,
 -- "a bonded ring spinning as a rigid body keeps its energy".)

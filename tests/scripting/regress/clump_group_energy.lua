@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Energy per group with clumps (issue 7, "Group-wise energy tracing", analytic cases): a clump
+-- Energy per group with clumps (analytic cases): a clump
 -- is one body of its groups; its pebbles' contacts pass work to other groups through the
 -- clump's motion (docs/physics/energy.md "Energy per group", docs/physics/clumps.md).
 local T = require("testlib")

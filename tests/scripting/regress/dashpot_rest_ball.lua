@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A ball resting on a floor with a normal dashpot (issue 6 item 3; repro resting-ball-dashpot.lua).
+-- A ball resting on a floor with a normal dashpot.
 -- The dashpot's rate prediction left gravity out, so at rest it predicted the ball would keep
 -- sinking and pulled: the linear spring carried 2.3% more than the weight (dashpot -2.4 N) and the
 -- floor reaction read 1.1% above the weight at the default step, 0.09% at a tenth of it. In

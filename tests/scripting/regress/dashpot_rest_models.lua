@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A ball resting on a floor, every shipped model with a normal dashpot (issue 6 item 3; repro
--- rest-dashpot-models.lua). With the rate prediction that left gravity out the dashpot pulled
+-- A ball resting on a floor, every shipped model with a normal dashpot. With the rate prediction that left gravity out the dashpot pulled
 -- at rest (dp_fn -11.8 N of a 308 N weight at beta 0.7), and its "dissipation" was booked for
 -- ever while nothing moved: 0.11 J per 20000 steps, balance error -215% of the body work after
 -- 40000 steps (hertz: -35000%). Now the dashpot force vanishes at rest, no work is booked, and

@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Work booked for viscous damping of spin and for fixed (driven) velocity components
--- (issue 6, item 5; repros viscous-spin.lua, fixed-piston.lua, fixed-spin.lua).
+-- Work booked for viscous damping of spin and for fixed (driven) velocity components.
 local T = require("testlib")
 
 -- 1. A spinning ball with mass-proportional viscous damping: every joule of rotational kinetic

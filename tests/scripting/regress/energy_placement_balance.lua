@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Bodies created overlapping, and the run-level energy check (issue 6, items 8 and 9; repro
--- born-overlap-wall.lua).
+-- Bodies created overlapping, and the run-level energy check.
 local T = require("testlib")
 
 -- 1. A ball created 68% of its radius inside a stiff wall (dashpot 0.7) leaves with far more

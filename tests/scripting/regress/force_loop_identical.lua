@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- The force loop's ways of running give the same bits (issue 11; docs/architecture.md, "Force
+-- The force loop's ways of running give the same bits (docs/architecture.md, "Force
 -- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), the
 -- lanes (`m:lanes`: linear's lane law on host-owned state, docs/plugin-abi.md "Lanes"), and 1, 2
 -- or 3 threads (`m:threads`; 3 on a machine with 2 cores runs a thread more than there are

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Energy per group from Lua (issue 7; docs/physics/energy.md "Energy per group",
+-- Energy per group from Lua (docs/physics/energy.md "Energy per group",
 -- docs/lua-api.md): m:energies("rock"), the exchanged item, wall groups, and history columns
 -- {"kinetic", "rock"} / "kinetic@rock".
 local T = require("testlib")

@@ -1,4 +1,4 @@
--- Issue 6, item 13: m:damping{local = 0.7} as the docs wrote it is a Lua syntax error (`local`
+-- m:damping{local = 0.7} as the docs wrote it is a Lua syntax error (`local`
 -- is a keyword). The option is `damp` now (PFC's name); ['local'] is still accepted.
 local T = require("testlib")
 local m = talus.model{}

@@ -1,4 +1,4 @@
--- Issue 6, item 11: a history whose writes fail (/dev/full: every write gets ENOSPC) reported
+-- A history whose writes fail (/dev/full: every write gets ENOSPC) reported
 -- 5001 rows written and exited 0 with nothing on disk. Every write, flush and close is checked
 -- now; the run stops with an error naming the file and the script line.
 local T = require("testlib")

@@ -1,4 +1,4 @@
--- Issue 6, item 12 (repro margin.lua): m:broadphase{margin = 1e-320} made the float broadphase
+-- m:broadphase{margin = 1e-320} made the float broadphase
 -- tree's coordinates infinite (scale 0.1 / margin), no contact was ever found and the ball fell
 -- through the floor. Such a margin is refused now; the smallest accepted one still finds the
 -- floor.

@@ -1,4 +1,4 @@
--- Issue 6, item 12 (repro nomodelprops.lua): m:contact_model("linear") with no properties has
+-- m:contact_model("linear") with no properties has
 -- kn = 0 and the ball fell through the floor with no word. The first contact of such a rule now
 -- warns once, naming the model and its zero stiffnesses.
 local T = require("testlib")

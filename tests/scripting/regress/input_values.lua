@@ -1,4 +1,4 @@
--- Issue 6, item 12: every value a script gives, and every value derived from it, must be finite
+-- Every value a script gives, and every value derived from it, must be finite
 -- and in range; errors name the option and carry the script line. Before the fix a radius of
 -- 1e300 gave an infinite mass, `mass = 0/0` was reported as "density must be > 0 (got 0)",
 -- `kn = 0/0` silently meant "not set", a wall at +-1e200 m failed later blaming the model and

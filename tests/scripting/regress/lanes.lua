@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Lanes (issue 11; docs/plugin-abi.md, "Lanes"): while `linear`'s contacts run through its lane
+-- Lanes (docs/plugin-abi.md, "Lanes"): while `linear`'s contacts run through its lane
 -- law, their state lives in the host's rows and their objects are out of date. Everything that
 -- reads or writes a contact's object must see what FDlaw alone would have: reading a state
 -- property (lin_fs, dp_fn, ...) mid-run, writing a property (the contact leaves the lanes and

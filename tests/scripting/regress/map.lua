@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- talus.map (issue 8, Monte Carlo across cores): results equal the serial loop bit for bit,
+-- talus.map (Monte Carlo across cores): results equal the serial loop bit for bit,
 -- whatever the number of worker processes; errors name the index and the script line; values
 -- that cannot cross are refused with their path; a dead worker is reported with its range.
 -- The comparisons are exact (no tolerance): map carries numbers by their bits.
@@ -84,15 +84,16 @@ for _, jobs in ipairs({ 1, 2, 3 }) do
     checkSame(talus.map(5, big, { jobs = jobs }), big_want, 5, "1.4 MB strings, jobs = " .. jobs)
 end
 
--- A Lua error in fn(5) stops the map: the message has the index and fn's own line. With two
--- failing items, the lowest index is reported whatever the jobs (as the serial loop would).
+-- With on_error = "raise", a Lua error in fn(5) stops the map: the message has the index and
+-- fn's own line. With two failing items, the lowest index is reported whatever the jobs (as
+-- the serial loop would). (The default, "record", is tested in map_failures.lua.)
 local boom_line = T.line() + 2
 local function boom(i)
     if i == 5 or i == 9 then error("boom " .. i) end
     return i
 end
 for _, jobs in ipairs({ 1, 2, 3 }) do
-    T.fails(function() talus.map(12, boom, { jobs = jobs }) end,
+    T.fails(function() talus.map(12, boom, { jobs = jobs, on_error = "raise" }) end,
         { "map: fn(5) failed: ", T.script() .. ":" .. boom_line .. ": boom 5" },
         "error in fn(5), jobs = " .. jobs)
 end
@@ -101,24 +102,26 @@ end
 for _, jobs in ipairs({ 1, 2 }) do
     T.fails(function()
         talus.map(6, function(i) return { a = { i, { f = i == 3 and print or 0 } } } end,
-            { jobs = jobs })
+            { jobs = jobs, on_error = "raise" })
     end, { "map: fn(3) returned a value that talus.map cannot pass back: a function at "
         .. "result.a[2].f" }, "a function in the result, jobs = " .. jobs)
 end
-T.fails(function() talus.map(2, function() return print end) end,
+T.fails(function() talus.map(2, function() return print end, { on_error = "raise" }) end,
     { "fn(1) returned", "a function at result (only nil, booleans" }, "a function as the result")
 T.fails(function()
     talus.map(3, function(i)
         local t = { i }
         if i == 2 then t.self = { up = t } end
         return t
-    end, { jobs = 2 })
+    end, { jobs = 2, on_error = "raise" })
 end, { "fn(2) returned", "a cycle (a table that contains itself) at result.self.up" }, "a cycle")
-T.fails(function() talus.map(1, function() return { [{}] = 1 } end) end,
+T.fails(function() talus.map(1, function() return { [{}] = 1 } end, { on_error = "raise" }) end,
     { "a table used as a table key at result" }, "a table key")
-T.fails(function() talus.map(1, function() return { m = talus.model{} } end) end,
+T.fails(function() talus.map(1, function() return { m = talus.model{} } end, { on_error = "raise" }) end,
     { "a userdata at result.m" }, "a userdata")
-T.fails(function() talus.map(2, function() return coroutine.create(print) end, { jobs = 2 }) end,
+T.fails(function()
+    talus.map(2, function() return coroutine.create(print) end, { jobs = 2, on_error = "raise" })
+end,
     { "fn(1) returned", "a thread at result" }, "a coroutine")
 -- A table reached twice (no cycle) arrives as two equal copies.
 local shared = talus.map(1, function()
@@ -133,14 +136,14 @@ T.fails(function()
     talus.map(6, function(i)
         if i == 4 then os.execute("kill -KILL $PPID") end -- the shell's parent is the worker
         return i
-    end, { jobs = 2 })
+    end, { jobs = 2, on_error = "raise" })
 end, { "map: worker 2 of 2", "indices 4..6) was killed by signal 9", "while running fn(4)" },
     "a killed worker")
 T.fails(function()
     talus.map(6, function(i)
         if i == 2 then os.exit(3) end
         return i
-    end, { jobs = 3 })
+    end, { jobs = 3, on_error = "raise" })
 end, { "map: worker 1 of 3", "indices 1..2) exited with status 3 while running fn(2)" },
     "os.exit in a worker")
 

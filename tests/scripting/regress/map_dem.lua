@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- talus.map over DEM runs (issue 8, Monte Carlo): n balls, each dropped from its own
+-- talus.map over DEM runs (Monte Carlo): n balls, each dropped from its own
 -- seed-dependent height onto a damped floor, each returning its bounce height and final state.
 -- The values from 2 and 3 worker processes (and, under `mpirun -n 2`, from two ranks: ctest
 -- lua.mpi.map_dem) must equal the serial loop bit for bit: no tolerance, since every item is

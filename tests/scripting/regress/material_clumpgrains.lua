@@ -1,8 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- Clumped grains (material.genesis option `grains`, docs/material.md "Genesis"): the grouping
--- of touching balls into clumps of up to three (as in An's MSc thesis, the basis of An &
--- Tannant 2007), the clumps M.specimen makes of them, and the bonds it installs between
--- different bodies only.
+-- of touching balls into clumps of up to three (An 2006 appendix B), the clumps M.specimen
+-- makes of them, and the bonds it installs between different bodies only.
 local T = require("testlib")
 local M = require("material")
 

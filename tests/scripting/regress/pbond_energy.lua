@@ -7,7 +7,7 @@
 -- in). Measured (2026-11-24): tension 4.6e-8, bending 2e-16, shear 1.2e-10, ball-wall 4.8e-7,
 -- impact with dashpots 6.3e-5 (the leapfrog's own bounded term, up to F^2 dt^2 / (8 m*) at the
 -- bond's peak force, and the dashpots' corners). Bounds 1e-5 and 2e-4. Booking the trial
--- force's energy F_trial^2 / 2k as released instead (the defect cbond had, issue 6) misses by
+-- force's energy F_trial^2 / 2k as released instead (the defect cbond had) misses by
 -- F_trial (F_trial - F_old) / 2k, here 1e-3 of the input and more: the 1e-5 bounds catch it.
 -- The impact bonds at touch (a rule with bonded = 1), and since the crossing fix (pbond_crossing
 -- .lua) such a bond pays the onset corner of its force ramp, k du / 8 on its first step; the

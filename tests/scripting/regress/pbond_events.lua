@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- pbond: bond_break events carry the stresses at failure (issue 9), and an unbreakable bond is
+-- pbond: bond_break events carry the stresses at failure, and an unbreakable bond is
 -- pb_ten = math.huge (docs/models/pbond.md). The bond's forces move linearly inside a step, and
 -- the model finds where on that path the strength was met (bisection to rounding), so the
 -- event's stresses are the strength itself: sigma = pb_ten for a tension break, tau = pb_coh for

@@ -346,7 +346,7 @@ T.near(ang.energy_line.q05, 42.41030491810688, 1e-12, "energy line p05")
 T.check(isnan(ang.energy_line.q05_lo), "energy line p05: no lower bound from 17 rocks")
 T.near(ang.energy_line.q05_hi, 45.47350805873493, EPS, "energy line p05 upper bound x_(4)")
 T.near(ang.energy_line.median, 51.34019174590991, EPS, "energy line median")
--- Shadow: apex = toe of the last segment steeper than 45 deg = (5, 10) (the talus slope is
+-- Shadow: apex = toe of the last downslope segment of 45 deg or steeper = (5, 10) (the talus slope is
 -- 26.6 deg). Rock 4 (35): atan(10/30) = 18.4349 deg; a rock on the talus slope: the slope
 -- angle atan(1/2) = 26.5651 deg.
 T.check(ang.apex.x == 5 and ang.apex.y == 10, "apex at the cliff toe")
@@ -362,7 +362,7 @@ T.near(a2.shadow.min, math.deg(math.atan(0, 10)), EPS, "given apex on the flat: 
 local a3 = S.angles(records, { profile = profile, release = analysis.release, shadow_steep = 80 })
 T.check(a3.apex == nil and a3.shadow.n == 0 and isnan(a3.shadow.min), "no steep segment: no apex")
 T.check(ang.note == nil, "apex above the floor: no note")
--- A cliff straight onto a flat floor (thesis B's last step): the derived apex is the bottom of
+-- A cliff straight onto a flat floor (Nejati's 2008 last step): the derived apex is the bottom of
 -- the profile, every shadow angle on the floor is atan(0) = 0, and the result says so.
 local a4 = S.angles(records,
     { profile = { { 0, 30 }, { 5, 0 }, { 60, 0 } }, release = analysis.release })

@@ -29,7 +29,7 @@ do
             zones = { { material = "rockm", x_from = 0, x_to = 5 }, { material = "soil", x_from = 5, x_to = 40 } },
             roughness = { amplitude = 0.02, spacing = 1 },
             seeders = { { kind = "line", from = {0.5, 10.5}, to = {1.5, 10.5}, vx = { dist = "uniform", min = 1, max = 2 },
-                rock = { { shape = "thesis_a", scale = { dist = "normal", mean = 3, sd = 0.3 } },
+                rock = { { shape = "three_balls", scale = { dist = "normal", mean = 3, sd = 0.3 } },
                          { shape = "ball", radius = 0.12 } } } },
             collectors = { { name = "c", x = 10 } }, seed = 77, n = n, t_max = 20,
         }
@@ -204,20 +204,21 @@ do
     T.near(sd, 0.5, 0.05 * 0.5, "lognormal sd")
     -- Mass given: the size follows at the density; volume and r_eq are consistent.
     local an2 = rf.analysis{ profile = flat, materials = { s = lin }, seed = 4,
-        seeders = { { at = {50, 5}, rock = { { shape = "thesis_a", mass = 1000 }, { shape = "fitted", L1 = 2, L2 = 0.8, mass = 900 },
+        seeders = { { at = {50, 5}, rock = { { shape = "three_balls", mass = 1000 }, { shape = "fitted", L1 = 2, L2 = 0.8, mass = 900 },
             { shape = "ngon", n = 5, volume = 0.4 } } } } }
     local seen = {}
     for i = 1, 30 do
         local s = rf.sample(an2, i)
         seen[s.rock.shape] = s.rock
     end
-    T.near(seen.thesis_a.mass, 1000, 1e-12, "thesis A rock scaled to its mass")
+    T.near(seen.three_balls.mass, 1000, 1e-12, "An (2006) rock scaled to its mass")
+    T.check(rf.shapes.thesis_a == rf.shapes.three_balls, "the older name of the shape still works")
     T.near(seen.fitted.mass, 900, 1e-12, "fitted rock: the mass sets the density")
     T.near(seen.fitted.density * seen.fitted.volume, 900, 1e-12, "fitted: density x area")
     T.near(seen.ngon.volume, 0.4, 1e-12, "n-gon scaled to its volume")
     -- The Lua union area against the engine's exact one.
     local m = talus.model{}
-    for _, name in ipairs({ "thesis_a", "ngon", "fitted" }) do
+    for _, name in ipairs({ "three_balls", "ngon", "fitted" }) do
         local geom = rf.shapes[name]({ L1 = 2, L2 = 0.8, n = 7 })
         local t = m:clump_template{ pebbles = geom }
         T.near(rf.union_area(geom), t.area, 1e-12, "union area of " .. name)

@@ -53,9 +53,9 @@ local dd, cd = roll("disk", 0.5, 0.3)
 local ds, cs = roll("sphere", 0.4, 0.3)
 print(string.format("rrlinear_rolling: disk %.6f m (closed form %.6f), sphere %.6f m (%.6f)",
     dd, cd, ds, cs))
--- A lumped-mass rolling friction tan(beta) (STONE, rockfall-inputs B3a: bedrock 0.30) stops a
+-- A lumped-mass rolling friction tan(beta) (STONE, STONE, Guzzetti et al. 2002: bedrock 0.30) stops a
 -- point mass after v0^2 / (2 g tan(beta)); rr_fric = (1 + kappa) tan(beta) gives a round rock
--- the same run-out (issue 8's bench check).
+-- the same run-out (the bench check).
 local tan_beta = 0.30
 local db = roll("disk", 0.5, 1.5 * tan_beta)
 T.near(db / (v0 * v0 / (2 * g * tan_beta)), 1, 5e-5,

@@ -106,7 +106,7 @@ do
     T.fails(function() m:solve{ max_time = 0 } end, { "max_time must be > 0" }, "max_time")
     T.fails(function() m:solve{ max_time = math.huge } end, { "at most 1e9" }, "max_time inf")
     T.fails(function() m:solve{ ratoi = 1e-5 } end,
-        { "solve: unknown option 'ratoi' (known: " }, "typo")
+        { "solve: unknown option 'ratoi'; did you mean 'ratio'? (known: " }, "typo")
     -- an error in the until function keeps its own line and stops the run
     local s0 = m:step()
     l = T.line(); T.fails(function() m:solve{ ["until"] = function() error("boom") end } end,

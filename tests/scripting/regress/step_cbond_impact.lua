@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
--- A contact bonded as it touches is an impact all the same (issue 6 item 6, time-step part;
--- repro cbond-break-trace.lua). The time step used to give bonded contacts the stability rule
+-- A contact bonded as it touches is an impact all the same (the time step
+-- part). The time step used to give bonded contacts the stability rule
 -- only, against docs/models/cbond.md: the impact took 4-5 steps (the step doubled through it)
 -- and created 25 J of the 66.8 J put in (38%). Now the resolution rule holds through the bonded
 -- impact: dt = pi sqrt(m/kn) / 30.
@@ -37,7 +37,7 @@ T.check(breaks == 1, "one bond break, got " .. breaks)
 -- resolved steps (the defect: 5).
 T.check(bonded_steps >= 25, "steps while bonded: " .. bonded_steps)
 T.check(b.vel[2] > 0, "the ball rebounds")
--- The books close to 1% of the energy put in (issue 6's bound; measured 0.46%, the rest is the
+-- The books close to 1% of the energy put in (the bound; measured 0.46%, the rest is the
 -- bond's released-energy booking in cbond.cpp, a separate item; the defect: 38%).
 local e = m:energies()
 local input = 0.5 * mass * (0.5 ^ 2 + 2 ^ 2)

@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- The automatic step of an idle scene (issue 6 item 1; repros idle-overflow.lua,
--- idle-then-push.lua): with nothing moving and no gravity the growth rule used to double the
+-- The automatic step of an idle scene: with nothing moving and no gravity the growth rule used to double the
 -- step every cycle (6e26 s after 100 steps, t = inf at step 1034), and the first step after
 -- gravity, an applied force or a velocity appeared gave the ball 1e27 m/s. Now an idle step is
 -- bounded by the scene's time scales (docs/physics/timestep.md, "Idle scenes") and the step

@@ -1,6 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A ball released at rest on or just above a floor under gravity (issue 6 item 2; repros
--- hertz-touch.lua, hertz-rest.lua). Hertz and ng have no stiffness at zero overlap and an
+-- A ball released at rest on or just above a floor under gravity. Hertz and ng have no stiffness at zero overlap and an
 -- infinite contact duration at zero approach speed, so neither the approach nor the resolution
 -- rule limited the first step: 0.032 s, the ball sank 4-5 mm into the floor and left at up to
 -- 21 m/s (hertz) or 10.6 m/s (ng). The approach rule now takes the duration at the speed the

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Stress-suite seeds 228, 684, 2266 and 2800 (issue 6, docs/stress.md "Fixed"): energy created at
+-- Stress-suite seeds 228, 684, 2266 and 2800 (docs/stress.md "Fixed"): energy created at
 -- contacts whose shear spring is faster than the normal impact, and at a wall contact whose
 -- spin lever arm changes within the step. Each scene is the stress generator's own (`talus run
 -- tests/stress/stress.lua dump SEED`), run for the generator's 10 chunks; the balance error is

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- m:unbond keeps the energy books closed (issue 9): the energy a removed bond let go is booked
+-- m:unbond keeps the energy books closed: the energy a removed bond let go is booked
 -- as `released`, for the whole model and for each traced group.
 --
 -- What is let go. A bond removed between two steps still acts on the bodies for half a step

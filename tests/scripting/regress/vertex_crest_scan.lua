@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A contact crossing a convex wall vertex (issue 6 item 4; repro crest-scan.lua): a disk hits the
+-- A contact crossing a convex wall vertex: a disk hits the
 -- crest of a two-segment roof at (3, -1) m/s, and its contact point runs over the crest during
 -- the impact. The contact used to end at the vertex (its stored energy dropped, no `released`
 -- booking) and restart, already overlapped, on the next segment with a fresh model (power's

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A ball bouncing on a sawtooth profile with `power` (issue 6 item 4; repro power-saw.lua). Its
+-- A ball bouncing on a sawtooth profile with `power`. Its
 -- contact ran over a crest while unloading, ended there and restarted on the next segment on
 -- power's virgin loading line: the normal force jumped from 2.72e4 N to 2.88e4 N, and the run
 -- lost 17% of the input (5.44 J of 32.3 J). With the contact handed over with its state, the force

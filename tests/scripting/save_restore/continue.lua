@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Bit-identical continuation (issue 10): `talus run continue.lua SCENE PHASE DIR`.
+-- Bit-identical continuation: `talus run continue.lua SCENE PHASE DIR`.
 --   PHASE = "straight": build SCENE, run 2N steps, dump the state to DIR/SCENE_straight.txt
 --   PHASE = "first":    build SCENE, run N steps, m:save(DIR/SCENE.talus)
 --   PHASE = "second":   talus.restore(DIR/SCENE.talus) in this fresh process, run N steps,
