@@ -267,7 +267,8 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
             ? reinterpret_cast<TalusPluginLanesFn>(::dlsym(handle, TALUS_PLUGIN_LANES_ENTRY))
             : nullptr;
 
-    // Optional (ABI 1.3): the SDK law a model runs on its lane rows (docs/plugin-abi.md, "Kernels").
+    // Optional (ABI 1.3): the SDK law a model runs on its lane rows (docs/plugin-abi.md,
+    // "Kernels").
     auto kernel_entry =
         info->abi_minor >= 3
             ? reinterpret_cast<TalusPluginKernelFn>(::dlsym(handle, TALUS_PLUGIN_KERNEL_ENTRY))

@@ -55,7 +55,7 @@ void applyProps(ContactModel& model, const std::vector<PropValue>& props,
             throw InputError(where + ": unknown property '" + pv.name + "' for model '" +
                              model.Name() + "' (known: " + knownProps(model) + ")");
         // NaN is no value (the PropBlock uses it for "not set"); a plugin's own range check may
-        // not catch it, since every comparison with NaN is false (issue 6, item 12).
+        // not catch it, since every comparison with NaN is false.
         if (const std::string why = propValueProblem(model, idx, pv.value); !why.empty())
             throw InputError(where + ": " + model.Name() + ": '" + pv.name + "' " + why);
         int32_t status;

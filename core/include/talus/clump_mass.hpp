@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Mass properties of a clump (a rigid body made of possibly overlapping disks): pure geometry,
 // 2D, unit thickness. See docs/physics/clumps.md "Mass properties" and
-// shared reference bodies-bonds-rockfall 3.6 for the method and the reference values.
+// docs/physics/clumps.md for the method and tests/core/test_clump_mass.cpp for the reference
+// values.
 #pragma once
 
 #include <vector>

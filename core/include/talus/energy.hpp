@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Energy totals (docs/physics/energy.md; thesis A chapter 3 and accuracy-reference 3.6).
-// Works put into the model count positive; dissipations count positive.
+// Energy totals (docs/physics/energy.md; An 2006, chapter 3, and the PFC2D manual's energy
+// tracing). Works put into the model count positive; dissipations count positive.
 #pragma once
 
 namespace talus {

@@ -226,7 +226,7 @@ struct GuardSettings {
     GuardAction energy = GuardAction::Warn;
     double energy_tolerance = 0.01;  ///< allowed gain as a fraction of the peak energy taken
     /// A contact whose step was too large for its own time scale: fewer than `min_steps` steps
-    /// per contact duration at the stiffness the model reported (thesis A: 10-20 per impact).
+    /// per contact duration at the stiffness the model reported (An 2006: 10-20 per impact).
     GuardAction resolution = GuardAction::Warn;
     int min_steps = 10;
     /// A model whose forces change faster than its reported stiffness allows (the time step
@@ -253,9 +253,9 @@ struct GuardSettings {
 
 /// Law-of-motion damping options.
 struct DampingSettings {
-    double local = 0.0;  ///< PFC local damping coefficient alpha (accuracy-reference 3.4)
+    double local = 0.0;  ///< PFC local damping coefficient alpha (the PFC2D manual)
     /// Mass-proportional viscous damping [1/s]: F = -viscous m v, integrated implicitly at the
-    /// time level of the contact forces (thesis B eq. 2.41, seed digest section 5).
+    /// time level of the contact forces (Nejati 2008, eq. 2.41).
     double viscous = 0.0;
 };
 

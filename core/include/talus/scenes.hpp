@@ -45,9 +45,9 @@ struct DensePackDef {
     bool shuffle = true;
 };
 
-/// Normal critical-damping ratio of a linear dashpot for restitution e (accuracy-reference 1.1).
-/// Full dashpot: beta = -ln e / sqrt(pi^2 + ln^2 e). No-tension dashpot (dp_mode 1 and 3): the
-/// inverse of e = exp(-beta (pi - 2 asin beta) / sqrt(1 - beta^2)), found by bisection.
+/// Normal critical-damping ratio of a linear dashpot for restitution e (the closed form of a linear
+/// spring-dashpot). Full dashpot: beta = -ln e / sqrt(pi^2 + ln^2 e). No-tension dashpot (dp_mode 1
+/// and 3): the inverse of e = exp(-beta (pi - 2 asin beta) / sqrt(1 - beta^2)), found by bisection.
 double dampingRatioForRestitution(double e, bool no_tension = false);
 
 /// What a builder made.

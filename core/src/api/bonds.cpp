@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
-#include "force/kernels.hpp"
 #include "api/operations.hpp"
 #include "force/force.hpp"
+#include "force/kernels.hpp"
 #include "props.hpp"
 #include "step/detection.hpp"
 #include "step/group_energy.hpp"

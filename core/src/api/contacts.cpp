@@ -11,8 +11,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "force/kernels.hpp"
 #include "api/operations.hpp"
+#include "force/kernels.hpp"
 #include "props.hpp"
 #include "step/detection.hpp"
 #include "step/narrowphase.hpp"
@@ -218,7 +218,7 @@ void Model::setContactForce(ContactKey key, double normal_force, double shear_fo
 void Model::setBroadphaseMargin(double margin) {
     World& world = *m_world;
     // The float broadphase tree works in units of margin / 0.1: a subnormal margin (1e-320)
-    // made them infinite and no contact was ever found (issue 6, item 12). Below 1e-9 m the
+    // made them infinite and no contact was ever found. Below 1e-9 m the
     // margin is under a double's resolution of coordinates of 1e7 m, and the kinematic rule
     // (no body leaves its fat box in a step) stalls the step. 0 = automatic.
     if (!(margin >= 0.0) || !std::isfinite(margin) || (margin > 0.0 && margin < 1e-9) ||

@@ -20,7 +20,7 @@ inline std::string lower(std::string s) {
     return s;
 }
 
-// Input ranges (issue 6, item 12). Every value a script gives, and every value derived from it
+// Input ranges. Every value a script gives, and every value derived from it
 // (mass, inertia), must be finite and usable: a radius of 1e300 gave an infinite mass, a wall at
 // 1e200 m broke the broadphase (its tree stores float coordinates) and failed later blaming the
 // model. Coordinates beyond 1e9 m are refused: there a double resolves 1e-7 m, coarser than the

@@ -155,7 +155,7 @@ void requireReachableTime(const World& world, double duration) {
     if (!(duration >= 0.0) || !std::isfinite(duration))
         throw InputError("solve: time must be >= 0 (got " + messageNumber(duration) + ")");
     // A duration no run can reach is refused rather than cycled for ever with no sign of life
-    // (issue 6, item 12): beyond 1e9 s (32 years), and beyond 1e12 steps at a fixed step.
+    // (beyond 1e9 s, 32 years, and beyond 1e12 steps at a fixed step).
     if (duration > 1e9)
         throw InputError("solve: time " + messageNumber(duration) +
                          " s cannot be reached in a sane number of steps (at most 1e9 s per "

@@ -602,7 +602,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
                 try {
                     rule->factory = &registry.find(rule->model_name);
                     rule->batch = rule->factory->batch;
-    rule->kernel = kernelOf(*rule->factory);
+                    rule->kernel = kernelOf(*rule->factory);
                 } catch (const std::exception& e) {
                     r.fail("contact model '" + rule->model_name + "' (plugin version " +
                            plugin_version + ") is not available: " + e.what());

@@ -44,39 +44,21 @@
 
 namespace talus {
 
-ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template,
-                    int nthreads, bool lanes, bool blocks, bool groups) {
+ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template, int nthreads,
+                    bool lanes, bool blocks, bool groups) {
     auto& b = world.bodies.balls;
     ForceScratch& scratch = world.contacts.force_scratch;
-    return ForceView{world,
-                     world.contacts.pairs,
-                     world.contacts.cold,
-                     b.pos.data(),
-                     b.vel.data(),
-                     b.radius.data(),
-                     b.spin.data(),
-                     b.fat.data(),
-                     b.force.data(),
-                     b.moment.data(),
-                     world.bodies.walls.data(),
-                     world.bodies.segments.data(),
-                     world.contacts.ball_moved.data(),
-                     world.contacts.segment_moved.data(),
+    return ForceView{world, world.contacts.pairs, world.contacts.cold, b.pos.data(), b.vel.data(),
+                     b.radius.data(), b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
+                     world.bodies.walls.data(), world.bodies.segments.data(),
+                     world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
                      scratch.actions.data(),
                      step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
                      step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
-                     world.contacts.to_remove,
-                     scratch.apart,
-                     step.dt,
-                     step.window,
-                     fd_template,
+                     world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,
                      // the dissipation totals before this step, for the energy contract's check
                      // (the same for every contact, so for every thread count)
-                     world.books.acc,
-                     world.settings.batched_law,
-                     lanes,
-                     blocks,
-                     groups};
+                     world.books.acc, world.settings.batched_law, lanes, blocks, groups};
 }
 
 namespace {

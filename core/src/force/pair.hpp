@@ -8,9 +8,9 @@
 #include <cstddef>
 #include <string>
 
+#include "force/kernels.hpp"
 #include "force/pass_finish.hpp"
 #include "force/pass_geometry.hpp"
-#include "force/kernels.hpp"
 #include "force/pass_law.hpp"
 #include "step/detection.hpp"
 #include "world/lanes.hpp"
@@ -141,8 +141,7 @@ template <class Features, Delivery kMode>
 __attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, ForceSums& sums,
                                                           std::size_t i, std::size_t end,
                                                           PairEntry& e, FdBlock& fd,
-                                                          std::string& error,
-                                                          LaneCounts& counts) {
+                                                          std::string& error, LaneCounts& counts) {
     prefetchModel(v, i, end);
     // A contact in lanes here is a kernel's (lane blocks take theirs before this): its law's
     // inputs stay in `e`.

@@ -36,7 +36,8 @@ struct PairEntry {
     // The law's kinematic inputs (FdBlock's names): rates at the half step.
     double u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
 };
-static_assert(sizeof(PairEntry) == 112, "PairEntry is 112 bytes: pass 1 hands it to passes 2 and 3, per pair");
+static_assert(sizeof(PairEntry) == 112,
+              "PairEntry is 112 bytes: pass 1 hands it to passes 2 and 3, per pair");
 
 /// What the finish of a pair reads of an FdBlock, for a contact a lane law stepped
 /// (docs/plugin-abi.md, "Lanes"), under FdBlock's names: the finish is one template for both.
@@ -107,13 +108,15 @@ struct LaneScratch {
 struct PairAction {
     double add[2][3];
 };
-static_assert(sizeof(PairAction) == 48, "PairAction is 48 bytes: written per pair and read by the gather when threads run");
+static_assert(sizeof(PairAction) == 48,
+              "PairAction is 48 bytes: written per pair and read by the gather when threads run");
 
 /// The same for the automatic step's stiffness sums: translational, rotational per end.
 struct PairStiffness {
     double add[2][2];
 };
-static_assert(sizeof(PairStiffness) == 32, "PairStiffness is 32 bytes: written per pair with threads and the automatic step");
+static_assert(sizeof(PairStiffness) == 32,
+              "PairStiffness is 32 bytes: written per pair with threads and the automatic step");
 
 /// Work a thread leaves for the serial part of the step, in pair order: what allocates or frees
 /// model objects, grows or reorders the pairs, raises events or reads another pair.
@@ -140,7 +143,8 @@ struct PairEnergy {
     double placement = 0.0, held = 0.0, strain = 0.0, bond = 0.0;
     uint8_t what = 0;  // the flags above; 0: nothing this step
 };
-static_assert(sizeof(PairEnergy) == 80, "PairEnergy is 80 bytes: written per pair with threads and energy tracing");
+static_assert(sizeof(PairEnergy) == 80,
+              "PairEnergy is 80 bytes: written per pair with threads and energy tracing");
 
 /// A law's output kept for the energy contract's check (Deferred::Contract).
 struct ContractNote {

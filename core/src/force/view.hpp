@@ -61,8 +61,8 @@ struct ForceView {
     FdBlock fd_template;         // the step's FdBlock fields
     EnergyTotals totals_before;  // the energy contract's reference
     bool batched;                // the batched FDlaw where a model offers one
-    bool lanes;   // some rule's contacts run in lanes this step (Rule::lane_mode)
-    bool blocks;  // ... of which some by lane blocks
+    bool lanes;                  // some rule's contacts run in lanes this step (Rule::lane_mode)
+    bool blocks;                 // ... of which some by lane blocks
     bool groups;                 // energy per group
 };
 
@@ -70,8 +70,8 @@ struct StepContext;  // step/step.hpp
 
 /// The view of `world` for the force loop of `step` (loop.cpp): the arrays as they are now, so
 /// it is taken after everything that resizes them (the threads' scratch included).
-ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template,
-                    int nthreads, bool lanes, bool blocks, bool groups);
+ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template, int nthreads,
+                    bool lanes, bool blocks, bool groups);
 
 /// One thread's running sums in a step without threads, or in the threads' serial part.
 struct ForceSums {

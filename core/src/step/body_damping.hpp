@@ -12,7 +12,7 @@
 namespace talus {
 
 /// PFC local damping of one degree of freedom: -alpha |F| sign(v), with sign(0) = 0
-/// (accuracy-reference 3.4).
+/// (the PFC2D manual, "local damping").
 inline double localDamping(double alpha, double force, double vel) {
     if (vel == 0.0) return 0.0;
     return -alpha * std::fabs(force) * (vel > 0.0 ? 1.0 : -1.0);

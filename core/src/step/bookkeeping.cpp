@@ -139,7 +139,7 @@ void flushWarnings(World& world) {
             "guard: " + std::to_string(world.guard_state.underresolved) +
                 " contact(s) had fewer than " + std::to_string(world.settings.guard.min_steps) +
                 " steps per contact duration, so their restitution and peak force are not "
-                "resolved (thesis A asks for 10-20 steps per impact); first: " +
+                "resolved (An 2006 asks for 10-20 steps per impact); first: " +
                 world.guard_state.underresolved_first +
                 ". Use the automatic step with its resolution rule, or a smaller fixed step.");
         world.guard_state.underresolved = 0;

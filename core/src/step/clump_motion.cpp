@@ -7,7 +7,7 @@
 //   M = sum over pebbles of (pebble moment + (x_s - x_c) x F_s) (+ the applied moment),
 // and m, I the clump's mass and its scalar inertia about the centroid. In 2D the angular
 // velocity is a scalar and I does not change with the orientation, so Euler's equations reduce
-// to I dw/dt = M: no gyroscopic term (bodies-bonds-rockfall 3.7). The pebbles then follow
+// to I dw/dt = M: no gyroscopic term. The pebbles then follow
 // rigidly: x_s = x_c + R(theta) r_s, v_s = v_c + w x (x_s - x_c), w_s = w.
 //
 // The operation order matches the ball loop's, so a clump of one pebble at its centroid (arm 0)

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Energy per group (docs/physics/energy.md, "Energy per group"; thesis A chapter 3).
+// Energy per group (docs/physics/energy.md, "Energy per group"; An 2006, chapter 3).
 //
 // Allocation: a contact gives group g the share s_g of every item it stores or dissipates,
 //   s_g = ([g in G1] + [g in G2]) / 2   between two balls,   s_g = [g in G_ball]   ball-wall;

@@ -8,9 +8,9 @@
 //
 // Damping options (docs/physics/damping.md):
 //  - PFC local damping: F_i <- F_i - alpha |F_i| sign(v_i) per degree of freedom
-//    (accuracy-reference 3.4).
+//    (the PFC2D manual).
 //  - Mass-proportional viscous damping c [1/s], implicit at the time level of the forces
-//    (thesis B eq. 2.41): v+ = ((1 - c w/2) v- + a w) / (1 + c w/2).
+//    (Nejati 2008, eq. 2.41): v+ = ((1 - c w/2) v- + a w) / (1 + c w/2).
 //
 // Energy (only when traced) is a snapshot at the whole step t, taken here before this step's
 // work is booked: the velocity at t is interpolated between the two half-step velocities,
@@ -270,7 +270,7 @@ void moveWalls(World& world, const StepContext& step) {
             // work is over w too, and the part before t belongs in the snapshot, as for the
             // damping impulse. Booking it over the coming dt, after the snapshot, left it a step
             // late and short by (w - dt) while the step shrank: a wall whose contacts formed in
-            // a long step created energy (issue 6, item 7: -217 J, 2.5% of the boundary work).
+            // a long step created energy (-217 J, 2.5% of the boundary work).
             const double win = step.window;
             const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
             const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Narrowphase geometry (accuracy-reference 3.3; seed digest section 1).
+// Narrowphase geometry (ball-wall geometry as PFC2D defines it).
 // Normals point from end 1 (the ball) to end 2; overlap is positive when the bodies overlap.
 //
 // Shared vertices of a wall chain. Where the chain bends away from the ball (a convex corner, a

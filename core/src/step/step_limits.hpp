@@ -2,7 +2,7 @@
 //
 // What a contact adds to the next automatic step, every step (timestep.cpp has the rules;
 // docs/physics/timestep.md): here, inline, because the force loop calls it for every contact and
-// a call into another file per contact cost more than the work (issue 9's UCS benchmark). Not
+// a call into another file per contact cost more than the work (the 5 000-ball UCS benchmark). Not
 // installed.
 #pragma once
 
@@ -37,7 +37,7 @@ inline double tangentHalfPeriod(double knest, double mass_eff) {
 inline void noteContactLimits(const World& world, const Pair& p, const PairCold& c, double kn,
                               double mass_eff, StepLimits& limits) {
     // Every active contact, bonded or not, gets the impact rules below (docs/models/cbond.md,
-    // "Time-step contract"): a contact bonded as it touches is an impact all the same (issue 6
+    // "Time-step contract"): a contact bonded as it touches is an impact all the same (
     // item 6: with the stability rule alone it took 4-5 steps and created up to 38% energy). A
     // quasi-static bonded specimen turns resolution off (`resolution = 0`). The duration: the
     // model's estimate at touch, never more than the tangent's half period.

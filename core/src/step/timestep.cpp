@@ -2,7 +2,7 @@
 //
 // Phase 1: the time step (docs/physics/timestep.md).
 //
-// A stable step is not an accurate one (../shared/reference/integration-notes.md): PFC's
+// A stable step is not an accurate one (docs/physics/integration.md): PFC's
 // 0.8 x critical step resolves an isolated impact in about four steps and misses its restitution
 // by tens of percent. So in automatic mode the step is the smallest of
 //   stability   safety * sqrt(m / k_tran), safety * sqrt(I / k_rot) per ball, with k summed over
@@ -71,7 +71,7 @@ double contactDuration(const Pair& p, double knest, double mass_eff, double appr
 /// the law under the load m a: for a linear spring a D / pi = a sqrt(m/k) is exactly the largest
 /// speed of a mass released at touch; for Hertz the fixed point's speed is within 3% of
 /// sqrt(1.2 a u_s), the largest speed of the oscillation about the static overlap u_s (the
-/// speed at touch, v0 ~ 0, would give an infinite duration and no limit at all: issue 6 item 2).
+/// speed at touch, v0 ~ 0, would give an infinite duration and no limit at all).
 /// The fixed point is found by one secant step on ln dur(d) against ln d, exact for any power-law
 /// duration (every shipped nonlinear law); the result min(D, dur(D)) is never above the fixed
 /// point for a duration that does not grow with the speed, whatever the secant's error.
@@ -394,7 +394,7 @@ void computeTimestep(World& world) {
     if (!(dt < inf)) {
         // Idle: no rule limits the step. No body moves or accelerates, no wall moves, nothing
         // touches with a stiffness. Any step is exact then, but the step must stay on the
-        // scene's own time scales (issue 6 item 1: doubling by the growth rule reached 6e26 s,
+        // scene's own time scales (doubling by the growth rule reached 6e26 s,
         // then t = inf). It is the smallest step the scene's pairs would need at their present
         // closing speeds (the approach rule's limit), never more than the previous step, and
         // kept while the scene stays idle; at most 1 ms (a lone body, or Hertz-type pairs that

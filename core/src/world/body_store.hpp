@@ -26,7 +26,7 @@ struct BodyStore {
     std::vector<uint32_t> generation;  // handle index - 1 -> generation
     std::vector<uint32_t> free_handles;
 
-    // --- clumps (issue 7, docs/physics/clumps.md): indexed by handle - 1 (never re-used; a
+    // --- clumps (docs/physics/clumps.md): indexed by handle - 1 (never re-used; a
     // deleted clump stays as a dead entry). Their pebbles occupy ball slots
     // (BallArrays::clump names the clump of each slot).
     std::vector<ClumpData> clumps;

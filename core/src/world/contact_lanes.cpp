@@ -87,7 +87,6 @@ void reorderLanes(World& world) {
 
 // ------------------------------------------------------------------------ the loop's scratch
 
-
 void LaneScratch::prepare() {
     if (declined.empty()) declined.resize(kBlock);
     LaneBatch& b = batch;

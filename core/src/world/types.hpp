@@ -73,7 +73,7 @@ struct Rule {
     /// factory->batch, here so that the force loop finds it one load from the pair (measured:
     /// through the factory, a second dependent load per contact cost 3-10%).
     BatchFdLawFn batch = nullptr;
-    Kernel kernel = Kernel::None;       // the host's kernel of the model's law (kernelOf)
+    Kernel kernel = Kernel::None;         // the host's kernel of the model's law (kernelOf)
     LaneMode lane_mode = LaneMode::None;  // this step's (force/loop.cpp)
     PluginRegistry::PrototypePtr prototype;
     int group_a = -1;  // -1 = any
@@ -152,7 +152,9 @@ struct Pair {
     double knest = 0.0, ksest = 0.0;
     double work = 0.0, work_peak = 0.0;  // guard: energy the contact took in this life [J]
 };
-static_assert(sizeof(Pair) == 128, "Pair is 128 bytes: the force loop reads one per candidate pair per step (docs/architecture.md quotes it)");
+static_assert(sizeof(Pair) == 128,
+              "Pair is 128 bytes: the force loop reads one per candidate pair per step "
+              "(docs/architecture.md quotes it)");
 
 struct PairCold {
     // Guard, written at touch and at the deepest overlap (when the overlap stops growing).
@@ -171,7 +173,9 @@ struct PairCold {
     double duration = 0.0;            // expected contact duration from the model at touch [s]
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
-static_assert(sizeof(PairCold) == 104, "PairCold is 104 bytes: read only by the time-step, guard and energy variants of the loop (docs/architecture.md)");
+static_assert(sizeof(PairCold) == 104,
+              "PairCold is 104 bytes: read only by the time-step, guard and energy variants of the "
+              "loop (docs/architecture.md)");
 
 struct BallArrays {
     std::vector<Vec2> pos, vel, force, fapp;

@@ -44,7 +44,7 @@ struct Settings {
     int64_t sort_every = 0;  // re-order the balls in memory every N steps (0: never)
     bool batched_law = true;
     bool lanes = false;
-    bool kernels = true;  // the host's kernels of the shipped models' laws (force/kernels.hpp)
+    bool kernels = true;   // the host's kernels of the shipped models' laws (force/kernels.hpp)
     int threads = 0;       // 0 = TALUS_THREADS or 1
     int thread_grain = 0;  // 0 = TALUS_THREAD_GRAIN or Model::kDefaultThreadGrain
 };

@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- The bonded-rock user page (docs/material.md) speaks to users: every function of the module it
 -- names exists, it links to its measurement logs (docs/results/material.md), and neither page
--- nor the module's scripts use words from our workshop (issue numbers, "thesis A", "seed
+-- nor the module's scripts use words from our workshop (issue numbers, names of our notes, "seed
 -- digest", the reference notes' file names, branch names) instead of citing sources.
 local T = require("testlib")
 local M = require("material")

@@ -20,7 +20,7 @@
 //     interpolation); on the step after separation the remaining impulse c v (tau'/dt - 1/2) is
 //     applied, with tau' the time from the last contact step to separation. For a normal dashpot
 //     that lets the contact pull (mode 0) the total dashpot impulse is then zero, as it is for
-//     the continuous law (accuracy-reference 1.1, sliding-impulse identity).
+//     the continuous law (the closed form of a linear spring-dashpot).
 //
 // The rest of the model (a_o). Leaving it out (a_o = 0, as this header did until 2026-11) is
 // harmless in a short impact but wrong in every persistent contact: a ball resting on a floor has
@@ -52,15 +52,15 @@
 
 namespace talus::sdk {
 
-/// Dashpot coefficient for a critical damping ratio `beta` [-] (accuracy-reference 1.1):
-/// c = 2 beta sqrt(m k) [N s/m].
+/// Dashpot coefficient for a critical damping ratio `beta` [-] (the closed form of a linear
+/// spring-dashpot): c = 2 beta sqrt(m k) [N s/m].
 inline double dashpotCoefficient(double beta, double mass_eff, double stiffness) {
     return 2.0 * beta * std::sqrt(mass_eff * stiffness);
 }
 
 /// Factor by which a stiffness is raised for the time step when a dashpot of ratio beta acts on
 /// it: central differences with viscous damping are stable for dt < (sqrt(1+b^2) - b) 2/omega
-/// (accuracy-reference 3.5, as PFC does).
+/// (as PFC's time step does).
 inline double dashpotStiffnessFactor(double beta) {
     const double f = std::sqrt(1.0 + beta * beta) - beta;
     return 1.0 / (f * f);

@@ -5,7 +5,7 @@
 // is "linear plus something" (`rrlinear` adds a rolling-resistance moment).
 //
 //   normal:  F_n^l = kn u_n                       (secant, absolute; no tension)
-//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (accuracy-reference 3.2)
+//   shear:   F_s^l <- F_s^l - ks dU_s,  |F_s^l| <= fric F_n^l      (the PFC linear model)
 //   dashpot: F^d = c (rate), c_n = 2 dp_nratio sqrt(m* kn), c_s = 2 dp_sratio sqrt(m* ks)
 //            (PFC's coefficients; the implicit solve of the shear dashpot uses the tangential
 //            effective mass, rotation included, FdBlock::inv_mass_eff_s)
@@ -322,7 +322,7 @@ public:
     /// sticking shear spring of a disk sees the inverse mass 1/m* + r^2/I = 3/m* (both ends
     /// disks, or a disk on a wall), so it is the faster one when 3 ks > kn; resolving only the
     /// normal impact then left it a few steps per half cycle, and leapfrog created a few percent
-    /// of the shear energy at each separation (issue 6, stress seeds 228 and 684;
+    /// of the shear energy at each separation (stress seeds 228 and 684;
     /// docs/models/linear.md). A sphere's inertia (3.5/m*) would be 8% faster than this.
     /// Without kn there is no force at all (the shear force is limited by fric kn u_n).
     double linearContactDuration(double mass_eff) const {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 //
-// Incremental linear shear spring with a Coulomb slider (PFC linear model, accuracy-reference
+// Incremental linear shear spring with a Coulomb slider (PFC linear model;
 // 3.2): F_s <- F_s - k_s dU_s, then |F_s| <= mu F_n by scaling, with the slip work of
-// accuracy-reference 3.6. In 2D the shear force is a scalar along t = (-n_y, n_x), so the
+// PFC's energy tracing. In 2D the shear force is a scalar along t = (-n_y, n_x), so the
 // stored force needs no rotation as the contact normal turns.
 #pragma once
 
