@@ -284,29 +284,31 @@ public:
         history_.fromLane(r, 16);
         touching_ = true;
     }
-    /// A lane row seen under the names contactStep reads and writes.
+    /// A lane row's values under the names contactStep reads and writes, copied in and out (in
+    /// registers, not through the row: the law's stores cannot alias its loads).
     struct LaneState {
-        double &kn, &ks, &fric, &cn_, &cs_, &inv_mass_eff_;
+        double kn, ks, fric, cn_, cs_, inv_mass_eff_;
         bool no_tension_, no_shear_dp_sliding_;
-        double &lin_fn, &lin_fs, &dp_fn, &dp_fs, &lin_slip;
+        double lin_fn, lin_fs, dp_fn, dp_fs, lin_slip;
     };
     /// One contact's step in the lanes: what linearLaw does, on the row (declined at separation,
     /// which pays the closing corners, and when the effective mass changed: setMass).
     template <class Fd>
-    static bool linearLaneStep(double* r, Fd& fd) {
+    __attribute__((always_inline)) static bool linearLaneStep(double* r, Fd& fd) {
         if (!(fd.u_n > 0.0) || fd.mass_eff != r[3]) return false;
         const double modes = r[9];
         LaneState s{r[0],         r[1],  r[2],  r[5],  r[6],  r[4], modes == 1.0 || modes == 3.0,
                     modes >= 2.0, r[10], r[11], r[12], r[13], r[14]};
-        const double cn = r[5], cs = r[6];
         DashpotLoad other{};
-        if (cn > 0.0 || cs > 0.0) {
+        if (s.cn_ > 0.0 || s.cs_ > 0.0) {
             DashpotHistory history;
             history.fromLane(r, 16);
-            other = history.observe(fd, cn > 0.0 ? r[4] : 0.0, cs > 0.0 ? fd.inv_mass_eff_s : 0.0);
+            other = history.observe(fd, s.cn_ > 0.0 ? s.inv_mass_eff_ : 0.0,
+                                    s.cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0);
             history.toLane(r, 16);
         }
         writeLaw(fd, contactStep(s, fd, other, false, false), r[7], r[8]);
+        r[10] = s.lin_fn, r[11] = s.lin_fs, r[12] = s.dp_fn, r[13] = s.dp_fs, r[14] = s.lin_slip;
         r[15] = fd.u_n;
         return true;
     }
