@@ -52,6 +52,13 @@ public:
 
     TimestepSettings& timestep();
     GuardSettings& guard();
+    /// The warning about contacts that start overlapping (bodies created or moved into each
+    /// other; docs/physics/guard.md), on by default. A routine that overlaps bodies on purpose
+    /// (a genesis growing its balls) switches it off for that stretch and says so in its own
+    /// words; the energy of such contacts is still booked as `placement`. A run-time switch,
+    /// not saved. Returns the previous setting.
+    bool setPlacementWarning(bool on);
+    bool placementWarning() const;
     DampingSettings& damping();
     Vec2& gravity();
     MassMode massMode() const;

@@ -116,6 +116,12 @@ double Model::lastTimestep() const { return m_world->clock.dt; }
 StepRule Model::lastStepRule() const { return m_world->stepping.rule; }
 TimestepSettings& Model::timestep() { return m_world->settings.timestep; }
 GuardSettings& Model::guard() { return m_world->settings.guard; }
+bool Model::setPlacementWarning(bool on) {
+    const bool was = m_world->guard_state.placement_warning;
+    m_world->guard_state.placement_warning = on;
+    return was;
+}
+bool Model::placementWarning() const { return m_world->guard_state.placement_warning; }
 DampingSettings& Model::damping() { return m_world->settings.damping; }
 Vec2& Model::gravity() { return m_world->settings.gravity; }
 MassMode Model::massMode() const { return m_world->settings.mass_mode; }

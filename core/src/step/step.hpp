@@ -52,6 +52,9 @@ void bookkeeping(World& world, const StepContext& step);        // bookkeeping.c
 void surveyPairs(World& world);
 /// The run-level energy check (bookkeeping.cpp).
 void checkBalance(World& world);
+/// The contacts that gave back more energy than they took this step, against the scene's energy
+/// (bookkeeping.cpp); an error thrown only when `may_throw`.
+void judgeEnergyGains(World& world, bool may_throw);
 /// The guard's aggregated findings as warnings, once per run call (bookkeeping.cpp).
 void flushWarnings(World& world);
 void reportNonFiniteBall(const World& world);  // law_of_motion.cpp

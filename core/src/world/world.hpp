@@ -140,6 +140,17 @@ struct GuardState {
     double placed_energy = 0.0;
     std::string placed_first;
     bool warned_no_model = false;
+    // Contacts that gave back more than `energy_tolerance` of what they took, found at their
+    // end in the force loop; judged at the step's end against the scene's energy
+    // (bookkeeping.cpp, judgeEnergyGains), then cleared.
+    struct EnergyGain {
+        double gained = 0.0;  // [J]
+        std::string what;
+    };
+    std::vector<EnergyGain> energy_gains;
+    // Off while a routine overlaps bodies on purpose (Model::setPlacementWarning): contacts that
+    // start overlapping are booked as placement but not reported. Not saved (a run-time switch).
+    bool placement_warning = true;
     // Run-level balance check: the snapshot at the last check that passed (the window a finding
     // names opens there), the peak mechanical energy, and the error last reported (a finding is
     // reported again only when it grows by another tolerance).
