@@ -328,7 +328,10 @@ void Model::saveState(SaveWriter& w) const {
     const EnergyBooks& e = world.books;
     w.boolean(e.on);
     writeTotals(w, e.acc), writeTotals(w, e.snapshot);
-    w.f64(e.dashpot_pending), w.boolean(e.strain_baseline_pending), w.f64(e.last_placed);
+    // (the flag that once said "the next force loop books the contacts' baseline" now says
+    // "the books are still opening": a file of either kind restores with the books opening)
+    w.f64(e.dashpot_pending), w.boolean(e.opening != 0 || e.strain_baseline_pending),
+        w.f64(e.last_placed);
     w.boolean(e.groups.on), w.u64(e.groups.traced);
     w.u64(e.groups.g.size());
     for (const auto& g : e.groups.g) w.pod(g);
@@ -761,7 +764,10 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         EnergyBooks& e = world.books;
         e.on = r.boolean();
         e.acc = readTotals(r), e.snapshot = readTotals(r);
-        e.dashpot_pending = r.f64(), e.strain_baseline_pending = r.boolean();
+        // Still opening when saved (api/energy.cpp): they open afresh, at the snapshot after
+        // next (as over loaded contacts), where everything they start from is known again.
+        e.dashpot_pending = r.f64(), e.opening = r.boolean() ? 2 : 0;
+        e.strain_baseline_pending = false;
         e.last_placed = r.f64();
         e.groups.on = r.boolean(), e.groups.traced = r.u64();
         e.groups.g.resize(r.count(sizeof(EnergyBooks::GroupBooks::Group), "group books"));

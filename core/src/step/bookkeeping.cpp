@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "step/group_energy.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
@@ -19,6 +20,7 @@ namespace talus {
 
 void bookkeeping(World& world, const StepContext& step) {
     if (!world.guard_state.energy_gains.empty()) judgeEnergyGains(world, true);
+    if (step.energy) bookWallsBefore(world, step);
     if (step.energy && world.settings.guard.balance != GuardAction::Off) checkBalance(world);
     if (!world.callbacks.events.empty()) {
         // Swap out first: a handler may cycle the model or queue events of its own.
@@ -78,6 +80,19 @@ double sceneEnergy(const World& world) {
 }
 
 }  // namespace
+
+void bookWallsBefore(World& world, const StepContext& step) {
+    // A moving wall's work on the balls over the second half of this step: the force the force
+    // loop just found (at the next snapshot's time) times the velocity the wall moved at in
+    // this step, over half of it. It comes before that snapshot; moveWalls books the half
+    // after it, with the next step's velocity.
+    for (const WallData& w : world.bodies.walls) {
+        if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
+        const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * 0.5 * step.dt;
+        world.books.acc.boundary += work;
+        if (world.books.groups.on) bookWallToGroups(world, w.groups, work);
+    }
+}
 
 void judgeEnergyGains(World& world, bool may_throw) {
     // A contact's gain is judged against its own peak (endContact); this floor keeps out gains

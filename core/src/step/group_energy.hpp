@@ -41,7 +41,7 @@ void groupForceLoopStart(World& world);         // zero the scratch, drop stale 
 void groupForceLoopEnd(World& world);           // strain/bond current values, baseline
 void gatherExchangeStart(World& world);         // law of motion: rates before the update
 void groupSnapshot(World& world, double lead);  // law of motion: split, snapshot, accumulate
-void bookWallToGroups(World& world, uint64_t mask, double work, double lead);
+void bookWallToGroups(World& world, uint64_t mask, double work);  // a moving wall's work
 /// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
 /// update; the clump pass routes pebble ends to their clump here.
 void endRates(const World& world, uint32_t slot, Vec2& v, double& w);

@@ -91,8 +91,19 @@ struct EnergyBooks {
     // impulse (its impulse spans the window around the force's time level).
     double dashpot_pending = 0.0;
     // Tracing was switched on while contacts were loaded: the next force loop books what they
-    // hold as initial_strain.
+    // hold as initial_strain. (Not set since the books open as `opening` says; kept for the
+    // force loop's path that reads it.)
     bool strain_baseline_pending = false;
+    // Tracing was just switched on (api/energy.cpp). The books open at a whole step where the
+    // kinetic energy and what the contacts hold are both known (law_of_motion.cpp, openBooks):
+    // 1: at the next snapshot (no contact was active); 2: at the one after, once the contacts'
+    // models have reported what they hold (the next snapshot waits: it books nothing).
+    // 0: open.
+    int opening = 0;
+    // What the last snapshot did with the impulses that span it: booked their part before it
+    // (Open), only the part after it (Opened: the books opened there), or nothing (Waiting: the
+    // books open at the next one; group_energy.cpp and the energy contract's check read it).
+    enum class Stage : uint8_t { Open, Opened, Waiting } stage = Stage::Open;
     // Placement energy of the contact the force loop just activated (notePlacement), for the
     // group shares.
     double last_placed = 0.0;
