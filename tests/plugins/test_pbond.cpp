@@ -716,3 +716,38 @@ TEST_CASE("pbond lin_mode 1, unbonded: a bouncing ball's balance closes as linea
         CHECK(std::fabs(inc_pair) < 1.2 * std::fabs(lin_pair) + 1e-6);
     }
 }
+
+// The bond_break event carries the bond's half width as the model had it when the bond broke
+// (Event::radius): pb_rmul min(R). The pair is pulled apart, so its contact ends in the
+// breaking step and the model object is a fresh one by the time the event is delivered; until
+// 2026-11-28 the event had no size and cracks took the smaller ball's radius.
+TEST_CASE("pbond on the engine: the bond_break event carries the bond's radius", "[pbond]") {
+    for (double rmul : {0.5, 1.5}) {
+        Model m;
+        m.setDefaultContactModel("pbond", {{"kn", 1e6},
+                                           {"ks", 1e6},
+                                           {"pb_kn", kPbKn},
+                                           {"pb_ks", kPbKs},
+                                           {"pb_ten", 1e7},
+                                           {"pb_coh", kHuge},
+                                           {"pb_rmul", rmul},
+                                           {"bonded", 1.0}});
+        std::vector<Event> events;
+        m.setEventHandler([&](const Event& e) { events.push_back(e); });
+        BallDef d;
+        d.density = 2600.0;
+        d.radius = kR;
+        d.pos = Vec2(-kR + 0.5e-9, 0.0);
+        const BallId a = m.createBall(d);
+        d.radius = 0.6 * kR;
+        d.pos = Vec2(0.6 * kR - 0.5e-9, 0.0);
+        const BallId b = m.createBall(d);
+        m.cycle(1);
+        m.setBallVel(a, Vec2(-1.0, 0.0));
+        m.setBallVel(b, Vec2(1.0, 0.0));
+        for (int i = 0; i < 5000 && events.empty(); ++i) m.cycle(1);
+        REQUIRE(events.size() == 1);
+        CHECK(m.contactCount() == 0);
+        CHECK(events[0].radius == Approx(rmul * 0.6 * kR).epsilon(1e-15));
+    }
+}

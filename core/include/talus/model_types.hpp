@@ -273,6 +273,12 @@ struct Event {
     /// [Pa], when the model reports them (kFdBreakStress); NaN otherwise.
     double sigma = std::numeric_limits<double>::quiet_NaN();
     double tau = std::numeric_limits<double>::quiet_NaN();
+    /// Bond breaks: the bond's half width [m] (its radius: a crack across it is 2 radius long),
+    /// read from the model as the bond broke: its property `bond_radius`, `pb_rad` (a parallel
+    /// bond) or `fj_radius` (a flat joint), the first it has (docs/plugin-abi.md, "Bonds"); NaN
+    /// when it has none (a contact bond has no size of its own). Not saved: NaN for an event
+    /// still queued at a save.
+    double radius = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// A read-only view of one contact, for queries.

@@ -7,19 +7,38 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "api/operations.hpp"
 #include "force/force.hpp"
+#include "props.hpp"
 #include "step/detection.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
+#include "world/lanes.hpp"
 #include "world/messages.hpp"
 
 namespace talus {
 
 namespace {
 std::string num(double v) { return messageNumber(v); }
+
+/// The half width of the bond a contact's model holds [m]: the first of its properties that
+/// name it (a new model's `bond_radius`, PFC's `pb_rad` of a parallel bond, a flat joint's
+/// `fj_radius`), NaN when it has none or it is not positive (docs/plugin-abi.md, "Bonds").
+double bondRadius(const Pair& p) {
+    static const char* const kNames[] = {"bond_radius", "pb_rad", "fj_radius"};
+    if (p.model)
+        for (const char* name : kNames) {
+            const int32_t k = propIndex(*p.model, name);
+            if (k < 0) continue;
+            syncLane(p);  // (the model object is current only outside the lanes)
+            const double r = p.model->ReturnProp(k);
+            return r > 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
+        }
+    return std::numeric_limits<double>::quiet_NaN();
+}
 }  // namespace
 
 bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
@@ -151,6 +170,9 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
     forgetBond(world, i);
     Event ev;
     ev.kind = EventKind::BondBreak;
+    // The model object still holds the bond's geometry here; by the time the event is
+    // delivered a contact that ended in the breaking step has a fresh one.
+    ev.radius = bondRadius(world.contacts.pairs[i]);
     ev.time = world.clock.time;
     ev.pos = point;
     ev.contact = ContactKey{world.contacts.cold[i].key};
