@@ -32,29 +32,30 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
     world.contacts.activation_flags =
         world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
     p.active = true;
+    p.watched = true;  // the guard follows its first kGuardWatch steps (pass_finish.hpp)
     ++world.profile.contacts_created;
-    c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    c.duration = c.model->ContactDuration(c.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
     // The resolution rule and the guard divide by it: NaN, zero or negative would silently
     // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
     if (!(c.duration > 0.0))
-        throw PluginError("contact model '" + p.rule->model_name + "' at step " +
+        throw PluginError("contact model '" + world.contacts.ruleOf(p).model_name + "' at step " +
                           std::to_string(world.clock.step) + " on " + describePair(world, p) +
-                          ": ContactDuration(mass_eff " + num(p.mass_eff) + " kg, approach " +
+                          ": ContactDuration(mass_eff " + num(c.mass_eff) + " kg, approach " +
                           num(std::max(0.0, -vrel.dot(g.normal))) + " m/s) returned " +
                           num(c.duration) + " s (must be > 0, +inf for no force)");
     // A rule whose contacts have no stiffness at all (m:contact_model("linear") with no kn:
     // the bodies pass through each other) is worth one warning per rule: no tangent stiffness
     // at touch and no finite duration even at 1 m/s means the model exerts no normal force.
-    if (!p.rule->warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
-        !(p.model->ContactDuration(p.mass_eff, 1.0) < HUGE_VAL)) {
-        p.rule->warned_no_stiffness = true;
+    if (!world.contacts.ruleOf(p).warned_no_stiffness && !(c.model->KnEstimate() > 0.0) &&
+        !(c.model->ContactDuration(c.mass_eff, 1.0) < HUGE_VAL)) {
+        world.contacts.ruleOf(p).warned_no_stiffness = true;
         std::string zero;
-        for (int32_t k = 0; k < p.model->PropCount(); ++k) {
-            const PropInfo* info = p.model->PropInfoAt(k);
+        for (int32_t k = 0; k < c.model->PropCount(); ++k) {
+            const PropInfo* info = c.model->PropInfoAt(k);
             if (!info || (info->flags & (kPropReadOnly | kPropState))) continue;
             const std::string units = info->units ? info->units : "";
             // zero, or subnormal (1e-320 Pa: a stiffness that ends up zero in every product)
-            const double v = p.model->ReturnProp(k);
+            const double v = c.model->ReturnProp(k);
             if ((units == "N/m" || units == "Pa") && std::fabs(v) < DBL_MIN)
                 zero += std::string(zero.empty() ? "" : ", ") + info->name + " = " + num(v);
         }
@@ -63,8 +64,8 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
         if (!zero.empty())
             talus::warn(
                 world,
-                "contact model '" + p.rule->model_name + "' has no normal stiffness on " +
-                    describePair(world, p) + " (" + zero + ")" +
+                "contact model '" + world.contacts.ruleOf(p).model_name +
+                    "' has no normal stiffness on " + describePair(world, p) + " (" + zero + ")" +
                     ": the bodies will pass through each other; set the stiffness in "
                     "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
     }
@@ -96,7 +97,7 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
         ev.time = world.clock.time;
         ev.pos = g.point;
         ev.contact = ContactKey{c.key};
-        ev.model = p.rule->model_name;
+        ev.model = world.contacts.ruleOf(p).model_name;
         world.callbacks.events.push_back(std::move(ev));
     }
     return true;
@@ -132,11 +133,12 @@ double notePlacement(World& world, const Pair& p, const PairCold& c, double over
 }
 
 void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after) {
-    if (p.overlap <= c.overlap_max) return;
-    c.overlap_max = p.overlap;
+    (void)p;
+    if (c.overlap <= c.overlap_max) return;
+    c.overlap_max = c.overlap;
     c.force_at_max = force;
     c.rate_at_max = rate_after;
-    c.knest_at_max = p.knest;
+    c.knest_at_max = c.knest;
     c.dt_at_max = world.clock.dt;
 }
 
@@ -154,7 +156,7 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
     ev.pos = point;
     ev.contact = ContactKey{world.contacts.cold[i].key};
     ev.mode = mode;
-    ev.model = world.contacts.pairs[i].rule->model_name;
+    ev.model = world.contacts.ruleOf(world.contacts.pairs[i]).model_name;
     if (with_stress) {
         ev.sigma = sigma;
         ev.tau = tau;
@@ -163,23 +165,23 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
 }
 
 void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
-    if (check_guard && p.steps > 0 && p.steps <= kGuardWatch) {
+    if (check_guard && c.steps > 0 && c.steps <= kGuardWatch) {
         // A contact created overlapping (by placement) gives back energy it never took.
         // Reference: the larger of the energy the contact held at its peak and the kinetic
         // energy of the approach (a contact that only ever gave energy has no peak).
         const double reference =
-            std::max(p.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
+            std::max(c.work_peak, 0.5 * c.mass_eff * c.approach_rate * c.approach_rate);
         if (world.settings.guard.energy != GuardAction::Off && !c.born_overlapped &&
-            reference > 0.0 && p.work < -world.settings.guard.energy_tolerance * reference) {
+            reference > 0.0 && c.work < -world.settings.guard.energy_tolerance * reference) {
             const std::string what =
-                describePair(world, p) + " returned " + num(-p.work) +
+                describePair(world, p) + " returned " + num(-c.work) +
                 " J more than it took (reference " + num(reference) + " J, tolerance " +
                 num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
-                std::to_string(p.steps) + " steps ending at t = " + num(world.clock.time) +
+                std::to_string(c.steps) + " steps ending at t = " + num(world.clock.time) +
                 " s; the step (" + num(world.clock.dt) +
                 " s) is too large for the model's stiffness, or the "
                 "model reports too low a stiffness (knest " +
-                num(p.knest) + " N/m)";
+                num(c.knest) + " N/m)";
             if (world.settings.guard.energy == GuardAction::Error)
                 throw NumericalError("energy created: " + what);
             if (world.guard_state.energy_gain++ == 0) world.guard_state.energy_gain_first = what;
@@ -194,7 +196,7 @@ void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
                 describePair(world, p) + " had " + num(c.duration / c.dt_at_max) +
                 " steps per contact duration (" + num(c.duration) +
                 " s at dt = " + num(c.dt_at_max) + " s, t = " + num(world.clock.time) +
-                " s); it lasted " + std::to_string(p.steps) + " steps";
+                " s); it lasted " + std::to_string(c.steps) + " steps";
             if (world.settings.guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
                                      std::to_string(world.settings.guard.min_steps) +
@@ -208,7 +210,7 @@ void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
         const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
         const double allowed =
             2.0 * c.knest_at_max * c.overlap_max +
-            2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
+            2.0 * std::sqrt(c.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
         if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
             c.force_at_max > allowed) {
             const std::string what =

@@ -162,7 +162,8 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     }
 
     // ---- extras
-    const bool ends = g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete();
+    const bool ends =
+        g.overlap <= -p.activity && !(fd.flags & kFdKeep) && v.cold[i].model->OKToDelete();
     if constexpr (Features::kAuto || Features::kEnergy || Features::kGuard) {
         PairCold& c = v.cold[i];
         if constexpr (Features::kAuto) {
@@ -170,7 +171,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             const double arm2_sq = p.wall ? 0.0 : (g.point - e.x2).squaredNorm();
             if constexpr (kMode == Delivery::Direct) {
                 noteContact(world, p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(), arm2_sq,
-                            p.mass_eff);
+                            c.mass_eff);
             } else {
                 // noteContact's stiffness sums, term by term, for the gather
                 double* add = v.stiffness[i].add[0];
@@ -178,7 +179,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 add[1] = fd.ksest * r1c.squaredNorm() + fd.krest;
                 add[3] = fd.ksest * arm2_sq + fd.krest;
                 noteContactLimits(
-                    world, p, c, fd.knest, p.mass_eff,
+                    world, p, c, fd.knest, c.mass_eff,
                     kMode == Delivery::Parallel ? part->limits : world.stepping.limits);
             }
         }
@@ -239,26 +240,37 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     if constexpr (Features::kGuard) {
         // The guard follows a contact through its first kGuardWatch steps, which covers any
         // resolved impact (30 to 150 steps); a contact that persists longer (a packing) is not
-        // followed further, and its energy check is skipped (docs/physics/guard.md).
-        if (p.steps < kGuardWatch) {
-            // Energy the contact took from the bodies: the impulse of each step's force times
-            // the mean of the half-step rates around it, which is what the law of motion did
-            // with it. The two halves are booked at the two FDlaw calls the force spans, each
-            // with the rate it sees: the previous force over this window, the new force over
-            // this step as the estimate of its window (exact for a constant step). So no rate is
-            // kept, and nothing outside the hot pair is touched.
-            const double power_old =
-                fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
-            const double power_new =
-                fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
-            p.work += 0.5 * (v.window * power_old + v.dt * power_new);
-            if (ends) p.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
-            p.work_peak = std::max(p.work_peak, p.work);
-            // The deepest overlap is where the overlap stops growing: note the previous step's
-            // values there, once per turn (the stiffness and resolution checks).
-            const bool growing = first || g.overlap > p.overlap;
-            if (!growing && p.loading) noteDeepest(world, p, v.cold[i], fn_old, fd.u_dot_n);
-            p.loading = growing;
+        // followed further, and its energy check is skipped (docs/physics/guard.md). Only a
+        // watched contact reads and writes its cold record here.
+        bool young = false;
+        if (p.watched) {
+            PairCold& c = v.cold[i];
+            young = c.steps < kGuardWatch;
+            if (young) {
+                // Energy the contact took from the bodies: the impulse of each step's force
+                // times the mean of the half-step rates around it, which is what the law of
+                // motion did with it. The two halves are booked at the two FDlaw calls the force
+                // spans, each with the rate it sees: the previous force over this window, the new
+                // force over this step as the estimate of its window (exact for a constant
+                // step). So no rate is kept.
+                const double power_old =
+                    fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
+                const double power_new =
+                    fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
+                c.work += 0.5 * (v.window * power_old + v.dt * power_new);
+                if (ends) c.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
+                c.work_peak = std::max(c.work_peak, c.work);
+                // The deepest overlap is where the overlap stops growing: note the previous
+                // step's values there, once per turn (the stiffness and resolution checks).
+                const bool growing = first || g.overlap > c.overlap;
+                if (!growing && p.loading) noteDeepest(world, p, c, fn_old, fd.u_dot_n);
+                p.loading = growing;
+            }
+            c.overlap = g.overlap;
+            c.knest = fd.knest;
+            c.ksest = fd.ksest;
+            c.steps += g.overlap > 0.0;
+            if (c.steps > kGuardWatch) p.watched = false;  // (endContact checks up to the watch)
         }
         // A contact that was pushing the bodies apart cannot reverse its normal within a step
         // unless one body went through the other (a model exerting no force may let it). One
@@ -266,19 +278,25 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
         // normal's frame, by more than the distance from the ball's centre to the other body's
         // centre or wall line: -du_n > that distance. Checked at every step of an impact, and in
         // a persistent contact once it overlaps by more than a tenth of the ball's radius.
-        if (!first && fn_old > 0.0 && (p.steps < kGuardWatch || g.overlap > 0.1 * r1) &&
+        if (!first && fn_old > 0.0 && (young || g.overlap > 0.1 * r1) &&
             -fd.du_n > (p.wall ? r1 : r1 + v.radius[p.end2]) - g.overlap)
             reportPassThrough(world, p, g);
     }
     p.n_force = fd.n_force;
     p.s_force = fd.s_force;
     p.moment = fd.moment;
-    p.overlap = g.overlap;
-    p.knest = fd.knest;
-    p.ksest = fd.ksest;
     p.sliding = (fd.flags & kFdSliding) != 0;
     p.bonded = (fd.flags & kFdBonded) != 0;
-    p.steps += g.overlap > 0.0;
+    // The law's estimates for the time step (its survey, the approach of a pair that touches
+    // again) and the messages: a contact through FDlaw has its cold record at hand; a kernel's
+    // estimates stay what they were at its last FDlaw unless the automatic step reads them, or
+    // they are not finite (findNonFiniteContact names the contact by them).
+    if (kFdBlock || Features::kAuto || !std::isfinite(fd.knest + fd.ksest)) {
+        PairCold& c = v.cold[i];
+        c.knest = fd.knest;
+        c.ksest = fd.ksest;
+        c.overlap = g.overlap;
+    }
     if constexpr (kMode == Delivery::Parallel) {
         if (fd.flags & kFdBroken) {
             DeferredItem item{static_cast<uint32_t>(i), Deferred::Break};

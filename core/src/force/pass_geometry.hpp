@@ -20,9 +20,11 @@ namespace talus {
 /// A contact's FdBlock from its geometry. Only what changes from contact to contact is written:
 /// the rest is the step's template (the thread's copy).
 template <class Features>
-__attribute__((always_inline)) inline void fillFd(const ForceView& v, const Pair& p, double overlap,
+__attribute__((always_inline)) inline void fillFd(const ForceView& v, std::size_t i, double overlap,
                                                   double u_dot_n, double u_dot_s, double t_dot_rel,
                                                   FdBlock& fd) {
+    const Pair& p = v.pairs[i];
+    const PairCold& c = v.cold[i];
     fd.flags = v.fd_template.flags;
     fd.status = 0;
     fd.tdel = v.dt;
@@ -34,8 +36,8 @@ __attribute__((always_inline)) inline void fillFd(const ForceView& v, const Pair
     fd.du_n = fd.u_dot_n * v.dt;
     fd.du_s = fd.u_dot_s * v.dt;
     fd.dtheta = fd.t_dot_rel * v.dt;
-    fd.mass_eff = p.mass_eff;
-    fd.inv_mass_eff_s = p.inv_mass_eff_s;
+    fd.mass_eff = c.mass_eff;
+    fd.inv_mass_eff_s = c.inv_mass_eff_s;
     fd.n_force = p.n_force;
     fd.s_force = p.s_force;
     fd.moment = p.moment;
@@ -113,7 +115,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
     const double u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
     const double t_dot_rel = spin2 - v.spin[s1];
     if (fd) {
-        fillFd<Features>(v, p, g.overlap, u_dot_n, u_dot_s, t_dot_rel, *fd);
+        fillFd<Features>(v, i, g.overlap, u_dot_n, u_dot_s, t_dot_rel, *fd);
     } else {
         e.u_dot_n = u_dot_n;
         e.u_dot_s = u_dot_s;

@@ -77,6 +77,7 @@ struct Stepping {
     bool idle = false;              // the last step was idle: nothing moved or accelerated
     double cap = 0.0;               // solveTime: upper bound for the next step (0 = none)
     StepLimits limits;              // for the next automatic step, from the force loop
+    bool guard_was_on = true;       // the guard's per-contact checks ran at the last step
 };
 
 /// Energy books (docs/physics/energy.md). Every energy sum of the model is accumulated here:
