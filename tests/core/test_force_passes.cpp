@@ -164,7 +164,7 @@ TEST_CASE("pass 2: linear's first call and its batched law") {
     // The same contact state through both paths: one on a clone of the object.
     const std::size_t bytes = rule.pool->blockSize();
     std::vector<unsigned char> saved(bytes);
-    std::memcpy(saved.data(), static_cast<void*>(c.model), bytes);
+    std::memcpy(saved.data(), static_cast<void*>(p.model), bytes);
     FdBlock a = fd, b = fd;
     std::string error;
     int64_t count = 0;
@@ -172,7 +172,7 @@ TEST_CASE("pass 2: linear's first call and its batched law") {
     batched.batched = true;
     lawPass(batched, 0, a, error, count);
     CHECK(count == 1);
-    std::memcpy(static_cast<void*>(c.model), saved.data(), bytes);  // the state before
+    std::memcpy(static_cast<void*>(p.model), saved.data(), bytes);  // the state before
     ForceView vtable = v;
     vtable.batched = false;
     lawPass(vtable, 0, b, error, count);

@@ -267,7 +267,7 @@ std::size_t Model::bond(const BondSettings& s) {
     std::vector<uint32_t> cand;
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
         const Pair& p = world.contacts.pairs[i];
-        if (world.contacts.coldOf(p).model && bondSelects(world, p, s, ga, gb) && withinGap(p))
+        if (p.model && bondSelects(world, p, s, ga, gb) && withinGap(p))
             cand.push_back(static_cast<uint32_t>(i));
     }
     // Contact order: by key (the ends' handles), so the drawn values do not depend on the pairs'
@@ -327,7 +327,7 @@ std::size_t Model::bond(const BondSettings& s) {
             throw InputError("bond: " + describePair(world, p) + ": " + why);
         };
         leaveLane(world.contacts, p);
-        const ContactModel& old = *world.contacts.coldOf(p).model;
+        const ContactModel& old = *p.model;
         for (int32_t k = 0; k < nm->PropCount(); ++k) {
             const PropInfo* info = nm->PropInfoAt(k);
             if (!info || (info->flags & (kPropReadOnly | kPropState)) || k == bonded_idx) continue;
@@ -383,11 +383,11 @@ std::size_t Model::bond(const BondSettings& s) {
             fail("the first FDlaw of model '" + factory.name + "' returned a non-finite value");
 
         // Swap the objects.
-        c.model->Destroy();
-        world.contacts.ruleOf(p).pool->release(c.model);
-        c.model = nm;
+        p.model->Destroy();
+        world.contacts.ruleOf(p).pool->release(p.model);
+        p.model = nm;
         p.rule = world.contacts.ruleIndex(bond_rule);
-        p.activity = nm->ActivityDistance();
+        c.activity = checkedActivity(nm->ActivityDistance(), factory.name);
         if (!was_active) ++world.profile.contacts_created;
         p.active = true;
         p.watched = c.steps <= kGuardWatch;
@@ -513,14 +513,12 @@ std::size_t Model::unbond(const BondSettings& s) {
     std::size_t count = 0;
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
         Pair& p = world.contacts.pairs[i];
-        if (!world.contacts.coldOf(p).model || !p.active ||
-            !(world.contacts.coldOf(p).model->Traits() & kTraitBond))
-            continue;
-        if (!s.model.empty() && s.model != world.contacts.coldOf(p).model->Name()) continue;
+        if (!p.model || !p.active || !(p.model->Traits() & kTraitBond)) continue;
+        if (!s.model.empty() && s.model != p.model->Name()) continue;
         if (!bondSelects(world, p, s, ga, gb)) continue;
-        const int32_t k = propIndex(*world.contacts.coldOf(p).model, "bonded");
+        const int32_t k = propIndex(*p.model, "bonded");
         syncLane(world.contacts, p);
-        if (k < 0 || world.contacts.coldOf(p).model->ReturnProp(k) != 1.0) continue;
+        if (k < 0 || p.model->ReturnProp(k) != 1.0) continue;
         // No event, and nothing booked here: the forces the last force loop summed, the
         // bond's included, still act over the half step after this one, so what the bond lets
         // go is known at the model's next FDlaw, which books it as released (pbond, cbond:
@@ -528,9 +526,9 @@ std::size_t Model::unbond(const BondSettings& s) {
         // that half step's work (first order in the step) and, for cbond, would book what its
         // unbonded law keeps (a contact in compression).
         leaveLane(world.contacts, p);
-        if (world.contacts.coldOf(p).model->AcceptProp(k, 0.0) != 0)
+        if (p.model->AcceptProp(k, 0.0) != 0)
             throw InputError(std::string("unbond: ") + describePair(world, p) + ": " +
-                             world.contacts.coldOf(p).model->LastError());
+                             p.model->LastError());
         p.bonded = false;
         forgetBond(world, i);
         ++count;

@@ -56,7 +56,7 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     rule->group_b = group_b.empty() ? -1 : talus::groupIndex(world, group_b, true);
     rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
     rule->order = static_cast<int>(world.contacts.rules.size());
-    rule->activity = rule->prototype->ActivityDistance();
+    rule->activity = checkedActivity(rule->prototype->ActivityDistance(), rule->model_name);
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     if (rule->specificity == 0) {
         // A new default replaces the old one for future contacts; the old rule stays alive
@@ -76,6 +76,13 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     for (const auto& r : world.contacts.rules)
         if (r->prototype)
             world.contacts.max_activity = std::max(world.contacts.max_activity, r->activity);
+}
+
+double checkedActivity(double activity, const std::string& model) {
+    if (!(activity >= 0.0) || !std::isfinite(activity))
+        throw PluginError("contact model '" + model + "': ActivityDistance() returned " +
+                          messageNumber(activity) + " m (must be finite and >= 0)");
+    return activity;
 }
 
 void requireRuleRoom(const World& world, const char* what) {
@@ -183,7 +190,7 @@ bool Model::findContact(ContactKey key, ContactInfo& out) const {
 double Model::contactProp(ContactKey key, const std::string& name) const {
     const World& world = *m_world;
     const Pair* p = world.contacts.pairByKey(key);
-    ContactModel* model = p ? world.contacts.coldOf(*p).model : nullptr;
+    ContactModel* model = p ? p->model : nullptr;
     if (!model) throw InputError("contact no longer exists");
     const int32_t idx = propIndex(*model, name);
     if (idx < 0)
@@ -197,7 +204,7 @@ void Model::setContactProp(ContactKey key, const std::string& name, double value
     World& world = *m_world;
     world.stepping.limits_stale = true;
     Pair* p = world.contacts.pairByKey(key);
-    ContactModel* model = p ? world.contacts.coldOf(*p).model : nullptr;
+    ContactModel* model = p ? p->model : nullptr;
     if (!model) throw InputError("contact no longer exists");
     const int32_t idx = propIndex(*model, name);
     if (idx < 0)

@@ -83,7 +83,7 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
 Model::~Model() {
     ContactStore& cs = m_world->contacts;
     for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
-        if (ContactModel* model = cs.cold[i].model) {
+        if (ContactModel* model = cs.pairs[i].model) {
             model->Destroy();
             cs.ruleOf(cs.pairs[i]).pool->release(model);
         }

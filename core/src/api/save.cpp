@@ -290,7 +290,7 @@ void Model::saveState(SaveWriter& w) const {
         w.boolean(p.loading);
         w.u32(c.steps);
         w.u32(p.rule);
-        w.f64(c.mass_eff), w.f64(c.inv_mass_eff_s), w.f64(p.activity);
+        w.f64(c.mass_eff), w.f64(c.inv_mass_eff_s), w.f64(c.activity);
         w.f64(p.n_force), w.f64(p.s_force), w.f64(p.moment), w.f64(c.overlap);
         w.f64(c.knest), w.f64(c.ksest), w.f64(c.work), w.f64(c.work_peak);
         w.f64(c.overlap_max), w.f64(c.force_at_max), w.f64(c.rate_at_max);
@@ -298,9 +298,9 @@ void Model::saveState(SaveWriter& w) const {
         w.boolean(c.born_overlapped);
         w.u32(c.rules_version), w.u64(c.key), w.f64(c.krest), w.f64(c.duration);
         w.f64(c.strain), w.f64(c.bond);
-        w.boolean(c.model != nullptr);
+        w.boolean(p.model != nullptr);
         syncLane(world.contacts, p);
-        if (c.model) writeModelState(w, *c.model);
+        if (p.model) writeModelState(w, *p.model);
     }
     // Pairs whose bond broke or was removed (api/bonds.cpp), sorted by key: the map is only
     // looked up, so its order is no state, and sorting makes the file independent of it.
@@ -656,7 +656,9 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             p.bonded = r.boolean(), p.loading = r.boolean();
             c.steps = r.u32();
             const uint32_t rule = r.u32();
-            c.mass_eff = r.f64(), c.inv_mass_eff_s = r.f64(), p.activity = r.f64();
+            c.mass_eff = r.f64(), c.inv_mass_eff_s = r.f64(), c.activity = r.f64();
+            if (!(c.activity >= 0.0) || !std::isfinite(c.activity))
+                r.fail("pair " + std::to_string(i) + " has an invalid activity distance");
             p.n_force = r.f64(), p.s_force = r.f64(), p.moment = r.f64(), c.overlap = r.f64();
             c.knest = r.f64(), c.ksest = r.f64(), c.work = r.f64(), c.work_peak = r.f64();
             c.overlap_max = r.f64(), c.force_at_max = r.f64(), c.rate_at_max = r.f64();
@@ -690,15 +692,15 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             Pair& q = cs.pairs.back();
             PairCold& qc = cs.cold.back();
             q.watched = q.active && qc.steps <= kGuardWatch;
-            qc.model = nullptr;
+            q.model = nullptr;
             try {
-                qc.model = cloneFor(world, q, qc.mass_eff);
+                q.model = cloneFor(world, q, qc.mass_eff);
             } catch (const std::exception& e) {
                 cs.pairs.pop_back();
                 cs.cold.pop_back();
                 r.fail(at + ": " + e.what());
             }
-            applyModelState(r, *qc.model, state, rule_versions[rule],
+            applyModelState(r, *q.model, state, rule_versions[rule],
                             at + " ('" + world.contacts.ruleOf(q).model_name + "')");
         }
         const std::size_t nu = r.count(16, "unbonded pairs");

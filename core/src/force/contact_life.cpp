@@ -34,7 +34,7 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
     p.active = true;
     p.watched = true;  // the guard follows its first kGuardWatch steps (pass_finish.hpp)
     ++world.profile.contacts_created;
-    c.duration = c.model->ContactDuration(c.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    c.duration = p.model->ContactDuration(c.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
     // The resolution rule and the guard divide by it: NaN, zero or negative would silently
     // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
     if (!(c.duration > 0.0))
@@ -46,16 +46,16 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
     // A rule whose contacts have no stiffness at all (m:contact_model("linear") with no kn:
     // the bodies pass through each other) is worth one warning per rule: no tangent stiffness
     // at touch and no finite duration even at 1 m/s means the model exerts no normal force.
-    if (!world.contacts.ruleOf(p).warned_no_stiffness && !(c.model->KnEstimate() > 0.0) &&
-        !(c.model->ContactDuration(c.mass_eff, 1.0) < HUGE_VAL)) {
+    if (!world.contacts.ruleOf(p).warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
+        !(p.model->ContactDuration(c.mass_eff, 1.0) < HUGE_VAL)) {
         world.contacts.ruleOf(p).warned_no_stiffness = true;
         std::string zero;
-        for (int32_t k = 0; k < c.model->PropCount(); ++k) {
-            const PropInfo* info = c.model->PropInfoAt(k);
+        for (int32_t k = 0; k < p.model->PropCount(); ++k) {
+            const PropInfo* info = p.model->PropInfoAt(k);
             if (!info || (info->flags & (kPropReadOnly | kPropState))) continue;
             const std::string units = info->units ? info->units : "";
             // zero, or subnormal (1e-320 Pa: a stiffness that ends up zero in every product)
-            const double v = c.model->ReturnProp(k);
+            const double v = p.model->ReturnProp(k);
             if ((units == "N/m" || units == "Pa") && std::fabs(v) < DBL_MIN)
                 zero += std::string(zero.empty() ? "" : ", ") + info->name + " = " + num(v);
         }

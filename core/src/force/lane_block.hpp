@@ -78,7 +78,7 @@ std::size_t runLaneBlock(const ForceView& v, ForceSums& sums, std::size_t i, std
             ++counts.declined;
             const std::size_t j = i + static_cast<std::size_t>(q);
             Pair& p = v.pairs[j];
-            ContactModel* model = v.cold[j].model;
+            ContactModel* model = v.pairs[j].model;
             table->law().unpack(model, table->row(p.lane));
             FdBlock& fd = ls.declined[static_cast<std::size_t>(k)];
             fd = v.fd_template;

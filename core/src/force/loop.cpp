@@ -320,6 +320,7 @@ void forceDisplacement(World& world, const StepContext& step) {
             if (p.active) p.watched = false, world.contacts.cold[i].steps = kGuardWatch + 1;
         }
     world.stepping.guard_was_on = step.guard;
+    if (!step.automatic) world.stepping.estimates_stale = true;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (step.automatic) {
         if (step.energy)

@@ -17,25 +17,21 @@
 
 namespace talus {
 
-/// A contact whose law runs through FDlaw reads its cold record (the object's address, the
-/// effective masses) and its object, which live apart from the pair: ask for the cold record
-/// two strides ahead of pair i, and for the first three cache lines of the object one stride
-/// ahead (its address is in the cold record asked for a stride ago; the shipped models' objects
-/// are 88 to 184 bytes). A contact in lanes needs neither.
+/// A contact whose law runs through FDlaw reads its object and the first line of its cold record
+/// (the effective masses), which live apart from the pair: ask for both a few pairs ahead of
+/// pair i (the first three cache lines of the object: the shipped models' objects are 88 to 184
+/// bytes). A contact in lanes needs neither.
 constexpr std::size_t kPrefetchAhead = 4;
 __attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std::size_t i,
                                                          std::size_t end) {
-    if (i + 2 * kPrefetchAhead < end) {
-        const Pair& far = v.pairs[i + 2 * kPrefetchAhead];
-        if (far.active && far.lane == kNoLane) __builtin_prefetch(&v.cold[i + 2 * kPrefetchAhead]);
-    }
     if (i + kPrefetchAhead >= end) return;
     const Pair& ahead = v.pairs[i + kPrefetchAhead];
     if (!ahead.active || ahead.lane != kNoLane) return;
-    const char* obj = reinterpret_cast<const char*>(v.cold[i + kPrefetchAhead].model);
+    const char* obj = reinterpret_cast<const char*>(ahead.model);
     __builtin_prefetch(obj);
     __builtin_prefetch(obj + 64);
     __builtin_prefetch(obj + 128);
+    __builtin_prefetch(&v.cold[i + kPrefetchAhead]);
 }
 
 /// A contact whose rule runs in lanes this step (a kernel, or lane blocks) goes into them after an
@@ -84,7 +80,7 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
         return;
     }
     ++counts.kernel_declined;
-    ContactModel* model = v.cold[i].model;
+    ContactModel* model = v.pairs[i].model;
     table.law().unpack(model, row);
     fd = v.fd_template;
     fillFd<Features>(v, i, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
@@ -139,7 +135,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         fd.s_force = p.s_force;
         fd.moment = p.moment;
     }
-    callLaw(v.cold[i].model, fd, error);
+    callLaw(v.pairs[i].model, fd, error);
     finishContact<Features, kMode>(v, sums, i, e, fd, first, nullptr);
     offerLane(v, p);
     return i + 1;

@@ -162,8 +162,9 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     }
 
     // ---- extras
-    const bool ends =
-        g.overlap <= -p.activity && !(fd.flags & kFdKeep) && v.cold[i].model->OKToDelete();
+    // (the activity distance is >= 0: a contact that overlaps goes on, its cold record unread)
+    const bool ends = g.overlap <= 0.0 && g.overlap <= -v.cold[i].activity &&
+                      !(fd.flags & kFdKeep) && p.model->OKToDelete();
     if constexpr (Features::kAuto || Features::kEnergy || Features::kGuard) {
         PairCold& c = v.cold[i];
         if constexpr (Features::kAuto) {
@@ -287,11 +288,10 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     p.moment = fd.moment;
     p.sliding = (fd.flags & kFdSliding) != 0;
     p.bonded = (fd.flags & kFdBonded) != 0;
-    // The law's estimates for the time step (its survey, the approach of a pair that touches
-    // again) and the messages: a contact through FDlaw has its cold record at hand; a kernel's
-    // estimates stay what they were at its last FDlaw unless the automatic step reads them, or
-    // they are not finite (findNonFiniteContact names the contact by them).
-    if (kFdBlock || Features::kAuto || !std::isfinite(fd.knest + fd.ksest)) {
+    // The law's estimates, for the automatic step and the messages (findNonFiniteContact names
+    // a contact by them); without the automatic step they are left as they were, and the step's
+    // survey asks the models when it is switched on (timestep.cpp, surveyPairs).
+    if (Features::kAuto || !std::isfinite(fd.knest + fd.ksest)) {
         PairCold& c = v.cold[i];
         c.knest = fd.knest;
         c.ksest = fd.ksest;

@@ -66,7 +66,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
         const Vec2 d = x2 - x1;
         const double rsum = r1 + v.radius[s2];
         const double dist2 = d.squaredNorm();
-        const double reach = rsum + p.activity;
+        const double reach = rsum + v.rule(p).activity;  // (a pair apart has its rule's)
         if (!p.active && dist2 >= reach * reach) return PairStep::Apart;
         const double dist = std::sqrt(dist2);
         g.normal = dist > 0.0 ? Vec2(d * (1.0 / dist)) : Vec2(0.0, 1.0);
@@ -106,7 +106,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
         // through its shear spring (a bonded ball in a V lost -2.7% of its input). The mean arm
         // adds (du_n / 4) (w1 + w2) / dt.
         shear_mid = -0.25 * (v.vel[s1] - v2c).dot(g.normal) * dt * (v.spin[s1] + spin2);
-        if (!p.active && g.overlap <= -p.activity) return PairStep::Apart;
+        if (!p.active && g.overlap <= -v.rule(p).activity) return PairStep::Apart;
     }
     const Vec2 v1c = v.vel[s1] + spinCross(v.spin[s1], g.point - x1);
     const Vec2 vrel = v2c - v1c;

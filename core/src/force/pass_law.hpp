@@ -32,7 +32,7 @@ inline void callLaw(ContactModel* model, FdBlock& fd, std::string& error) {
 __attribute__((always_inline)) inline void lawPass(const ForceView& v, std::size_t i, FdBlock& fd,
                                                    std::string& error, int64_t& batched_count) {
     const BatchFdLawFn batch = v.batched ? v.rule(v.pairs[i]).batch : nullptr;
-    ContactModel* model = v.cold[i].model;
+    ContactModel* model = v.pairs[i].model;
     if (batch) {
         batch(&model, &fd, 1);
         ++batched_count;

@@ -321,13 +321,13 @@ bool makePair(World& world, uint32_t s1, uint32_t other, bool other_is_segment) 
     if (!rule.prototype) return false;  // no contact model: bodies pass through
     p.rule = world.contacts.ruleIndex(&rule);
     cold.rules_version = world.contacts.rules_version;
-    p.activity = rule.activity;
+    cold.activity = rule.activity;
     const double m1 = b.mass[p.end1];
     cold.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
     cold.inv_mass_eff_s = tangentialInverseMass(world, p);
-    cold.model = cloneFor(world, p, cold.mass_eff);
-    cold.knest = cold.model->KnEstimate();
-    cold.ksest = cold.model->KsEstimate();
+    p.model = cloneFor(world, p, cold.mass_eff);
+    cold.knest = p.model->KnEstimate();
+    cold.ksest = p.model->KsEstimate();
     world.contacts.key_index.emplace(cold.key, static_cast<uint32_t>(world.contacts.pairs.size()));
     world.contacts.pairs.push_back(p);
     world.contacts.cold.push_back(cold);
@@ -346,11 +346,11 @@ void removePair(World& world, std::size_t i) {
             bookReleasedToGroups(world, p,
                                  world.contacts.cold[i].strain + world.contacts.cold[i].bond);
     }
-    if (world.contacts.coldOf(p).model) {
+    if (p.model) {
         dropLane(world.contacts, p);
-        world.contacts.coldOf(p).model->Destroy();
-        world.contacts.ruleOf(p).pool->release(world.contacts.coldOf(p).model);
-        world.contacts.coldOf(p).model = nullptr;
+        p.model->Destroy();
+        world.contacts.ruleOf(p).pool->release(p.model);
+        p.model = nullptr;
     }
     world.contacts.key_index.erase(world.contacts.cold[i].key);
     const std::size_t last = world.contacts.pairs.size() - 1;
@@ -373,20 +373,20 @@ void refreshRule(World& world, Pair& p) {
     if (rule == &world.contacts.ruleOf(p) || !rule->prototype) return;
     dropLane(world.contacts, p);
     PairCold& c = world.contacts.coldOf(p);
-    c.model->Destroy();
-    world.contacts.ruleOf(p).pool->release(c.model);
+    p.model->Destroy();
+    world.contacts.ruleOf(p).pool->release(p.model);
     p.rule = world.contacts.ruleIndex(rule);
-    p.activity = rule->activity;
-    c.model = cloneFor(world, p, c.mass_eff);
+    c.activity = rule->activity;
+    p.model = cloneFor(world, p, c.mass_eff);
 }
 
 void resetPair(World& world, Pair& p) {
     // A fresh clone: the next touch starts from a clean state.
     dropLane(world.contacts, p);
     PairCold& c = world.contacts.coldOf(p);
-    c.model->Destroy();
-    world.contacts.ruleOf(p).pool->release(c.model);
-    c.model = nullptr;
+    p.model->Destroy();
+    world.contacts.ruleOf(p).pool->release(p.model);
+    p.model = nullptr;
     if (world.contacts.ruleOf(p).installed) {
         // A contact bonded by m:bond ended (its bond broke or was removed, and it separated):
         // the next touch gets the ordinary rules, never the bond (api/bonds.cpp).
@@ -395,21 +395,18 @@ void resetPair(World& world, Pair& p) {
         const uint64_t g2 = p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].groups
                                    : b.groups[p.end2];
         const Rule* rule = &ruleFor(world, b.groups[p.end1], g2);
-        if (rule->prototype) {
-            p.rule = world.contacts.ruleIndex(rule);
-            p.activity = rule->activity;
-        }
+        if (rule->prototype) p.rule = world.contacts.ruleIndex(rule);
     }
-    ContactModel* model = cloneFor(world, p, c.mass_eff);
+    p.model = cloneFor(world, p, c.mass_eff);
     p.active = p.sliding = p.bonded = p.loading = p.watched = false;
     p.n_force = p.s_force = p.moment = 0.0;
     // The cold record afresh but for what names the pair and what its law needs.
     PairCold fresh;
-    fresh.model = model;
+    fresh.activity = world.contacts.ruleOf(p).activity;
     fresh.mass_eff = c.mass_eff;
     fresh.inv_mass_eff_s = c.inv_mass_eff_s;
-    fresh.knest = model->KnEstimate();
-    fresh.ksest = model->KsEstimate();
+    fresh.knest = p.model->KnEstimate();
+    fresh.ksest = p.model->KsEstimate();
     fresh.key = c.key;
     fresh.rules_version = c.rules_version;
     c = fresh;
@@ -571,10 +568,10 @@ void repackContactObjects(World& world) {
             fresh[r] = std::make_unique<ObjectPool>(world.contacts.rules[r]->pool->blockSize());
     }
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-        PairCold& c = world.contacts.cold[i];
-        if (!c.model) continue;
-        ObjectPool& pool = *fresh[world.contacts.pairs[i].rule];
-        c.model = c.model->MoveTo(pool.allocate());
+        Pair& p = world.contacts.pairs[i];
+        if (!p.model) continue;
+        ObjectPool& pool = *fresh[p.rule];
+        p.model = p.model->MoveTo(pool.allocate());
     }
     for (std::size_t r = 0; r < world.contacts.rules.size(); ++r)
         if (fresh[r]) world.contacts.rules[r]->pool = std::move(fresh[r]);

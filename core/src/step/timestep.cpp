@@ -35,6 +35,7 @@
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/lanes.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -55,8 +56,8 @@ double stepForDisplacement(double a, double b, double c) {
 /// Duration the resolution rule assumes: the model's estimate at this approach speed (skipped when
 /// approach < 0), never more than the half period pi sqrt(m*/knest) of the tangent stiffness,
 /// which includes the dashpot allowance the model reports.
-double contactDuration(const PairCold& c, double knest, double mass_eff, double approach) {
-    double d = approach >= 0.0 ? c.model->ContactDuration(mass_eff, approach)
+double contactDuration(const ContactModel& model, double knest, double mass_eff, double approach) {
+    double d = approach >= 0.0 ? model.ContactDuration(mass_eff, approach)
                                : std::numeric_limits<double>::infinity();
     // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (activate).
     if (!(d > 0.0)) d = std::numeric_limits<double>::infinity();
@@ -75,9 +76,10 @@ double contactDuration(const PairCold& c, double knest, double mass_eff, double 
 /// The fixed point is found by one secant step on ln dur(d) against ln d, exact for any power-law
 /// duration (every shipped nonlinear law); the result min(D, dur(D)) is never above the fixed
 /// point for a duration that does not grow with the speed, whatever the secant's error.
-double approachDuration(const PairCold& c, double m_eff, double v0, double a, double start) {
+double approachDuration(const Pair& p, const PairCold& c, double m_eff, double v0, double a,
+                        double start) {
     const auto dur = [&](double d) {
-        return contactDuration(c, c.knest, m_eff, v0 + a * d / M_PI);
+        return contactDuration(*p.model, c.knest, m_eff, v0 + a * d / M_PI);
     };
     const double d0 = dur(0.0);
     if (!(a > 0.0)) return d0;
@@ -171,8 +173,8 @@ void noteApproach(const World& world, const Pair& p, const PairCold& c, double g
     // The impact's duration at the speed the bodies will have in it (approachDuration); the
     // relative acceleration's norm bounds its closing component.
     const double approach = std::max(0.0, -vrel.dot(normal));
-    const double duration =
-        approachDuration(c, m_eff, approach, accel, world.clock.dt > 0.0 ? world.clock.dt : 1e-3);
+    const double duration = approachDuration(p, c, m_eff, approach, accel,
+                                             world.clock.dt > 0.0 ? world.clock.dt : 1e-3);
     const double d =
         std::max(t_free, contactStepLimit(c, m_min, duration, world.settings.timestep));
     takeStepLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
@@ -186,9 +188,18 @@ void surveyPairs(World& world) {
     std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
     std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
     world.stepping.limits = StepLimits{};
+    const bool ask = world.stepping.estimates_stale;
+    world.stepping.estimates_stale = false;
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
         Pair& p = world.contacts.pairs[i];
         PairCold& cold = world.contacts.cold[i];
+        if (ask && p.active) {
+            // The last force loops ran with a fixed step and kept no estimates: the model's
+            // own for its present state (its object brought up to date from its lane first).
+            syncLane(world.contacts, p);
+            cold.knest = p.model->KnEstimate();
+            cold.ksest = p.model->KsEstimate();
+        }
         const Vec2 x1 = b.pos[p.end1];
         ContactGeometry g;
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
@@ -216,10 +227,9 @@ void surveyPairs(World& world) {
         const Vec2 vrel = v2 - b.vel[p.end1];
         const double m1 = b.mass[p.end1];
         const double m_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
-        if (p.active || g.overlap > -p.activity) {
+        if (p.active || g.overlap > -cold.activity) {
             if (!p.active)
-                cold.duration =
-                    cold.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
+                cold.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
             noteContact(world, p, cold, cold.knest, cold.ksest, cold.krest,
                         (g.point - x1).squaredNorm(), p.wall ? 0.0 : (g.point - x2).squaredNorm(),
                         m_eff);
@@ -415,8 +425,9 @@ void computeTimestep(World& world) {
                 const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
                 const double m_min = p.wall ? m1 : std::min(m1, m2);
                 const PairCold& c = world.contacts.cold[i];
-                const double d = contactStepLimit(
-                    c, m_min, approachDuration(c, m_eff, 0.0, 0.0, 1.0), world.settings.timestep);
+                const double d =
+                    contactStepLimit(c, m_min, approachDuration(p, c, m_eff, 0.0, 0.0, 1.0),
+                                     world.settings.timestep);
                 if (d < dt)
                     dt = d, where = StepWhere{StepWhere::Pair, 0, world.contacts.cold[i].key};
             }

@@ -41,7 +41,7 @@ bool enterLane(ContactStore& cs, Pair& p) {
     if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
     LaneTable& table = *rule.lanes;
     const uint32_t row = table.allocate();
-    if (table.law().pack(cs.coldOf(p).model, table.row(row)) == 0) {
+    if (table.law().pack(p.model, table.row(row)) == 0) {
         table.release(row);
         return false;
     }
@@ -52,7 +52,7 @@ bool enterLane(ContactStore& cs, Pair& p) {
 void syncLane(const ContactStore& cs, const Pair& p) {
     if (p.lane == kNoLane) return;
     LaneTable& table = *cs.ruleOf(p).lanes;
-    table.law().unpack(cs.coldOf(p).model, table.row(p.lane));
+    table.law().unpack(p.model, table.row(p.lane));
 }
 
 void leaveLane(ContactStore& cs, Pair& p) {

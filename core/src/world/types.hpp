@@ -149,7 +149,7 @@ struct Pair {
     bool bonded : 1;
     bool loading : 1;  // guard: the overlap grew at the last step
     bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::steps)
-    double activity = 0.0;
+    ContactModel* model = nullptr;
     double n_force = 0.0, s_force = 0.0, moment = 0.0;  // the law's, of the last step
 
     Pair()
@@ -166,9 +166,11 @@ static_assert(sizeof(Pair) == 48,
 
 struct PairCold {
     // The law through FDlaw (first cache line).
-    ContactModel* model = nullptr;
     double mass_eff = 0.0;
     double inv_mass_eff_s = 0.0;  // FdBlock::inv_mass_eff_s, with the radii as lever arms
+    // Gap within which the contact is active [m], >= 0: its rule's before touch (the loop reads
+    // it there), its object's while active (a bond formed at a gap).
+    double activity = 0.0;
     double knest = 0.0, ksest = 0.0, krest = 0.0;  // the law's estimates, of the last step
     double duration = 0.0;  // expected contact duration from the model at touch [s]
     uint64_t key = 0;

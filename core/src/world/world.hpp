@@ -78,6 +78,9 @@ struct Stepping {
     double cap = 0.0;               // solveTime: upper bound for the next step (0 = none)
     StepLimits limits;              // for the next automatic step, from the force loop
     bool guard_was_on = true;       // the guard's per-contact checks ran at the last step
+    // The contacts' cold estimates (PairCold::knest, ksest) were not kept by the last force loop
+    // (a fixed step): the next survey asks the models.
+    bool estimates_stale = false;
 };
 
 /// Energy books (docs/physics/energy.md). Every energy sum of the model is accumulated here:
