@@ -232,13 +232,12 @@ void forceLoop(World& world, const StepContext& step) {
     if (groups) groupForceLoopStart(world);
     // How each rule's contacts run this step (LaneMode): the model's lane law over blocks if
     // m:lanes asks for it, else the host's kernel of the model's law (kernels.hpp) where it has
-    // one, else its law per contact. Per-group energy books every contact through its FdBlock
-    // (bookContactToGroups), so it runs without lanes. A rule without them takes its contacts
-    // out first (their objects run FDlaw).
+    // one, else its law per contact. A rule without them takes its contacts out first (their
+    // objects run FDlaw).
     bool lanes = false, blocks = false, leave = false;
     for (const auto& rule : world.contacts.rules) {
         LaneMode mode = LaneMode::None;
-        if (!groups && rule->factory) {
+        if (rule->factory) {
             if (world.settings.lanes && world.settings.batched_law && rule->factory->lanes)
                 mode = LaneMode::Blocks;
             else if (rule->kernel != Kernel::None && world.settings.kernels)

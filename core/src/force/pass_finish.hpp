@@ -232,9 +232,10 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             else
                 v.energies[i] = pe;
             // Group shares and the work across group borders (group_energy.cpp): one branch per
-            // contact, taken only with groups traced (one thread; lanes do not run then).
-            if constexpr (kFdBlock)
-                if (v.groups) bookContactToGroups(world, i, fd, first, ends, pe.held, f, g.point);
+            // contact, taken only with groups traced (one thread).
+            if (v.groups)
+                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, pe.held, f,
+                                    g.point);
         }
     }
 
