@@ -32,6 +32,7 @@ inline constexpr const char* kWallType = "talus.Wall";
 inline constexpr const char* kContactType = "talus.Contact";
 inline constexpr const char* kClumpType = "talus.Clump";
 inline constexpr const char* kHistoryType = "talus.History";
+inline constexpr const char* kTrackerType = "talus.Tracker";
 
 struct LuaModel;
 
@@ -197,6 +198,12 @@ struct BallRef {
     BallId id;
 };
 BallRef* testBall(lua_State* L, int index);
+/// The clump at `index` (with its model); nullptr if the value is not a clump (wrap_clump.cpp).
+struct ClumpRef {
+    LuaModel* lm;
+    ClumpId id;
+};
+ClumpRef* testClump(lua_State* L, int index);
 /// w:servo{...} / w:servo() for wall `id`, options at stack index 2 (wrap_servo.cpp).
 int servoWall(lua_State* L, LuaModel& lm, WallId id);
 
@@ -208,6 +215,7 @@ void openWall(lua_State* L);     // wrap_wall.cpp
 void openContact(lua_State* L);  // wrap_contact.cpp
 void openClump(lua_State* L);    // wrap_clump.cpp
 void openHistory(lua_State* L);  // wrap_history.cpp
+void openTracker(lua_State* L);  // wrap_tracker.cpp
 /// The model's methods, one table per wrap_<thing>.cpp; openModel registers them all and the
 /// unknown-method error lists their names.
 extern const luaL_Reg kModelBodyMethods[];     // wrap_bodies.cpp: ball, wall, iterators, counts
@@ -219,6 +227,7 @@ extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
 extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
 extern const luaL_Reg kBondMethods[];          // wrap_bond.cpp: bond, unbond
 extern const luaL_Reg kMeasureMethods[];       // wrap_measure.cpp: measure, unbalanced
+extern const luaL_Reg kTrackerMethods[];       // wrap_tracker.cpp: track, trackers, clear_trackers
 /// m:solve{...}'s options (wrap_timestep.cpp). `time_only`: only `time` was given, and the run
 /// is Model::solveTime as before the other criteria existed. The `until` function stays at
 /// its stack slot (the option table's) for the duration of the run.

@@ -113,6 +113,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     openContact(L);
     openClump(L);
     openHistory(L);
+    openTracker(L);
     openOutputs(L);
     luaL_newlib(L, kModuleFunctions);
     addImpactFunctions(L);

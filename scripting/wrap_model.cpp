@@ -451,8 +451,9 @@ const luaL_Reg kModelMethods[] = {
 
 /// Every method table of the model, one per wrap_<thing>.cpp (lua_bindings.hpp).
 const luaL_Reg* const kModelMethodTables[] = {
-    kModelMethods,  kModelBodyMethods, kContactModelMethods, kTimestepMethods, kGuardMethods,
-    kEnergyMethods, kClumpMethods,     kMeasureMethods,      kBondMethods,     kForceLoopMethods};
+    kModelMethods, kModelBodyMethods, kContactModelMethods, kTimestepMethods,
+    kGuardMethods, kEnergyMethods,    kClumpMethods,        kMeasureMethods,
+    kBondMethods,  kForceLoopMethods, kTrackerMethods};
 
 int w_index_unknown(lua_State* L) {
     // __index of the method table's metatable: an unknown method name is an error that lists
