@@ -1343,7 +1343,8 @@ local function mass_release(an, opts)
     opts = opts or {}
     check_keys(opts, { "n", "trajectory", "chunk" }, "mass_release options")
     local n = opts.n or an.n
-    local samples, rmax = {}, 0
+    if math.type(n) ~= "integer" or n < 1 then fail("mass_release: n must be an integer >= 1 (got %s)", tostring(n)) end
+    local samples, rsum = {}, 0
     local pts, mats = an.nominal, an.segment_material
     if an.roughness and an.roughness.amplitude > 0 then
         pts, mats = rock_profile({ nominal = an.nominal, segment_material = an.segment_material,
@@ -1353,7 +1354,7 @@ local function mass_release(an, opts)
     for i = 1, n do
         local si = sample(an, i)
         si.points, si.materials = pts, mats
-        rmax = math.max(rmax, si.rock.r_eq)
+        rsum = rsum + si.rock.r_eq
         -- Rocks drawn onto each other would start with huge overlaps: a rock whose bounding
         -- circle meets an earlier one's is lifted above it (deterministic: rocks in index order).
         local moved = true
@@ -1371,7 +1372,11 @@ local function mass_release(an, opts)
         end
         samples[i] = si
     end
-    local m = new_model(an, an.margin or rmax)
+    -- A tenth of the mean rock size. Here some rock always touches something, so contacts set
+    -- the step and a wide margin (run_rock's, which lengthens a lone rock's steps in flight)
+    -- buys nothing: it only makes candidate pairs of rocks near each other, and at 100 rocks
+    -- those cost five times the contacts (docs/rockfall.md, "Mass release").
+    local m = new_model(an, an.margin or 0.1 * rsum / n)
     local wall_material = build_slope(m, an, pts, mats)
     local lines = release_lines(an)
     local left = n
