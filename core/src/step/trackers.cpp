@@ -90,8 +90,8 @@ bool countsAsImpact(TrackImpacts kind, bool wall) {
     return false;
 }
 
-/// What end `end` of pair p touches: the other end.
-void describeHit(const World& world, const Pair& p, bool tracked_is_end2, TrackedImpact& hit) {
+/// What the tracked end of pair p touches: the other end.
+void describeHit(const World& world, const Pair& p, bool tracked_is_end2, TrackerTouch& hit) {
     const auto& b = world.bodies.balls;
     if (p.wall) {
         const Segment& sg = world.bodies.segments[p.end2];
@@ -115,10 +115,9 @@ void noteTouch(World& world, std::vector<TrackerTouch>& touch, int32_t k, const 
     if (!countsAsImpact(world.trackers.list[static_cast<std::size_t>(k)].def.impacts, p.wall))
         return;
     t.kind = true;
-    t.hit = TrackedImpact{};
-    t.hit.normal = normal;
-    t.hit.point = point;
-    describeHit(world, p, end2, t.hit);
+    t.normal = normal;
+    t.point = point;
+    describeHit(world, p, end2, t);
 }
 
 /// The touches of every live tracker (only = -1) or of one, into `touch` (indexed as the
@@ -220,7 +219,7 @@ void finishSample(World& world, std::size_t k, const TrackedState& now, bool tou
         const double bin = std::floor((now.pos.x() - d.envelope_x0) / d.envelope_dx);
         if (bin >= 0.0 && bin < static_cast<double>(d.envelope_bins)) {
             const auto b = static_cast<std::size_t>(bin);
-            const double h = now.pos.y() - groundHeight(d.ground, now.pos.x());
+            const double h = now.pos.y() - groundHeight(d.ground, now.pos.x(), &t.ground_segment);
             if (std::isnan(t.envelope_height[b]) || h > t.envelope_height[b])
                 t.envelope_height[b] = h;
             if (std::isnan(t.envelope_energy[b]) || ke > t.envelope_energy[b])
@@ -261,9 +260,16 @@ void takeSample(World& world, std::size_t k, const TrackerTouch& touch) {
         if (touch.kind && !t.touching) {
             // The velocity is the incoming one: the contact's first force acts at the next step.
             const double approach =
-                -(now.vel.x() * touch.hit.normal.x() + now.vel.y() * touch.hit.normal.y());
+                -(now.vel.x() * touch.normal.x() + now.vel.y() * touch.normal.y());
             if (approach >= t.def.impact_min_speed) {
-                TrackedImpact imp = touch.hit;
+                TrackedImpact imp;
+                imp.normal = touch.normal;
+                imp.point = touch.point;
+                imp.wall = touch.wall;
+                imp.segment = touch.segment;
+                imp.ball = touch.ball;
+                imp.clump = touch.clump;
+                imp.groups = touch.groups;
                 imp.start = now;
                 imp.approach = approach;
                 t.impacts.push_back(imp);
@@ -325,18 +331,24 @@ bool trackedBodyAlive(const World& world, const Tracker& t) {
            world.bodies.balls.clump[world.bodies.slot_of[t.ball.index - 1]] == kNoClump;
 }
 
-double groundHeight(const std::vector<Vec2>& pts, double x) {
+double groundHeight(const std::vector<Vec2>& pts, double x, std::size_t* hint) {
     const std::size_t n = pts.size();
     if (x <= pts[0].x()) return pts[0].y();
     if (x >= pts[n - 1].x()) return pts[n - 1].y();
-    // The segment lo..lo+1 with x(lo) < x <= x(lo+1), by bisection.
+    // The segment lo..lo+1 with x(lo) < x <= x(lo+1), which is unique: the one looked up last
+    // (a body moves little in a step), else by bisection.
     std::size_t lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-        const std::size_t mid = (lo + hi) / 2;
-        if (pts[mid].x() < x)
-            lo = mid;
-        else
-            hi = mid;
+    if (hint && *hint + 1 < n && pts[*hint].x() < x && x <= pts[*hint + 1].x()) {
+        lo = *hint, hi = *hint + 1;
+    } else {
+        while (hi - lo > 1) {
+            const std::size_t mid = (lo + hi) / 2;
+            if (pts[mid].x() < x)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        if (hint) *hint = lo;
     }
     const Vec2& a = pts[lo];
     const Vec2& b = pts[hi];
@@ -391,8 +403,7 @@ void updateTrackers(World& world) {
             deliverEnd(world, k);
             continue;
         }
-        const TrackerTouch touch = tr.touch[k];
-        takeSample(world, k, touch);
+        takeSample(world, k, tr.touch[k]);
         while (tr.list[k].halted) {
             TrackerEvent e;
             e.kind = TrackerEvent::Crossing;

@@ -22,7 +22,8 @@ void endTracker(World& world, std::size_t index, TrackerState state);
 /// Whether the tracker's body still exists.
 bool trackedBodyAlive(const World& world, const Tracker& t);
 /// Height of the polyline `pts` (x not decreasing) under x: its end heights beyond its ends, the
-/// lower end of a vertical step at the step.
-double groundHeight(const std::vector<Vec2>& pts, double x);
+/// lower end of a vertical step at the step. `hint` (or nullptr): the segment to try first,
+/// updated to the one found.
+double groundHeight(const std::vector<Vec2>& pts, double x, std::size_t* hint = nullptr);
 
 }  // namespace talus

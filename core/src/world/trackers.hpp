@@ -33,6 +33,7 @@ struct Tracker {
     bool touching = false;
     int32_t open_impact = -1;
     double rest_since = kNotSet;
+    std::size_t ground_segment = 0;  // where the envelope's ground was last looked up
     // A sample halted at a line with `event`: the rest of it (lines after `resume_line`, the
     // envelope, the path, the end rules) is taken after the handler has run.
     bool halted = false;
@@ -53,10 +54,16 @@ struct Tracker {
 /// What one step's scan of the contacts found for one tracker (step/trackers.cpp). What was hit
 /// is copied at the scan: a handler run later in the step may delete bodies and their pairs.
 struct TrackerTouch {
-    bool any = false;  // some contact of the body has a positive overlap
-    bool kind =
-        false;  // ... and `hit` is the first such contact (in pair order) of the impacts' kind
-    TrackedImpact hit;  // normal, point and what was hit (the rest is filled at the sample)
+    bool any = false;   // some contact of the body has a positive overlap
+    bool kind = false;  // ... and the fields below are the first such contact (in pair order)
+                        // of the impacts' kind
+    int32_t segment = -1;
+    Vec2 normal{0.0, 0.0};  // from what was hit toward the body
+    Vec2 point{0.0, 0.0};
+    WallId wall;
+    BallId ball;
+    ClumpId clump;
+    uint64_t groups = 0;
 };
 
 struct Trackers {
