@@ -151,6 +151,12 @@ void applyModelState(SaveReader& r, ContactModel& m, const std::vector<uint8_t>&
 
 void Model::saveState(SaveWriter& w) const {
     const World& world = *m_world;
+    // Trackers are not saved (docs/save-format.md): their records belong to the run that reads
+    // them, and their events call back into the script.
+    if (!world.trackers.list.empty())
+        throw InputError("save: the model has " + std::to_string(world.trackers.list.size()) +
+                         " tracker(s), which are not saved; read their records and clear them "
+                         "(m:clear_trackers()) before saving");
     const auto& b = world.bodies.balls;
 
     w.beginSection("SETT");

@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
 //
 // Phase 5: bookkeeping. Events queued by the force loop (bond breaks) are delivered here, after
-// the hot loop and in the order they happened, then the cycle hooks run (histories, Lua
-// callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
+// the hot loop and in the order they happened, then the trackers take their sample
+// (step/trackers.cpp), then the cycle hooks run (histories, Lua callbacks). Guard findings are
+// aggregated over a cycle()/solve() call and reported once.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "step/step.hpp"
+#include "step/trackers.hpp"
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
@@ -26,6 +28,8 @@ void bookkeeping(World& world, const StepContext& step) {
         if (world.callbacks.event_handler)
             for (const Event& e : events) world.callbacks.event_handler(e);
     }
+    // The trackers' sample of this step, before the hooks (they read what it recorded).
+    if (world.trackers.live > 0) updateTrackers(world);
     if (world.callbacks.hooks.empty()) return;
     // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
     // added now first run at the next step.

@@ -15,6 +15,7 @@
 //    |- books       energy books (docs/physics/energy.md)
 //    |- guard_state the guard's aggregated findings (docs/physics/guard.md)
 //    |- callbacks   cycle hooks, events, warning and step observers
+//    |- trackers    per-body records taken every step                    (trackers.hpp)
 //    `- profile     time per phase
 #pragma once
 
@@ -30,6 +31,7 @@
 #include "talus/profile.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/trackers.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -191,6 +193,7 @@ struct World {
     EnergyBooks books;
     GuardState guard_state;
     Callbacks callbacks;
+    Trackers trackers;
     Profile profile;
 };
 
