@@ -185,14 +185,15 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             }
         }
         if constexpr (Features::kEnergy) {
-            // The plugin's partitions against the ABI's contract (rare path when broken). Only
+            // The plugin's partitions against the ABI's contract (rare path when broken): every
+            // partition finite (x - x is 0 only for a finite x) and no dissipation negative. Only
             // with finite kinematics: a state already non-finite is the engine's to report
             // (findNonFiniteContact, the law of motion), not the plugin's fault.
-            if (std::isfinite(fd.u_n + fd.du_n + fd.du_s + fd.dtheta) &&
-                (!std::isfinite(fd.energy[0] + fd.energy[1] + fd.energy[2] + fd.energy[3] +
-                                fd.energy[4] + fd.energy[5]) ||
-                 fd.energy[kEnergySlip] < 0.0 || fd.energy[kEnergyDashpot] < 0.0 ||
-                 fd.energy[kEnergyPlastic] < 0.0)) {
+            const double energy_sum = fd.energy[0] + fd.energy[1] + fd.energy[2] + fd.energy[3] +
+                                      fd.energy[4] + fd.energy[5];
+            if (!(energy_sum - energy_sum == 0.0 && fd.energy[kEnergySlip] >= 0.0 &&
+                  fd.energy[kEnergyDashpot] >= 0.0 && fd.energy[kEnergyPlastic] >= 0.0) &&
+                std::isfinite(fd.u_n + fd.du_n + fd.du_s + fd.dtheta)) {
                 if constexpr (kMode == Delivery::Parallel) {
                     DeferredItem item{static_cast<uint32_t>(i), Deferred::Contract};
                     item.flags = static_cast<uint32_t>(part->contracts.size());
@@ -266,7 +267,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 // step's values there, once per turn (the stiffness and resolution checks).
                 const bool growing = first || g.overlap > c.overlap;
                 if (!growing && p.loading) noteDeepest(world, p, c, fn_old, fd.u_dot_n);
-                p.loading = growing;
+                if (growing != p.loading) p.loading = growing;
             }
             c.overlap = g.overlap;
             c.knest = fd.knest;
@@ -287,8 +288,10 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     p.n_force = fd.n_force;
     p.s_force = fd.s_force;
     p.moment = fd.moment;
-    p.sliding = (fd.flags & kFdSliding) != 0;
-    p.bonded = (fd.flags & kFdBonded) != 0;
+    // (flags written only when they change: each write of a bit is a read-modify-write)
+    if (const bool sliding = (fd.flags & kFdSliding) != 0; sliding != p.sliding)
+        p.sliding = sliding;
+    if (const bool bonded = (fd.flags & kFdBonded) != 0; bonded != p.bonded) p.bonded = bonded;
     // The law's estimates, for the automatic step and the messages (findNonFiniteContact names
     // a contact by them); without the automatic step they are left as they were, and the step's
     // survey asks the models when it is switched on (timestep.cpp, surveyPairs).
