@@ -205,38 +205,52 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                                         fn_old, fs_old, m_old, v.totals_before);
                 }
             }
-            PairEnergy pe;
-            pe.what = PairEnergy::kContact;
-            if (placement) pe.what |= PairEnergy::kPlacement, pe.placement = placed;
-            pe.slip = fd.energy[kEnergySlip];
-            pe.dashpot = fd.energy[kEnergyDashpot];
-            pe.plastic = fd.energy[kEnergyPlastic];
             // A break releases what the bond held (Potyondy & Cundall 2004; the model says how
             // much), and so does the end of a contact that is still loaded.
-            pe.released = fd.energy[kEnergyReleased];
             c.strain = fd.energy[kEnergyStrain];
             c.bond = fd.energy[kEnergyBondStrain];
-            if (world.books.strain_baseline_pending && !first) {
-                pe.held = storedBefore(fd, fn_old, fs_old, m_old);
-                pe.what |= PairEnergy::kHeld;
-            }
-            if (ends) {
-                pe.released_end = c.strain + c.bond;
-                pe.what |= PairEnergy::kEnds;
+            double held = 0.0;
+            const bool baseline = world.books.strain_baseline_pending && !first;
+            if (baseline) held = storedBefore(fd, fn_old, fs_old, m_old);
+            if constexpr (kMode == Delivery::Direct) {
+                // Into the books at once, in the order bookPairEnergy adds a PairEnergy.
+                EnergyBooks& books = world.books;
+                if (placement) books.acc.placement += placed;
+                books.acc.slip += fd.energy[kEnergySlip];
+                // The dashpot impulse spans the velocity window around this step: booked at
+                // the next energy snapshot, half before it (law_of_motion.cpp).
+                books.dashpot_pending += fd.energy[kEnergyDashpot];
+                books.acc.plastic += fd.energy[kEnergyPlastic];
+                books.acc.released += fd.energy[kEnergyReleased];
+                if (baseline) sums.held_before += held;
+                if (ends) {
+                    books.acc.released += c.strain + c.bond;
+                } else {
+                    sums.strain_now += c.strain;
+                    sums.bond_now += c.bond;
+                }
             } else {
-                pe.strain = c.strain;
-                pe.bond = c.bond;
-                pe.what |= PairEnergy::kStored;
+                PairEnergy& pe = v.energies[i];
+                pe.what = PairEnergy::kContact;
+                if (placement) pe.what |= PairEnergy::kPlacement, pe.placement = placed;
+                pe.slip = fd.energy[kEnergySlip];
+                pe.dashpot = fd.energy[kEnergyDashpot];
+                pe.plastic = fd.energy[kEnergyPlastic];
+                pe.released = fd.energy[kEnergyReleased];
+                if (baseline) pe.held = held, pe.what |= PairEnergy::kHeld;
+                if (ends) {
+                    pe.released_end = c.strain + c.bond;
+                    pe.what |= PairEnergy::kEnds;
+                } else {
+                    pe.strain = c.strain;
+                    pe.bond = c.bond;
+                    pe.what |= PairEnergy::kStored;
+                }
             }
-            if constexpr (kMode == Delivery::Direct)
-                bookPairEnergy(world.books, sums, pe);
-            else
-                v.energies[i] = pe;
             // Group shares and the work across group borders (group_energy.cpp): one branch per
             // contact, taken only with groups traced (one thread).
             if (v.groups)
-                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, pe.held, f,
-                                    g.point);
+                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, held, f, g.point);
         }
     }
 
