@@ -81,10 +81,11 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
 }
 
 Model::~Model() {
-    for (auto& p : m_world->contacts.pairs) {
-        if (p.model) {
-            p.model->Destroy();
-            p.rule->pool->release(p.model);
+    ContactStore& cs = m_world->contacts;
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
+        if (ContactModel* model = cs.pairs[i].model) {
+            model->Destroy();
+            cs.ruleOf(cs.pairs[i]).pool->release(model);
         }
     }
 }

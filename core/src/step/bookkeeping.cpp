@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 //
 // Phase 5: bookkeeping. Events queued by the force loop (bond breaks) are delivered here, after
-// the hot loop and in the order they happened, then the cycle hooks run (histories, Lua
-// callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
+// the hot loop and in the order they happened, then the trackers take their sample
+// (step/trackers.cpp), then the cycle hooks run (histories, Lua callbacks). Guard findings are
+// aggregated over a cycle()/solve() call and reported once.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 
 #include "step/group_energy.hpp"
 #include "step/step.hpp"
+#include "step/trackers.hpp"
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
@@ -29,6 +31,8 @@ void bookkeeping(World& world, const StepContext& step) {
         if (world.callbacks.event_handler)
             for (const Event& e : events) world.callbacks.event_handler(e);
     }
+    // The trackers' sample of this step, before the hooks (they read what it recorded).
+    if (world.trackers.live > 0) updateTrackers(world);
     if (world.callbacks.hooks.empty()) return;
     // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
     // added now first run at the next step.
@@ -53,9 +57,10 @@ namespace {
 std::string num(double v) { return messageNumber(v, 4); }
 
 /// The energy the scene holds now: the kinetic energy of its bodies (balls, clumps) and the
-/// contacts' strain energy estimated from what they report, F^2 / (2 k) with the normal and
-/// shear estimates (their stiffness for the time step, raised for a dashpot: an estimate from
-/// below); with tracing on, at least the run's throughput (as the balance check's reference).
+/// contacts' strain energy estimated from their forces, F^2 / (2 k) with their models' normal
+/// and shear estimates (KnEstimate, KsEstimate: the stiffness for the time step, raised for a
+/// dashpot, so an estimate from below); with tracing on, at least the run's throughput (as the
+/// balance check's reference). Called only in a step with a finding to judge.
 double sceneEnergy(const World& world) {
     const auto& b = world.bodies.balls;
     const bool clumps = world.bodies.hasClumps();
@@ -67,9 +72,10 @@ double sceneEnergy(const World& world) {
     for (const ClumpData& c : world.bodies.clumps)
         if (c.alive) energy += 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
     for (const Pair& p : world.contacts.pairs) {
-        if (!p.active) continue;
-        if (p.knest > 0.0) energy += 0.5 * p.n_force * p.n_force / p.knest;
-        if (p.ksest > 0.0) energy += 0.5 * p.s_force * p.s_force / p.ksest;
+        if (!p.active || !p.model) continue;
+        const double kn = p.model->KnEstimate(), ks = p.model->KsEstimate();
+        if (kn > 0.0) energy += 0.5 * p.n_force * p.n_force / kn;
+        if (ks > 0.0) energy += 0.5 * p.s_force * p.s_force / ks;
     }
     if (world.books.on) {
         const EnergyTotals& e = world.books.snapshot;

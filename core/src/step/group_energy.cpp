@@ -102,8 +102,8 @@ Vec2 endCentre(const World& world, uint32_t slot) {
     return b.clump[slot] != kNoClump ? world.bodies.clumps[b.clump[slot]].pos : b.pos[slot];
 }
 
-void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool first, bool ends,
-                         double held, const Vec2& f, const Vec2& point) {
+void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
+                         bool first, bool ends, double held, const Vec2& f, const Vec2& point) {
     auto& gb = world.books.groups;
     const Pair& p = world.contacts.pairs[i];
     const PairCold& c = world.contacts.cold[i];
@@ -115,10 +115,10 @@ void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool fi
         const double s = share(uint64_t(1) << g, g1, g2, p.wall);
         auto& gr = groups[g];
         EnergyTotals& a = gr.acc;
-        a.slip += s * fd.energy[kEnergySlip];
-        gr.dashpot_pending += s * fd.energy[kEnergyDashpot];
-        a.plastic += s * fd.energy[kEnergyPlastic];
-        a.released += s * fd.energy[kEnergyReleased];
+        a.slip += s * energy[kEnergySlip];
+        gr.dashpot_pending += s * energy[kEnergyDashpot];
+        a.plastic += s * energy[kEnergyPlastic];
+        a.released += s * energy[kEnergyReleased];
         a.placement += s * placed;
         gr.held_before += s * held;
         if (ends) {
@@ -136,20 +136,20 @@ void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool fi
     x.g1 = g1;
     x.g2 = g2;
     x.f1 = -f;  // the loop applies -f to end 1 and +f to end 2
-    x.m1 = -cross(point - endCentre(world, p.end1), f) - fd.moment;
+    x.m1 = -cross(point - endCentre(world, p.end1), f) - moment;
     if (p.wall) {
         const uint32_t wi = world.bodies.segments[p.end2].wall;
         const WallData& w = world.bodies.walls[wi];
         if (w.vel.squaredNorm() == 0.0 && w.spin == 0.0) return;
         x.wall = true;
         x.end2 = wi;
-        x.m2 = cross(point - w.center, f) + fd.moment;
+        x.m2 = cross(point - w.center, f) + moment;
         // the velocity the wall moved at in this step (its work before the next snapshot)
         x.v2 = w.vel;
         x.w2 = w.spin;
     } else {
         x.end2 = p.end2;
-        x.m2 = cross(point - endCentre(world, p.end2), f) + fd.moment;
+        x.m2 = cross(point - endCentre(world, p.end2), f) + moment;
     }
     gb.exchange.push_back(x);
 }

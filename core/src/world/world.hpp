@@ -15,6 +15,7 @@
 //    |- books       energy books (docs/physics/energy.md)
 //    |- guard_state the guard's aggregated findings (docs/physics/guard.md)
 //    |- callbacks   cycle hooks, events, warning and step observers
+//    |- trackers    per-body records taken every step                    (trackers.hpp)
 //    `- profile     time per phase
 #pragma once
 
@@ -30,6 +31,7 @@
 #include "talus/profile.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/trackers.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -77,6 +79,10 @@ struct Stepping {
     bool idle = false;              // the last step was idle: nothing moved or accelerated
     double cap = 0.0;               // solveTime: upper bound for the next step (0 = none)
     StepLimits limits;              // for the next automatic step, from the force loop
+    bool guard_was_on = true;       // the guard's per-contact checks ran at the last step
+    // The contacts' cold estimates (PairCold::knest, ksest) were not kept by the last force loop
+    // (a fixed step): the next survey asks the models.
+    bool estimates_stale = false;
 };
 
 /// Energy books (docs/physics/energy.md). Every energy sum of the model is accumulated here:
@@ -209,6 +215,7 @@ struct World {
     EnergyBooks books;
     GuardState guard_state;
     Callbacks callbacks;
+    Trackers trackers;
     Profile profile;
 };
 
