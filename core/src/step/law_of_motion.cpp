@@ -102,8 +102,11 @@ void moveBalls(World& world, const StepContext& step) {
     const double gain = w / (1.0 + 0.5 * c * w);
     const bool energy = step.energy;
     const bool groups = step.groups;
+    // Without damping its work is zero (dampingWork of zero forces and coefficients), left out.
+    const bool damped = alpha > 0.0 || c > 0.0;
     const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
+    double finite_check = 0.0;  // the new rates summed: non-finite if one of them is
     const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
     for (std::size_t s = 0; s < n; ++s) {
         if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
@@ -136,6 +139,7 @@ void moveBalls(World& world, const StepContext& step) {
         spin[s] = om;
         pos[s] += v * dt;
         angle[s] += om * dt;
+        finite_check += v.x() + v.y() + om;
         if (energy) {
             const double m = b.mass[s];
             const double inertia = b.inertia[s];
@@ -147,11 +151,13 @@ void moveBalls(World& world, const StepContext& step) {
             body += work;
             // Local damping on the velocity at t, viscous on the mean of the half steps
             // (body_damping.hpp).
-            const Vec2 v_mid = 0.5 * (v_old + v);
-            const double om_mid = 0.5 * (w_old + om);
-            const double damp =
-                dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
-            damping += damp;
+            double damp = 0.0;
+            if (damped) {
+                const Vec2 v_mid = 0.5 * (v_old + v);
+                const double om_mid = 0.5 * (w_old + om);
+                damp = dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
+                damping += damp;
+            }
             double react = 0.0;
             if (fix) {
                 // A fixed component moves at its set velocity whatever acts on it: the fixity
@@ -169,10 +175,13 @@ void moveBalls(World& world, const StepContext& step) {
         }
     }
     if (pebble) moveClumps(world, step, kinetic, body, damping, driven);  // clump_motion.cpp
-    bool finite = true;
-    for (std::size_t s = 0; s < n && finite; ++s)
-        finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
-    if (!finite) reportNonFiniteBall(world);
+    // (a clump's pebbles take its rates: a non-finite clump shows in the scan's balls)
+    if (!std::isfinite(finite_check) || pebble) {
+        bool finite = true;
+        for (std::size_t s = 0; s < n && finite; ++s)
+            finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
+        if (!finite) reportNonFiniteBall(world);
+    }
     // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
     // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
     // contact then ran on with inf in the balance and no word.
