@@ -18,8 +18,11 @@
 // for a constant acceleration over any step sequence; body work is (m g + F_app) . dx. Free
 // flight with a growing automatic step therefore balances to round-off (docs/physics/energy.md).
 //
-// The loop is compiled in two forms: the plain one (no damping, no energy, no fixity), which is
-// what a benchmark or a rockfall run without options executes, and the general one.
+// The loop is compiled in three forms: the plain one (no damping, no energy, no fixity), which
+// is what a benchmark or a rockfall run without options executes; the traced one, the plain one
+// with the energy snapshot (tracing on, nothing else: a third of the general loop's instructions
+// per ball); and the general one. The three give the same motion bit for bit (with keep = 1 and
+// gain = w the general update is the plain one).
 #include <cmath>
 #include <string>
 
@@ -37,19 +40,29 @@ namespace {
 
 std::string text(double v) { return messageNumber(v); }
 
-template <bool kGeneral>
+enum class Motion { Plain, Traced, General };
+
+template <Motion kMode>
 void moveBalls(World& world, const StepContext& step);
+
+void closeBooks(World& world, const StepContext& step, double lead, double kinetic, double body,
+                double damping, double driven);
 
 }  // namespace
 
 void lawOfMotion(World& world, const StepContext& step) {
     world.clock.window = step.window;
     // Clumps need the general loop (it skips their pebbles; moveClumps moves them).
-    const bool general = step.energy || world.settings.damping.local > 0.0 ||
+    const bool general = step.groups || world.settings.damping.local > 0.0 ||
                          world.settings.damping.viscous > 0.0 || world.bodies.fixed_balls > 0 ||
                          world.bodies.hasClumps();
     if (step.groups) gatherExchangeStart(world);  // rates before the update (group_energy.cpp)
-    general ? moveBalls<true>(world, step) : moveBalls<false>(world, step);
+    if (general)
+        moveBalls<Motion::General>(world, step);
+    else if (step.energy)
+        moveBalls<Motion::Traced>(world, step);
+    else
+        moveBalls<Motion::Plain>(world, step);
     world.clock.first_cycle = false;
     world.clock.time += step.dt;
     ++world.clock.step;
@@ -57,7 +70,7 @@ void lawOfMotion(World& world, const StepContext& step) {
 
 namespace {
 
-template <bool kGeneral>
+template <Motion kMode>
 void moveBalls(World& world, const StepContext& step) {
     auto& b = world.bodies.balls;
     const std::size_t n = b.size();
@@ -80,7 +93,7 @@ void moveBalls(World& world, const StepContext& step) {
     // result is the same bit for bit. With energy tracing the sums stay on one thread.
     const int threads = world.clock.threads;
     (void)threads;
-    if constexpr (!kGeneral) {
+    if constexpr (kMode == Motion::Plain) {
         bool finite = true;
         TALUS_OMP(omp parallel for num_threads(threads) schedule(static) reduction(&& : finite) if (threads > 1))
         for (std::size_t s = 0; s < n; ++s) {
@@ -95,6 +108,33 @@ void moveBalls(World& world, const StepContext& step) {
         if (!finite) reportNonFiniteBall(world);
         return;
     }
+    const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
+    if constexpr (kMode == Motion::Traced) {
+        // The plain update with the snapshot's kinetic energy at t and the body work; the sums
+        // on one thread, in ball order, as the general loop makes them.
+        const double* mass = b.mass.data();
+        const double* inertia = b.inertia.data();
+        double kinetic = 0.0, body = 0.0, finite_check = 0.0;
+        for (std::size_t s = 0; s < n; ++s) {
+            const Vec2 v_old = vel[s];
+            const double w_old = spin[s];
+            const Vec2 v = v_old + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
+            const double om = w_old + (moment[s] + mapp[s]) * inv_inertia[s] * w;
+            vel[s] = v;
+            spin[s] = om;
+            pos[s] += v * dt;
+            angle[s] += om * dt;
+            finite_check += v.x() + v.y() + om;
+            const double m = mass[s];
+            const Vec2 v_now = v_old + (v - v_old) * lead;
+            const double om_now = w_old + (om - w_old) * lead;
+            kinetic += 0.5 * (m * v_now.squaredNorm() + inertia[s] * om_now * om_now);
+            body += ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
+        }
+        if (!std::isfinite(finite_check)) reportNonFiniteBall(world);
+        closeBooks(world, step, lead, kinetic, body, 0.0, 0.0);
+        return;
+    }
 
     const double alpha = world.settings.damping.local;
     const double c = world.settings.damping.viscous;
@@ -104,7 +144,6 @@ void moveBalls(World& world, const StepContext& step) {
     const bool groups = step.groups;
     // Without damping its work is zero (dampingWork of zero forces and coefficients), left out.
     const bool damped = alpha > 0.0 || c > 0.0;
-    const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
     double finite_check = 0.0;  // the new rates summed: non-finite if one of them is
     const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
@@ -182,42 +221,45 @@ void moveBalls(World& world, const StepContext& step) {
             finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
         if (!finite) reportNonFiniteBall(world);
     }
+    if (energy) closeBooks(world, step, lead, kinetic, body, damping, driven);
+}
+
+void closeBooks(World& world, const StepContext& step, double lead, double kinetic, double body,
+                double damping, double driven) {
     // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
     // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
     // contact then ran on with inf in the balance and no word.
-    if (energy && !std::isfinite(kinetic + body + damping + driven))
+    if (!std::isfinite(kinetic + body + damping + driven))
         reportNonFiniteEnergy(world, kinetic, body, damping, driven);
-    if (energy) {
-        EnergyBooks& books = world.books;
-        // Impulses applied now span the window around t: the damping, the fixities' reactions
-        // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
-        // holds the share of their effect before t, so the snapshot holds the same share of
-        // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
-        // the books half a step's dissipation ahead during an impact.) Where the books open, at
-        // t, the share before t is not theirs: it is in the kinetic energy they start from.
-        const double before = books.opening > 0 ? 0.0 : lead;
-        books.stage = EnergyBooks::Stage::Open;
-        if (books.opening > 0) openBooks(world, kinetic);
-        books.acc.damping += damping * before;
-        books.acc.boundary += driven * before;
-        books.acc.dashpot += books.dashpot_pending * before;
-        books.snapshot = books.acc;
-        books.snapshot.kinetic = kinetic;
-        if (books.stage != EnergyBooks::Stage::Waiting) {
-            books.acc.body += body;
-            books.acc.boundary += driven * (1.0 - lead);
-            books.acc.damping += damping * (1.0 - lead);
-            books.acc.dashpot += books.dashpot_pending * (1.0 - lead);
-        }
-        books.dashpot_pending = 0.0;
-        if (groups) groupSnapshot(world, lead);
-        if (books.opening > 0) {
-            --books.opening;
-            // The run-level check starts where the books do.
-            world.guard_state.balance = GuardState::BalanceWatch{};
-            world.guard_state.balance.open = books.snapshot;
-            world.guard_state.balance.open_step = world.clock.step;
-        }
+    EnergyBooks& books = world.books;
+    // Impulses applied now span the window around t: the damping, the fixities' reactions
+    // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
+    // holds the share of their effect before t, so the snapshot holds the same share of
+    // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
+    // the books half a step's dissipation ahead during an impact.) Where the books open, at
+    // t, the share before t is not theirs: it is in the kinetic energy they start from.
+    const double before = books.opening > 0 ? 0.0 : lead;
+    books.stage = EnergyBooks::Stage::Open;
+    if (books.opening > 0) openBooks(world, kinetic);
+    books.acc.damping += damping * before;
+    books.acc.boundary += driven * before;
+    books.acc.dashpot += books.dashpot_pending * before;
+    books.snapshot = books.acc;
+    books.snapshot.kinetic = kinetic;
+    if (books.stage != EnergyBooks::Stage::Waiting) {
+        books.acc.body += body;
+        books.acc.boundary += driven * (1.0 - lead);
+        books.acc.damping += damping * (1.0 - lead);
+        books.acc.dashpot += books.dashpot_pending * (1.0 - lead);
+    }
+    books.dashpot_pending = 0.0;
+    if (step.groups) groupSnapshot(world, lead);
+    if (books.opening > 0) {
+        --books.opening;
+        // The run-level check starts where the books do.
+        world.guard_state.balance = GuardState::BalanceWatch{};
+        world.guard_state.balance.open = books.snapshot;
+        world.guard_state.balance.open_step = world.clock.step;
     }
 }
 
