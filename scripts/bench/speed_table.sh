@@ -15,6 +15,9 @@
 #   scripts/bench/dense_pack.sh                      # once: builds and caches the states
 #   TALUS_BENCH_REPEATS=3 scripts/bench/speed_table.sh
 #
+# With TALUS_BENCH_BASELINE naming the build tree of another commit (its talus_bench_dense_pack
+# and plugins), that build runs beside, 1 thread with energy off and on: before/after in one run.
+#
 # Settings (environment): TALUS_BENCH_BUILD (build-bench), TALUS_BENCH_REPEATS (3),
 # TALUS_BENCH_WARMUP (300), TALUS_BENCH_SIZES ("10000 50000"), TALUS_BENCH_KERNEL (a .cpp),
 # TALUS_BENCH_RAW (the raw lines, default $build/bench-cache/speed-<session>.txt).
@@ -60,6 +63,15 @@ for rep in $(seq 1 "$repeats"); do
                 2>&1 | grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
             note "rep=$rep n=$n code=talus threads=$th variant=$what ns=$r"
         done
+        if [[ -n ${TALUS_BENCH_BASELINE:-} ]]; then
+            for what in off on; do
+                r=$(TALUS_PLUGIN_PATH=$TALUS_BENCH_BASELINE/plugins TALUS_THREADS=1 OMP_NUM_THREADS=1 \
+                    "$TALUS_BENCH_BASELINE/tests/bench/talus_bench_dense_pack" "$n" "$steps" sorted \
+                    --state "$state" --warmup "$warmup" --no-profile --energy "$what" 2>&1 |
+                    grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
+                note "rep=$rep n=$n code=baseline threads=1 variant=$what ns=$r"
+            done
+        fi
         for np in 1 2; do
             log=$(mktemp)
             args=(-in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data"
@@ -98,6 +110,8 @@ print("|---|" + "---|" * len({k[0] for k in best}))
 rows = [("Talus, 1 thread", ("talus", 1, "off")), ("Talus, energy on", ("talus", 1, "on")),
         ("Talus, energy on, 8 groups", ("talus", 1, "groups")),
         ("Talus, guard off", ("talus", 1, "guardoff")), ("Talus, 2 threads", ("talus", 2, "off")),
+        ("baseline build, 1 thread", ("baseline", 1, "off")),
+        ("baseline build, energy on", ("baseline", 1, "on")),
         ("LAMMPS, 1 rank", ("lammps", 1, "off")), ("LAMMPS, 2 ranks", ("lammps", 2, "off")),
         ("plain kernel, 1 thread", ("kernel", 1, "off")),
         ("plain kernel, 2 threads", ("kernel", 2, "off"))]
@@ -116,5 +130,8 @@ for n in sizes:
           f"+{100 * (t1 / g('talus', 1, 'guardoff') - 1):.0f}%; 2 threads {t1 / g('talus', 2, 'off'):.2f}x "
           f"(LAMMPS {g('lammps', 1, 'off') / g('lammps', 2, 'off'):.2f}x, "
           f"kernel {g('kernel', 1, 'off') / g('kernel', 2, 'off'):.2f}x)")
+    if (n, "baseline", 1, "off") in best:
+        print(f"{n}: Talus/baseline {t1 / g('baseline', 1, 'off'):.2f} (energy on "
+              f"{g('talus', 1, 'on') / g('baseline', 1, 'on'):.2f})")
 EOF
 echo "raw runs: $raw"
