@@ -82,26 +82,6 @@ uint64_t endGroups(const World& world, const Pair& p, bool end2) {
     return world.bodies.balls.groups[p.end2];
 }
 
-void endRates(const World& world, uint32_t slot, Vec2& v, double& w) {
-    // A pebble end moves with its clump: its work is F . v_c + (d x F + M) w_c, with the moment
-    // taken about the clump's centroid (endCentre), which is exactly the clump's half-step
-    // kinetic energy change that the force causes.
-    const auto& b = world.bodies.balls;
-    if (b.clump[slot] != kNoClump) {
-        const ClumpData& c = world.bodies.clumps[b.clump[slot]];
-        v = c.vel;
-        w = c.spin;
-        return;
-    }
-    v = b.vel[slot];
-    w = b.spin[slot];
-}
-
-Vec2 endCentre(const World& world, uint32_t slot) {
-    const auto& b = world.bodies.balls;
-    return b.clump[slot] != kNoClump ? world.bodies.clumps[b.clump[slot]].pos : b.pos[slot];
-}
-
 void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
                          bool first, bool ends, double held, const Vec2& f, const Vec2& point) {
     auto& gb = world.books.groups;

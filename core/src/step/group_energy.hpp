@@ -43,10 +43,25 @@ void gatherExchangeStart(World& world);         // law of motion: rates before t
 void groupSnapshot(World& world, double lead);  // law of motion: split, snapshot, accumulate
 void bookWallToGroups(World& world, uint64_t mask, double work);  // a moving wall's work
 /// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
-/// update; the clump pass routes pebble ends to their clump here.
-void endRates(const World& world, uint32_t slot, Vec2& v, double& w);
+/// update. A pebble end moves with its clump: its work is F . v_c + (d x F + M) w_c, with the
+/// moment taken about the clump's centroid (endCentre), which is exactly the clump's half-step
+/// kinetic energy change that the force causes. (Inline: called twice per exchange record.)
+inline void endRates(const World& world, uint32_t slot, Vec2& v, double& w) {
+    const auto& b = world.bodies.balls;
+    if (b.clump[slot] != kNoClump) {
+        const ClumpData& c = world.bodies.clumps[b.clump[slot]];
+        v = c.vel;
+        w = c.spin;
+        return;
+    }
+    v = b.vel[slot];
+    w = b.spin[slot];
+}
 /// The point an end's moments are taken about: a ball's centre, a pebble's clump centroid.
-Vec2 endCentre(const World& world, uint32_t slot);
+inline Vec2 endCentre(const World& world, uint32_t slot) {
+    const auto& b = world.bodies.balls;
+    return b.clump[slot] != kNoClump ? world.bodies.clumps[b.clump[slot]].pos : b.pos[slot];
+}
 uint64_t endGroups(const World& world, const Pair& p, bool end2);
 
 }  // namespace talus
