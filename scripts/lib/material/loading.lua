@@ -4,7 +4,6 @@
 local U = require("material.util")
 local Wl = require("material.walls")
 local Cr = require("material.cracks")
-local E = require("material.equilibrium")
 
 local L = {}
 
@@ -71,25 +70,13 @@ function L.load_platens(sp, opts, measure)
         rows[#rows + 1] = r
         return r
     end
-    -- The step held at the automatic step (E.hold_step), re-held every `hold_every` (1 000)
-    -- steps: a bonded specimen loaded quasi-statically keeps its contacts, and the automatic
-    -- rule's work per cycle was a fifth of a test step (5 000 balls); hold_step = false for the
-    -- automatic step every cycle.
-    local hold_every = opts.hold_step ~= false and (opts.hold_every or 1000) or nil
-    local held_at = nil
     row()
     while true do
         local k = m:step() - s0
         local f = math.min(1, (k + 0.5 * every) / ramp)
         sp.top.wall.vel = { 0, -v * f }
         sp.bottom.wall.vel = { 0, v * f }
-        local n = every
-        if hold_every and n > 2 and (not held_at or m:step() - held_at >= hold_every) then
-            held_at = m:step()
-            E.hold_step(m)
-            n = n - 2
-        end
-        m:cycle(n)
+        m:cycle(every)
         local r = row()
         if r.sa > peak then peak, ipeak = r.sa, #rows end
         -- post-peak stop only once bonds broke: before the platens touch, a noise "peak" of a
@@ -107,7 +94,6 @@ function L.load_platens(sp, opts, measure)
         if m:step() - s0 >= max_steps then break end
     end
     sp.top.wall.vel, sp.bottom.wall.vel = { 0, 0 }, { 0, 0 }
-    if held_at then m:timestep{ fixed = false } end
     m:remove_on_event(handler)
     return {
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
