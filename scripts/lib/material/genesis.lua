@@ -93,6 +93,12 @@ function G.run(vessel, kind, o)
     -- over-stressed (~200 MPa) and is scaled down at once; its relaxation only has to be good
     -- enough for the first secant of step 2
     t0 = U.clock()
+    -- The time scale of the packing's slowest elastic mode: the P-wave crossing time of the
+    -- vessel's longer side, c = sqrt(kn / density) (the contact stiffness per unit thickness
+    -- as a modulus, as loading.lua's rate). It sets the stall window of every relaxation
+    -- (docs/material.md "Genesis").
+    local Wv, Hv = vessel.extent()
+    local t_cross = math.max(Wv, Hv) / math.sqrt(o.kn / o.density)
     local m = E.new_model(o.damp)
     -- The genesis overlaps its bodies on purpose (the expansion grows them into each other,
     -- the scaling and the floater step resize and move them): the engine's warning about
@@ -100,6 +106,19 @@ function G.run(vessel, kind, o)
     m:placement_warning(false)
     say("bodies are grown and moved into each other on purpose: the contacts that start " ..
         "overlapping are booked as placement energy and not reported")
+    -- the stall window: 2 crossings, at least 1 000 steps (on a small packing the ratio is
+    -- noisy: 20 checks)
+    local function window()
+        local dt = m:dt()
+        if not o.stall or not (dt > 0) then return math.huge end
+        return math.max(1000, math.ceil(2 * t_cross / dt))
+    end
+    local relaxations = {} -- how each relaxation ended (the packing's `relaxations`)
+    local function relax(phase, target, cap, hold)
+        local n, rr, why = E.solve_ratio(m, target, cap, chunk, window(), hold and window() or nil)
+        relaxations[#relaxations + 1] = { phase = phase, steps = n, ratio = rr, stop = why }
+        return n, rr, why
+    end
     m:contact_model("linear", { kn = o.kn, ks = o.ks, fric = 0 })
     vessel.build(m)
     kind:create(m, o.density, s)
@@ -108,8 +127,8 @@ function G.run(vessel, kind, o)
     for k = 1, o.stages do
         local f = s ^ (1 - k / o.stages) -- size factor of this stage, 1 at the last
         kind:expand(f)
-        local n, rr = E.solve_ratio(m, 1e-2, 2500, chunk)
-        say(string.format("expansion stage %d: size factor %.4f, %d steps, ratio %.3g", k, f, n, rr))
+        local n, rr, why = relax("expansion " .. k, 1e-2, 2500)
+        say(string.format("expansion stage %d: size factor %.4f, %d steps, ratio %.3g (%s)", k, f, n, rr, why))
     end
     say(string.format("%d %ss expanded in %d steps", kind:count(), kind.noun, m:step() - steps0))
     timing.expand = U.clock() - t0
@@ -131,6 +150,16 @@ function G.run(vessel, kind, o)
     -- sigma0 (5 000 balls), each 5 000 steps.
     t0 = U.clock()
     local ss = m:step()
+    -- Every relaxation from here on stops at its ratio or when the ratio stalls (E.solve_ratio),
+    -- with the step held at the automatic step (E.hold_step, re-held every stall window). The
+    -- ratio of the unbonded frictionless packing has a floor: at 5 000 balls it stayed at
+    -- 3e-3-1.6e-2 for 5 000 steps after each scaling, in bursts (e.g. 3.8e-3, 1.2e-2, 3.5e-3
+    -- 500 steps apart) that are rearrangements of the contact network, not vibrations a damping
+    -- can take out: while the ratio stalled, ~1.3 contacts per step were made (of ~9 200 that
+    -- carry force: a seventh of the network per 1 000 steps), 99% of the unbalanced force was
+    -- on balls with 3 or more contacts (rattlers: none of it), and mass-proportional viscous
+    -- damping beside the local damping left the floor where it was (docs/results/material.md).
+    -- Once bonded, the same packing relaxes to 1e-4 in a few thousand steps.
     local scale_iter, zero_runs, B_est = 0, 0, nil
     local prev, s_cum = nil, 0
     for _ = 1, 25 do
@@ -166,11 +195,12 @@ function G.run(vessel, kind, o)
         if sig >= 0.2 * sigma0 then prev = { s = s_cum, sig = sig } else prev = nil end
         s_cum = s_cum + eps
         kind:shrink(1 - eps)
-        -- at most 5 000 steps (5 000 balls: 3e-3 was reached in none of 6 relaxations; 3 000
-        -- left the packing moving, and the floater step then deleted 5% of the balls)
-        local n, rr = E.solve_ratio(m, 3e-3, 5000, chunk)
-        say(string.format("scaling %d: stress %.4g Pa, size factor %.8f, relaxed in %d steps to ratio %.3g",
-            scale_iter, sig, 1 - eps, n, rr))
+        -- to 3e-3, or until the ratio stalls; at most 5 000 steps (a cap: at 5 000 balls capped
+        -- at 3 000 or 2 000 steps the packing was left moving, and the floater step then deleted
+        -- 5% of the balls)
+        local n, rr, why = relax("scaling " .. scale_iter, 3e-3, 5000, true)
+        say(string.format("scaling %d: stress %.4g Pa, size factor %.8f, relaxed in %d steps to ratio %.3g (%s)",
+            scale_iter, sig, 1 - eps, n, rr, why))
     end
 
     -- The servo (the vessel's: PFC's gain, a velocity cap) to `tolerance` and, with need_ratio,
@@ -182,7 +212,7 @@ function G.run(vessel, kind, o)
     -- retreated at the gain's mm/s speeds lost contact and needed 1e5+ steps to come back
     -- (measured).
     local rmean = kind:rmean()
-    local function servo_to_stress(need_ratio)
+    local function servo_to_stress(phase, need_ratio)
         local r
         if vessel.at_stress(sigma0, o.tolerance) then
             r = E.unbalanced_ratio(m)
@@ -190,21 +220,39 @@ function G.run(vessel, kind, o)
         end
         local s0 = m:step()
         local sv = vessel.servo(m, sigma0, o.kn, rmean)
+        local best, best_at, held_at, why = math.huge, 0, nil, nil
         while true do
-            m:cycle(200)
+            local n = 200
+            if not held_at or m:step() - held_at >= window() then
+                held_at = m:step()
+                E.hold_step(m)
+                n = n - 2
+            end
+            m:cycle(n)
             sv.update()
+            local k = m:step() - s0
             if vessel.at_stress(sigma0, o.tolerance) then
                 r = E.unbalanced_ratio(m)
-                if r <= ratio or not need_ratio then break end
+                if r <= ratio or not need_ratio then why = need_ratio and "ratio" or "stress"; break end
+                -- at the stress, the ratio stalled (as E.solve_ratio's; the clock runs only at the
+                -- stress)
+                if r <= E.stall_drop * best then best, best_at = r, k end
+                if k - best_at >= window() then why = "stalled"; break end
+            else
+                best, best_at = math.huge, k
             end
-            if m:step() - s0 >= o.max_steps + vessel.servo_overrun then
+            if k >= o.max_steps + vessel.servo_overrun then
                 r = E.unbalanced_ratio(m)
                 say(string.format("isotropic stress not reached in %d steps (%s, ratio %.3g)", o.max_steps,
                     vessel.stress_text(), r))
+                why = "max_steps"
                 break
             end
         end
         sv.stop()
+        m:timestep{ fixed = false }
+        relaxations[#relaxations + 1] = { phase = phase, steps = m:step() - s0, ratio = r, stop = why }
+        say(string.format("%s: servo %d steps, %s, ratio %.3g (%s)", phase, m:step() - s0, vessel.stress_text(), r, why))
         return r
     end
     timing.stress = U.clock() - t0
@@ -302,10 +350,10 @@ function G.run(vessel, kind, o)
         floaters = floaters + n_pass
         local sg = vessel.stress()
         local sv = vessel.servo(m, sigma0, o.kn, rmean)
-        local n, rr = E.solve_ratio(m, 2 * ratio, 1500, chunk)
+        local n, rr, why = relax("floater pass " .. pass, 2 * ratio, 1500, true)
         sv.stop()
-        say(string.format("floater pass %d: %d floaters, %d moved/grown; stress %.4g Pa, relaxed %.4g Pa (%d steps, ratio %.3g)",
-            pass, n_float, n_pass, sg, vessel.stress(), n, rr))
+        say(string.format("floater pass %d: %d floaters, %d moved/grown; stress %.4g Pa, relaxed %.4g Pa (%d steps, ratio %.3g, %s)",
+            pass, n_float, n_pass, sg, vessel.stress(), n, rr, why))
         return true
     end
 
@@ -342,7 +390,7 @@ function G.run(vessel, kind, o)
     -- floaters (36, then 20 on 1 250 balls), hence a second round; the final servo makes a few
     -- more (~0.5%), which are rattlers and deleted without a relaxation.
     for round = 1, o.floater_rounds do
-        servo_to_stress()
+        servo_to_stress("servo " .. round)
         if kind.movable then
             for pass = 1, o.floater_passes do
                 if not move_grow_pass(pass) then break end
@@ -356,7 +404,7 @@ function G.run(vessel, kind, o)
     -- force: no relaxation needed)
     t0 = U.clock()
     local ss2 = m:step()
-    local r_final = servo_to_stress(true)
+    local r_final = servo_to_stress("final servo", true)
     if o.floater_rounds > 0 then cleanup("final") end
     say(string.format("isotropic stress %.4g Pa after %d scalings, %d steps (final servo %d), ratio %.3g", sigma0,
         scale_iter, m:step() - ss, m:step() - ss2, r_final))
@@ -368,6 +416,7 @@ function G.run(vessel, kind, o)
         density = o.density, rmin = o.rmin, rmax = o.rmax, timing = timing,
         profile = m:profile(), -- the engine's time per cycle phase over the whole genesis
         genesis = { kn = o.kn, ks = o.ks, porosity = o.porosity, stress = sigma0, seed = o.seed },
+        ratio = r_final, relaxations = relaxations,
     }
     kind:packing(m, pk, say)
     vessel.describe(pk, m, r_final)
@@ -389,7 +438,7 @@ end
 -- ------------------------------------------------------------------ entry points
 
 local kCommon = { "rmin", "rmax", "porosity", "density", "kn", "ks", "seed", "stress", "damp", "ratio",
-    "tolerance", "stages", "max_steps", "min_contacts", "verbose", "check_every", "floater_rounds" }
+    "tolerance", "stages", "max_steps", "min_contacts", "verbose", "check_every", "floater_rounds", "stall" }
 
 -- The options every genesis takes, checked and defaulted; `extra` the entry point's own option
 -- names. Errors name the line that called the entry point.
@@ -414,6 +463,7 @@ local function genesis_options(opts, name, extra)
         floater_rounds = opts.floater_rounds or 2,
         seed = opts.seed or 1,
         damp = opts.damp,
+        stall = opts.stall ~= false,
         verbose = opts.verbose,
     }
     o.ks = opts.ks or o.kn

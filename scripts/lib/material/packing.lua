@@ -6,6 +6,10 @@ local P = {}
 local function ser(v, ind)
     if type(v) == "number" then
         if math.type(v) == "integer" then return tostring(v) end
+        -- a relaxation without a force-carrying contact records the ratio math.huge
+        if v ~= v then return "(0/0)" end
+        if v == math.huge then return "(1/0)" end
+        if v == -math.huge then return "(-1/0)" end
         return string.format("%.17g", v)
     elseif type(v) == "string" then return string.format("%q", v)
     elseif type(v) == "boolean" then return tostring(v)

@@ -120,7 +120,8 @@ function S.specimen(pk, mat, opts)
     sp.bonds = S.install_bonds(m, mat, gap)
     sp.timing.bond = U.clock() - t0
     t0 = U.clock()
-    local steps, r = E.solve_ratio(m, opts.relax_ratio or 1e-4, opts.relax_steps or 50000)
+    -- the ratio judged every 50 steps, the step held (E.hold_step, re-held every 1 000 steps)
+    local steps, r = E.solve_ratio(m, opts.relax_ratio or 1e-4, opts.relax_steps or 50000, 50, nil, 1000)
     sp.relax_steps, sp.relax_ratio = steps, r
     sp.timing.relax = U.clock() - t0
     return sp

