@@ -15,7 +15,6 @@
 #include "talus/sdk/contact_bond_law.hpp"
 #include "talus/sdk/lanes.hpp"
 #include "talus/sdk/linear_law.hpp"
-#include "talus/sdk/parallel_bond_law.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -38,9 +37,6 @@ inline Kernel kernelOf(const ModelFactory& f) {
     if (f.kernel == sdk::ContactBondLaw::kKernelId &&
         rowsAre(sdk::ContactBondLaw::kLaneStateSize, sdk::ContactBondLaw::laneStateNames()))
         return Kernel::ContactBond;
-    if (f.kernel == sdk::ParallelBondLaw::kKernelId &&
-        rowsAre(sdk::ParallelBondLaw::kLaneStateSize, sdk::ParallelBondLaw::laneStateNames()))
-        return Kernel::ParallelBond;
     return Kernel::None;
 }
 
@@ -60,8 +56,6 @@ __attribute__((always_inline)) inline bool runKernel(Kernel k, double* row, Kern
             return sdk::LinearLaw::linearLaneStep(row, fd);
         case Kernel::ContactBond:
             return sdk::ContactBondLaw::laneStep(row, fd);
-        case Kernel::ParallelBond:
-            return sdk::ParallelBondLaw::laneStep(row, fd);
         case Kernel::None:
             break;
     }

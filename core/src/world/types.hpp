@@ -63,7 +63,7 @@ private:
 
 /// An SDK law the host runs itself on a model's lane rows (force/kernels.hpp; docs/plugin-abi.md,
 /// "Kernels").
-enum class Kernel : uint8_t { None, Linear, ContactBond, ParallelBond };
+enum class Kernel : uint8_t { None, Linear, ContactBond };
 
 /// How a rule's contacts run this step (force/loop.cpp): the model's law per contact; its lane
 /// law over blocks of contacts (m:lanes); or the host's kernel of its law, inline.

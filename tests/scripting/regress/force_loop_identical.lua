@@ -173,13 +173,15 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
     end
 end
 
--- The parallel bond's kernel (docs/models/pbond.md, "Lanes and kernel"): a bonded block of
+-- The parallel bond's steady step (docs/models/pbond.md, "Lanes"): a bonded block of
 -- pbond (started stress-free: lin_mode 1, with dashpots, a Mohr-Coulomb shear strength and a
 -- bending stress) falls onto a pile of loose balls that touch through unbonded pbond (lin_mode
--- 0) and breaks up there, in tension and in shear. The kernel steps the contacts that go on
--- touching, bonded or not; breaks, touches and separations go through FDlaw. Against FDlaw alone
--- on one thread: the kernel on 1 to 3 threads, FDlaw on 2, and pbond's lane law (the same step)
--- on 1 and 2, energy traced and not.
+-- 0) and breaks up there, in tension and in shear. pbond's lane law steps the contacts that go
+-- on touching, bonded or not, with the steady step its FDlaw takes; breaks, touches and
+-- separations go through FDlaw. Against FDlaw alone on one thread: FDlaw on 1 to 3 threads with
+-- the kernels setting on (pbond has no kernel in the engine: measured no faster than its FDlaw,
+-- docs/results/benchmarks-history.md "Kernels: pbond"), and the lane law on 1 and 2, energy
+-- traced and not.
 local function pbondScene(threads, energy, kernels, lanes)
     local m = talus.model{ gravity = {0, -9.81} }
     T.check(m:kernels(kernels) == kernels, "m:kernels(on) returns the setting")
@@ -237,13 +239,7 @@ for _, energy in ipairs({true, false}) do
         local d, contacts = digest(mk, energy and "plain" or "off")
         local steps, declined = mk:profile():match("kernel steps (%d+) %(declined (%d+)%)")
         steps, declined = tonumber(steps), tonumber(declined)
-        if kernels then
-            T.check(steps > 10 * mk:step() and declined > 0,
-                    what .. ": kernel steps " .. steps .. " (declined " .. declined .. ") over " ..
-                    mk:step() .. " steps")
-        else
-            T.check(steps == 0, what .. ": no kernel steps (" .. steps .. ")")
-        end
+        T.check(steps == 0 and declined == 0, what .. ": no kernel steps (" .. steps .. ")")
         local lane_steps, lane_declined = mk:profile():match("lane steps (%d+) %(declined (%d+)%)")
         lane_steps, lane_declined = tonumber(lane_steps), tonumber(lane_declined)
         if lanes then
