@@ -320,7 +320,7 @@ public:
     void fdlaw(FdBlock& fd) {
         // A contact that touched at its last step and goes on touching, with its bond intact
         // and not breaking or unbonded, takes the SDK's steady step
-        // (talus/sdk/parallel_bond_law.hpp: also the lane law's and the host's kernel);
+        // (talus/sdk/parallel_bond_law.hpp: also the lane law's);
         // everything else is below.
         if (!let_go_ && !bond_fresh_ && touching_ &&
             ParallelBondLaw::steadyStep(*this, fd, estimates()))
@@ -492,8 +492,10 @@ const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, des
 
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
 
-// The lane law and the kernel (docs/plugin-abi.md, "Lanes", "Kernels"): the steady step of the
-// SDK's parallel bond on rows the host owns; same bits as FDlaw.
+// The lane law (docs/plugin-abi.md, "Lanes"): the steady step of the SDK's parallel bond on rows
+// the host owns; same bits as FDlaw. The kernel id names that law for a host that runs it inline
+// ("Kernels"); this engine does not (measured no faster than FDlaw,
+// docs/results/benchmarks-history.md "Kernels: pbond") and ignores the id.
 TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
     return index == 0 ? talus::sdk::laneLawOf<PBond>() : nullptr;
 }

@@ -5,8 +5,8 @@
 // with its bond intact and not breaking in this step, or unbonded (the linear part alone). What
 // `pbond` does on every other step (a first call, a touch, a separation with its closing
 // corners, a break, a bond made or removed) stays in the model; this part is written once, as a
-// template on the state, so that the model's FDlaw, its lane law and the host's kernel of it
-// (docs/plugin-abi.md, "Kernels") run the same code and give the same bits.
+// template on the state, so that the model's FDlaw and its lane law (docs/plugin-abi.md, "Lanes";
+// and a host's kernel of it, "Kernels") run the same code and give the same bits.
 //
 //   linear   the linear law's contact step (talus/sdk/linear_law.hpp), lin_mode 0 or 1
 //   bond     F_n^b <- F_n^b + kbn du_n,  F_s^b <- F_s^b - kbs dU_s,  M^b <- M^b - kbr dtheta
