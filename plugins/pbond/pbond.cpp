@@ -48,6 +48,7 @@
 #include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/linear_law.hpp"
 #include "talus/sdk/model_base.hpp"
+#include "talus/sdk/parallel_bond_law.hpp"
 #include "talus/sdk/shear_spring.hpp"
 
 namespace {
@@ -249,23 +250,27 @@ public:
         return linearForces(fd, lin_mode == 1.0);
     }
 
-    /// Peak stresses of the bond now (P&C 2004 eq. for the 2D rectangle; PFC pbSMax).
+    /// Peak stresses of the bond now (P&C 2004 eq. for the 2D rectangle; PFC pbSMax):
+    /// talus/sdk/parallel_bond_law.hpp, which the steady step uses too.
     void bondStresses() {
-        if (area_ <= 0.0) {
-            pb_sigma = pb_tau = 0.0;
-            return;
-        }
-        const double bend = inertia_ > 0.0 ? pb_mcf * std::fabs(pb_m) * pb_rad / inertia_ : 0.0;
-        pb_sigma = -pb_fn / area_ + bend;
-        pb_tau = std::fabs(pb_fs) / area_;
+        const ParallelBondLaw::Stresses st = ParallelBondLaw::stresses(*this, pb_fn, pb_fs, pb_m);
+        pb_sigma = st.sigma;
+        pb_tau = st.tau;
     }
 
-    /// Shear strength tau_c = pb_coh - s tan(pb_fa), s = -F_n/A the mean normal stress (tension
-    /// +) capped at pb_ten: PFC's Mohr-Coulomb envelope with its tensile cut-off.
-    double shearStrength() const {
-        if (pb_fa == 0.0 || area_ <= 0.0) return pb_coh;
-        const double s = std::min(-pb_fn / area_, pb_ten);
-        return pb_coh - s * std::tan(pb_fa * M_PI / 180.0);
+    /// The bond's failure mode at its current stresses (tension first, then Mohr-Coulomb shear
+    /// with the tensile cut-off: ParallelBondLaw::failure).
+    ParallelBondLaw::Failure bondFailure() const {
+        return ParallelBondLaw::failure(*this, pb_fn, ParallelBondLaw::Stresses{pb_sigma, pb_tau});
+    }
+
+    /// The time-step estimates: the bond's springs beside the linear ones (PFC adds k_n A,
+    /// k_s A, k_n I); the dashpot factor is applied to the sum, which over-estimates (safe): the
+    /// dashpots are sized on kn and ks alone.
+    ParallelBondLaw::Estimates estimates() const {
+        const bool b = isBonded();
+        return {knest_ + (b ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0),
+                ksest_ + (b ? kbs_ * dashpotStiffnessFactor(dp_sratio) : 0.0), b ? kbr_ : 0.0};
     }
 
     /// One bond spring over the breaking step: its force at the last step (what the bodies
@@ -304,14 +309,22 @@ public:
             const double mid = 0.5 * (lo + hi);
             setForcesAt(n, s, m, mid);
             bondStresses();
-            const bool failed = tension ? pb_sigma > 0.0 && pb_sigma >= pb_ten
-                                        : pb_tau > 0.0 && pb_tau >= shearStrength();
+            const ParallelBondLaw::Stresses st{pb_sigma, pb_tau};
+            const bool failed = tension ? ParallelBondLaw::tensionFails(*this, st)
+                                        : ParallelBondLaw::shearFails(*this, pb_fn, st);
             (failed ? hi : lo) = mid;
         }
         return hi;
     }
 
     void fdlaw(FdBlock& fd) {
+        // A contact that touched at its last step and goes on touching, with its bond intact
+        // and not breaking or unbonded, takes the SDK's steady step
+        // (talus/sdk/parallel_bond_law.hpp: also the lane law's);
+        // everything else is below.
+        if (!let_go_ && !bond_fresh_ && touching_ &&
+            ParallelBondLaw::steadyStep(*this, fd, estimates()))
+            return;
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
         const LinearLaw::Forces lin = linearPart(fd);
         double released = 0.0;
@@ -352,9 +365,9 @@ public:
                 pb_fs -= kbs_ * fd.du_s;
                 pb_m -= kbr_ * fd.dtheta;
                 bondStresses();
-                const bool tension = pb_sigma > 0.0 && pb_sigma >= pb_ten;
-                const bool shear = !tension && pb_tau > 0.0 && pb_tau >= shearStrength();
-                if (tension || shear) {
+                const ParallelBondLaw::Failure failure = bondFailure();
+                const bool tension = failure == ParallelBondLaw::kTension;
+                if (failure != ParallelBondLaw::kIntact) {
                     const Spring n{fn_old, pb_fn, kbn_}, s{fs_old, pb_fs, kbs_},
                         m{m_old, pb_m, kbr_};
                     // Where inside the step the bond failed, on the straight path from the last
@@ -393,12 +406,10 @@ public:
         fd.s_force = lin.fs + pb_fs + corner.s;
         fd.moment = pb_m + corner.m;
         const bool b = isBonded();
-        // The time step sees the bond's springs beside the linear ones (PFC adds k_n A, k_s A,
-        // k_n I); the dashpot factor is applied to the sum, which over-estimates (safe): the
-        // dashpots are sized on kn and ks alone.
-        fd.knest = knest_ + (b ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0);
-        fd.ksest = ksest_ + (b ? kbs_ * dashpotStiffnessFactor(dp_sratio) : 0.0);
-        fd.krest = b ? kbr_ : 0.0;
+        const ParallelBondLaw::Estimates est = estimates();
+        fd.knest = est.kn;
+        fd.ksest = est.ks;
+        fd.krest = est.kr;
         if (b) fd.flags |= kFdBonded | kFdKeep;
         if (energy) {
             fd.energy[kEnergyStrain] = lin.strain;
@@ -410,9 +421,7 @@ public:
     }
 
     /// Strain energy in the bond [J]: F_n^2/(2 kn A) + F_s^2/(2 ks A) + M^2/(2 kn I).
-    double bondEnergy() const {
-        return springEnergy(pb_fn, kbn_) + springEnergy(pb_fs, kbs_) + springEnergy(pb_m, kbr_);
-    }
+    double bondEnergy() const { return ParallelBondLaw::bondEnergy(*this); }
 
     // Version 1: the first layout; 2 adds the removed bond awaiting its release.
     void saveRestoreState(ModelSaveObject& so) {
@@ -435,6 +444,20 @@ public:
             so.Double(let_go_m_);
         }
     }
+
+    // Lanes (sdk/lanes.hpp): the steady step's values in a row (ParallelBondLaw's layout).
+    static constexpr int kLaneStateSize = ParallelBondLaw::kLaneStateSize;
+    static const char* const* laneStateNames() { return ParallelBondLaw::laneStateNames(); }
+    bool toLane(double* row) const {
+        if (let_go_ || bond_fresh_ || !touching_) return false;
+        ParallelBondLaw::toRow(*this, estimates(), row);
+        return true;
+    }
+    void fromLane(const double* row) {
+        ParallelBondLaw::fromRow(row, *this);
+        touching_ = true;
+    }
+    static bool laneStep(double* row, LaneFd& fd) { return ParallelBondLaw::laneStep(row, fd); }
 
     int32_t Version() const override { return 2; }
     double KnEstimate() const override {
@@ -468,3 +491,14 @@ const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, des
 }  // namespace
 
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
+
+// The lane law (docs/plugin-abi.md, "Lanes"): the steady step of the SDK's parallel bond on rows
+// the host owns; same bits as FDlaw. The kernel id names that law for a host that runs it inline
+// ("Kernels"); this engine does not (measured no faster than FDlaw,
+// docs/results/benchmarks-history.md "Kernels: pbond") and ignores the id.
+TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
+    return index == 0 ? talus::sdk::laneLawOf<PBond>() : nullptr;
+}
+TALUS_PLUGIN_EXPORT const char* talus_plugin_kernel(int32_t index) {
+    return index == 0 ? talus::sdk::ParallelBondLaw::kKernelId : nullptr;
+}

@@ -13,6 +13,7 @@
 -- done in the threads' serial part). Three ways to trace energy: per group (the whole model and
 -- every group: one thread, the threads request falls back), off, and without groups (the whole
 -- model's books: threads, each contact's items added in pair order afterwards).
+-- A second scene, of the parallel bond's kernel and lane law, is described at its function.
 -- The states must agree to the bit: positions, velocities, spins, every contact's forces and
 -- moment, the wall forces, every energy item traced, the steps. No tolerance: every path runs
 -- the same inline law on the same inputs, and every sum takes the same terms in the same order
@@ -168,6 +169,90 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
         T.check(breaks == ref_breaks, what .. ": " .. breaks .. " breaks, reference " .. ref_breaks)
         T.check(m:step() == ref_m:step(), what .. ": same step count")
         T.check(d == ref, what .. ": state differs from the reference (per contact, 1 thread; " ..
+                contacts .. " contacts against " .. ref_contacts .. ")")
+    end
+end
+
+-- The parallel bond's steady step (docs/models/pbond.md, "Lanes"): a bonded block of
+-- pbond (started stress-free: lin_mode 1, with dashpots, a Mohr-Coulomb shear strength and a
+-- bending stress) falls onto a pile of loose balls that touch through unbonded pbond (lin_mode
+-- 0) and breaks up there, in tension and in shear. pbond's lane law steps the contacts that go
+-- on touching, bonded or not, with the steady step its FDlaw takes; breaks, touches and
+-- separations go through FDlaw. Against FDlaw alone on one thread: FDlaw on 1 to 3 threads with
+-- the kernels setting on (pbond has no kernel in the engine: measured no faster than its FDlaw,
+-- docs/results/benchmarks-history.md "Kernels: pbond"), and the lane law on 1 and 2, energy
+-- traced and not.
+local function pbondScene(threads, energy, kernels, lanes)
+    local m = talus.model{ gravity = {0, -9.81} }
+    T.check(m:kernels(kernels) == kernels, "m:kernels(on) returns the setting")
+    T.check(m:lanes(lanes == true) == (lanes == true), "m:lanes(on) returns the setting")
+    T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
+    m:on_warning(function() end)
+    m:contact_model("pbond", { kn = 2e6, ks = 1e6, fric = 0.4, dp_nratio = 0.1 })
+    m:wall{ points = {{0, 2}, {0, 0}, {2, 0}, {2, 2}} }
+    for j = 0, 4 do
+        for i = 0, 4 do
+            m:ball{ pos = {0.8 + 0.05 * i, 1.2 + 0.05 * j}, radius = 0.025, density = 2600,
+                    vel = {0, -2} }
+        end
+    end
+    m:bond{ model = "pbond", gap = 1e-4, reset = true,
+            props = { pb_kn = 8e7, pb_ks = 4e7, pb_ten = 1e5, pb_coh = 5e4, pb_fa = 20,
+                      dp_nratio = 0.2, dp_sratio = 0.1 } }
+    local rnd = T.lcg(4321)
+    for j = 0, 5 do
+        for i = 0, 17 do
+            m:ball{ pos = {0.1 + 0.1 * i + 0.02 * rnd(), 0.1 + 0.1 * j + 0.02 * rnd()},
+                    radius = 0.03 + 0.015 * rnd(), density = 2600,
+                    vel = {rnd() - 0.5, rnd() - 0.5}, spin = 4 * (rnd() - 0.5) }
+        end
+    end
+    if energy then m:energy{ on = true } end
+    local breaks = { tension = 0, shear = 0 }
+    m:on_event("bond_break", function(e) breaks[e.mode] = (breaks[e.mode] or 0) + 1 end)
+    m:solve{ time = 0.4 }
+    return m, breaks
+end
+
+for _, energy in ipairs({true, false}) do
+    local mode = energy and "pbond, energy on" or "pbond, energy off"
+    local ref_m, ref_breaks = pbondScene(1, energy, false)
+    local ref, ref_contacts = digest(ref_m, energy and "plain" or "off")
+    T.check(ref_contacts > 60, mode .. ": a pile in contact: " .. ref_contacts .. " contacts")
+    T.check(ref_breaks.tension > 0 and ref_breaks.shear > 0 and
+            ref_breaks.tension + ref_breaks.shear < 40,
+            mode .. ": some bonds broke, in tension (" .. ref_breaks.tension .. ") and in shear (" ..
+            ref_breaks.shear .. ")")
+    local bonded = 0
+    for c in ref_m:contacts{} do
+        if c.model == "pbond" and c:prop("bonded") == 1 then bonded = bonded + 1 end
+    end
+    T.check(bonded > 5, mode .. ": bonds left intact: " .. bonded)
+    local kernel_steps = tonumber(ref_m:profile():match("kernel steps (%d+)"))
+    T.check(kernel_steps == 0, mode .. ", kernels off: no kernel steps (" .. kernel_steps .. ")")
+    for _, case in ipairs({{1, true}, {2, true}, {3, true}, {2, false}, {1, false, true},
+                           {2, false, true}}) do
+        local threads, kernels, lanes = case[1], case[2], case[3]
+        local what = mode .. (lanes and ", lanes" or kernels and ", kernels" or ", FDlaw") .. ", " ..
+                     threads .. " thread(s)"
+        local mk, breaks = pbondScene(threads, energy, kernels, lanes)
+        local d, contacts = digest(mk, energy and "plain" or "off")
+        local steps, declined = mk:profile():match("kernel steps (%d+) %(declined (%d+)%)")
+        steps, declined = tonumber(steps), tonumber(declined)
+        T.check(steps == 0 and declined == 0, what .. ": no kernel steps (" .. steps .. ")")
+        local lane_steps, lane_declined = mk:profile():match("lane steps (%d+) %(declined (%d+)%)")
+        lane_steps, lane_declined = tonumber(lane_steps), tonumber(lane_declined)
+        if lanes then
+            T.check(lane_steps > 10 * mk:step() and lane_declined > 0,
+                    what .. ": lane steps " .. lane_steps .. " (declined " .. lane_declined ..
+                    ") over " .. mk:step() .. " steps")
+        else
+            T.check(lane_steps == 0, what .. ": no lane steps (" .. lane_steps .. ")")
+        end
+        T.check(breaks.tension == ref_breaks.tension and breaks.shear == ref_breaks.shear,
+                what .. ": the same breaks")
+        T.check(mk:step() == ref_m:step(), what .. ": same step count")
+        T.check(d == ref, what .. ": state differs from the reference (FDlaw, 1 thread; " ..
                 contacts .. " contacts against " .. ref_contacts .. ")")
     end
 end
