@@ -28,6 +28,8 @@
 --   cracks.lua      the tests' crack lists: M.write_cracks(file, list), M.crack_columns
 --   statistics.lua  M.analyse (E tangent at 50%, secant E50, nu), M.mean_sd over seeds
 --   ldb.lua         M.lac_du_bonnet(): Lac du Bonnet granite with parallel bonds
+--   envelope.lua    M.envelope: biaxial tests over confinements and seeds, M.mohr_coulomb and
+--                   M.hoek_brown fits of their peaks, M.thresholds (crack initiation, damage)
 --
 -- Sign conventions: axial stress and strain are compression positive; lateral strain is
 -- extension positive, so nu = d(eps_lat)/d(eps_ax) is positive. 2D: unit thickness (t = 1 m),
@@ -48,6 +50,7 @@ local Br = require("material.brazilian")
 local St = require("material.statistics")
 local Ldb = require("material.ldb")
 local Cr = require("material.cracks")
+local Env = require("material.envelope")
 
 return {
     -- genesis
@@ -63,6 +66,9 @@ return {
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
     analyse = St.analyse, mean_sd = St.mean_sd, write_csv = U.write_csv,
     lac_du_bonnet = Ldb.lac_du_bonnet,
+    -- strength envelope
+    envelope = Env.run, envelope_fit = Env.fit, mohr_coulomb = Env.mohr_coulomb, hoek_brown = Env.hoek_brown,
+    thresholds = Env.thresholds,
     -- tools the parts share
     new_model = E.new_model, solve_ratio = E.solve_ratio, unbalanced_ratio = E.unbalanced_ratio,
     drawer = U.drawer, servo = Wl.servo,
