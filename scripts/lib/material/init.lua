@@ -30,6 +30,8 @@
 --   ldb.lua         M.lac_du_bonnet(): Lac du Bonnet granite with parallel bonds
 --   envelope.lua    M.envelope: biaxial tests over confinements and seeds, M.mohr_coulomb and
 --                   M.hoek_brown fits of their peaks, M.thresholds (crack initiation, damage)
+--   calibration.lua M.calibrate: micro-parameters fitted to several targets at once (E, nu,
+--                   UCS, tensile strength, friction angle) over seeds, resumable
 --
 -- Sign conventions: axial stress and strain are compression positive; lateral strain is
 -- extension positive, so nu = d(eps_lat)/d(eps_ax) is positive. 2D: unit thickness (t = 1 m),
@@ -51,6 +53,7 @@ local St = require("material.statistics")
 local Ldb = require("material.ldb")
 local Cr = require("material.cracks")
 local Env = require("material.envelope")
+local Cal = require("material.calibration")
 
 return {
     -- genesis
@@ -69,6 +72,8 @@ return {
     -- strength envelope
     envelope = Env.run, envelope_fit = Env.fit, mohr_coulomb = Env.mohr_coulomb, hoek_brown = Env.hoek_brown,
     thresholds = Env.thresholds,
+    -- calibration against several targets
+    calibrate = Cal.calibrate, write_calibration = Cal.write_csv,
     -- tools the parts share
     new_model = E.new_model, solve_ratio = E.solve_ratio, unbalanced_ratio = E.unbalanced_ratio,
     drawer = U.drawer, servo = Wl.servo,
