@@ -27,7 +27,10 @@
 --   loading.lua     the platen loop of the tests, M.columns of its history
 --   cracks.lua      the tests' crack lists: M.write_cracks(file, list), M.crack_columns
 --   statistics.lua  M.analyse (E tangent at 50%, secant E50, nu), M.mean_sd over seeds
---   ldb.lua         M.lac_du_bonnet(): Lac du Bonnet granite with parallel bonds
+--   ldb.lua         M.lac_du_bonnet(kind, p): Lac du Bonnet granite with parallel bonds, flat
+--                   joints or clumped grains
+--   seeds.lua       M.run_seeds, M.print_seeds: a material's UCS, Brazilian and biaxial tests
+--                   over seeds, with their scatter
 --   envelope.lua    M.envelope: biaxial tests over confinements and seeds, M.mohr_coulomb and
 --                   M.hoek_brown fits of their peaks, M.thresholds (crack initiation, damage)
 --   calibration.lua M.calibrate: micro-parameters fitted to several targets at once (E, nu,
@@ -54,6 +57,7 @@ local Ldb = require("material.ldb")
 local Cr = require("material.cracks")
 local Env = require("material.envelope")
 local Cal = require("material.calibration")
+local Sd = require("material.seeds")
 
 return {
     -- genesis
@@ -68,7 +72,8 @@ return {
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
     analyse = St.analyse, mean_sd = St.mean_sd, write_csv = U.write_csv,
-    lac_du_bonnet = Ldb.lac_du_bonnet,
+    lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults,
+    run_seeds = Sd.run, print_seeds = Sd.print, seeds_stat = Sd.stat,
     -- strength envelope
     envelope = Env.run, envelope_fit = Env.fit, mohr_coulomb = Env.mohr_coulomb, hoek_brown = Env.hoek_brown,
     thresholds = Env.thresholds,
