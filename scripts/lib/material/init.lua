@@ -17,6 +17,7 @@
 --                   grains of 1-3 balls in a box); a packing is a plain table, no model
 --   vessels.lua, bodies.lua, floaters.lua   what the genesis steps are parameterised by
 --                   (M.group_grains: touching balls grouped into grains; M.floater_circle)
+--   grain_disk.lua  M.clump_genesis_disk: a disk of rigid grains made in a circular vessel
 --   packing.lua     M.save_packing / M.load_packing: a packing as a Lua file
 --   specimen.lua    M.specimen(pk, mat, opts): a model with the packing's balls, platens (side
 --                   walls, or a disk's jaws) and bonds, relaxed; M.install_bonds
@@ -54,6 +55,7 @@ local C = require("material.compress")
 local Br = require("material.brazilian")
 local St = require("material.statistics")
 local Ldb = require("material.ldb")
+local GD = require("material.grain_disk")
 local Cr = require("material.cracks")
 local Env = require("material.envelope")
 local Cal = require("material.calibration")
@@ -61,7 +63,7 @@ local Sd = require("material.seeds")
 
 return {
     -- genesis
-    genesis = G.box, genesis_disk = G.disk, clump_genesis = G.clumps,
+    genesis = G.box, genesis_disk = G.disk, clump_genesis = G.clumps, clump_genesis_disk = GD.clump_genesis_disk,
     group_grains = B.group_grains,
     tangent_circles = F.tangent_circles, floater_circle = F.floater_circle,
     save_packing = P.save, load_packing = P.load,

@@ -3,6 +3,7 @@
 -- Cundall 2004), flat joints (Potyondy 2012) and clumped grains with parallel bonds (Cho et al.
 -- 2007), on the same ball sizes (docs/material.md, "Lac du Bonnet").
 local G = require("material.genesis")
+local GD = require("material.grain_disk")
 
 local Ldb = {}
 
@@ -61,7 +62,7 @@ end
 ---     fj_kratio, platens 2 kn);
 ---   "clumped": rigid grains of 1-3 balls (M.clump_genesis) with parallel bonds between them
 ---     (Cho et al. 2007), p as for "pbond" (defaults: Ldb.defaults.clumped, the calibrated
----     values); disks cut from a square packing of grains (M.disk).
+---     values); disks of grains made in a circular vessel (M.clump_genesis_disk).
 function Ldb.lac_du_bonnet(kind, p)
     kind = kind or "pbond"
     if kind == "pbond" or kind == "clumped" then
@@ -86,8 +87,11 @@ function Ldb.lac_du_bonnet(kind, p)
             return G.clumps{ width = w, height = h, rmin = RMIN, rmax = RRATIO * RMIN, porosity = 0.16, kn = 62e9,
                              ks = 62e9 / 2.5, density = RHO, seed = seed }
         end
-        -- a disk cut from a square packing of grains (M.disk(pk) takes 0.98 of the side)
-        local function disk(diameter, seed) return genesis(diameter / 0.98, diameter / 0.98, seed) end
+        -- a disk of grains made in a circular vessel (its rim grains touch the circle)
+        local function disk(diameter, seed)
+            return GD.clump_genesis_disk{ diameter = diameter, rmin = RMIN, rmax = RRATIO * RMIN, porosity = 0.16,
+                                          kn = 62e9, ks = 62e9 / 2.5, density = RHO, seed = seed }
+        end
         return mat, genesis, disk
     elseif kind == "fjoint" then
         local o = with_defaults("fjoint", p)

@@ -4,8 +4,8 @@
 -- bonds between grains only, never inside one; a UCS test with a peak and a post-peak drop, stiffer
 -- than the same packing with its grains' balls bonded to each other instead (a rigid grain has no
 -- compliant contact inside it); a biaxial test whose peak rises with the confinement (phi > 0); a Brazilian test
--- on a disk cut from a half-size packing of grains that breaks bonds and gives a tensile strength
--- far below the UCS.
+-- on a disk of grains made in a circular vessel (M.clump_genesis_disk, half size) that breaks
+-- bonds and gives a tensile strength far below the UCS; the disk's grains touch their circle.
 local T = require("testlib")
 local M = require("material")
 
@@ -47,9 +47,19 @@ local pd = disk(0.98 * 0.0317 / 2, 101)
 local md = {}
 for k, v in pairs(mat) do md[k] = v end
 md.platen = { kn = mat.platen.kn, ks = mat.platen.ks, fric = 0.5 }
+T.check(pd.vessel and #pd.clumps > 0, "a vessel disk of grains")
+-- its rim: the outermost pebble edges within a tenth of rmin of the circle of the final vessel
+local c, R = pd.vessel.center, 0.5 * pd.vessel.diameter
+local reach = 0
+for _, p in ipairs(pd.balls) do reach = math.max(reach, math.sqrt((p[1] - c[1]) ^ 2 + (p[2] - c[2]) ^ 2) + p[3]) end
+T.check(reach <= R * (1 + 1e-6) and reach >= R - 0.1 * pd.rmin, string.format("rim at %.6g of %.6g m", reach, R))
 local br = M.brazilian(M.specimen(pd, md, { balls = M.disk(pd) }), { post_peak = 0.5 })
 print(string.format("Brazilian (%d balls): sigma_t %.2f MPa, %d breaks, valid %s %s", br.balls, br.tensile / 1e6,
     br.fracture.n, tostring(br.valid), br.reason or ""))
 T.check(br.stop == "post_peak" and br.fracture.n > 0, "the disk failed, bonds broke")
 T.check(br.tensile > 0 and br.tensile < 0.5 * u.ucs, "sigma_t well below the UCS")
+T.fails(function() M.clump_genesis_disk{ diameter = 0.01, rmin = 1e-3, rmax = 1e-3, kn = 1, width = 1 } end,
+    { "unknown option 'width'" }, "a box option")
+T.fails(function() M.clump_genesis_disk{ diameter = 0.005, rmin = 1e-3, rmax = 1e-3, kn = 1 } end,
+    { "must exceed 12 rmax" }, "too small a disk")
 print(string.format("material_clumped_pbond: %d checks", T.checks))
