@@ -9,9 +9,10 @@
 --
 -- The arguments of ldb_pbond.lua: scale < 1 shrinks the specimens (0.5: 15.9 x 31.7 mm, ~1 000
 -- balls, and 15.5 mm disks), seeds first_seed .. first_seed + nseeds - 1. `phi` (or `-`) asks for
--- the biaxial tests (two more tests per seed). `material` = fjoint (default), pbond (Potyondy &
--- Cundall's parallel-bonded material) or clumped (grains of 1-3 balls with parallel bonds, Cho et
--- al. 2007): the same table for the three. A Brazilian test that did not split is marked * and
+-- the biaxial tests (two more tests per seed). `material` = fjoint (default), pbond (parallel
+-- bonds calibrated the same way), clumped (grains of 1-3 balls with parallel bonds, Cho et al.
+-- 2007) or pbond-pc (Potyondy & Cundall's 2004 parallel-bonded material, as ldb_pbond.lua): the
+-- same table for each, with the calibrated micro-parameters of M.ldb_calibrated. A Brazilian test that did not split is marked * and
 -- left out of sigma_t. Writes OUTDIR/ldb_<material>_seeds_<first>.csv; every test runs through
 -- talus.map (all cores; under mpirun, all ranks).
 local M = require("material")
@@ -22,7 +23,15 @@ local first = tonumber(arg[4] or "1")
 local phi = arg[5] == "phi"
 local kind = arg[6] or "fjoint"
 talus.mkdir(outdir)
-local mat, genesis, disk = M.lac_du_bonnet(kind)
+local mat, genesis, disk
+if kind == "pbond-pc" then
+    mat, genesis, disk = M.lac_du_bonnet("pbond")
+else
+    if not M.ldb_calibrated[kind] then
+        error("ldb_flatjoint.lua: material '" .. kind .. "' (known: fjoint, pbond, clumped, pbond-pc)")
+    end
+    mat, genesis, disk = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
+end
 local seeds = {}
 for i = 1, n do seeds[i] = first + i - 1 end
 local t0 = os.clock()

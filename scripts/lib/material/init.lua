@@ -74,7 +74,7 @@ return {
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
     analyse = St.analyse, mean_sd = St.mean_sd, write_csv = U.write_csv,
-    lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults,
+    lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults, ldb_calibrated = Ldb.calibrated,
     run_seeds = Sd.run, print_seeds = Sd.print, seeds_stat = Sd.stat,
     -- strength envelope
     envelope = Env.run, envelope_fit = Env.fit, mohr_coulomb = Env.mohr_coulomb, hoek_brown = Env.hoek_brown,

@@ -22,14 +22,25 @@ local function ball_genesis(E, kratio)
     return genesis, disk
 end
 
--- The calibrated micro-parameters of the flat-jointed and the clumped materials (docs/material.md,
--- "Lac du Bonnet"; docs/results/material.md has the calibrations that produced them).
+-- The micro-parameters: those of the flat-jointed and the clumped materials were calibrated
+-- (scripts/examples/calibrate_granite.lua at half size, 2 seeds; docs/results/material.md has the
+-- calibrations), those of "pbond" are Potyondy & Cundall's (2004); Ldb.calibrated.pbond is the
+-- parallel-bonded material calibrated the same way.
 Ldb.defaults = {
-    fjoint = { fj_emod = 115e9, fj_kratio = 1.5, fj_ten = 60e6, fj_coh = 400e6, fj_fa = 40, fj_fric = 1.0, fj_nr = 2,
-               cv = 0.1, slit = 0.35, slit_gap = 0 },
-    clumped = { emod = 62e9, kratio = 2.5, pb_ten = 157e6, pb_coh = 157e6, cv = 0.23, fric = 0.5 },
+    -- calibrate_granite.lua out fjoint 0.5 2 27: the best of 16 points; fj_fa, fj_nr, cv fixed
+    fjoint = { fj_emod = 1.092e11, fj_kratio = 1.374, fj_ten = 5.497e7, fj_coh = 4.366e8, fj_fa = 40, fj_fric = 0.9162,
+               fj_nr = 2, cv = 0.1, slit = 0.3329, slit_gap = 0 },
+    -- calibrate_granite.lua out clumped 0.5 2 15: the best of 15 points, its emod then scaled by
+    -- 69 / 78.28 (E is proportional to emod, the other outputs independent of it)
+    clumped = { emod = 3.929e10, kratio = 0.7, pb_ten = 7.628e7, pb_coh = 7.609e8, cv = 0.23, fric = 0.5 },
     -- Potyondy & Cundall (2004): E_c = 62 GPa, k_n/k_s = 2.5, 157 +- 36 MPa, mu 0.5
     pbond = { emod = 62e9, kratio = 2.5, pb_ten = 157e6, pb_coh = 157e6, cv = 36 / 157, fric = 0.5 },
+}
+Ldb.calibrated = {
+    fjoint = Ldb.defaults.fjoint, clumped = Ldb.defaults.clumped,
+    -- calibrate_granite.lua out pbond 0.5 2 12: the best of 12 points (the design's), its emod
+    -- scaled by 69 / 52.54
+    pbond = { emod = 5.738e10, kratio = 1.762, pb_ten = 1.106e8, pb_coh = 1.106e8, cv = 36 / 157, fric = 0.5 },
 }
 
 local function with_defaults(kind, p)
