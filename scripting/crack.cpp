@@ -41,7 +41,12 @@ Crack crackOf(Model& m, const Event& ev) {
         if (len > 0.0) c.normal = d / len;
         radius = std::min(radius, m.ballRadius(info.ball2));
     }
-    const double pb_rad = info.active ? propIfAny(m, info, "pb_rad") : std::nan("");
+    // The bond's half width as the engine read it from the model when the bond broke; else (a
+    // model with none, or an event queued at a save) the contact's model's pb_rad if it still
+    // has one, else the smaller ball's radius.
+    const double pb_rad = ev.radius > 0.0 ? ev.radius
+                          : info.active   ? propIfAny(m, info, "pb_rad")
+                                          : std::nan("");
     c.radius = pb_rad > 0.0 ? pb_rad : radius;
     return c;
 }

@@ -30,11 +30,12 @@ struct Crack {
 };
 
 /// The crack of a bond_break event, read from the model when the event is delivered (after the
-/// step's force loop; the contact still exists then). The bond's radius is its model's
-/// `pb_rad` when the contact's model reports one (a parallel bond, Potyondy & Cundall 2004),
-/// else the smaller ball's radius (a contact bond has no size of its own); the normal is the
-/// line of the ball centres (for a wall: the contact's normal). If the contact is gone the
-/// crack has the event's point, time and mode only (radius 0, no ends).
+/// step's force loop; the contact still exists then). The bond's radius is the event's, which
+/// the engine read from the model as the bond broke (Event::radius: `pb_rad` of a parallel
+/// bond, Potyondy & Cundall 2004; `fj_radius` of a flat joint), else the smaller ball's radius
+/// (a contact bond has no size of its own); the normal is the line of the ball centres (for a
+/// wall: the contact's normal). If the contact is gone the crack has the event's point, time
+/// and mode only (radius 0, no ends).
 Crack crackOf(Model& m, const Event& ev);
 
 }  // namespace talus

@@ -33,6 +33,7 @@ inline constexpr const char* kWallType = "talus.Wall";
 inline constexpr const char* kContactType = "talus.Contact";
 inline constexpr const char* kClumpType = "talus.Clump";
 inline constexpr const char* kHistoryType = "talus.History";
+inline constexpr const char* kTrackerType = "talus.Tracker";
 
 struct LuaModel;
 
@@ -227,6 +228,12 @@ struct BallRef {
     BallId id;
 };
 BallRef* testBall(lua_State* L, int index);
+/// The clump at `index` (with its model); nullptr if the value is not a clump (wrap_clump.cpp).
+struct ClumpRef {
+    LuaModel* lm;
+    ClumpId id;
+};
+ClumpRef* testClump(lua_State* L, int index);
 /// w:servo{...} / w:servo() for wall `id`, options at stack index 2 (wrap_servo.cpp).
 int servoWall(lua_State* L, LuaModel& lm, WallId id);
 
@@ -238,6 +245,7 @@ void openWall(lua_State* L);     // wrap_wall.cpp
 void openContact(lua_State* L);  // wrap_contact.cpp
 void openClump(lua_State* L);    // wrap_clump.cpp
 void openHistory(lua_State* L);  // wrap_history.cpp
+void openTracker(lua_State* L);  // wrap_tracker.cpp
 void openOutputs(lua_State* L);  // wrap_vtk.cpp: series userdata
 
 // ------------------------------------------------------------------ method tables
@@ -261,6 +269,7 @@ extern const luaL_Reg kVtkMethods[];           // wrap_vtk.cpp: vtk
 extern const luaL_Reg kPictureMethods[];       // wrap_picture.cpp: picture
 extern const luaL_Reg kSaveMethods[];          // wrap_save.cpp: save
 extern const luaL_Reg kCrackMethods[];         // wrap_cracks.cpp: cracks
+extern const luaL_Reg kTrackerMethods[];       // wrap_tracker.cpp: track, trackers, clear_trackers
 /// Every model method name in kModelMethodTables, sorted.
 std::vector<std::string> modelMethodNames();
 /// The `talus` module's functions, one table per thing likewise; kModuleFunctionTables

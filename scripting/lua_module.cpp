@@ -142,6 +142,7 @@ extern "C" int luaopen_talus(lua_State* L) {
     openContact(L);
     openClump(L);
     openHistory(L);
+    openTracker(L);
     openOutputs(L);
     lua_newtable(L);
     for (const luaL_Reg* table : kModuleFunctionTables) luaL_setfuncs(L, table, 0);

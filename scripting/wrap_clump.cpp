@@ -11,16 +11,11 @@
 
 namespace talus::lua {
 
-namespace {
-
-struct ClumpRef {
-    LuaModel* lm;
-    ClumpId id;
-};
-
 ClumpRef* testClump(lua_State* L, int index) {
     return static_cast<ClumpRef*>(testUserdata(L, index, kClumpType));
 }
+
+namespace {
 
 ClumpRef& checkClump(lua_State* L, int index, const char* fn) {
     ClumpRef* c = testClump(L, index);

@@ -54,10 +54,29 @@ int w_guard(lua_State* L) {
     });
 }
 
+/// m:placement_warning(on): the warning about contacts that start overlapping, off while a
+/// routine overlaps bodies on purpose; returns the setting before the call (m:placement_warning()
+/// only reads it).
+int w_placement_warning(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "placement_warning");
+        const bool was = lm.model->placementWarning();
+        if (!lua_isnoneornil(L, 2)) {
+            if (!lua_isboolean(L, 2))
+                throw ScriptError("placement_warning: expected true or false (got " +
+                                  typeName(L, 2) + ")");
+            lm.model->setPlacementWarning(lua_toboolean(L, 2) != 0);
+        }
+        lua_pushboolean(L, was);
+        return 1;
+    });
+}
+
 }  // namespace
 
 extern const luaL_Reg kGuardMethods[] = {
     {"guard", w_guard},
+    {"placement_warning", w_placement_warning},
     {nullptr, nullptr},
 };
 

@@ -586,6 +586,7 @@ const luaL_Reg* const kModelMethodTables[] = {
     kPictureMethods,       // wrap_picture.cpp
     kSaveMethods,          // wrap_save.cpp
     kCrackMethods,         // wrap_cracks.cpp
+    kTrackerMethods,       // wrap_tracker.cpp
 };
 
 }  // namespace

@@ -45,6 +45,7 @@
 #include <limits>
 
 #include "talus/contact_model.hpp"
+#include "talus/sdk/contact_bond_law.hpp"
 #include "talus/sdk/corners.hpp"
 #include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/model_base.hpp"
@@ -149,6 +150,10 @@ public:
     }
 
     void fdlaw(FdBlock& fd) {
+        // A contact that touched at its last step and goes on touching, bonded or not, takes
+        // the SDK's steady step (talus/sdk/contact_bond_law.hpp: also the lane law's and the
+        // host's kernel); everything else is below.
+        if (!adopt_ && started_ && touching_ && ContactBondLaw::steadyStep(*this, fd)) return;
         const double u = fd.u_n;
         if (adopt_) {
             // Bonded by the host (or a write of `bonded` = 1): go on with the forces of the last
@@ -324,6 +329,22 @@ public:
                 so.Double(this->*(p.member));
         saveRestoreState(so);
     }
+    // Lanes (sdk/lanes.hpp): the steady step's values in a row (ContactBondLaw's layout).
+    static constexpr int kLaneStateSize = ContactBondLaw::kLaneStateSize;
+    static const char* const* laneStateNames() { return ContactBondLaw::laneStateNames(); }
+    bool toLane(double* row) const {
+        if (adopt_ || !started_ || !touching_) return false;
+        ContactBondLaw::toRow({kn, ks, fric, cb_tenf, cb_shearf, bonded, u_ref_, cb_fn, cb_fs,
+                               last_engaged_, sliding_},
+                              row);
+        return true;
+    }
+    void fromLane(const double* row) {
+        // (the rest never changes in the lanes: a write of a property takes the contact out)
+        cb_fn = row[7], cb_fs = row[8], last_engaged_ = row[9], sliding_ = row[10] != 0.0;
+    }
+    static bool laneStep(double* row, LaneFd& fd) { return ContactBondLaw::laneStep(row, fd); }
+
     double KnEstimate() const override { return kn; }
     double KsEstimate() const override { return ks; }
     double ContactDuration(double mass_eff, double) const override {
@@ -343,3 +364,12 @@ const PluginInfo kInfo = TALUS_PLUGIN_INFO_INIT("1.0.0", 1, createPrototype, des
 }  // namespace
 
 TALUS_PLUGIN_EXPORT const talus::PluginInfo* talus_plugin_info() { return &kInfo; }
+
+// The lane law and the kernel (docs/plugin-abi.md, "Lanes", "Kernels"): the steady step of the
+// SDK's contact bond on rows the host owns; same bits as FDlaw.
+TALUS_PLUGIN_EXPORT const talus::LaneLaw* talus_plugin_lanes(int32_t index) {
+    return index == 0 ? talus::sdk::laneLawOf<CBond>() : nullptr;
+}
+TALUS_PLUGIN_EXPORT const char* talus_plugin_kernel(int32_t index) {
+    return index == 0 ? talus::sdk::ContactBondLaw::kKernelId : nullptr;
+}

@@ -35,7 +35,9 @@
 // (docs/models/pbond.md, Energies). A bond removed by writing `bonded` = 0 (m:unbond) goes at
 // that step: the bodies still feel its last force for the half step after it, then nothing, so
 // the next FDlaw releases F_old F_trial / (2k) per spring too (what it stored plus that half
-// step's work), the same value a break at a step boundary releases.
+// step's work), the same value a break at a step boundary releases. With lin_mode 1 the linear
+// normal force is paid its corner up to separation, and what it holds there is released
+// (talus/sdk/linear_law.hpp).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -403,7 +405,7 @@ public:
             fd.energy[kEnergySlip] = lin.slip;
             fd.energy[kEnergyDashpot] = lin.dash;
             fd.energy[kEnergyBondStrain] = bondEnergy();
-            fd.energy[kEnergyReleased] = released;
+            fd.energy[kEnergyReleased] = released + lin.released;
         }
     }
 

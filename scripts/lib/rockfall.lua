@@ -958,16 +958,32 @@ end
 
 -- --------------------------------------------------------------------------------- tracking
 
--- A tracker follows one rock sample to sample (every step by default): crossings of collector
--- and barrier lines (interpolated), impacts, envelopes, path and end rules.
-local Tracker = {}
-Tracker.__index = Tracker
+-- The engine tracks a rock (m:track, docs/lua-api.md "Trackers") at every step, in C++: its
+-- touches of the slope (impacts), its crossings of the collector and barrier lines, its
+-- envelope, its path and its end rules (left, rest, time). Lua acts only at events -- a barrier
+-- crossing, the rock's end -- and fills the record from the tracker's lists at the end; it never
+-- looks at the rock and its contacts each step. run_rock tracks its one rock, mass_release
+-- every rock of its model, both with these functions.
 
-local function new_tracker(an, i, s, body, opts)
-    local rk = s.rock
-    local t = setmetatable({
-        an = an, body = body, pts = s.points, mass = body.mass, inertia = body.inertia,
-        r_eq = rk.r_eq,
+--- The collector and barrier lines in +x order.
+local function rock_lines(an)
+    local lines = {}
+    for _, c in ipairs(an.collectors) do lines[#lines + 1] = { kind = "collector", name = c.name, x = c.x } end
+    for _, b in ipairs(an.barriers) do
+        lines[#lines + 1] = { kind = "barrier", name = b.name, x = b.x, energy = b.energy, height = b.height }
+    end
+    table.sort(lines, function(a, b) return a.x < b.x end)
+    return lines
+end
+
+--- Starts the engine's tracker of rock i (body `body`, draw `s`) and returns its Lua side:
+--- the record it fills and what the events need. `ended(rt)`, if given, is called once when it
+--- ends.
+local function track_rock(m, an, i, s, body, lines, opts, ended)
+    local rk, pts = s.rock, s.points
+    local rt = {
+        body = body, mass = body.mass, inertia = body.inertia, r_eq = rk.r_eq, pts = pts,
+        crossed = {}, done = false,
         record = {
             rock = i, seed = s.seed, seeder = s.seeder, shape = rk.shape, mass = body.mass,
             volume = rk.volume, r_eq = rk.r_eq, density = rk.density, scale = rk.scale,
@@ -977,175 +993,138 @@ local function new_tracker(an, i, s, body, opts)
             crossings = {}, barrier = {}, impacts = {}, env_height = {}, env_ke = {},
             path = opts.trajectory and {} or nil,
         },
-        next_line = {}, done = false, rest_since = nil, impact = nil, samples = 0,
-    }, Tracker)
+    }
     local ke_rest = an.rest_ke
     if not ke_rest then
         -- Speed v for the centroid and v / r_eq at the rim: 1/2 m v^2 + 1/2 I (v / r_eq)^2.
         local v = an.rest_speed
         ke_rest = 0.5 * body.mass * v * v + 0.5 * body.inertia * (v / rk.r_eq) ^ 2
     end
-    t.ke_rest = ke_rest
-    -- Lines crossed in +x order: collectors and barriers, each at most once (the first crossing).
-    local lines = {}
-    for _, c in ipairs(an.collectors) do lines[#lines + 1] = { kind = "collector", name = c.name, x = c.x } end
-    for _, b in ipairs(an.barriers) do
-        lines[#lines + 1] = { kind = "barrier", name = b.name, x = b.x, energy = b.energy, height = b.height }
+    -- Vertical lines reaching far beyond the profile (a rock below it has left; one 10 km
+    -- above it does not exist), crossed toward +x: from below to above.
+    local y_lo, y_hi = math.huge, -math.huge
+    for _, p in ipairs(pts) do y_lo, y_hi = math.min(y_lo, p[2]), math.max(y_hi, p[2]) end
+    local tl = {}
+    for k, line in ipairs(lines) do
+        tl[k] = { from = { line.x, y_lo - 1e4 }, to = { line.x, y_hi + 1e4 }, event = line.kind == "barrier" }
     end
-    table.sort(lines, function(a, b) return a.x < b.x end)
-    t.lines = lines
-    t.crossed = {}
-    return t
-end
-
-function Tracker:ke(vx, vy, w)
-    local kt = 0.5 * self.mass * (vx * vx + vy * vy)
-    local kr = 0.5 * self.inertia * w * w
-    return kt, kr
-end
-
-function Tracker:finish(stop, time, x, y)
-    if self.done then return end
-    self.done = true
-    local r = self.record
-    r.stop, r.t_end, r.end_x, r.end_y = stop, time, x, y
-    if self.impact then self:close_impact(time, self.prev_vx or 0, self.prev_vy or 0, self.prev_w or 0, false) end
-    if r.path then r.path[#r.path + 1] = { time, x, y } end
-end
-
-function Tracker:close_impact(time, vx, vy, w, ended)
-    local imp = self.impact
-    self.impact = nil
-    if not imp then return end
-    local nx, ny = imp.nx, imp.ny
-    local vn, vt = vx * nx + vy * ny, vx * ny - vy * nx
-    imp.rec.vn_out, imp.rec.vt_out = vn, vt
-    imp.rec.rn = imp.rec.vn_in ~= 0 and math.abs(vn / imp.rec.vn_in) or 0
-    imp.rec.rt = imp.rec.vt_in ~= 0 and vt / imp.rec.vt_in or 0
-    local kt, kr = self:ke(vx, vy, w)
-    imp.rec.energy_lost = imp.ke_in - (kt + kr)
-    imp.rec.duration = time - imp.rec.t
-    if not ended then imp.rec.ended = false end
-end
-
---- One sample: the body's state now (pos, half-step vel and spin at time `time`), the wall
---- contact touching it (`contact`: {nx, ny, material} or nil).
-function Tracker:sample(time, px, py, vx, vy, w, contact)
-    local an, r = self.an, self.record
-    if self.done then return end
-    self.samples = self.samples + 1
-    local kt, kr = self:ke(vx, vy, w)
-    local ke = kt + kr
-    -- Impacts: the onset of a touch with the slope, and its end.
-    if contact and not self.touching then
-        -- vel is the half-step velocity before this step's contact force acted: the incoming one.
-        local nx, ny = contact.nx, contact.ny
-        local vn, vt = vx * nx + vy * ny, vx * ny - vy * nx
-        if -vn >= an.impact_min_vn then
-            local rec = { t = time, x = px, y = py, vn_in = vn, vt_in = vt, material = contact.material }
-            r.impacts[#r.impacts + 1] = rec
-            self.impact = { rec = rec, nx = nx, ny = ny, ke_in = ke }
-        end
-    elseif not contact and self.touching then
-        -- The first sample without contact: its velocity includes the last contact force.
-        self:close_impact(time, vx, vy, w, true)
-    end
-    self.touching = contact ~= nil
-    -- Crossings, interpolated between the previous sample and this one.
-    if self.prev_t then
-        local x0 = self.prev_x
-        for k, line in ipairs(self.lines) do
-            if not self.crossed[k] and x0 < line.x and px >= line.x then
-                self.crossed[k] = true
-                self:cross(line, time, px, py, vx, vy, w, contact)
-                if self.done then return end
-            end
-        end
-    end
-    -- Envelopes: bounce height (of the lowest point for a round rock) and kinetic energy.
-    local g = ground_at(self.pts, px)
-    local h = py - g - self.r_eq
     local env = an.envelope
-    local bin = math.floor((px - env.x0) / env.dx) + 1
-    if bin >= 1 and bin <= env.nbins then
-        if not r.env_height[bin] or h > r.env_height[bin] then r.env_height[bin] = h end
-        if not r.env_ke[bin] or ke > r.env_ke[bin] then r.env_ke[bin] = ke end
+    local function finish(stop, time, x, y)
+        if rt.done then return end
+        rt.done = true
+        local r = rt.record
+        r.stop, r.t_end, r.end_x, r.end_y = stop, time, x, y
+        if ended then ended(rt) end
     end
-    if r.path and (self.samples - 1) % an.path_every == 0 then r.path[#r.path + 1] = { time, px, py } end
-    self.prev_t, self.prev_x, self.prev_y, self.prev_vx, self.prev_vy, self.prev_w =
-        time, px, py, vx, vy, w
-    self.prev_contact = contact ~= nil
-    -- End rules.
-    local pts = self.pts
-    if px > pts[#pts][1] or px < pts[1][1] or py < an.y_min - 2 * self.r_eq - 1 then
-        self:finish("left", time, px, py)
-    elseif ke < self.ke_rest then
-        self.rest_since = self.rest_since or time
-        if time - self.rest_since >= an.rest_time then self:finish("rest", time, px, py) end
-    else
-        self.rest_since = nil
+    rt.finish = finish
+    local function on_event(tr, ev)
+        if rt.done then return end
+        if ev.kind == "end" then
+            local st = tr:status()
+            local stop = ({ exit = "left", rest = "rest", time = "time" })[ev.state] or ev.state
+            finish(stop, st.t, st.pos[1], st.pos[2])
+            return
+        end
+        -- A barrier line, crossed for the first time: the capacity rule (docs/rockfall.md).
+        if rt.crossed[ev.line] then return end
+        rt.crossed[ev.line] = true
+        local line, c, r = lines[ev.line], ev.crossing, rt.record
+        local ux, uy, yc, tc = c.vel[1], c.vel[2], c.pos[2], c.t
+        local kt, kr = c.ke_trans, c.ke_rot
+        local ke = kt + kr
+        local hit = {
+            name = line.name, t = tc, x = line.x, y = yc, height = yc - ground_at(pts, line.x) - rk.r_eq,
+            energy = ke, angle = math.deg(math.atan(-uy, ux)), ke_trans = kt, ke_rot = kr,
+        }
+        r.barrier[#r.barrier + 1] = hit
+        if hit.height >= line.height then
+            hit.stopped, hit.over = false, true -- flies over: recorded as passed, energy unchanged
+        elseif ke > line.energy then
+            -- Passes with its energy reduced by the capacity: the body's half-step velocity and
+            -- spin scaled by f = sqrt((ke - E_cap) / ke), which takes E_cap from translation and
+            -- rotation in proportion (a loss the energy tracing cannot book: barrier_absorbed).
+            -- The scaled velocity moves the rock from the next step on; a line crossed later in
+            -- this step sees the rock as this step moved it.
+            local f = math.sqrt((ke - line.energy) / ke)
+            hit.stopped, hit.energy_after = false, ke - line.energy
+            local v = body.vel
+            body.vel = { v[1] * f, v[2] * f }
+            body.spin = body.spin * f
+            r.barrier_absorbed = (r.barrier_absorbed or 0) + line.energy
+            m:guard{ balance = "off" } -- the barrier's energy is not an engine item
+        else
+            hit.stopped = true
+            tr:stop()
+            finish("barrier", tc, line.x, yc)
+        end
     end
-    if not self.done and time >= an.t_max then self:finish("time", time, px, py) end
+    rt.tracker = m:track(body, {
+        impacts = { with = "walls", min_speed = an.impact_min_vn },
+        lines = tl,
+        rest = { energy = ke_rest, time = an.rest_time },
+        region = { lo = { pts[1][1], an.y_min - 2 * rk.r_eq - 1 }, hi = { pts[#pts][1], math.huge } },
+        end_time = an.t_max,
+        envelope = { ground = pts, x0 = env.x0, dx = env.dx, bins = env.nbins },
+        path = opts.trajectory and an.path_every or nil,
+        on_event = on_event,
+    })
+    return rt
 end
 
---- The state where the rock's centre crosses x = line.x between the previous sample (t0) and
---- now (t1). Central differences move a body in a straight line at the half-step velocity within
---- a step, so with one sample per step x is linear in time and the chord gives the fraction s.
---- Between two whole steps the exact path of a body under constant acceleration a is the parabola
---- p(t0 + tau) = p0 + v_c tau + a tau (tau - dt) / 2 (v_c the chord velocity), and
---- v(t0 + tau) = v_c + a (tau - dt / 2); a = gravity in flight, else the change of the half-step
---- velocity over the interval. In flight this is the ballistic state at the line, exactly.
-function Tracker:cross(line, time, px, py, vx, vy, w, contact)
-    local t0, x0, y0 = self.prev_t, self.prev_x, self.prev_y
-    local dt = time - t0
-    local s = (line.x - x0) / (px - x0)
-    local tau = s * dt
-    local ax, ay
-    if not contact and not self.prev_contact then
-        ax, ay = self.an.gravity[1], self.an.gravity[2]
-    else
-        ax, ay = (vx - self.prev_vx) / dt, (vy - self.prev_vy) / dt
+--- A rock whose tracker ended at its first sample (when it was made: no event then) ends here.
+local function ended_at_start(rt)
+    local st = rt.tracker:status()
+    if st.state ~= "tracking" then
+        local stop = ({ exit = "left", rest = "rest", time = "time" })[st.state] or st.state
+        rt.finish(stop, st.t, st.pos[1], st.pos[2])
     end
-    local cx, cy = (px - x0) / dt, (py - y0) / dt
-    local yc = y0 + cy * tau + 0.5 * ay * tau * (tau - dt)
-    local ux, uy = cx + ax * (tau - 0.5 * dt), cy + ay * (tau - 0.5 * dt)
-    local wc = self.prev_w + s * (w - self.prev_w)
-    local tc = t0 + tau
-    local kt, kr = self:ke(ux, uy, wc)
-    local height = yc - ground_at(self.pts, line.x) - self.r_eq
-    local r = self.record
-    if line.kind == "collector" then
-        r.crossings[#r.crossings + 1] = {
-            line = line.name, t = tc, x = line.x, y = yc, height = height, vx = ux, vy = uy,
-            v = math.sqrt(ux * ux + uy * uy), spin = wc, ke_trans = kt, ke_rot = kr, ke = kt + kr,
-        }
-        return
+end
+
+--- Fills rock rt's record from its tracker's records (after the run).
+local function collect_rock(rt, lines, wall_material)
+    local tr, r = rt.tracker, rt.record
+    local first = {}
+    for _, c in ipairs(tr:crossings()) do
+        local line = lines[c.line]
+        if line.kind == "collector" and not first[c.line] then
+            first[c.line] = true
+            local ux, uy = c.vel[1], c.vel[2]
+            r.crossings[#r.crossings + 1] = {
+                line = line.name, t = c.t, x = line.x, y = c.pos[2],
+                height = c.pos[2] - ground_at(rt.pts, line.x) - rt.r_eq, vx = ux, vy = uy,
+                v = math.sqrt(ux * ux + uy * uy), spin = c.spin, ke_trans = c.ke_trans,
+                ke_rot = c.ke_rot, ke = c.ke_trans + c.ke_rot,
+            }
+        end
     end
-    -- Barrier: angle of the velocity from the barrier's normal (+x), degrees, positive downward.
-    local ke = kt + kr
-    local hit = {
-        name = line.name, t = tc, x = line.x, y = yc, height = height, energy = ke,
-        angle = math.deg(math.atan(-uy, ux)), ke_trans = kt, ke_rot = kr,
-    }
-    r.barrier[#r.barrier + 1] = hit
-    if height >= line.height then
-        hit.stopped, hit.over = false, true -- flies over: recorded as passed, energy unchanged
-    elseif ke > line.energy then
-        -- Passes with its energy reduced by the capacity: velocity and spin scaled by
-        -- f = sqrt((ke - E_cap) / ke), which takes E_cap from translation and rotation in
-        -- proportion. The body's half-step velocity is scaled (the energy tracing sees this as
-        -- a loss it cannot book: the run records it as barrier_absorbed).
-        local f = math.sqrt((ke - line.energy) / ke)
-        hit.stopped, hit.energy_after = false, ke - line.energy
-        local b = self.body
-        b.vel = { vx * f, vy * f }
-        b.spin = w * f
-        self.prev_vx, self.prev_vy, self.prev_w = vx * f, vy * f, w * f
-        r.barrier_absorbed = (r.barrier_absorbed or 0) + line.energy
-        self.scaled = true
-    else
-        hit.stopped = true
-        self:finish("barrier", tc, line.x, yc)
+    local function ke(v, w)
+        return 0.5 * rt.mass * (v[1] * v[1] + v[2] * v[2]) + 0.5 * rt.inertia * w * w
+    end
+    for _, im in ipairs(tr:impacts()) do
+        local nx, ny = im.normal[1], im.normal[2]
+        local vx, vy = im.vel[1], im.vel[2]
+        local rec = { t = im.t, x = im.pos[1], y = im.pos[2], vn_in = vx * nx + vy * ny,
+            vt_in = vx * ny - vy * nx, material = wall_material[im.wall.id] }
+        if im.t_end then
+            -- Closed at the first sample without a touch, or at the rock's last sample (then
+            -- it lasted until the rock ended: at a barrier, the crossing's time).
+            local ox, oy = im.vel_end[1], im.vel_end[2]
+            local vn, vt = ox * nx + oy * ny, ox * ny - oy * nx
+            rec.vn_out, rec.vt_out = vn, vt
+            rec.rn = rec.vn_in ~= 0 and math.abs(vn / rec.vn_in) or 0
+            rec.rt = rec.vt_in ~= 0 and vt / rec.vt_in or 0
+            rec.energy_lost = ke(im.vel, im.spin) - ke(im.vel_end, im.spin_end)
+            rec.duration = (im.ended and im.t_end or r.t_end) - im.t
+            if not im.ended then rec.ended = false end
+        end
+        r.impacts[#r.impacts + 1] = rec
+    end
+    local env = tr:envelope()
+    for k, h in pairs(env.height) do r.env_height[k] = h - rt.r_eq end
+    for k, e in pairs(env.energy) do r.env_ke[k] = e end
+    if r.path then
+        for _, p in ipairs(tr:path()) do r.path[#r.path + 1] = p end
+        r.path[#r.path + 1] = { r.t_end, r.end_x, r.end_y }
     end
 end
 
@@ -1160,11 +1139,6 @@ local function new_model(an, margin, warnings)
     if an.timestep then m:timestep(an.timestep) end
     m:broadphase{ margin = margin }
     return m
-end
-
-local function body_state(b)
-    local p, v = b.pos, b.vel
-    return p[1], p[2], v[1], v[2], b.spin
 end
 
 --- A hook option (on_model, on_end) is a function or absent.
@@ -1194,33 +1168,17 @@ local function run_rock(an, i, opts)
     local wall_material = build_slope(m, an, s.points, s.materials)
     local body = place_rock(m, s)
     m:energy{ on = true }
-    local tr = new_tracker(an, i, s, body, opts)
-    local contact_info, all = {}, {}
-    local function hook(model)
-        local touching = nil
-        for c in model:contacts(all) do
-            if c.overlap > 0 and c.wall then
-                local n = c.normal -- from the rock to the wall: the slope's outward normal is -n
-                local w = c.wall
-                contact_info.nx, contact_info.ny = -n[1], -n[2]
-                contact_info.material = wall_material[w.id]
-                touching = contact_info
-                break
-            end
-        end
-        local px, py, vx, vy, w = body_state(body)
-        tr:sample(model:time(), px, py, vx, vy, w, touching)
-        if tr.scaled then
-            tr.scaled = nil
-            m:guard{ balance = "off" } -- the barrier's energy is not an engine item
-        end
-    end
-    hook(m) -- the release state
-    m:on_cycle(hook)
     if opts.on_model then opts.on_model(m, { rock = i, seed = s.seed, body = body }) end
+    -- The tracker comes after on_model, so that the hook may save the model (a model with
+    -- trackers is not saved); its first sample is the state the first step starts from.
+    local lines = rock_lines(an)
+    local rt = track_rock(m, an, i, s, body, lines, opts)
+    ended_at_start(rt)
     local chunk = opts.chunk or 50
-    while not tr.done do m:cycle(chunk) end
-    local rec = tr.record
+    while not rt.done do m:cycle(chunk) end
+    collect_rock(rt, lines, wall_material)
+    m:clear_trackers() -- its records are read; on_end may save the model
+    local rec = rt.record
     local e = m:energies()
     rec.energy = { input = e.input, kinetic = e.kinetic, body = e.body, slip = e.slip,
         dashpot = e.dashpot, strain = e.strain, balance_error = e.balance_error }
@@ -1231,17 +1189,20 @@ local function run_rock(an, i, opts)
 end
 rockfall.run_rock = api("run_rock", run_rock)
 
+-- --------------------------------------------------------------------------------- mass release
+
 --- Releases n rocks at once into one model (rock-rock contact with analysis.rock_contact);
 --- returns one record per rock, as run_rock does. All rocks meet the nominal (or the analysis'
 --- single roughened) profile: roughness per rock has no meaning in one model.
 local function mass_release(an, opts)
     need_analysis(an)
     opts = opts or {}
-    check_keys(opts, { "n", "trajectory", "every", "chunk", "on_model", "on_end" }, "mass_release options")
+    check_keys(opts, { "n", "trajectory", "chunk", "on_model", "on_end" }, "mass_release options")
     check_hook(opts, "on_model", "mass_release options")
     check_hook(opts, "on_end", "mass_release options")
     local n = opts.n or an.n
-    local samples, rmax = {}, 0
+    if math.type(n) ~= "integer" or n < 1 then fail("mass_release: n must be an integer >= 1 (got %s)", tostring(n)) end
+    local samples, rsum = {}, 0
     local pts, mats = an.nominal, an.segment_material
     if an.roughness and an.roughness.amplitude > 0 then
         pts, mats = rock_profile({ nominal = an.nominal, segment_material = an.segment_material,
@@ -1251,7 +1212,7 @@ local function mass_release(an, opts)
     for i = 1, n do
         local si = sample(an, i)
         si.points, si.materials = pts, mats
-        rmax = math.max(rmax, si.rock.r_eq)
+        rsum = rsum + si.rock.r_eq
         -- Rocks drawn onto each other would start with huge overlaps: a rock whose bounding
         -- circle meets an earlier one's is lifted above it (deterministic: rocks in index order).
         local moved = true
@@ -1269,58 +1230,43 @@ local function mass_release(an, opts)
         end
         samples[i] = si
     end
+    -- A tenth of the mean rock size. Here some rock always touches something, so contacts set
+    -- the step and a wide margin (run_rock's, which lengthens a lone rock's steps in flight)
+    -- buys nothing: it only makes candidate pairs of rocks near each other, and at 100 rocks
+    -- those cost five times the contacts (docs/rockfall.md, "Mass release").
     local warnings = {}
-    local m = new_model(an, an.margin or rmax, warnings)
+    local m = new_model(an, an.margin or 0.1 * rsum / n, warnings)
     local wall_material = build_slope(m, an, pts, mats)
-    local trackers, by_ball, by_clump = {}, {}, {}
+    local lines = rock_lines(an)
+    local left = n
+    local function ended(rt)
+        left = left - 1
+        -- A rock that left, or that a barrier stopped, leaves the model (after the first
+        -- sample: once every rock is placed).
+        if rt.placed and rt.record.stop ~= "rest" then rt.body:delete() end
+    end
+    local rocks = {}
     for i = 1, n do
         local body = place_rock(m, samples[i])
-        trackers[i] = new_tracker(an, i, samples[i], body, opts)
-        if samples[i].rock.ball then by_ball[body.id] = i else by_clump[body.id] = i end
+        rocks[i] = track_rock(m, an, i, samples[i], body, lines, opts, ended)
     end
     m:energy{ on = true }
-    local left = n
-    local touching = {}
-    local function hook(model)
-        for k in pairs(touching) do touching[k] = nil end
-        for c in model:contacts{} do
-            if c.wall and c.overlap > 0 then
-                local cl = c.clump1
-                local i = cl and by_clump[cl.id] or by_ball[c.ball1.id]
-                if i and not touching[i] then
-                    local nrm = c.normal
-                    touching[i] = { nx = -nrm[1], ny = -nrm[2], material = wall_material[c.wall.id] }
-                end
-            end
-        end
-        local t = model:time()
-        left = 0
-        for i, tr in ipairs(trackers) do
-            if not tr.done then
-                local px, py, vx, vy, w = body_state(tr.body)
-                tr:sample(t, px, py, vx, vy, w, touching[i])
-                if tr.scaled then tr.scaled = nil; m:guard{ balance = "off" } end
-                if tr.done and tr.record.stop ~= "rest" then
-                    -- A rock that left, or that a barrier stopped, leaves the model.
-                    tr.body:delete()
-                end
-            end
-            if not tr.done then left = left + 1 end
-        end
+    for _, rt in ipairs(rocks) do
+        rt.placed = true
+        ended_at_start(rt)
     end
-    hook(m)
-    m:on_cycle(hook, opts.every or 1)
     if opts.on_model then
         local bodies = {}
-        for i, tr in ipairs(trackers) do bodies[i] = tr.body end
+        for i, rt in ipairs(rocks) do bodies[i] = rt.body end
         opts.on_model(m, { rocks = n, bodies = bodies, mass_release = true })
     end
     local chunk = opts.chunk or 50
     while left > 0 do m:cycle(chunk) end
     local recs = {}
-    for i, tr in ipairs(trackers) do
-        tr.record.mass_release = true
-        recs[i] = tr.record
+    for i, rt in ipairs(rocks) do
+        collect_rock(rt, lines, wall_material)
+        rt.record.mass_release = true
+        recs[i] = rt.record
     end
     if #warnings > 0 then recs.warnings = warnings end
     if opts.on_end then opts.on_end(m, recs) end

@@ -26,9 +26,9 @@ using namespace talus;
 
 namespace {
 
-constexpr double kR = 0.01;      // [m]
-constexpr double kKn = 1e6;      // [N/m]
-constexpr double kDt = 1e-6;     // [s]
+constexpr double kR = 0.01;   // [m]
+constexpr double kKn = 1e6;   // [N/m]
+constexpr double kDt = 1e-6;  // [s]
 using Features = LoopFeatures<false, false, false>;
 
 /// Two disks (or a disk and a wall) with one active contact, after one step of the engine.
@@ -156,11 +156,13 @@ TEST_CASE("pass 2: linear's first call and its batched law") {
     FdBlock fd = sc.world.contacts.fd_template;
     REQUIRE(geometryPass<Features>(v, 0, e, &fd) == PairStep::Contact);
     Pair& p = sc.world.contacts.pairs[0];
+    PairCold& c = sc.world.contacts.cold[0];
     // After the engine's first step (the contact's first call) the force is kn u_n.
-    CHECK(p.n_force == Approx(kKn * p.overlap).epsilon(1e-12));
-    REQUIRE(p.rule->batch != nullptr);
+    CHECK(p.n_force == Approx(kKn * c.overlap).epsilon(1e-12));
+    const Rule& rule = sc.world.contacts.ruleOf(p);
+    REQUIRE(rule.batch != nullptr);
     // The same contact state through both paths: one on a clone of the object.
-    const std::size_t bytes = p.rule->pool->blockSize();
+    const std::size_t bytes = rule.pool->blockSize();
     std::vector<unsigned char> saved(bytes);
     std::memcpy(saved.data(), static_cast<void*>(p.model), bytes);
     FdBlock a = fd, b = fd;
@@ -168,12 +170,12 @@ TEST_CASE("pass 2: linear's first call and its batched law") {
     int64_t count = 0;
     ForceView batched = v;
     batched.batched = true;
-    lawPass(batched, p, a, error, count);
+    lawPass(batched, 0, a, error, count);
     CHECK(count == 1);
     std::memcpy(static_cast<void*>(p.model), saved.data(), bytes);  // the state before
     ForceView vtable = v;
     vtable.batched = false;
-    lawPass(vtable, p, b, error, count);
+    lawPass(vtable, 0, b, error, count);
     CHECK(count == 1);
     CHECK(a.n_force == b.n_force);
     CHECK(a.s_force == b.s_force);
@@ -194,7 +196,7 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     REQUIRE(geometryPass<Features>(v, 0, e, &fd) == PairStep::Contact);
     std::string error;
     int64_t count = 0;
-    lawPass(v, sc.world.contacts.pairs[0], fd, error, count);
+    lawPass(v, 0, fd, error, count);
     fd.moment = 1e-4;  // a model moment (rolling resistance, a bond) goes to both ends too
     auto& b = sc.world.bodies.balls;
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());

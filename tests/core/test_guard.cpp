@@ -5,6 +5,7 @@
 // contact and the step; an impact resolved in fewer than min_steps steps is reported (warning or
 // error) naming the contact and its number of steps; a contact that gave back more energy than
 // it took is reported; and the default automatic step gives no findings at all.
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "test_support.hpp"
@@ -265,4 +266,87 @@ TEST_CASE("a ball driven through a soft wall in one step stops the run naming th
     slow->createBall(ballAt(Vec2(0.0, kR + 0.01), kR, kRho, Vec2(0.0, -0.2)));
     slow->setWarningHandler([](const std::string&) {});
     CHECK_NOTHROW(slow->solveTime(2.0));
+}
+
+namespace {
+
+/// A 1 mm ball touching a wall for a step or two, as balls of a settled pack touch: it
+/// approaches at 0.1 mm/s, and in the step it touches a load arrives that pulls it away (its
+/// neighbours' push, modelled as an applied force of `pull` times what stops it within a step).
+/// kn = 1e6 N/m, fixed step 1e-5 s (about 90 steps per contact duration); 40 phases of touch
+/// spread over a step. `bystander`: a second ball far away moving at 2 m/s (0.016 J of kinetic
+/// energy), as the rest of a pack holds energy. Returns the warnings of all phases and, with
+/// the energy check at "error", how many phases threw.
+struct Grazes {
+    std::vector<std::string> texts;
+    int thrown = 0;
+    size_t count(const std::string& needle) const {
+        return std::count_if(texts.begin(), texts.end(), [&](const std::string& t) {
+            return t.find(needle) != std::string::npos;
+        });
+    }
+};
+Grazes grazes(double beta, double pull, bool bystander, GuardAction energy = GuardAction::Warn) {
+    constexpr double kRg = 1e-3, kV = 1e-4, kDt = 1e-5;
+    Grazes out;
+    for (int i = 0; i < 40; ++i) {
+        auto m = makeModel(Vec2::Zero(), linearProps(1e6, 1e6, 0.5, beta, beta));
+        WarningLog log;
+        log.attach(*m);
+        m->timestep() = fixedStep(kDt);
+        m->guard().energy = energy;
+        m->createWall(wallOf({Vec2(-1.0, 0.0), Vec2(1.0, 0.0)}));
+        const BallId b = m->createBall(ballAt(Vec2(0.0, kRg + kV * kDt * (3.0 + (i + 0.5) / 40.0)),
+                                              kRg, kRho, Vec2(0.0, -kV)));
+        if (bystander) m->createBall(ballAt(Vec2(0.5, 0.5), kRg, kRho, Vec2(2.0, 0.0)));
+        for (int k = 0; k < 20 && m->contactCount() == 0; ++k) m->cycle(1);
+        REQUIRE(m->contactCount() == 1);
+        m->setBallAppliedForce(b, Vec2(0.0, pull * m->ballMass(b) * kV / kDt));
+        try {
+            m->cycle(20);
+            REQUIRE(m->contactCount() == 0);
+        } catch (const NumericalError& e) {
+            CHECK(std::string(e.what()).find("energy created") != std::string::npos);
+            ++out.thrown;
+        }
+        out.texts.insert(out.texts.end(), log.texts.begin(), log.texts.end());
+    }
+    return out;
+}
+
+}  // namespace
+
+// History: until 2026-11-28 the stiffness check allowed a dashpot's force at the rate just after
+// the deepest overlap only. A contact of a settled pack that touches for a step has its deepest
+// overlap at that first step, where the force comes from the approach rate (and the onset
+// corner): the dense pack at rest (50 000 balls, linear with dp_nratio) reported "7.2e6 N/m of
+// overlap while it reported knest 1.5e6". Here every one of the 40 phases was reported at each
+// dp_nratio (31 at 0.9).
+TEST_CASE("a contact touching for one step in a pack is not taken for a stiffness lie",
+          "[core][guard]") {
+    for (double beta : {0.0, 0.2, 0.5, 0.9}) {
+        const Grazes g = grazes(beta, 1.0, false);
+        INFO("dp_nratio " << beta << (g.texts.empty() ? "" : ": " + g.texts.front()));
+        CHECK(g.count("stiffer than their model reported") == 0);
+    }
+}
+
+// History: until 2026-11-28 a contact's energy gain was judged against its own reference only.
+// Grazing contacts of a settled pack gain a few 1e-12 J on references of a few 1e-11 J (the
+// dense pack at rest: "gave back 1.6e-12 J more than it took", reference 3e-11 J), nothing on
+// the scale of the pack. Here up to 11% of its reference, 4.4e-12 J, beside a ball holding
+// 0.016 J: reported in 23 of 40 phases until then.
+TEST_CASE("an energy gain far below the scene's energy is not reported; alone it is",
+          "[core][guard]") {
+    // The load pulls at twice what stops the ball: in some phases the contact gives back more
+    // than 1% of the approach's kinetic energy, which is all the scene holds.
+    const Grazes alone = grazes(0.5, 2.0, false);
+    CHECK(alone.count("gave back more energy than they took") > 0);
+    const Grazes beside = grazes(0.5, 2.0, true);
+    INFO((beside.texts.empty() ? std::string("no warning") : beside.texts.front()));
+    CHECK(beside.count("gave back more energy than they took") == 0);
+    // With "error": thrown at the end of the step for the gain alone, never beside the ball.
+    CHECK(grazes(0.5, 2.0, false, GuardAction::Error).thrown ==
+          static_cast<int>(alone.count("gave back more energy than they took")));
+    CHECK(grazes(0.5, 2.0, true, GuardAction::Error).thrown == 0);
 }

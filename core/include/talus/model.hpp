@@ -5,7 +5,7 @@
 // bookkeeping; docs/architecture.md). It holds the world (core/src/world.hpp) and nothing else;
 // the methods are grouped by the thing they act on, as Box2D groups b2Body_*, b2Shape_*:
 //   model and running   balls   clumps   walls   contact models   contacts   bonds
-//   energy   measurement   callbacks   performance   save and restore
+//   energy   measurement   trackers   callbacks   performance   save and restore
 // The plain data they take and return is in talus/model_types.hpp.
 #pragma once
 
@@ -52,6 +52,13 @@ public:
 
     TimestepSettings& timestep();
     GuardSettings& guard();
+    /// The warning about contacts that start overlapping (bodies created or moved into each
+    /// other; docs/physics/guard.md), on by default. A routine that overlaps bodies on purpose
+    /// (a genesis growing its balls) switches it off for that stretch and says so in its own
+    /// words; the energy of such contacts is still booked as `placement`. A run-time switch,
+    /// not saved. Returns the previous setting.
+    bool setPlacementWarning(bool on);
+    bool placementWarning() const;
     DampingSettings& damping();
     Vec2& gravity();
     MassMode massMode() const;
@@ -219,6 +226,33 @@ public:
     UnbalancedForce unbalanced() const;
     /// Porosity, coordination, stress and strain rate in a region (MeasureResult).
     MeasureResult measure(const MeasureRegion& region) const;
+
+    // ------------------------------------------------------------------ trackers
+    /// Starts a tracker on a free ball or a clump (TrackerDef; docs/lua-api.md, "Trackers") and
+    /// takes its first sample now (it may end at once: see trackerStatus). Returns its id (>= 1).
+    /// Throws InputError naming the bad option, a stale body, a pebble, or a body that already
+    /// has a live tracker.
+    int createTracker(BallId ball, const TrackerDef& def);
+    int createTracker(ClumpId clump, const TrackerDef& def);
+    /// Ends a live tracker (state Stopped; nothing if it has ended). An open touch closes at the
+    /// last complete sample; its records stay.
+    void stopTracker(int id);
+    /// Forgets every tracker and its records (ids start again at 1).
+    void clearTrackers();
+    std::size_t trackerCount() const;
+    TrackerStatus trackerStatus(int id) const;
+    const TrackerDef& trackerDef(int id) const;
+    const std::vector<TrackedImpact>& trackerImpacts(int id) const;
+    const std::vector<TrackedCrossing>& trackerCrossings(int id) const;
+    /// Per envelope bin, the greatest height of the centre above the ground and the greatest
+    /// kinetic energy; NaN in the bins the centre never was in.
+    const std::vector<double>& trackerEnvelopeHeight(int id) const;
+    const std::vector<double>& trackerEnvelopeEnergy(int id) const;
+    const std::vector<TrackedPoint>& trackerPath(int id) const;
+    /// Called in the bookkeeping phase for a crossing of a line with `event` (the rest of that
+    /// sample is taken after it returns, unless it stopped the tracker) and when a tracker ends
+    /// by its own rules or because its body was deleted. Empty = none.
+    void setTrackerHandler(std::function<void(const TrackerEvent&)> fn);
 
     // ------------------------------------------------------------------ callbacks
     /// Called in the bookkeeping phase every `every` steps, after events are delivered.

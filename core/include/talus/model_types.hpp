@@ -273,6 +273,12 @@ struct Event {
     /// [Pa], when the model reports them (kFdBreakStress); NaN otherwise.
     double sigma = std::numeric_limits<double>::quiet_NaN();
     double tau = std::numeric_limits<double>::quiet_NaN();
+    /// Bond breaks: the bond's half width [m] (its radius: a crack across it is 2 radius long),
+    /// read from the model as the bond broke: its property `bond_radius`, `pb_rad` (a parallel
+    /// bond) or `fj_radius` (a flat joint), the first it has (docs/plugin-abi.md, "Bonds"); NaN
+    /// when it has none (a contact bond has no size of its own). Not saved: NaN for an event
+    /// still queued at a save.
+    double radius = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// A read-only view of one contact, for queries.
@@ -294,6 +300,116 @@ struct ContactInfo {
     bool sliding = false;
     bool bonded = false;
     std::string model;
+};
+
+// ------------------------------------------------------------------ trackers
+
+/// What a tracker counts as an impact (TrackerDef::impacts).
+enum class TrackImpacts { Off, Walls, Bodies, Any };
+
+/// A line a tracked body's centre may cross (TrackerDef::lines). A crossing is a step that takes
+/// the centre from the left of the directed line from -> to to its right (the side its
+/// right-hand normal points to), the crossing point within the segment; every such step counts.
+struct TrackLine {
+    Vec2 from{0.0, 0.0}, to{0.0, 0.0};
+    /// Deliver the crossing as a TrackerEvent during the step, before the rest of the step's
+    /// sample is taken, so that the handler can change the body's motion or stop the tracker.
+    bool event = false;
+};
+
+/// A per-body tracker (Model::createTracker; docs/lua-api.md, "Trackers"): what the engine
+/// records about one ball or clump at every step, so that a script need not look at every
+/// contact and every body each step. Unset parts cost nothing.
+struct TrackerDef {
+    /// Impacts: a touch begins at the first step the body touches something of the kind
+    /// (positive overlap) after touching nothing of it; it ends at the first step it touches
+    /// nothing of it again.
+    TrackImpacts impacts = TrackImpacts::Off;
+    double impact_min_speed = 0.0;  ///< [m/s] touches approaching slower are not recorded
+    std::vector<TrackLine> lines;
+    /// Rest: the kinetic energy (translation and rotation) below `rest_energy`, or the centre's
+    /// speed below `rest_speed`, for `rest_time` seconds; the tracker then ends. NaN: off.
+    double rest_energy = kNotSet;  ///< [J]
+    double rest_speed = kNotSet;   ///< [m/s]
+    double rest_time = 0.0;        ///< [s]
+    /// The tracker ends ("exit") at the first step the centre is outside [lo, hi].
+    bool region = false;
+    Vec2 region_lo{0.0, 0.0}, region_hi{0.0, 0.0};
+    /// The tracker ends ("time") at the first step at or after this time [s].
+    double end_time = std::numeric_limits<double>::infinity();
+    /// Envelope: per bin k of x in [x0 + k dx, x0 + (k + 1) dx), the greatest height of the
+    /// centre above the polyline `ground` (x not decreasing) and the greatest kinetic energy.
+    std::vector<Vec2> ground;
+    double envelope_x0 = 0.0, envelope_dx = 0.0;
+    int32_t envelope_bins = 0;  ///< 0: no envelope
+    int64_t path_every = 0;     ///< > 0: the centre every so many samples
+};
+
+/// Where a tracker is: still tracking, or why it ended.
+enum class TrackerState { Tracking, Rest, Exit, Time, Deleted, Stopped };
+const char* trackerStateName(TrackerState s);
+
+/// The state of a tracked body at one sample (the end of a step): time, centre, velocity at the
+/// half step (as the body reports it), spin.
+struct TrackedState {
+    double time = 0.0;
+    Vec2 pos{0.0, 0.0};
+    Vec2 vel{0.0, 0.0};
+    double spin = 0.0;
+};
+
+/// A touch (TrackerDef::impacts). `start` is the body at the first step of the touch, its
+/// velocity the incoming one (the contact's first force acts on the next step); `end` at the
+/// first step without a touch (`ended`), or at the tracker's last sample when it ended first.
+struct TrackedImpact {
+    TrackedState start;
+    Vec2 normal{0.0, 0.0};  ///< unit, from what was hit toward the body
+    double approach = 0.0;  ///< -vel . normal [m/s], > 0 when approaching
+    Vec2 point{0.0, 0.0};   ///< the contact point
+    WallId wall;            ///< what was hit: a wall segment ...
+    int32_t segment = -1;
+    BallId ball;          ///< ... or a ball (a pebble: `clump` is its clump)
+    ClumpId clump;        ///<
+    uint64_t groups = 0;  ///< group bits of what was hit (Model::groupNames)
+    bool closed = false;  ///< `end` is set: the touch ended, or the tracker ended first
+    bool ended = false;   ///< the touch ended (the body touched nothing of the kind)
+    TrackedState end;
+};
+
+/// A line crossing (TrackerDef::lines), interpolated within the step: the path between two
+/// samples is the parabola of constant acceleration through both (gravity in free flight,
+/// else the change of the velocity over the step).
+struct TrackedCrossing {
+    int32_t line = 0;
+    double time = 0.0;
+    Vec2 pos{0.0, 0.0};
+    Vec2 vel{0.0, 0.0};
+    double spin = 0.0;
+    double ke_trans = 0.0, ke_rot = 0.0;  ///< [J]
+};
+
+/// A point of a tracker's path (TrackerDef::path_every).
+struct TrackedPoint {
+    double time = 0.0;
+    Vec2 pos{0.0, 0.0};
+};
+
+/// A tracker's summary: its body, its state, where and when it ended, the rest it detected.
+struct TrackerStatus {
+    BallId ball;  ///< the tracked ball, or
+    ClumpId clump;
+    TrackerState state = TrackerState::Tracking;
+    int64_t samples = 0;
+    TrackedState last;            ///< the last sample taken
+    double rest_since = kNotSet;  ///< [s] start of the slow spell that ended it (or is running)
+};
+
+/// Delivered to the tracker handler (Model::setTrackerHandler) during the step's bookkeeping.
+struct TrackerEvent {
+    enum Kind { Crossing, End } kind = Crossing;
+    int tracker = 0;
+    int32_t line = -1;  ///< Crossing: TrackerDef::lines index; its record is the last one
+    TrackerState state = TrackerState::Tracking;  ///< End: why
 };
 
 }  // namespace talus

@@ -42,10 +42,10 @@ void refreshPairMasses(World& world, uint32_t s) {
     const auto& b = world.bodies.balls;
     for (auto& p : world.contacts.pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s))
-            p.mass_eff = p.wall
-                             ? b.mass[p.end1]
-                             : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
-            p.inv_mass_eff_s = tangentialInverseMass(world, p);
+            world.contacts.coldOf(p).mass_eff =
+                p.wall ? b.mass[p.end1]
+                       : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
+            world.contacts.coldOf(p).inv_mass_eff_s = tangentialInverseMass(world, p);
 }
 
 void updateMass(World& world, uint32_t s) {

@@ -313,7 +313,7 @@ std::size_t Model::bond(const BondSettings& s) {
         if (!pairGeometry(world, p, normal, overlap, point)) continue;
         // The new object, with the old one's same-named settable properties, then the given ones.
         void* mem = bond_rule->pool->allocate();
-        const PropBlock pb = propBlockFor(world, p);
+        const PropBlock pb = propBlockFor(world, p, c.mass_eff);
         ContactModel* nm = bproto.Clone(pb, mem);
         if (!nm) {
             const std::string why = bproto.LastError();
@@ -326,7 +326,7 @@ std::size_t Model::bond(const BondSettings& s) {
             bond_rule->pool->release(mem);
             throw InputError("bond: " + describePair(world, p) + ": " + why);
         };
-        leaveLane(p);
+        leaveLane(world.contacts, p);
         const ContactModel& old = *p.model;
         for (int32_t k = 0; k < nm->PropCount(); ++k) {
             const PropInfo* info = nm->PropInfoAt(k);
@@ -357,8 +357,8 @@ std::size_t Model::bond(const BondSettings& s) {
         fd.u_dot_n = fd.u_dot_s = fd.t_dot_rel = 0.0;
         fd.du_n = fd.du_s = fd.dtheta = 0.0;
         fd.tdel = tdel;
-        fd.mass_eff = p.mass_eff;
-        fd.inv_mass_eff_s = p.inv_mass_eff_s;
+        fd.mass_eff = world.contacts.coldOf(p).mass_eff;
+        fd.inv_mass_eff_s = world.contacts.coldOf(p).inv_mass_eff_s;
         fd.time = world.clock.time;
         const bool was_active = p.active;
         const double fn_old = was_active ? p.n_force : 0.0;
@@ -384,12 +384,13 @@ std::size_t Model::bond(const BondSettings& s) {
 
         // Swap the objects.
         p.model->Destroy();
-        p.rule->pool->release(p.model);
+        world.contacts.ruleOf(p).pool->release(p.model);
         p.model = nm;
-        p.rule = bond_rule;
-        p.activity = nm->ActivityDistance();
+        p.rule = world.contacts.ruleIndex(bond_rule);
+        c.activity = checkedActivity(nm->ActivityDistance(), factory.name);
         if (!was_active) ++world.profile.contacts_created;
         p.active = true;
+        p.watched = c.steps <= kGuardWatch;
 
         // The force the next law of motion applies: the last force loop's, corrected by the
         // change of this contact's force (same geometry: nothing moved since).
@@ -485,16 +486,16 @@ std::size_t Model::bond(const BondSettings& s) {
         p.n_force = fd.n_force;
         p.s_force = fd.s_force;
         p.moment = fd.moment;
-        p.overlap = overlap;
-        p.knest = fd.knest;
-        p.ksest = fd.ksest;
+        world.contacts.coldOf(p).overlap = overlap;
+        world.contacts.coldOf(p).knest = fd.knest;
+        world.contacts.coldOf(p).ksest = fd.ksest;
         c.krest = fd.krest;
         p.sliding = (fd.flags & kFdSliding) != 0;
         p.bonded = (fd.flags & kFdBonded) != 0;
         // The impact rules' duration for this contact, and the guard: the installed contact
         // holds energy no traced approach put in (like a placed contact, its energy check is
         // skipped) and is a persistent contact, not an impact.
-        c.duration = nm->ContactDuration(p.mass_eff, 0.0);
+        c.duration = nm->ContactDuration(world.contacts.coldOf(p).mass_eff, 0.0);
         if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
         c.born_overlapped = true;
         if (fd.flags & kFdBroken) queueBreak(world, i, point, fd);
@@ -516,7 +517,7 @@ std::size_t Model::unbond(const BondSettings& s) {
         if (!s.model.empty() && s.model != p.model->Name()) continue;
         if (!bondSelects(world, p, s, ga, gb)) continue;
         const int32_t k = propIndex(*p.model, "bonded");
-        syncLane(p);
+        syncLane(world.contacts, p);
         if (k < 0 || p.model->ReturnProp(k) != 1.0) continue;
         // No event, and nothing booked here: the forces the last force loop summed, the
         // bond's included, still act over the half step after this one, so what the bond lets
@@ -524,7 +525,7 @@ std::size_t Model::unbond(const BondSettings& s) {
         // docs/models/pbond.md, cbond.md, Energies). Booking the stored energy now would miss
         // that half step's work (first order in the step) and, for cbond, would book what its
         // unbonded law keeps (a contact in compression).
-        leaveLane(p);
+        leaveLane(world.contacts, p);
         if (p.model->AcceptProp(k, 0.0) != 0)
             throw InputError(std::string("unbond: ") + describePair(world, p) + ": " +
                              p.model->LastError());

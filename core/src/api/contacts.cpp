@@ -41,6 +41,7 @@ void Model::setDefaultContactModel(const std::string& name, const std::vector<Pr
 void Model::addContactModelRule(const std::string& name, const std::vector<PropValue>& props,
                                 const std::string& group_a, const std::string& group_b) {
     World& world = *m_world;
+    requireRuleRoom(world, "contact_model");
     auto rule = std::make_unique<Rule>();
     rule->factory = &world.registry.find(name);
     rule->batch = rule->factory->batch;
@@ -55,13 +56,16 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     rule->group_b = group_b.empty() ? -1 : talus::groupIndex(world, group_b, true);
     rule->specificity = (rule->group_a >= 0) + (rule->group_b >= 0);
     rule->order = static_cast<int>(world.contacts.rules.size());
-    rule->activity = rule->prototype->ActivityDistance();
+    rule->activity = checkedActivity(rule->prototype->ActivityDistance(), rule->model_name);
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     if (rule->specificity == 0) {
         // A new default replaces the old one for future contacts; the old rule stays alive
         // (existing contacts hold objects from its pool) but is no longer matched.
         world.contacts.rules.push_back(std::move(world.contacts.rules[0]));
         world.contacts.rules[0] = std::move(rule);
+        const auto moved = static_cast<uint16_t>(world.contacts.rules.size() - 1);
+        for (Pair& p : world.contacts.pairs)
+            if (p.rule == 0) p.rule = moved;
     } else {
         world.contacts.rules.push_back(std::move(rule));
     }
@@ -72,6 +76,20 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     for (const auto& r : world.contacts.rules)
         if (r->prototype)
             world.contacts.max_activity = std::max(world.contacts.max_activity, r->activity);
+}
+
+double checkedActivity(double activity, const std::string& model) {
+    if (!(activity >= 0.0) || !std::isfinite(activity))
+        throw PluginError("contact model '" + model + "': ActivityDistance() returned " +
+                          messageNumber(activity) + " m (must be finite and >= 0)");
+    return activity;
+}
+
+void requireRuleRoom(const World& world, const char* what) {
+    // Pair::rule is 16 bits wide (the pair's hot record is 48 bytes, world/types.hpp).
+    if (world.contacts.rules.size() >= 65535)
+        throw InputError(std::string(what) +
+                         ": a model holds at most 65 535 contact_model rules and m:bond calls");
 }
 
 const Rule& ruleFor(const World& world, uint64_t g1, uint64_t g2) {
@@ -141,7 +159,7 @@ ContactInfo infoOf(const World& world, std::size_t index) {
     c.moment = p.moment;
     c.sliding = p.sliding;
     c.bonded = p.bonded;
-    c.model = p.rule ? p.rule->model_name : "";
+    c.model = world.contacts.ruleOf(p).model_name;
     return c;
 }
 
@@ -172,35 +190,37 @@ bool Model::findContact(ContactKey key, ContactInfo& out) const {
 double Model::contactProp(ContactKey key, const std::string& name) const {
     const World& world = *m_world;
     const Pair* p = world.contacts.pairByKey(key);
-    if (!p || !p->model) throw InputError("contact no longer exists");
-    const int32_t idx = propIndex(*p->model, name);
+    ContactModel* model = p ? p->model : nullptr;
+    if (!model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*model, name);
     if (idx < 0)
-        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
-                         "' (known: " + knownProps(*p->model) + ")");
-    syncLane(*p);
-    return p->model->ReturnProp(idx);
+        throw InputError("contact: unknown property '" + name + "' for model '" + model->Name() +
+                         "' (known: " + knownProps(*model) + ")");
+    syncLane(world.contacts, *p);
+    return model->ReturnProp(idx);
 }
 
 void Model::setContactProp(ContactKey key, const std::string& name, double value) {
     World& world = *m_world;
     world.stepping.limits_stale = true;
     Pair* p = world.contacts.pairByKey(key);
-    if (!p || !p->model) throw InputError("contact no longer exists");
-    const int32_t idx = propIndex(*p->model, name);
+    ContactModel* model = p ? p->model : nullptr;
+    if (!model) throw InputError("contact no longer exists");
+    const int32_t idx = propIndex(*model, name);
     if (idx < 0)
-        throw InputError("contact: unknown property '" + name + "' for model '" + p->model->Name() +
-                         "' (known: " + knownProps(*p->model) + ")");
-    if (const std::string why = propValueProblem(*p->model, idx, value); !why.empty())
-        throw InputError(std::string("contact: ") + p->model->Name() + ": '" + name + "' " + why);
-    leaveLane(*p);  // (it comes back after its next FDlaw, with the new value)
-    if (p->model->AcceptProp(idx, value) != 0)
-        throw InputError(std::string("contact: ") + p->model->LastError());
+        throw InputError("contact: unknown property '" + name + "' for model '" + model->Name() +
+                         "' (known: " + knownProps(*model) + ")");
+    if (const std::string why = propValueProblem(*model, idx, value); !why.empty())
+        throw InputError(std::string("contact: ") + model->Name() + ": '" + name + "' " + why);
+    leaveLane(world.contacts, *p);  // (it comes back after its next FDlaw, with the new value)
+    if (model->AcceptProp(idx, value) != 0)
+        throw InputError(std::string("contact: ") + model->LastError());
     // A stiffness set to zero on a live contact: the bodies may pass through each other.
-    const PropInfo* info = p->model->PropInfoAt(idx);
+    const PropInfo* info = model->PropInfoAt(idx);
     const std::string units = info && info->units ? info->units : "";
     if (value == 0.0 && (units == "N/m" || units == "Pa"))
         talus::warn(world, "contact " + describePair(world, *p) + ": property '" + name +
-                               "' of model '" + p->model->Name() +
+                               "' of model '" + model->Name() +
                                "' set to 0: the contact may let the bodies pass through");
 }
 

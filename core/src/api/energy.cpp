@@ -23,7 +23,13 @@ void Model::setEnergyTracing(bool on) {
         world.books.acc.kinetic = ke;
         world.books.dashpot_pending = 0.0;
         world.books.strain_baseline_pending = false;
-        for (const Pair& p : world.contacts.pairs) world.books.strain_baseline_pending |= p.active;
+        // Until the next step these are the half-step velocities' (m:energies() before any
+        // step). The books open at a whole step (law_of_motion.cpp, openBooks): at the next
+        // snapshot, or, while contacts are active, at the one after, once their models have said
+        // what they hold.
+        bool loaded = false;
+        for (const Pair& p : world.contacts.pairs) loaded |= p.active;
+        world.books.opening = loaded ? 2 : 1;
         world.guard_state.balance = GuardState::BalanceWatch{};
         world.guard_state.balance.open = world.books.acc;
         world.guard_state.balance.open_step = world.clock.step;

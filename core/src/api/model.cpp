@@ -81,10 +81,11 @@ Model::Model(const ModelDef& def, PluginRegistry& registry)
 }
 
 Model::~Model() {
-    for (auto& p : m_world->contacts.pairs) {
-        if (p.model) {
-            p.model->Destroy();
-            p.rule->pool->release(p.model);
+    ContactStore& cs = m_world->contacts;
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
+        if (ContactModel* model = cs.pairs[i].model) {
+            model->Destroy();
+            cs.ruleOf(cs.pairs[i]).pool->release(model);
         }
     }
 }
@@ -116,6 +117,12 @@ double Model::lastTimestep() const { return m_world->clock.dt; }
 StepRule Model::lastStepRule() const { return m_world->stepping.rule; }
 TimestepSettings& Model::timestep() { return m_world->settings.timestep; }
 GuardSettings& Model::guard() { return m_world->settings.guard; }
+bool Model::setPlacementWarning(bool on) {
+    const bool was = m_world->guard_state.placement_warning;
+    m_world->guard_state.placement_warning = on;
+    return was;
+}
+bool Model::placementWarning() const { return m_world->guard_state.placement_warning; }
 DampingSettings& Model::damping() { return m_world->settings.damping; }
 Vec2& Model::gravity() { return m_world->settings.gravity; }
 MassMode Model::massMode() const { return m_world->settings.mass_mode; }

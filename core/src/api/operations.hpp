@@ -22,6 +22,11 @@ void updateMass(World& world, uint32_t slot);
 void refreshPairMasses(World& world, uint32_t slot);
 
 // --- contacts (api/contacts.cpp)
+/// A model's activity distance, refused unless finite and >= 0 (the force loop tests a pair
+/// apart against its rule's, a contact's end against its object's).
+double checkedActivity(double activity, const std::string& model);
+/// Refuses a rule beyond the 65 535 a model can hold (Pair::rule), naming `what` asked for it.
+void requireRuleRoom(const World& world, const char* what);
 const Rule& ruleFor(const World& world, uint64_t groups1, uint64_t groups2);
 /// Geometry of a pair now (for queries): normal, overlap, contact point.
 bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point);

@@ -7,19 +7,38 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "api/operations.hpp"
 #include "force/force.hpp"
+#include "props.hpp"
 #include "step/detection.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
+#include "world/lanes.hpp"
 #include "world/messages.hpp"
 
 namespace talus {
 
 namespace {
 std::string num(double v) { return messageNumber(v); }
+
+/// The half width of the bond a contact's model holds [m]: the first of its properties that
+/// name it (a new model's `bond_radius`, PFC's `pb_rad` of a parallel bond, a flat joint's
+/// `fj_radius`), NaN when it has none or it is not positive (docs/plugin-abi.md, "Bonds").
+double bondRadius(const ContactStore& cs, const Pair& p) {
+    static const char* const kNames[] = {"bond_radius", "pb_rad", "fj_radius"};
+    if (p.model)
+        for (const char* name : kNames) {
+            const int32_t k = propIndex(*p.model, name);
+            if (k < 0) continue;
+            syncLane(cs, p);  // (the model object is current only outside the lanes)
+            const double r = p.model->ReturnProp(k);
+            return r > 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
+        }
+    return std::numeric_limits<double>::quiet_NaN();
+}
 }  // namespace
 
 bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
@@ -32,22 +51,23 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
     world.contacts.activation_flags =
         world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
     p.active = true;
+    p.watched = true;  // the guard follows its first kGuardWatch steps (pass_finish.hpp)
     ++world.profile.contacts_created;
-    c.duration = p.model->ContactDuration(p.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
+    c.duration = p.model->ContactDuration(c.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
     // The resolution rule and the guard divide by it: NaN, zero or negative would silently
     // switch both off (docs/plugin-abi.md, time-step contract). +inf means "no force".
     if (!(c.duration > 0.0))
-        throw PluginError("contact model '" + p.rule->model_name + "' at step " +
+        throw PluginError("contact model '" + world.contacts.ruleOf(p).model_name + "' at step " +
                           std::to_string(world.clock.step) + " on " + describePair(world, p) +
-                          ": ContactDuration(mass_eff " + num(p.mass_eff) + " kg, approach " +
+                          ": ContactDuration(mass_eff " + num(c.mass_eff) + " kg, approach " +
                           num(std::max(0.0, -vrel.dot(g.normal))) + " m/s) returned " +
                           num(c.duration) + " s (must be > 0, +inf for no force)");
     // A rule whose contacts have no stiffness at all (m:contact_model("linear") with no kn:
     // the bodies pass through each other) is worth one warning per rule: no tangent stiffness
     // at touch and no finite duration even at 1 m/s means the model exerts no normal force.
-    if (!p.rule->warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
-        !(p.model->ContactDuration(p.mass_eff, 1.0) < HUGE_VAL)) {
-        p.rule->warned_no_stiffness = true;
+    if (!world.contacts.ruleOf(p).warned_no_stiffness && !(p.model->KnEstimate() > 0.0) &&
+        !(p.model->ContactDuration(c.mass_eff, 1.0) < HUGE_VAL)) {
+        world.contacts.ruleOf(p).warned_no_stiffness = true;
         std::string zero;
         for (int32_t k = 0; k < p.model->PropCount(); ++k) {
             const PropInfo* info = p.model->PropInfoAt(k);
@@ -63,8 +83,8 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
         if (!zero.empty())
             talus::warn(
                 world,
-                "contact model '" + p.rule->model_name + "' has no normal stiffness on " +
-                    describePair(world, p) + " (" + zero + ")" +
+                "contact model '" + world.contacts.ruleOf(p).model_name +
+                    "' has no normal stiffness on " + describePair(world, p) + " (" + zero + ")" +
                     ": the bodies will pass through each other; set the stiffness in "
                     "m:contact_model{...} or on the bodies (warned once per contact_model rule)");
     }
@@ -96,7 +116,7 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
         ev.time = world.clock.time;
         ev.pos = g.point;
         ev.contact = ContactKey{c.key};
-        ev.model = p.rule->model_name;
+        ev.model = world.contacts.ruleOf(p).model_name;
         world.callbacks.events.push_back(std::move(ev));
     }
     return true;
@@ -119,7 +139,8 @@ double notePlacement(World& world, const Pair& p, const PairCold& c, double over
     // formed by a spin-driven slide, rounding). Booked, not reported.
     const auto& b = world.bodies.balls;
     const double r = p.wall ? b.radius[p.end1] : std::min(b.radius[p.end1], b.radius[p.end2]);
-    if (overlap < 1e-3 * r) return placed;
+    // A routine that overlaps bodies on purpose says so itself (Model::setPlacementWarning).
+    if (overlap < 1e-3 * r || !world.guard_state.placement_warning) return placed;
     world.guard_state.placed_energy += placed;
     if (world.guard_state.placed++ == 0) {
         world.guard_state.placed_first = describePair(world, p) + " at step " +
@@ -132,11 +153,12 @@ double notePlacement(World& world, const Pair& p, const PairCold& c, double over
 }
 
 void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after) {
-    if (p.overlap <= c.overlap_max) return;
-    c.overlap_max = p.overlap;
+    (void)p;
+    if (c.overlap <= c.overlap_max) return;
+    c.overlap_max = c.overlap;
     c.force_at_max = force;
     c.rate_at_max = rate_after;
-    c.knest_at_max = p.knest;
+    c.knest_at_max = c.knest;
     c.dt_at_max = world.clock.dt;
 }
 
@@ -150,11 +172,14 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
     forgetBond(world, i);
     Event ev;
     ev.kind = EventKind::BondBreak;
+    // The model object still holds the bond's geometry here; by the time the event is
+    // delivered a contact that ended in the breaking step has a fresh one.
+    ev.radius = bondRadius(world.contacts, world.contacts.pairs[i]);
     ev.time = world.clock.time;
     ev.pos = point;
     ev.contact = ContactKey{world.contacts.cold[i].key};
     ev.mode = mode;
-    ev.model = world.contacts.pairs[i].rule->model_name;
+    ev.model = world.contacts.ruleOf(world.contacts.pairs[i]).model_name;
     if (with_stress) {
         ev.sigma = sigma;
         ev.tau = tau;
@@ -163,26 +188,26 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
 }
 
 void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
-    if (check_guard && p.steps > 0 && p.steps <= kGuardWatch) {
+    if (check_guard && c.steps > 0 && c.steps <= kGuardWatch) {
         // A contact created overlapping (by placement) gives back energy it never took.
         // Reference: the larger of the energy the contact held at its peak and the kinetic
         // energy of the approach (a contact that only ever gave energy has no peak).
         const double reference =
-            std::max(p.work_peak, 0.5 * p.mass_eff * c.approach_rate * c.approach_rate);
+            std::max(c.work_peak, 0.5 * c.mass_eff * c.approach_rate * c.approach_rate);
         if (world.settings.guard.energy != GuardAction::Off && !c.born_overlapped &&
-            reference > 0.0 && p.work < -world.settings.guard.energy_tolerance * reference) {
+            reference > 0.0 && c.work < -world.settings.guard.energy_tolerance * reference) {
             const std::string what =
-                describePair(world, p) + " returned " + num(-p.work) +
+                describePair(world, p) + " returned " + num(-c.work) +
                 " J more than it took (reference " + num(reference) + " J, tolerance " +
                 num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
-                std::to_string(p.steps) + " steps ending at t = " + num(world.clock.time) +
+                std::to_string(c.steps) + " steps ending at t = " + num(world.clock.time) +
                 " s; the step (" + num(world.clock.dt) +
                 " s) is too large for the model's stiffness, or the "
                 "model reports too low a stiffness (knest " +
-                num(p.knest) + " N/m)";
-            if (world.settings.guard.energy == GuardAction::Error)
-                throw NumericalError("energy created: " + what);
-            if (world.guard_state.energy_gain++ == 0) world.guard_state.energy_gain_first = what;
+                num(c.knest) + " N/m)";
+            // Judged at the step's end against the scene's energy (bookkeeping.cpp,
+            // judgeEnergyGains), when every contact of the step has its new force.
+            world.guard_state.energy_gains.push_back({-c.work, what});
         }
         // Under-resolved: a step taken during the contact was too large for the impact's own
         // duration (the model's estimate at touch). A contact that is short for other reasons
@@ -194,7 +219,7 @@ void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
                 describePair(world, p) + " had " + num(c.duration / c.dt_at_max) +
                 " steps per contact duration (" + num(c.duration) +
                 " s at dt = " + num(c.dt_at_max) + " s, t = " + num(world.clock.time) +
-                " s); it lasted " + std::to_string(p.steps) + " steps";
+                " s); it lasted " + std::to_string(c.steps) + " steps";
             if (world.settings.guard.resolution == GuardAction::Error)
                 throw NumericalError("impact under-resolved: " + what + "; at least " +
                                      std::to_string(world.settings.guard.min_steps) +
@@ -203,12 +228,24 @@ void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
                 world.guard_state.underresolved_first = what;
         }
         // At the deepest overlap the force may be up to twice the reported stiffness times the
-        // overlap (tangent vs secant), plus what a dashpot up to critical damping gives at the
-        // rate there (about zero for a resolved impact, not for a contact in a packing).
+        // overlap (tangent vs secant), plus what a dashpot up to critical damping,
+        // c = 2 sqrt(m knest), gives at the rate there: about zero for a resolved impact, the
+        // rate just after the deepest overlap for a contact in a packing. A contact no deeper
+        // than the closure of its first step (a graze, or an impact resolved in one step) may
+        // have its deepest overlap at that first step, whose force was computed from the
+        // approach rate, not the rate after, and carries what the model adds for a touch inside
+        // the step: its dashpot over the window from touch, up to 1.5 steps' worth at the
+        // approach rate, and the spring's onset corner, up to knest times an eighth of the
+        // closure (talus/sdk/corners.hpp). In a settled pack such contacts touch at
+        // micrometres per second for a step or two, their overlap a few nanometres, and those
+        // terms are most of their force.
         const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
+        const double dashpot = 2.0 * std::sqrt(c.mass_eff * c.knest_at_max);
+        const bool shallow = c.overlap_max <= c.closure * (1.0 + 1e-9) + 1e-15;
         const double allowed =
-            2.0 * c.knest_at_max * c.overlap_max +
-            2.0 * std::sqrt(p.mass_eff * c.knest_at_max) * std::fabs(c.rate_at_max);
+            shallow ? 2.0 * c.knest_at_max * (c.overlap_max + 0.125 * c.closure) +
+                          dashpot * std::max(1.5 * c.approach_rate, std::fabs(c.rate_at_max))
+                    : 2.0 * c.knest_at_max * c.overlap_max + dashpot * std::fabs(c.rate_at_max);
         if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
             c.force_at_max > allowed) {
             const std::string what =

@@ -14,9 +14,6 @@
 
 namespace talus {
 
-/// Steps in contact the guard follows a contact for (docs/physics/guard.md).
-constexpr uint32_t kGuardWatch = 400;
-
 /// Threads the force loop uses for `npairs` pairs this step (Model::setThreads).
 int forceThreads(const World& world, std::size_t npairs);
 /// Keeps every model of this process on one thread (Model::singleThreadedProcess).

@@ -12,6 +12,7 @@
 
 #include "force/scratch.hpp"
 #include "talus/plugin_registry.hpp"
+#include "talus/sdk/contact_bond_law.hpp"
 #include "talus/sdk/lanes.hpp"
 #include "talus/sdk/linear_law.hpp"
 #include "world/types.hpp"
@@ -33,6 +34,9 @@ inline Kernel kernelOf(const ModelFactory& f) {
     if (f.kernel == sdk::LinearLaw::kKernelId &&
         rowsAre(sdk::LinearLaw::kLinearLaneStateSize, sdk::LinearLaw::linearLaneStateNames()))
         return Kernel::Linear;
+    if (f.kernel == sdk::ContactBondLaw::kKernelId &&
+        rowsAre(sdk::ContactBondLaw::kLaneStateSize, sdk::ContactBondLaw::laneStateNames()))
+        return Kernel::ContactBond;
     return Kernel::None;
 }
 
@@ -50,6 +54,8 @@ __attribute__((always_inline)) inline bool runKernel(Kernel k, double* row, Kern
     switch (k) {
         case Kernel::Linear:
             return sdk::LinearLaw::linearLaneStep(row, fd);
+        case Kernel::ContactBond:
+            return sdk::ContactBondLaw::laneStep(row, fd);
         case Kernel::None:
             break;
     }

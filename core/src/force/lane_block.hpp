@@ -28,11 +28,11 @@ std::size_t runLaneBlock(const ForceView& v, ForceSums& sums, std::size_t i, std
         const Pair& p = v.pairs[j];
         if (p.wall) break;
         if (p.active) {
-            if (p.lane == kNoLane || p.rule->lane_mode != LaneMode::Blocks ||
-                (table && p.rule->lanes.get() != table))
+            if (p.lane == kNoLane || v.rule(p).lane_mode != LaneMode::Blocks ||
+                (table && v.rule(p).lanes.get() != table))
                 break;
             if (!table) {
-                table = p.rule->lanes.get();
+                table = v.rule(p).lanes.get();
                 row_bytes = sizeof(double) * std::size_t(table->law().state_size);
             }
         }
@@ -51,8 +51,8 @@ std::size_t runLaneBlock(const ForceView& v, ForceSums& sums, std::size_t i, std
             ls.u_dot_n[nb] = e.u_dot_n;
             ls.u_dot_s[nb] = e.u_dot_s;
             ls.t_dot_rel[nb] = e.t_dot_rel;
-            ls.mass_eff[nb] = p.mass_eff;
-            ls.inv_mass_eff_s[nb] = p.inv_mass_eff_s;
+            ls.mass_eff[nb] = v.cold[j].mass_eff;
+            ls.inv_mass_eff_s[nb] = v.cold[j].inv_mass_eff_s;
             ls.n_force[nb] = p.n_force;
             ls.s_force[nb] = p.s_force;
             ls.moment[nb] = p.moment;
@@ -76,14 +76,16 @@ std::size_t runLaneBlock(const ForceView& v, ForceSums& sums, std::size_t i, std
             const int k = ls.slot[q];
             if (!(ls.flags_out[k] & kFdLaneDeclined)) continue;
             ++counts.declined;
-            Pair& p = v.pairs[i + static_cast<std::size_t>(q)];
-            table->law().unpack(p.model, table->row(p.lane));
+            const std::size_t j = i + static_cast<std::size_t>(q);
+            Pair& p = v.pairs[j];
+            ContactModel* model = v.pairs[j].model;
+            table->law().unpack(model, table->row(p.lane));
             FdBlock& fd = ls.declined[static_cast<std::size_t>(k)];
             fd = v.fd_template;
             const PairEntry& e = ls.entry[q];
-            fillFd<Features>(v, p, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
-            lawPass(v, p, fd, error, counts.batched);
-            if (table->law().pack(p.model, table->row(p.lane)) == 0) {
+            fillFd<Features>(v, j, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
+            lawPass(v, j, fd, error, counts.batched);
+            if (table->law().pack(model, table->row(p.lane)) == 0) {
                 if constexpr (kMode == Delivery::Parallel)
                     part->lane_releases.emplace_back(table, p.lane);
                 else

@@ -48,11 +48,11 @@ ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_tem
                     bool lanes, bool blocks, bool groups) {
     auto& b = world.bodies.balls;
     ForceScratch& scratch = world.contacts.force_scratch;
-    return ForceView{world, world.contacts.pairs, world.contacts.cold, b.pos.data(), b.vel.data(),
-                     b.radius.data(), b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
-                     world.bodies.walls.data(), world.bodies.segments.data(),
-                     world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
-                     scratch.actions.data(),
+    return ForceView{world, world.contacts.pairs, world.contacts.cold, world.contacts.rules.data(),
+                     b.pos.data(), b.vel.data(), b.radius.data(), b.spin.data(), b.fat.data(),
+                     b.force.data(), b.moment.data(), world.bodies.walls.data(),
+                     world.bodies.segments.data(), world.contacts.ball_moved.data(),
+                     world.contacts.segment_moved.data(), scratch.actions.data(),
                      step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
                      step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
                      world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,
@@ -111,11 +111,11 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                         kernelContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd,
                                                                     part.error, counts, &part);
                     } else {
-                        lawPass(v, p, part.fd, part.error, counts.batched);
+                        lawPass(v, i, part.fd, part.error, counts.batched);
                         finishContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd, false,
                                                                     &part);
                     }
-                    if (v.lanes && p.lane == kNoLane && laneable(p))
+                    if (v.lanes && p.lane == kNoLane && laneable(v, p))
                         part.lane_entries.push_back(static_cast<uint32_t>(i));
                 } else if (step == PairStep::Apart) {
                     finishApart<Features, Delivery::Parallel>(v, i, step, &part);
@@ -232,13 +232,12 @@ void forceLoop(World& world, const StepContext& step) {
     if (groups) groupForceLoopStart(world);
     // How each rule's contacts run this step (LaneMode): the model's lane law over blocks if
     // m:lanes asks for it, else the host's kernel of the model's law (kernels.hpp) where it has
-    // one, else its law per contact. Per-group energy books every contact through its FdBlock
-    // (bookContactToGroups), so it runs without lanes. A rule without them takes its contacts
-    // out first (their objects run FDlaw).
+    // one, else its law per contact. A rule without them takes its contacts out first (their
+    // objects run FDlaw).
     bool lanes = false, blocks = false, leave = false;
     for (const auto& rule : world.contacts.rules) {
         LaneMode mode = LaneMode::None;
-        if (!groups && rule->factory) {
+        if (rule->factory) {
             if (world.settings.lanes && world.settings.batched_law && rule->factory->lanes)
                 mode = LaneMode::Blocks;
             else if (rule->kernel != Kernel::None && world.settings.kernels)
@@ -251,7 +250,8 @@ void forceLoop(World& world, const StepContext& step) {
     }
     if (leave)
         for (Pair& p : world.contacts.pairs)
-            if (p.lane != kNoLane && p.rule->lane_mode == LaneMode::None) leaveLane(p);
+            if (p.lane != kNoLane && world.contacts.ruleOf(p).lane_mode == LaneMode::None)
+                leaveLane(world.contacts, p);
     if (nthreads > 1) prepareForceScratch(world, nthreads, fd_template);
     const ForceView v = forceView(world, step, fd_template, nthreads, lanes, blocks, groups);
     ForceSums sums;
@@ -311,6 +311,15 @@ void forceLoop(World& world, const StepContext& step) {
 }  // namespace
 
 void forceDisplacement(World& world, const StepContext& step) {
+    // The guard follows a contact through its first steps (Pair::watched). Switched on over
+    // contacts that are older, it leaves them be, as it would have after their first steps.
+    if (step.guard && !world.stepping.guard_was_on)
+        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+            Pair& p = world.contacts.pairs[i];
+            if (p.active) p.watched = false, world.contacts.cold[i].steps = kGuardWatch + 1;
+        }
+    world.stepping.guard_was_on = step.guard;
+    if (!step.automatic) world.stepping.estimates_stale = true;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (step.automatic) {
         if (step.energy)

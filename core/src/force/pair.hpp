@@ -17,26 +17,30 @@
 
 namespace talus {
 
-/// The contact objects live apart from the pairs, which only point to them: ask for the first
-/// three cache lines of the object a few pairs ahead of pair i (the shipped models' objects are
-/// 88 to 184 bytes).
+/// A contact whose law runs through FDlaw reads its object and the first line of its cold record
+/// (the effective masses), which live apart from the pair: ask for both a few pairs ahead of
+/// pair i (the first three cache lines of the object: the shipped models' objects are 88 to 184
+/// bytes). A contact in lanes needs neither.
 constexpr std::size_t kPrefetchAhead = 4;
 __attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std::size_t i,
                                                          std::size_t end) {
     if (i + kPrefetchAhead >= end) return;
     const Pair& ahead = v.pairs[i + kPrefetchAhead];
-    if (!ahead.active || ahead.lane != kNoLane) return;  // (a lane contact's object rests)
+    if (!ahead.active || ahead.lane != kNoLane) return;
     const char* obj = reinterpret_cast<const char*>(ahead.model);
     __builtin_prefetch(obj);
     __builtin_prefetch(obj + 64);
     __builtin_prefetch(obj + 128);
+    __builtin_prefetch(&v.cold[i + kPrefetchAhead]);
 }
 
 /// A contact whose rule runs in lanes this step (a kernel, or lane blocks) goes into them after an
 /// FDlaw, if the model's lane law takes it now (docs/plugin-abi.md, "Lanes").
-inline bool laneable(const Pair& p) { return !p.wall && p.rule->lane_mode != LaneMode::None; }
+inline bool laneable(const ForceView& v, const Pair& p) {
+    return !p.wall && v.rule(p).lane_mode != LaneMode::None;
+}
 inline void offerLane(const ForceView& v, Pair& p) {
-    if (v.lanes && p.active && p.lane == kNoLane && laneable(p)) enterLane(p);
+    if (v.lanes && p.active && p.lane == kNoLane && laneable(v, p)) enterLane(v.world.contacts, p);
 }
 
 /// Passes 2 and 3 for a contact in its rule's lanes whose law the host runs (kernels.hpp): the
@@ -49,7 +53,8 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
                                                          LaneCounts& counts,
                                                          ForceThreadPart* part) {
     Pair& p = v.pairs[i];
-    LaneTable& table = *p.rule->lanes;
+    const Rule& rule = v.rule(p);
+    LaneTable& table = *rule.lanes;
     double* row = table.row(p.lane);
     KernelFd kf;
     kf.flags = v.fd_template.flags;
@@ -62,24 +67,25 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
     kf.du_n = kf.u_dot_n * v.dt;
     kf.du_s = kf.u_dot_s * v.dt;
     kf.dtheta = kf.t_dot_rel * v.dt;
-    kf.mass_eff = p.mass_eff;
-    kf.inv_mass_eff_s = p.inv_mass_eff_s;
+    kf.mass_eff = v.cold[i].mass_eff;
+    kf.inv_mass_eff_s = v.cold[i].inv_mass_eff_s;
     kf.n_force = p.n_force;
     kf.s_force = p.s_force;
     kf.moment = p.moment;
     if constexpr (Features::kEnergy)
         for (double& en : kf.energy) en = 0.0;
     ++counts.kernel;
-    if (runKernel(p.rule->kernel, row, kf)) {
+    if (runKernel(rule.kernel, row, kf)) {
         finishContact<Features, kMode>(v, sums, i, e, kf, false, part);
         return;
     }
     ++counts.kernel_declined;
-    table.law().unpack(p.model, row);
+    ContactModel* model = v.pairs[i].model;
+    table.law().unpack(model, row);
     fd = v.fd_template;
-    fillFd<Features>(v, p, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
-    lawPass(v, p, fd, error, counts.batched);
-    if (table.law().pack(p.model, row) == 0) {
+    fillFd<Features>(v, i, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
+    lawPass(v, i, fd, error, counts.batched);
+    if (table.law().pack(model, row) == 0) {
         if constexpr (kMode == Delivery::Parallel)
             part->lane_releases.emplace_back(&table, p.lane);
         else
@@ -104,7 +110,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         Pair& p = v.pairs[i];
         const double stored = v.cold[i].strain + v.cold[i].bond;
         if constexpr (Features::kEnergy) {
-            if constexpr (kMode == Delivery::Direct) world.books.acc.released += stored;
+            if constexpr (kMode == Delivery::Direct) v.world.books.acc.released += stored;
             if (v.groups) bookReleasedToGroups(world, p, stored);
         }
         endContact(world, p, v.cold[i], Features::kGuard);
@@ -121,7 +127,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
     Pair& p = v.pairs[i];
     const bool first = activate(world, p, v.cold[i], e.g, e.vrel);
     if (first) {
-        fd.flags |= kFdFirstCall | world.contacts.activation_flags;
+        fd.flags |= kFdFirstCall | v.world.contacts.activation_flags;
     } else {
         // A wall pair that took over its chain's contact from a neighbouring segment's pair
         // (activate, adoptWallContact): the forces are that contact's.
@@ -129,7 +135,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         fd.s_force = p.s_force;
         fd.moment = p.moment;
     }
-    callLaw(p.model, fd, error);
+    callLaw(v.pairs[i].model, fd, error);
     finishContact<Features, kMode>(v, sums, i, e, fd, first, nullptr);
     offerLane(v, p);
     return i + 1;
@@ -152,7 +158,7 @@ __attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, Fo
         if (kernel) {
             kernelContact<Features, kMode>(v, sums, i, e, fd, error, counts, nullptr);
         } else {
-            lawPass(v, p, fd, error, counts.batched);
+            lawPass(v, i, fd, error, counts.batched);
             finishContact<Features, kMode>(v, sums, i, e, fd, false, nullptr);
             offerLane(v, p);
         }

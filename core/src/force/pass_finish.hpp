@@ -162,7 +162,9 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     }
 
     // ---- extras
-    const bool ends = g.overlap <= -p.activity && !(fd.flags & kFdKeep) && p.model->OKToDelete();
+    // (the activity distance is >= 0: a contact that overlaps goes on, its cold record unread)
+    const bool ends = g.overlap <= 0.0 && g.overlap <= -v.cold[i].activity &&
+                      !(fd.flags & kFdKeep) && p.model->OKToDelete();
     if constexpr (Features::kAuto || Features::kEnergy || Features::kGuard) {
         PairCold& c = v.cold[i];
         if constexpr (Features::kAuto) {
@@ -170,7 +172,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             const double arm2_sq = p.wall ? 0.0 : (g.point - e.x2).squaredNorm();
             if constexpr (kMode == Delivery::Direct) {
                 noteContact(world, p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(), arm2_sq,
-                            p.mass_eff);
+                            c.mass_eff);
             } else {
                 // noteContact's stiffness sums, term by term, for the gather
                 double* add = v.stiffness[i].add[0];
@@ -178,19 +180,20 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 add[1] = fd.ksest * r1c.squaredNorm() + fd.krest;
                 add[3] = fd.ksest * arm2_sq + fd.krest;
                 noteContactLimits(
-                    world, p, c, fd.knest, p.mass_eff,
+                    world, p, c, fd.knest, c.mass_eff,
                     kMode == Delivery::Parallel ? part->limits : world.stepping.limits);
             }
         }
         if constexpr (Features::kEnergy) {
-            // The plugin's partitions against the ABI's contract (rare path when broken). Only
+            // The plugin's partitions against the ABI's contract (rare path when broken): every
+            // partition finite (x - x is 0 only for a finite x) and no dissipation negative. Only
             // with finite kinematics: a state already non-finite is the engine's to report
             // (findNonFiniteContact, the law of motion), not the plugin's fault.
-            if (std::isfinite(fd.u_n + fd.du_n + fd.du_s + fd.dtheta) &&
-                (!std::isfinite(fd.energy[0] + fd.energy[1] + fd.energy[2] + fd.energy[3] +
-                                fd.energy[4] + fd.energy[5]) ||
-                 fd.energy[kEnergySlip] < 0.0 || fd.energy[kEnergyDashpot] < 0.0 ||
-                 fd.energy[kEnergyPlastic] < 0.0)) {
+            const double energy_sum = fd.energy[0] + fd.energy[1] + fd.energy[2] + fd.energy[3] +
+                                      fd.energy[4] + fd.energy[5];
+            if (!(energy_sum - energy_sum == 0.0 && fd.energy[kEnergySlip] >= 0.0 &&
+                  fd.energy[kEnergyDashpot] >= 0.0 && fd.energy[kEnergyPlastic] >= 0.0) &&
+                std::isfinite(fd.u_n + fd.du_n + fd.du_s + fd.dtheta)) {
                 if constexpr (kMode == Delivery::Parallel) {
                     DeferredItem item{static_cast<uint32_t>(i), Deferred::Contract};
                     item.flags = static_cast<uint32_t>(part->contracts.size());
@@ -202,63 +205,89 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                                         fn_old, fs_old, m_old, v.totals_before);
                 }
             }
-            PairEnergy pe;
-            pe.what = PairEnergy::kContact;
-            if (placement) pe.what |= PairEnergy::kPlacement, pe.placement = placed;
-            pe.slip = fd.energy[kEnergySlip];
-            pe.dashpot = fd.energy[kEnergyDashpot];
-            pe.plastic = fd.energy[kEnergyPlastic];
             // A break releases what the bond held (Potyondy & Cundall 2004; the model says how
             // much), and so does the end of a contact that is still loaded.
-            pe.released = fd.energy[kEnergyReleased];
             c.strain = fd.energy[kEnergyStrain];
             c.bond = fd.energy[kEnergyBondStrain];
-            if (world.books.strain_baseline_pending && !first) {
-                pe.held = storedBefore(fd, fn_old, fs_old, m_old);
-                pe.what |= PairEnergy::kHeld;
-            }
-            if (ends) {
-                pe.released_end = c.strain + c.bond;
-                pe.what |= PairEnergy::kEnds;
+            double held = 0.0;
+            const bool baseline = world.books.strain_baseline_pending && !first;
+            if (baseline) held = storedBefore(fd, fn_old, fs_old, m_old);
+            if constexpr (kMode == Delivery::Direct) {
+                // Into the books at once, in the order bookPairEnergy adds a PairEnergy.
+                EnergyBooks& books = world.books;
+                if (placement) books.acc.placement += placed;
+                books.acc.slip += fd.energy[kEnergySlip];
+                // The dashpot impulse spans the velocity window around this step: booked at
+                // the next energy snapshot, half before it (law_of_motion.cpp).
+                books.dashpot_pending += fd.energy[kEnergyDashpot];
+                books.acc.plastic += fd.energy[kEnergyPlastic];
+                books.acc.released += fd.energy[kEnergyReleased];
+                if (baseline) sums.held_before += held;
+                if (ends) {
+                    books.acc.released += c.strain + c.bond;
+                } else {
+                    sums.strain_now += c.strain;
+                    sums.bond_now += c.bond;
+                }
             } else {
-                pe.strain = c.strain;
-                pe.bond = c.bond;
-                pe.what |= PairEnergy::kStored;
+                PairEnergy& pe = v.energies[i];
+                pe.what = PairEnergy::kContact;
+                if (placement) pe.what |= PairEnergy::kPlacement, pe.placement = placed;
+                pe.slip = fd.energy[kEnergySlip];
+                pe.dashpot = fd.energy[kEnergyDashpot];
+                pe.plastic = fd.energy[kEnergyPlastic];
+                pe.released = fd.energy[kEnergyReleased];
+                if (baseline) pe.held = held, pe.what |= PairEnergy::kHeld;
+                if (ends) {
+                    pe.released_end = c.strain + c.bond;
+                    pe.what |= PairEnergy::kEnds;
+                } else {
+                    pe.strain = c.strain;
+                    pe.bond = c.bond;
+                    pe.what |= PairEnergy::kStored;
+                }
             }
-            if constexpr (kMode == Delivery::Direct)
-                bookPairEnergy(world.books, sums, pe);
-            else
-                v.energies[i] = pe;
             // Group shares and the work across group borders (group_energy.cpp): one branch per
-            // contact, taken only with groups traced (one thread; lanes do not run then).
-            if constexpr (kFdBlock)
-                if (v.groups) bookContactToGroups(world, i, fd, first, ends, pe.held, f, g.point);
+            // contact, taken only with groups traced (one thread).
+            if (v.groups)
+                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, held, f, g.point);
         }
     }
 
     if constexpr (Features::kGuard) {
         // The guard follows a contact through its first kGuardWatch steps, which covers any
         // resolved impact (30 to 150 steps); a contact that persists longer (a packing) is not
-        // followed further, and its energy check is skipped (docs/physics/guard.md).
-        if (p.steps < kGuardWatch) {
-            // Energy the contact took from the bodies: the impulse of each step's force times
-            // the mean of the half-step rates around it, which is what the law of motion did
-            // with it. The two halves are booked at the two FDlaw calls the force spans, each
-            // with the rate it sees: the previous force over this window, the new force over
-            // this step as the estimate of its window (exact for a constant step). So no rate is
-            // kept, and nothing outside the hot pair is touched.
-            const double power_old =
-                fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
-            const double power_new =
-                fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
-            p.work += 0.5 * (v.window * power_old + v.dt * power_new);
-            if (ends) p.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
-            p.work_peak = std::max(p.work_peak, p.work);
-            // The deepest overlap is where the overlap stops growing: note the previous step's
-            // values there, once per turn (the stiffness and resolution checks).
-            const bool growing = first || g.overlap > p.overlap;
-            if (!growing && p.loading) noteDeepest(world, p, v.cold[i], fn_old, fd.u_dot_n);
-            p.loading = growing;
+        // followed further, and its energy check is skipped (docs/physics/guard.md). Only a
+        // watched contact reads and writes its cold record here.
+        bool young = false;
+        if (p.watched) {
+            PairCold& c = v.cold[i];
+            young = c.steps < kGuardWatch;
+            if (young) {
+                // Energy the contact took from the bodies: the impulse of each step's force
+                // times the mean of the half-step rates around it, which is what the law of
+                // motion did with it. The two halves are booked at the two FDlaw calls the force
+                // spans, each with the rate it sees: the previous force over this window, the new
+                // force over this step as the estimate of its window (exact for a constant
+                // step). So no rate is kept.
+                const double power_old =
+                    fn_old * fd.u_dot_n - fs_old * fd.u_dot_s - m_old * fd.t_dot_rel;
+                const double power_new =
+                    fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
+                c.work += 0.5 * (v.window * power_old + v.dt * power_new);
+                if (ends) c.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
+                c.work_peak = std::max(c.work_peak, c.work);
+                // The deepest overlap is where the overlap stops growing: note the previous
+                // step's values there, once per turn (the stiffness and resolution checks).
+                const bool growing = first || g.overlap > c.overlap;
+                if (!growing && p.loading) noteDeepest(world, p, c, fn_old, fd.u_dot_n);
+                if (growing != p.loading) p.loading = growing;
+            }
+            c.overlap = g.overlap;
+            c.knest = fd.knest;
+            c.ksest = fd.ksest;
+            c.steps += g.overlap > 0.0;
+            if (c.steps > kGuardWatch) p.watched = false;  // (endContact checks up to the watch)
         }
         // A contact that was pushing the bodies apart cannot reverse its normal within a step
         // unless one body went through the other (a model exerting no force may let it). One
@@ -266,19 +295,26 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
         // normal's frame, by more than the distance from the ball's centre to the other body's
         // centre or wall line: -du_n > that distance. Checked at every step of an impact, and in
         // a persistent contact once it overlaps by more than a tenth of the ball's radius.
-        if (!first && fn_old > 0.0 && (p.steps < kGuardWatch || g.overlap > 0.1 * r1) &&
+        if (!first && fn_old > 0.0 && (young || g.overlap > 0.1 * r1) &&
             -fd.du_n > (p.wall ? r1 : r1 + v.radius[p.end2]) - g.overlap)
             reportPassThrough(world, p, g);
     }
     p.n_force = fd.n_force;
     p.s_force = fd.s_force;
     p.moment = fd.moment;
-    p.overlap = g.overlap;
-    p.knest = fd.knest;
-    p.ksest = fd.ksest;
-    p.sliding = (fd.flags & kFdSliding) != 0;
-    p.bonded = (fd.flags & kFdBonded) != 0;
-    p.steps += g.overlap > 0.0;
+    // (flags written only when they change: each write of a bit is a read-modify-write)
+    if (const bool sliding = (fd.flags & kFdSliding) != 0; sliding != p.sliding)
+        p.sliding = sliding;
+    if (const bool bonded = (fd.flags & kFdBonded) != 0; bonded != p.bonded) p.bonded = bonded;
+    // The law's estimates, for the automatic step and the messages (findNonFiniteContact names
+    // a contact by them); without the automatic step they are left as they were, and the step's
+    // survey asks the models when it is switched on (timestep.cpp, surveyPairs).
+    if (Features::kAuto || !std::isfinite(fd.knest + fd.ksest)) {
+        PairCold& c = v.cold[i];
+        c.knest = fd.knest;
+        c.ksest = fd.ksest;
+        c.overlap = g.overlap;
+    }
     if constexpr (kMode == Delivery::Parallel) {
         if (fd.flags & kFdBroken) {
             DeferredItem item{static_cast<uint32_t>(i), Deferred::Break};

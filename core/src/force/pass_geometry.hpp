@@ -20,9 +20,11 @@ namespace talus {
 /// A contact's FdBlock from its geometry. Only what changes from contact to contact is written:
 /// the rest is the step's template (the thread's copy).
 template <class Features>
-__attribute__((always_inline)) inline void fillFd(const ForceView& v, const Pair& p, double overlap,
+__attribute__((always_inline)) inline void fillFd(const ForceView& v, std::size_t i, double overlap,
                                                   double u_dot_n, double u_dot_s, double t_dot_rel,
                                                   FdBlock& fd) {
+    const Pair& p = v.pairs[i];
+    const PairCold& c = v.cold[i];
     fd.flags = v.fd_template.flags;
     fd.status = 0;
     fd.tdel = v.dt;
@@ -34,8 +36,8 @@ __attribute__((always_inline)) inline void fillFd(const ForceView& v, const Pair
     fd.du_n = fd.u_dot_n * v.dt;
     fd.du_s = fd.u_dot_s * v.dt;
     fd.dtheta = fd.t_dot_rel * v.dt;
-    fd.mass_eff = p.mass_eff;
-    fd.inv_mass_eff_s = p.inv_mass_eff_s;
+    fd.mass_eff = c.mass_eff;
+    fd.inv_mass_eff_s = c.inv_mass_eff_s;
     fd.n_force = p.n_force;
     fd.s_force = p.s_force;
     fd.moment = p.moment;
@@ -64,7 +66,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
         const Vec2 d = x2 - x1;
         const double rsum = r1 + v.radius[s2];
         const double dist2 = d.squaredNorm();
-        const double reach = rsum + p.activity;
+        const double reach = rsum + v.rule(p).activity;  // (a pair apart has its rule's)
         if (!p.active && dist2 >= reach * reach) return PairStep::Apart;
         const double dist = std::sqrt(dist2);
         g.normal = dist > 0.0 ? Vec2(d * (1.0 / dist)) : Vec2(0.0, 1.0);
@@ -104,7 +106,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
         // through its shear spring (a bonded ball in a V lost -2.7% of its input). The mean arm
         // adds (du_n / 4) (w1 + w2) / dt.
         shear_mid = -0.25 * (v.vel[s1] - v2c).dot(g.normal) * dt * (v.spin[s1] + spin2);
-        if (!p.active && g.overlap <= -p.activity) return PairStep::Apart;
+        if (!p.active && g.overlap <= -v.rule(p).activity) return PairStep::Apart;
     }
     const Vec2 v1c = v.vel[s1] + spinCross(v.spin[s1], g.point - x1);
     const Vec2 vrel = v2c - v1c;
@@ -113,7 +115,7 @@ __attribute__((always_inline)) inline PairStep geometryPass(const ForceView& v, 
     const double u_dot_s = vrel.dot(perp(g.normal)) + shear_mid;
     const double t_dot_rel = spin2 - v.spin[s1];
     if (fd) {
-        fillFd<Features>(v, p, g.overlap, u_dot_n, u_dot_s, t_dot_rel, *fd);
+        fillFd<Features>(v, i, g.overlap, u_dot_n, u_dot_s, t_dot_rel, *fd);
     } else {
         e.u_dot_n = u_dot_n;
         e.u_dot_s = u_dot_s;

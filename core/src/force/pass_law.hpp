@@ -29,15 +29,15 @@ inline void callLaw(ContactModel* model, FdBlock& fd, std::string& error) {
     }
 }
 
-__attribute__((always_inline)) inline void lawPass(const ForceView& v, const Pair& p, FdBlock& fd,
+__attribute__((always_inline)) inline void lawPass(const ForceView& v, std::size_t i, FdBlock& fd,
                                                    std::string& error, int64_t& batched_count) {
-    const BatchFdLawFn batch = v.batched ? p.rule->batch : nullptr;
+    const BatchFdLawFn batch = v.batched ? v.rule(v.pairs[i]).batch : nullptr;
+    ContactModel* model = v.pairs[i].model;
     if (batch) {
-        ContactModel* model = p.model;
         batch(&model, &fd, 1);
         ++batched_count;
     } else {
-        callLaw(p.model, fd, error);
+        callLaw(model, fd, error);
     }
 }
 

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,11 +33,14 @@ struct LoopFeatures {
 };
 
 struct ForceView {
+    Rule& rule(const Pair& p) const { return *rules[p.rule]; }
+
     World& world;  // the rare paths
     // Pairs through their vectors: a wall contact's hand-over may add a pair (and move the
     // arrays) in the middle of the loop.
     std::vector<Pair>& pairs;
     std::vector<PairCold>& cold;
+    const std::unique_ptr<Rule>* rules;  // Pair::rule indexes it
     // Balls and walls do not change size during the loop.
     const Vec2* pos;
     const Vec2* vel;

@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: MIT
 //
 // Phase 5: bookkeeping. Events queued by the force loop (bond breaks) are delivered here, after
-// the hot loop and in the order they happened, then the cycle hooks run (histories, Lua
-// callbacks). Guard findings are aggregated over a cycle()/solve() call and reported once.
+// the hot loop and in the order they happened, then the trackers take their sample
+// (step/trackers.cpp), then the cycle hooks run (histories, Lua callbacks). Guard findings are
+// aggregated over a cycle()/solve() call and reported once.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include "step/group_energy.hpp"
 #include "step/step.hpp"
+#include "step/trackers.hpp"
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
@@ -18,6 +21,8 @@
 namespace talus {
 
 void bookkeeping(World& world, const StepContext& step) {
+    if (!world.guard_state.energy_gains.empty()) judgeEnergyGains(world, true);
+    if (step.energy) bookWallsBefore(world, step);
     if (step.energy && world.settings.guard.balance != GuardAction::Off) checkBalance(world);
     if (!world.callbacks.events.empty()) {
         // Swap out first: a handler may cycle the model or queue events of its own.
@@ -26,6 +31,8 @@ void bookkeeping(World& world, const StepContext& step) {
         if (world.callbacks.event_handler)
             for (const Event& e : events) world.callbacks.event_handler(e);
     }
+    // The trackers' sample of this step, before the hooks (they read what it recorded).
+    if (world.trackers.live > 0) updateTrackers(world);
     if (world.callbacks.hooks.empty()) return;
     // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
     // added now first run at the next step.
@@ -49,7 +56,73 @@ namespace {
 
 std::string num(double v) { return messageNumber(v, 4); }
 
+/// The energy the scene holds now: the kinetic energy of its bodies (balls, clumps) and the
+/// contacts' strain energy estimated from their forces, F^2 / (2 k) with their models' normal
+/// and shear estimates (KnEstimate, KsEstimate: the stiffness for the time step, raised for a
+/// dashpot, so an estimate from below); with tracing on, at least the run's throughput (as the
+/// balance check's reference). Called only in a step with a finding to judge.
+double sceneEnergy(const World& world) {
+    const auto& b = world.bodies.balls;
+    const bool clumps = world.bodies.hasClumps();
+    double energy = 0.0;
+    for (std::size_t s = 0; s < b.size(); ++s)
+        if (!clumps || b.clump[s] == kNoClump)  // a pebble moves with its clump
+            energy +=
+                0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
+    for (const ClumpData& c : world.bodies.clumps)
+        if (c.alive) energy += 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
+    for (const Pair& p : world.contacts.pairs) {
+        if (!p.active || !p.model) continue;
+        const double kn = p.model->KnEstimate(), ks = p.model->KsEstimate();
+        if (kn > 0.0) energy += 0.5 * p.n_force * p.n_force / kn;
+        if (ks > 0.0) energy += 0.5 * p.s_force * p.s_force / ks;
+    }
+    if (world.books.on) {
+        const EnergyTotals& e = world.books.snapshot;
+        energy = std::max(
+            {energy, e.input(), e.kinetic + e.strain + e.bond, world.guard_state.balance.peak});
+    }
+    return energy;
+}
+
 }  // namespace
+
+void bookWallsBefore(World& world, const StepContext& step) {
+    // A moving wall's work on the balls over the second half of this step: the force the force
+    // loop just found (at the next snapshot's time) times the velocity the wall moved at in
+    // this step, over half of it. It comes before that snapshot; moveWalls books the half
+    // after it, with the next step's velocity.
+    for (const WallData& w : world.bodies.walls) {
+        if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
+        const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * 0.5 * step.dt;
+        world.books.acc.boundary += work;
+        if (world.books.groups.on) bookWallToGroups(world, w.groups, work);
+    }
+}
+
+void judgeEnergyGains(World& world, bool may_throw) {
+    // A contact's gain is judged against its own peak (endContact); this floor keeps out gains
+    // that are nothing on the scale of the scene. The energy books are sums over up to ~1e7
+    // steps, each adding terms with a relative round-off of 1e-16: they, and the balance check
+    // that reads them, cannot resolve less than ~1e-9 of the energy the scene holds. Contacts
+    // that touch for a step or two in a settled pack (their reference a few 1e-11 J, their
+    // ends pushed about by their neighbours) gain up to ~1e-10 J that way, ~1e-10 of the
+    // pack's energy (docs/physics/guard.md); a contact of an impact that the step does not
+    // resolve gains a share of the impact's energy, far above the floor in any scene of fewer
+    // than ~1e7 such bodies.
+    auto& gains = world.guard_state.energy_gains;
+    const double floor = 1e-9 * sceneEnergy(world);
+    for (const auto& gain : gains) {
+        if (!(gain.gained > floor)) continue;
+        if (may_throw && world.settings.guard.energy == GuardAction::Error) {
+            const std::string what = gain.what;
+            gains.clear();
+            throw NumericalError("energy created: " + what);
+        }
+        if (world.guard_state.energy_gain++ == 0) world.guard_state.energy_gain_first = gain.what;
+    }
+    gains.clear();
+}
 
 void checkBalance(World& world) {
     // Each contact is checked by the guard on its own; this check watches the whole model, so
@@ -111,6 +184,8 @@ void checkBalance(World& world) {
 }
 
 void flushWarnings(World& world) {
+    // (gains left by a step that did not finish: reported, not thrown, beside its error)
+    if (!world.guard_state.energy_gains.empty()) judgeEnergyGains(world, false);
     if (world.guard_state.placed > 0) {
         talus::warn(
             world,

@@ -238,7 +238,7 @@ void clearMovedFlags(World& world) {
 
 // ------------------------------------------------------------------------ pairs
 
-PropBlock propBlockFor(const World& world, const Pair& p) {
+PropBlock propBlockFor(const World& world, const Pair& p, double mass_eff) {
     const auto& b = world.bodies.balls;
     PropBlock pb{};
     pb.size = sizeof(PropBlock);
@@ -258,7 +258,7 @@ PropBlock propBlockFor(const World& world, const Pair& p) {
         pb.radius[1] = b.radius[p.end2];
         pb.mass[1] = b.mass[p.end2];
     }
-    pb.mass_eff = p.mass_eff;
+    pb.mass_eff = mass_eff;
     return pb;
 }
 
@@ -274,13 +274,13 @@ double tangentialInverseMass(const World& world, const Pair& p) {
     return inv;
 }
 
-ContactModel* cloneFor(World& world, Pair& p) {
-    Rule& rule = *p.rule;
+ContactModel* cloneFor(World& world, const Pair& p, double mass_eff) {
+    Rule& rule = world.contacts.ruleOf(p);
     void* mem = rule.pool->allocate();
     ContactModel* m = nullptr;
     std::string why;
     try {
-        m = rule.prototype->Clone(propBlockFor(world, p), mem);
+        m = rule.prototype->Clone(propBlockFor(world, p, mass_eff), mem);
         if (!m) why = rule.prototype->LastError();
     } catch (const std::exception& e) {
         why = e.what();
@@ -319,15 +319,15 @@ bool makePair(World& world, uint32_t s1, uint32_t other, bool other_is_segment) 
         p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].groups : b.groups[p.end2];
     const Rule& rule = ruleFor(world, b.groups[p.end1], g2);
     if (!rule.prototype) return false;  // no contact model: bodies pass through
-    p.rule = const_cast<Rule*>(&rule);
+    p.rule = world.contacts.ruleIndex(&rule);
     cold.rules_version = world.contacts.rules_version;
-    p.activity = rule.activity;
+    cold.activity = rule.activity;
     const double m1 = b.mass[p.end1];
-    p.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
-    p.inv_mass_eff_s = tangentialInverseMass(world, p);
-    p.model = cloneFor(world, p);
-    p.knest = p.model->KnEstimate();
-    p.ksest = p.model->KsEstimate();
+    cold.mass_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
+    cold.inv_mass_eff_s = tangentialInverseMass(world, p);
+    p.model = cloneFor(world, p, cold.mass_eff);
+    cold.knest = p.model->KnEstimate();
+    cold.ksest = p.model->KsEstimate();
     world.contacts.key_index.emplace(cold.key, static_cast<uint32_t>(world.contacts.pairs.size()));
     world.contacts.pairs.push_back(p);
     world.contacts.cold.push_back(cold);
@@ -347,9 +347,9 @@ void removePair(World& world, std::size_t i) {
                                  world.contacts.cold[i].strain + world.contacts.cold[i].bond);
     }
     if (p.model) {
-        dropLane(p);
+        dropLane(world.contacts, p);
         p.model->Destroy();
-        p.rule->pool->release(p.model);
+        world.contacts.ruleOf(p).pool->release(p.model);
         p.model = nullptr;
     }
     world.contacts.key_index.erase(world.contacts.cold[i].key);
@@ -369,49 +369,47 @@ void refreshRule(World& world, Pair& p) {
     const auto& b = world.bodies.balls;
     const uint64_t g2 =
         p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].groups : b.groups[p.end2];
-    Rule* rule = const_cast<Rule*>(&ruleFor(world, b.groups[p.end1], g2));
-    if (rule == p.rule || !rule->prototype) return;
-    dropLane(p);
+    const Rule* rule = &ruleFor(world, b.groups[p.end1], g2);
+    if (rule == &world.contacts.ruleOf(p) || !rule->prototype) return;
+    dropLane(world.contacts, p);
+    PairCold& c = world.contacts.coldOf(p);
     p.model->Destroy();
-    p.rule->pool->release(p.model);
-    p.rule = rule;
-    p.activity = rule->activity;
-    p.model = cloneFor(world, p);
+    world.contacts.ruleOf(p).pool->release(p.model);
+    p.rule = world.contacts.ruleIndex(rule);
+    c.activity = rule->activity;
+    p.model = cloneFor(world, p, c.mass_eff);
 }
 
 void resetPair(World& world, Pair& p) {
     // A fresh clone: the next touch starts from a clean state.
-    dropLane(p);
+    dropLane(world.contacts, p);
+    PairCold& c = world.contacts.coldOf(p);
     p.model->Destroy();
-    p.rule->pool->release(p.model);
+    world.contacts.ruleOf(p).pool->release(p.model);
     p.model = nullptr;
-    if (p.rule->installed) {
+    if (world.contacts.ruleOf(p).installed) {
         // A contact bonded by m:bond ended (its bond broke or was removed, and it separated):
         // the next touch gets the ordinary rules, never the bond (api/bonds.cpp).
-        world.contacts.cold[world.contacts.pairIndex(p)].rules_version =
-            world.contacts.rules_version;
+        c.rules_version = world.contacts.rules_version;
         const auto& b = world.bodies.balls;
         const uint64_t g2 = p.wall ? world.bodies.walls[world.bodies.segments[p.end2].wall].groups
                                    : b.groups[p.end2];
-        Rule* rule = const_cast<Rule*>(&ruleFor(world, b.groups[p.end1], g2));
-        if (rule->prototype) {
-            p.rule = rule;
-            p.activity = rule->activity;
-        }
+        const Rule* rule = &ruleFor(world, b.groups[p.end1], g2);
+        if (rule->prototype) p.rule = world.contacts.ruleIndex(rule);
     }
-    p.model = cloneFor(world, p);
-    p.active = p.sliding = p.bonded = p.loading = false;
-    p.steps = 0;
-    p.work = p.work_peak = 0.0;
+    p.model = cloneFor(world, p, c.mass_eff);
+    p.active = p.sliding = p.bonded = p.loading = p.watched = false;
     p.n_force = p.s_force = p.moment = 0.0;
-    p.knest = p.model->KnEstimate();
-    p.ksest = p.model->KsEstimate();
-    PairCold& c = world.contacts.cold[world.contacts.pairIndex(p)];
-    const uint64_t key = c.key;
-    const uint32_t version = c.rules_version;
-    c = PairCold{};
-    c.key = key;
-    c.rules_version = version;
+    // The cold record afresh but for what names the pair and what its law needs.
+    PairCold fresh;
+    fresh.activity = world.contacts.ruleOf(p).activity;
+    fresh.mass_eff = c.mass_eff;
+    fresh.inv_mass_eff_s = c.inv_mass_eff_s;
+    fresh.knest = p.model->KnEstimate();
+    fresh.ksest = p.model->KsEstimate();
+    fresh.key = c.key;
+    fresh.rules_version = c.rules_version;
+    c = fresh;
 }
 
 // ------------------------------------------------------------------------ wall vertices
@@ -565,15 +563,14 @@ void repackContactObjects(World& world) {
     // the pairs in memory order, jumps around the pools. Move every object into a fresh pool in
     // the pairs' order (ContactModel::MoveTo) and drop the old pools.
     std::vector<std::unique_ptr<ObjectPool>> fresh(world.contacts.rules.size());
-    std::unordered_map<const Rule*, std::size_t> slot;
     for (std::size_t r = 0; r < world.contacts.rules.size(); ++r) {
-        slot[world.contacts.rules[r].get()] = r;
         if (world.contacts.rules[r]->pool)
             fresh[r] = std::make_unique<ObjectPool>(world.contacts.rules[r]->pool->blockSize());
     }
-    for (auto& p : world.contacts.pairs) {
+    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+        Pair& p = world.contacts.pairs[i];
         if (!p.model) continue;
-        ObjectPool& pool = *fresh[slot[p.rule]];
+        ObjectPool& pool = *fresh[p.rule];
         p.model = p.model->MoveTo(pool.allocate());
     }
     for (std::size_t r = 0; r < world.contacts.rules.size(); ++r)

@@ -29,8 +29,8 @@ bool segmentGeometry(const World& world, uint32_t seg, const Vec2& centre, doubl
 int32_t wallHolder(const World& world, uint32_t seg, const Vec2& centre, double radius);
 bool makePair(World& world, uint32_t ball_slot, uint32_t other, bool other_is_segment);
 void removePair(World& world, std::size_t index);
-ContactModel* cloneFor(World& world, Pair& p);
-PropBlock propBlockFor(const World& world, const Pair& p);
+ContactModel* cloneFor(World& world, const Pair& p, double mass_eff);
+PropBlock propBlockFor(const World& world, const Pair& p, double mass_eff);
 double tangentialInverseMass(const World& world, const Pair& p);
 void refreshRule(World& world, Pair& p);
 void resetPair(World& world, Pair& p);

@@ -102,8 +102,8 @@ Vec2 endCentre(const World& world, uint32_t slot) {
     return b.clump[slot] != kNoClump ? world.bodies.clumps[b.clump[slot]].pos : b.pos[slot];
 }
 
-void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool first, bool ends,
-                         double held, const Vec2& f, const Vec2& point) {
+void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
+                         bool first, bool ends, double held, const Vec2& f, const Vec2& point) {
     auto& gb = world.books.groups;
     const Pair& p = world.contacts.pairs[i];
     const PairCold& c = world.contacts.cold[i];
@@ -115,10 +115,10 @@ void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool fi
         const double s = share(uint64_t(1) << g, g1, g2, p.wall);
         auto& gr = groups[g];
         EnergyTotals& a = gr.acc;
-        a.slip += s * fd.energy[kEnergySlip];
-        gr.dashpot_pending += s * fd.energy[kEnergyDashpot];
-        a.plastic += s * fd.energy[kEnergyPlastic];
-        a.released += s * fd.energy[kEnergyReleased];
+        a.slip += s * energy[kEnergySlip];
+        gr.dashpot_pending += s * energy[kEnergyDashpot];
+        a.plastic += s * energy[kEnergyPlastic];
+        a.released += s * energy[kEnergyReleased];
         a.placement += s * placed;
         gr.held_before += s * held;
         if (ends) {
@@ -136,17 +136,20 @@ void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool fi
     x.g1 = g1;
     x.g2 = g2;
     x.f1 = -f;  // the loop applies -f to end 1 and +f to end 2
-    x.m1 = -cross(point - endCentre(world, p.end1), f) - fd.moment;
+    x.m1 = -cross(point - endCentre(world, p.end1), f) - moment;
     if (p.wall) {
         const uint32_t wi = world.bodies.segments[p.end2].wall;
         const WallData& w = world.bodies.walls[wi];
         if (w.vel.squaredNorm() == 0.0 && w.spin == 0.0) return;
         x.wall = true;
         x.end2 = wi;
-        x.m2 = cross(point - w.center, f) + fd.moment;
+        x.m2 = cross(point - w.center, f) + moment;
+        // the velocity the wall moved at in this step (its work before the next snapshot)
+        x.v2 = w.vel;
+        x.w2 = w.spin;
     } else {
         x.end2 = p.end2;
-        x.m2 = cross(point - endCentre(world, p.end2), f) + fd.moment;
+        x.m2 = cross(point - endCentre(world, p.end2), f) + moment;
     }
     gb.exchange.push_back(x);
 }
@@ -212,8 +215,14 @@ void groupSnapshot(World& world, double lead) {
             w1 = (x.f1.dot(0.5 * (x.v1 + v)) + x.m1 * 0.5 * (x.w1 + om)) * win;
         }
         if (x.wall) {
+            // As moveWalls and bookWallsBefore book it: the part of the window before the
+            // snapshot with the velocity the wall moved at then, the part after with its present
+            // velocity.
             const WallData& wd = world.bodies.walls[x.end2];
-            if (wd.alive) w2 = (-x.f1.dot(wd.vel) + x.m2 * wd.spin) * win;
+            if (wd.alive)
+                w2 = ((-x.f1.dot(x.v2) + x.m2 * x.w2) * lead +
+                      (-x.f1.dot(wd.vel) + x.m2 * wd.spin) * (1.0 - lead)) *
+                     win;
         } else if (!x.gone2) {
             endRates(world, x.end2, v, om);
             w2 = (-x.f1.dot(0.5 * (x.v2 + v)) + x.m2 * 0.5 * (x.w2 + om)) * win;
@@ -227,32 +236,44 @@ void groupSnapshot(World& world, double lead) {
         }
     }
     gb.exchange.clear();
-    // The same split at the snapshot as the whole model's (law_of_motion.cpp).
+    // The same split at the snapshot as the whole model's (law_of_motion.cpp), and where the
+    // books open or wait (openBooks), the same start: nothing before the snapshot is booked.
+    const EnergyBooks::Stage stage = world.books.stage;
+    const double before = stage == EnergyBooks::Stage::Open ? lead : 0.0;
     for (auto& gr : gb.g) {
         EnergyTotals& a = gr.acc;
-        a.damping += gr.step_damping * lead;
-        a.boundary += gr.step_driven * lead;
-        a.dashpot += gr.dashpot_pending * lead;
-        a.exchanged += gr.exchanged_pending * lead;
+        if (stage != EnergyBooks::Stage::Open) {
+            const double strain = a.strain, bond = a.bond;
+            a = EnergyTotals{};
+            a.initial_kinetic = a.kinetic = gr.step_kinetic;
+            if (stage == EnergyBooks::Stage::Opened) {
+                a.strain = strain;
+                a.bond = bond;
+                a.initial_strain = strain + bond;
+            }
+        }
+        a.damping += gr.step_damping * before;
+        a.boundary += gr.step_driven * before;
+        a.dashpot += gr.dashpot_pending * before;
+        a.exchanged += gr.exchanged_pending * before;
         gr.snapshot = a;
         gr.snapshot.kinetic = gr.step_kinetic;
-        a.body += gr.step_body;
-        a.boundary += gr.step_driven * (1.0 - lead);
-        a.damping += gr.step_damping * (1.0 - lead);
-        a.dashpot += gr.dashpot_pending * (1.0 - lead);
-        a.exchanged += gr.exchanged_pending * (1.0 - lead);
+        if (stage != EnergyBooks::Stage::Waiting) {
+            a.body += gr.step_body;
+            a.boundary += gr.step_driven * (1.0 - lead);
+            a.damping += gr.step_damping * (1.0 - lead);
+            a.dashpot += gr.dashpot_pending * (1.0 - lead);
+            a.exchanged += gr.exchanged_pending * (1.0 - lead);
+        }
         gr.dashpot_pending = gr.exchanged_pending = 0.0;
         gr.step_kinetic = gr.step_body = gr.step_damping = gr.step_driven = 0.0;
     }
 }
 
-void bookWallToGroups(World& world, uint64_t mask, double work, double lead) {
+void bookWallToGroups(World& world, uint64_t mask, double work) {
     auto& gb = world.books.groups;
-    for (uint64_t m = mask & gb.traced; m; m &= m - 1) {
-        const int g = __builtin_ctzll(m);
-        gb.g[g].acc.boundary += work;
-        gb.g[g].snapshot.boundary += work * lead;
-    }
+    for (uint64_t m = mask & gb.traced; m; m &= m - 1)
+        gb.g[__builtin_ctzll(m)].acc.boundary += work;
 }
 
 }  // namespace talus

@@ -29,8 +29,8 @@ inline void bookBodyToGroups(World& world, uint64_t mask, double kinetic, double
     }
 }
 /// The force loop's per-contact share (rare path: called only with groups traced).
-void bookContactToGroups(World& world, std::size_t i, const FdBlock& fd, bool first, bool ends,
-                         double held, const Vec2& f, const Vec2& point);
+void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
+                         bool first, bool ends, double held, const Vec2& f, const Vec2& point);
 void bookReleasedToGroups(World& world, const Pair& p, double released);
 /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
 void bookDeletedToGroups(World& world, uint64_t mask, double kinetic);
@@ -41,7 +41,7 @@ void groupForceLoopStart(World& world);         // zero the scratch, drop stale 
 void groupForceLoopEnd(World& world);           // strain/bond current values, baseline
 void gatherExchangeStart(World& world);         // law of motion: rates before the update
 void groupSnapshot(World& world, double lead);  // law of motion: split, snapshot, accumulate
-void bookWallToGroups(World& world, uint64_t mask, double work, double lead);
+void bookWallToGroups(World& world, uint64_t mask, double work);  // a moving wall's work
 /// Velocity and spin of a contact end (a ball slot) before and after the law of motion's
 /// update; the clump pass routes pebble ends to their clump here.
 void endRates(const World& world, uint32_t slot, Vec2& v, double& w);

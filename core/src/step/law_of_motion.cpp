@@ -102,8 +102,11 @@ void moveBalls(World& world, const StepContext& step) {
     const double gain = w / (1.0 + 0.5 * c * w);
     const bool energy = step.energy;
     const bool groups = step.groups;
+    // Without damping its work is zero (dampingWork of zero forces and coefficients), left out.
+    const bool damped = alpha > 0.0 || c > 0.0;
     const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
     double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
+    double finite_check = 0.0;  // the new rates summed: non-finite if one of them is
     const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
     for (std::size_t s = 0; s < n; ++s) {
         if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
@@ -136,6 +139,7 @@ void moveBalls(World& world, const StepContext& step) {
         spin[s] = om;
         pos[s] += v * dt;
         angle[s] += om * dt;
+        finite_check += v.x() + v.y() + om;
         if (energy) {
             const double m = b.mass[s];
             const double inertia = b.inertia[s];
@@ -147,11 +151,13 @@ void moveBalls(World& world, const StepContext& step) {
             body += work;
             // Local damping on the velocity at t, viscous on the mean of the half steps
             // (body_damping.hpp).
-            const Vec2 v_mid = 0.5 * (v_old + v);
-            const double om_mid = 0.5 * (w_old + om);
-            const double damp =
-                dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
-            damping += damp;
+            double damp = 0.0;
+            if (damped) {
+                const Vec2 v_mid = 0.5 * (v_old + v);
+                const double om_mid = 0.5 * (w_old + om);
+                damp = dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
+                damping += damp;
+            }
             double react = 0.0;
             if (fix) {
                 // A fixed component moves at its set velocity whatever acts on it: the fixity
@@ -169,36 +175,78 @@ void moveBalls(World& world, const StepContext& step) {
         }
     }
     if (pebble) moveClumps(world, step, kinetic, body, damping, driven);  // clump_motion.cpp
-    bool finite = true;
-    for (std::size_t s = 0; s < n && finite; ++s)
-        finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
-    if (!finite) reportNonFiniteBall(world);
+    // (a clump's pebbles take its rates: a non-finite clump shows in the scan's balls)
+    if (!std::isfinite(finite_check) || pebble) {
+        bool finite = true;
+        for (std::size_t s = 0; s < n && finite; ++s)
+            finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
+        if (!finite) reportNonFiniteBall(world);
+    }
     // Finite velocities can still overflow the energy books: a spin of 1e296 rad/s (an applied
     // moment of 1e300 N m, stress suite) has a kinetic energy of inf. A body far from every
     // contact then ran on with inf in the balance and no word.
     if (energy && !std::isfinite(kinetic + body + damping + driven))
         reportNonFiniteEnergy(world, kinetic, body, damping, driven);
     if (energy) {
+        EnergyBooks& books = world.books;
         // Impulses applied now span the window around t: the damping, the fixities' reactions
         // and the contact dashpots of the last force loop (forces at t). The kinetic energy at t
         // holds the share of their effect before t, so the snapshot holds the same share of
         // their work, the rest comes after it. (Booking a dashpot's whole work at once puts
-        // the books half a step's dissipation ahead during an impact.)
-        world.books.acc.damping += damping * lead;
-        world.books.acc.boundary += driven * lead;
-        world.books.acc.dashpot += world.books.dashpot_pending * lead;
-        world.books.snapshot = world.books.acc;
-        world.books.snapshot.kinetic = kinetic;
-        world.books.acc.body += body;
-        world.books.acc.boundary += driven * (1.0 - lead);
-        world.books.acc.damping += damping * (1.0 - lead);
-        world.books.acc.dashpot += world.books.dashpot_pending * (1.0 - lead);
-        world.books.dashpot_pending = 0.0;
+        // the books half a step's dissipation ahead during an impact.) Where the books open, at
+        // t, the share before t is not theirs: it is in the kinetic energy they start from.
+        const double before = books.opening > 0 ? 0.0 : lead;
+        books.stage = EnergyBooks::Stage::Open;
+        if (books.opening > 0) openBooks(world, kinetic);
+        books.acc.damping += damping * before;
+        books.acc.boundary += driven * before;
+        books.acc.dashpot += books.dashpot_pending * before;
+        books.snapshot = books.acc;
+        books.snapshot.kinetic = kinetic;
+        if (books.stage != EnergyBooks::Stage::Waiting) {
+            books.acc.body += body;
+            books.acc.boundary += driven * (1.0 - lead);
+            books.acc.damping += damping * (1.0 - lead);
+            books.acc.dashpot += books.dashpot_pending * (1.0 - lead);
+        }
+        books.dashpot_pending = 0.0;
         if (groups) groupSnapshot(world, lead);
+        if (books.opening > 0) {
+            --books.opening;
+            // The run-level check starts where the books do.
+            world.guard_state.balance = GuardState::BalanceWatch{};
+            world.guard_state.balance.open = books.snapshot;
+            world.guard_state.balance.open_step = world.clock.step;
+        }
     }
 }
 
 }  // namespace
+
+/// Tracing was switched on (api/energy.cpp, books.opening): the books open at the present whole
+/// step t of this snapshot, from the kinetic energy at t (the half-step velocities
+/// interpolated, as every snapshot does) and what the contacts hold at t, and from nothing
+/// else: whatever was booked before t goes. Opened at the step after the switch, the kinetic
+/// energy at t needs the velocity after it; so the books could not open when tracing was
+/// switched on, between two steps, where only the half-step velocities are known (their
+/// kinetic energy is off from that at t by m v a dt / 2: 1.7% of the throughput in free fall).
+/// What loaded contacts hold at t only their models know, and they say it only while tracing
+/// is on: then this snapshot waits (Stage::Waiting: it books nothing, its balance is zero) and
+/// the books open at the next one, from what the contacts reported at that step.
+void openBooks(World& world, double kinetic) {
+    EnergyBooks& books = world.books;
+    const bool waiting = books.opening == 2;
+    const double strain = books.acc.strain, bond = books.acc.bond;
+    books.acc = EnergyTotals{};
+    books.acc.initial_kinetic = kinetic;
+    books.acc.kinetic = kinetic;
+    if (!waiting) {
+        books.acc.strain = strain;
+        books.acc.bond = bond;
+        books.acc.initial_strain = strain + bond;
+    }
+    books.stage = waiting ? EnergyBooks::Stage::Waiting : EnergyBooks::Stage::Opened;
+}
 
 void reportNonFiniteBall(const World& world) {
     const auto& b = world.bodies.balls;
@@ -264,19 +312,17 @@ void moveWalls(World& world, const StepContext& step) {
         WallData& w = world.bodies.walls[i];
         if (!w.alive || (w.vel.squaredNorm() == 0.0 && w.spin == 0.0)) continue;
         if (world.books.on) {
-            // Work done on the balls: minus the force they exert on the wall times its motion.
-            // That force is the last force loop's, whose impulse the law of motion has just
-            // applied over the window w = (dt_prev + dt)/2 around the snapshot's time t; so its
-            // work is over w too, and the part before t belongs in the snapshot, as for the
-            // damping impulse. Booking it over the coming dt, after the snapshot, left it a step
-            // late and short by (w - dt) while the step shrank: a wall whose contacts formed in
-            // a long step created energy (-217 J, 2.5% of the boundary work).
-            const double win = step.window;
-            const double lead = win > 0.0 ? 1.0 - 0.5 * dt / win : 0.0;  // 0 on the first cycle
-            const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * win;
+            // Work done on the balls: minus the force they exert on the wall times its motion,
+            // over the step the wall moves in. That force is the last force loop's (at t, the
+            // snapshot's time), its impulse applied over the window around t: its share before
+            // t, with the velocity the wall moved at then, was booked after that loop
+            // (bookWallsBefore, bookkeeping.cpp); here the share after t, with this step's
+            // velocity, over half this step. (Booking the whole window with this step's
+            // velocity, as before 2026-11-28, was off by F (v - v_before) dt / 2 in every step
+            // a servo changed the wall's velocity.)
+            const double work = -(w.force.dot(w.vel) + w.moment * w.spin) * 0.5 * dt;
             world.books.acc.boundary += work;
-            world.books.snapshot.boundary += work * lead;
-            if (world.books.groups.on) bookWallToGroups(world, w.groups, work, lead);
+            if (world.books.groups.on) bookWallToGroups(world, w.groups, work);
         }
         const Vec2 shift = w.vel * dt;
         const double ca = std::cos(w.spin * dt), sa = std::sin(w.spin * dt);

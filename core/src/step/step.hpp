@@ -52,9 +52,17 @@ void bookkeeping(World& world, const StepContext& step);        // bookkeeping.c
 void surveyPairs(World& world);
 /// The run-level energy check (bookkeeping.cpp).
 void checkBalance(World& world);
+/// With tracing: the moving walls' work over the second half of this step (bookkeeping.cpp).
+void bookWallsBefore(World& world, const StepContext& step);
+/// The contacts that gave back more energy than they took this step, against the scene's energy
+/// (bookkeeping.cpp); an error thrown only when `may_throw`.
+void judgeEnergyGains(World& world, bool may_throw);
 /// The guard's aggregated findings as warnings, once per run call (bookkeeping.cpp).
 void flushWarnings(World& world);
 void reportNonFiniteBall(const World& world);  // law_of_motion.cpp
+/// The energy books open at this snapshot, from the kinetic energy at its whole step (or wait
+/// for the contacts' models; law_of_motion.cpp).
+void openBooks(World& world, double kinetic);
 [[noreturn]] void reportNonFiniteEnergy(const World& world, double kinetic, double body,
                                         double damping, double driven);
 // clump_motion.cpp

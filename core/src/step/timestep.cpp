@@ -35,6 +35,7 @@
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/lanes.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -55,8 +56,8 @@ double stepForDisplacement(double a, double b, double c) {
 /// Duration the resolution rule assumes: the model's estimate at this approach speed (skipped when
 /// approach < 0), never more than the half period pi sqrt(m*/knest) of the tangent stiffness,
 /// which includes the dashpot allowance the model reports.
-double contactDuration(const Pair& p, double knest, double mass_eff, double approach) {
-    double d = approach >= 0.0 ? p.model->ContactDuration(mass_eff, approach)
+double contactDuration(const ContactModel& model, double knest, double mass_eff, double approach) {
+    double d = approach >= 0.0 ? model.ContactDuration(mass_eff, approach)
                                : std::numeric_limits<double>::infinity();
     // NaN or <= 0 breaks the ABI: refused, naming the model, at touch (activate).
     if (!(d > 0.0)) d = std::numeric_limits<double>::infinity();
@@ -75,9 +76,10 @@ double contactDuration(const Pair& p, double knest, double mass_eff, double appr
 /// The fixed point is found by one secant step on ln dur(d) against ln d, exact for any power-law
 /// duration (every shipped nonlinear law); the result min(D, dur(D)) is never above the fixed
 /// point for a duration that does not grow with the speed, whatever the secant's error.
-double approachDuration(const Pair& p, double m_eff, double v0, double a, double start) {
+double approachDuration(const Pair& p, const PairCold& c, double m_eff, double v0, double a,
+                        double start) {
     const auto dur = [&](double d) {
-        return contactDuration(p, p.knest, m_eff, v0 + a * d / M_PI);
+        return contactDuration(*p.model, c.knest, m_eff, v0 + a * d / M_PI);
     };
     const double d0 = dur(0.0);
     if (!(a > 0.0)) return d0;
@@ -102,9 +104,10 @@ double approachDuration(const Pair& p, double m_eff, double v0, double a, double
 /// The step a contact about to form will need: `safety` of its own time scale (sqrt(m/k) of its
 /// stiffness, and duration / pi, which also covers laws with no stiffness at touch), and
 /// duration / resolution. Infinite when the law gives neither (Hertz at rest, no load).
-double contactStepLimit(const Pair& p, double m_min, double duration, const TimestepSettings& ts) {
+double contactStepLimit(const PairCold& c, double m_min, double duration,
+                        const TimestepSettings& ts) {
     double lim = ts.safety *
-                 std::min(std::sqrt(m_min / std::max(p.knest + p.ksest, 1e-300)), duration / M_PI);
+                 std::min(std::sqrt(m_min / std::max(c.knest + c.ksest, 1e-300)), duration / M_PI);
     if (ts.resolution > 0.0) lim = std::min(lim, duration / ts.resolution);
     return lim;
 }
@@ -138,7 +141,7 @@ double pebbleMassRatio(const World& world, const Pair& p) {
     const double m2 = p.wall ? 0.0 : lower(p.end2);
     if (!off) return 1.0;
     const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
-    return std::min(1.0, m_eff / p.mass_eff);
+    return std::min(1.0, m_eff / world.contacts.coldOf(p).mass_eff);
 }
 
 void StepLimits::merge(const StepLimits& o) {
@@ -170,10 +173,10 @@ void noteApproach(const World& world, const Pair& p, const PairCold& c, double g
     // The impact's duration at the speed the bodies will have in it (approachDuration); the
     // relative acceleration's norm bounds its closing component.
     const double approach = std::max(0.0, -vrel.dot(normal));
-    const double duration =
-        approachDuration(p, m_eff, approach, accel, world.clock.dt > 0.0 ? world.clock.dt : 1e-3);
+    const double duration = approachDuration(p, c, m_eff, approach, accel,
+                                             world.clock.dt > 0.0 ? world.clock.dt : 1e-3);
     const double d =
-        std::max(t_free, contactStepLimit(p, m_min, duration, world.settings.timestep));
+        std::max(t_free, contactStepLimit(c, m_min, duration, world.settings.timestep));
     takeStepLimit(limits.approach, limits.approach_key, limits.approach_pair, d, c.key,
                   static_cast<uint32_t>(world.contacts.pairIndex(p)));
 }
@@ -185,9 +188,18 @@ void surveyPairs(World& world) {
     std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
     std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
     world.stepping.limits = StepLimits{};
+    const bool ask = world.stepping.estimates_stale;
+    world.stepping.estimates_stale = false;
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
         Pair& p = world.contacts.pairs[i];
         PairCold& cold = world.contacts.cold[i];
+        if (ask && p.active) {
+            // The last force loops ran with a fixed step and kept no estimates: the model's
+            // own for its present state (its object brought up to date from its lane first).
+            syncLane(world.contacts, p);
+            cold.knest = p.model->KnEstimate();
+            cold.ksest = p.model->KsEstimate();
+        }
         const Vec2 x1 = b.pos[p.end1];
         ContactGeometry g;
         Vec2 v2(0.0, 0.0), x2(0.0, 0.0);
@@ -215,11 +227,12 @@ void surveyPairs(World& world) {
         const Vec2 vrel = v2 - b.vel[p.end1];
         const double m1 = b.mass[p.end1];
         const double m_eff = p.wall ? m1 : m1 * b.mass[p.end2] / (m1 + b.mass[p.end2]);
-        if (p.active || g.overlap > -p.activity) {
+        if (p.active || g.overlap > -cold.activity) {
             if (!p.active)
                 cold.duration = p.model->ContactDuration(m_eff, std::max(0.0, -vrel.dot(g.normal)));
-            noteContact(world, p, cold, p.knest, p.ksest, cold.krest, (g.point - x1).squaredNorm(),
-                        p.wall ? 0.0 : (g.point - x2).squaredNorm(), m_eff);
+            noteContact(world, p, cold, cold.knest, cold.ksest, cold.krest,
+                        (g.point - x1).squaredNorm(), p.wall ? 0.0 : (g.point - x2).squaredNorm(),
+                        m_eff);
         } else {
             noteApproach(world, p, cold, -g.overlap, vrel, accel, g.normal, world.stepping.limits);
         }
@@ -411,8 +424,10 @@ void computeTimestep(World& world) {
                 const double m2 = p.wall ? 0.0 : b.mass[p.end2];
                 const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
                 const double m_min = p.wall ? m1 : std::min(m1, m2);
-                const double d = contactStepLimit(
-                    p, m_min, approachDuration(p, m_eff, 0.0, 0.0, 1.0), world.settings.timestep);
+                const PairCold& c = world.contacts.cold[i];
+                const double d =
+                    contactStepLimit(c, m_min, approachDuration(p, c, m_eff, 0.0, 0.0, 1.0),
+                                     world.settings.timestep);
                 if (d < dt)
                     dt = d, where = StepWhere{StepWhere::Pair, 0, world.contacts.cold[i].key};
             }

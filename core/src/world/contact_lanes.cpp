@@ -36,8 +36,8 @@ void LaneTable::reorder(const std::vector<uint32_t>& order) {
 
 // ------------------------------------------------------------------------ a contact's lane
 
-bool enterLane(Pair& p) {
-    Rule& rule = *p.rule;
+bool enterLane(ContactStore& cs, Pair& p) {
+    Rule& rule = cs.ruleOf(p);
     if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
     LaneTable& table = *rule.lanes;
     const uint32_t row = table.allocate();
@@ -49,25 +49,25 @@ bool enterLane(Pair& p) {
     return true;
 }
 
-void syncLane(const Pair& p) {
+void syncLane(const ContactStore& cs, const Pair& p) {
     if (p.lane == kNoLane) return;
-    LaneTable& table = *p.rule->lanes;
+    LaneTable& table = *cs.ruleOf(p).lanes;
     table.law().unpack(p.model, table.row(p.lane));
 }
 
-void leaveLane(Pair& p) {
-    syncLane(p);
-    dropLane(p);
+void leaveLane(ContactStore& cs, Pair& p) {
+    syncLane(cs, p);
+    dropLane(cs, p);
 }
 
-void dropLane(Pair& p) {
+void dropLane(ContactStore& cs, Pair& p) {
     if (p.lane == kNoLane) return;
-    p.rule->lanes->release(p.lane);
+    cs.ruleOf(p).lanes->release(p.lane);
     p.lane = kNoLane;
 }
 
 void leaveAllLanes(World& world) {
-    for (Pair& p : world.contacts.pairs) leaveLane(p);
+    for (Pair& p : world.contacts.pairs) leaveLane(world.contacts, p);
 }
 
 void reorderLanes(World& world) {
@@ -76,7 +76,7 @@ void reorderLanes(World& world) {
     std::unordered_map<LaneTable*, std::vector<uint32_t>> order;
     for (Pair& p : world.contacts.pairs) {
         if (p.lane == kNoLane) continue;
-        std::vector<uint32_t>& rows = order[p.rule->lanes.get()];
+        std::vector<uint32_t>& rows = order[world.contacts.ruleOf(p).lanes.get()];
         const auto now = static_cast<uint32_t>(rows.size());
         rows.push_back(p.lane);
         p.lane = now;

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <utility>
 
+#include "talus/errors.hpp"
+
 namespace talus {
 
 ObjectPool::ObjectPool(std::size_t block_size) {
@@ -44,6 +46,12 @@ void ContactStore::swapState(std::size_t i, std::size_t j) {
     std::swap(pairs[i].end2, pairs[j].end2);
     std::swap(cold[i], cold[j]);
     std::swap(cold[i].key, cold[j].key);
+}
+
+uint16_t ContactStore::ruleIndex(const Rule* rule) const {
+    for (std::size_t k = 0; k < rules.size(); ++k)
+        if (rules[k].get() == rule) return static_cast<uint16_t>(k);
+    throw Error("ruleIndex: a rule not in the store");
 }
 
 }  // namespace talus

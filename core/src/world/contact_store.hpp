@@ -60,6 +60,13 @@ struct ContactStore {
     FdBlock fd_template{};
     uint32_t activation_flags = 0;
 
+    /// A pair's cold record (same index) and its rule.
+    PairCold& coldOf(const Pair& p) { return cold[pairIndex(p)]; }
+    const PairCold& coldOf(const Pair& p) const { return cold[pairIndex(p)]; }
+    Rule& ruleOf(const Pair& p) const { return *rules[p.rule]; }
+    /// The index of a rule (for Pair::rule); throws InputError beyond 65 535 rules.
+    uint16_t ruleIndex(const Rule* rule) const;
+
     Pair* pairByKey(ContactKey key);
     const Pair* pairByKey(ContactKey key) const;
     std::size_t pairIndex(const Pair& p) const {

@@ -18,7 +18,7 @@ std::string describePair(const World& world, const Pair& p) {
     } else {
         s += "ball " + std::to_string(world.bodies.balls.handle[p.end2]);
     }
-    s += " (model '" + (p.rule ? p.rule->model_name : std::string("?")) + "')";
+    s += " (model '" + world.contacts.ruleOf(p).model_name + "')";
     Vec2 n, point;
     double overlap;
     if (pairGeometry(world, p, n, overlap, point)) s += " at " + vecText(point);

@@ -38,6 +38,9 @@ struct StepLimits {
     void merge(const StepLimits& o);
 };
 
+/// Steps in contact the guard follows a contact for (docs/physics/guard.md).
+constexpr uint32_t kGuardWatch = 400;
+
 constexpr uint32_t kDeadSlot = 0xffffffffu;
 constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
 
@@ -60,7 +63,7 @@ private:
 
 /// An SDK law the host runs itself on a model's lane rows (force/kernels.hpp; docs/plugin-abi.md,
 /// "Kernels").
-enum class Kernel : uint8_t { None, Linear };
+enum class Kernel : uint8_t { None, Linear, ContactBond };
 
 /// How a rule's contacts run this step (force/loop.cpp): the model's law per contact; its lane
 /// law over blocks of contacts (m:lanes); or the host's kernel of its law, inline.
@@ -126,38 +129,57 @@ struct WallData {
 /// over a convex vertex of its chain moves, object and state, to the next segment's pair
 /// (step/detection.cpp, "wall vertices").
 ///
-/// The force loop streams through all pairs every step and is limited by memory traffic, so the
-/// data it needs at every step (128 bytes) is kept apart from the rest
-/// (PairCold, same index), which only the time-step, guard and energy variants of the loop, the
-/// queries and the bookkeeping touch.
+/// The force loop streams through all pairs every step and is limited by memory traffic, so a
+/// pair is split in two records of the same index: `Pair`, what the loop reads for every pair at
+/// every step (48 bytes), and `PairCold`, what the law through FDlaw, the time step, the guard,
+/// the energy books, the queries and the bookkeeping need. A contact whose law the host runs
+/// itself (a kernel, force/kernels.hpp) keeps its model's state in its rule's lanes and reads
+/// its cold record only while the guard watches it, with the automatic step, and with energy
+/// tracing.
 struct Pair {
     uint32_t end1 = 0;  // ball slot
     uint32_t end2 = 0;  // ball slot, or segment index when `wall`
-    bool wall = false;
-    bool active = false;
-    bool sliding = false;
-    bool bonded = false;
-    bool loading = false;  // guard: the overlap grew at the last step
-    uint32_t steps = 0;    // steps with positive overlap in this life
     // The contact's row in its rule's lanes (contact_lanes.hpp): while it has one, that row
     // holds the model's state and the object is out of date (syncLane).
     uint32_t lane = kNoLane;
-    Rule* rule = nullptr;
+    uint16_t rule = 0;  // index into ContactStore::rules
+    bool wall : 1;
+    bool active : 1;
+    bool sliding : 1;
+    bool bonded : 1;
+    bool loading : 1;  // guard: the overlap grew at the last step
+    bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::steps)
     ContactModel* model = nullptr;
-    double mass_eff = 0.0;
-    double inv_mass_eff_s = 0.0;  // FdBlock::inv_mass_eff_s, with the radii as lever arms
-    double activity = 0.0;
-    double n_force = 0.0, s_force = 0.0, moment = 0.0;
-    double overlap = 0.0;  // at the last FDlaw
-    double knest = 0.0, ksest = 0.0;
-    double work = 0.0, work_peak = 0.0;  // guard: energy the contact took in this life [J]
+    double n_force = 0.0, s_force = 0.0, moment = 0.0;  // the law's, of the last step
+
+    Pair()
+        : wall(false),
+          active(false),
+          sliding(false),
+          bonded(false),
+          loading(false),
+          watched(false) {}
 };
-static_assert(sizeof(Pair) == 128,
-              "Pair is 128 bytes: the force loop reads one per candidate pair per step "
+static_assert(sizeof(Pair) == 48,
+              "Pair is 48 bytes: the force loop reads one per candidate pair per step "
               "(docs/architecture.md quotes it)");
 
 struct PairCold {
-    // Guard, written at touch and at the deepest overlap (when the overlap stops growing).
+    // The law through FDlaw (first cache line).
+    double mass_eff = 0.0;
+    double inv_mass_eff_s = 0.0;  // FdBlock::inv_mass_eff_s, with the radii as lever arms
+    // Gap within which the contact is active [m], >= 0: its rule's before touch (the loop reads
+    // it there), its object's while active (a bond formed at a gap).
+    double activity = 0.0;
+    double knest = 0.0, ksest = 0.0, krest = 0.0;  // the law's estimates, of the last step
+    double duration = 0.0;  // expected contact duration from the model at touch [s]
+    uint64_t key = 0;
+    // The guard: its watch of the contact's first kGuardWatch steps.
+    double overlap = 0.0;  // at the last watched step
+    uint32_t steps = 0;    // steps with positive overlap in this life, up to kGuardWatch + 1
+    uint32_t rules_version = 0;
+    double work = 0.0, work_peak = 0.0;  // energy the contact took in this life [J]
+    // ... written at touch and at the deepest overlap (when the overlap stops growing).
     double overlap_max = 0.0;      // deepest overlap in this life [m]
     double force_at_max = 0.0;     // normal force there [N]
     double rate_at_max = 0.0;      // overlap rate just after it [m/s]
@@ -166,16 +188,10 @@ struct PairCold {
     double approach_rate = 0.0;    // u_dot_n at touch [m/s]
     double closure = 0.0;          // overlap the step's motion could create at touch [m]
     bool born_overlapped = false;  // first touched with more overlap than one step's approach
-    // The rest.
-    uint32_t rules_version = 0;
-    uint64_t key = 0;
-    double krest = 0.0;
-    double duration = 0.0;            // expected contact duration from the model at touch [s]
+    // Energy tracing.
     double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
-static_assert(sizeof(PairCold) == 104,
-              "PairCold is 104 bytes: read only by the time-step, guard and energy variants of the "
-              "loop (docs/architecture.md)");
+static_assert(sizeof(PairCold) == 176, "PairCold is 176 bytes (docs/architecture.md quotes it)");
 
 struct BallArrays {
     std::vector<Vec2> pos, vel, force, fapp;

@@ -15,6 +15,7 @@
 //    |- books       energy books (docs/physics/energy.md)
 //    |- guard_state the guard's aggregated findings (docs/physics/guard.md)
 //    |- callbacks   cycle hooks, events, warning and step observers
+//    |- trackers    per-body records taken every step                    (trackers.hpp)
 //    `- profile     time per phase
 #pragma once
 
@@ -30,6 +31,7 @@
 #include "talus/profile.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/trackers.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -77,6 +79,10 @@ struct Stepping {
     bool idle = false;              // the last step was idle: nothing moved or accelerated
     double cap = 0.0;               // solveTime: upper bound for the next step (0 = none)
     StepLimits limits;              // for the next automatic step, from the force loop
+    bool guard_was_on = true;       // the guard's per-contact checks ran at the last step
+    // The contacts' cold estimates (PairCold::knest, ksest) were not kept by the last force loop
+    // (a fixed step): the next survey asks the models.
+    bool estimates_stale = false;
 };
 
 /// Energy books (docs/physics/energy.md). Every energy sum of the model is accumulated here:
@@ -91,8 +97,19 @@ struct EnergyBooks {
     // impulse (its impulse spans the window around the force's time level).
     double dashpot_pending = 0.0;
     // Tracing was switched on while contacts were loaded: the next force loop books what they
-    // hold as initial_strain.
+    // hold as initial_strain. (Not set since the books open as `opening` says; kept for the
+    // force loop's path that reads it.)
     bool strain_baseline_pending = false;
+    // Tracing was just switched on (api/energy.cpp). The books open at a whole step where the
+    // kinetic energy and what the contacts hold are both known (law_of_motion.cpp, openBooks):
+    // 1: at the next snapshot (no contact was active); 2: at the one after, once the contacts'
+    // models have reported what they hold (the next snapshot waits: it books nothing).
+    // 0: open.
+    int opening = 0;
+    // What the last snapshot did with the impulses that span it: booked their part before it
+    // (Open), only the part after it (Opened: the books opened there), or nothing (Waiting: the
+    // books open at the next one; group_energy.cpp and the energy contract's check read it).
+    enum class Stage : uint8_t { Open, Opened, Waiting } stage = Stage::Open;
     // Placement energy of the contact the force loop just activated (notePlacement), for the
     // group shares.
     double last_placed = 0.0;
@@ -140,6 +157,17 @@ struct GuardState {
     double placed_energy = 0.0;
     std::string placed_first;
     bool warned_no_model = false;
+    // Contacts that gave back more than `energy_tolerance` of what they took, found at their
+    // end in the force loop; judged at the step's end against the scene's energy
+    // (bookkeeping.cpp, judgeEnergyGains), then cleared.
+    struct EnergyGain {
+        double gained = 0.0;  // [J]
+        std::string what;
+    };
+    std::vector<EnergyGain> energy_gains;
+    // Off while a routine overlaps bodies on purpose (Model::setPlacementWarning): contacts that
+    // start overlapping are booked as placement but not reported. Not saved (a run-time switch).
+    bool placement_warning = true;
     // Run-level balance check: the snapshot at the last check that passed (the window a finding
     // names opens there), the peak mechanical energy, and the error last reported (a finding is
     // reported again only when it grows by another tolerance).
@@ -187,6 +215,7 @@ struct World {
     EnergyBooks books;
     GuardState guard_state;
     Callbacks callbacks;
+    Trackers trackers;
     Profile profile;
 };
 

@@ -5,16 +5,14 @@ local E = {}
 
 --- A model for quasi-static work: the stability rule alone sets the step (the resolution rule
 --- is for impacts, docs/models/cbond.md "Time-step contract"), PFC local damping (Potyondy &
---- Cundall 2004: 0.7), the impact guards off (no impacts are resolved here), and the placement
---- warnings of radius expansion kept quiet unless verbose.
-function E.new_model(damp, verbose)
+--- Cundall 2004: 0.7) and the impact guards off (no impacts are resolved here). The engine's
+--- warnings are printed: a routine that overlaps bodies on purpose switches that warning off
+--- itself (m:placement_warning(false)) and says so.
+function E.new_model(damp)
     local m = talus.model{}
     m:timestep{ resolution = 0 }
     m:damping{ damp = damp or 0.7 }
     m:guard{ energy = "off", resolution = "off" }
-    m:on_warning(function(text)
-        if verbose then io.stderr:write("warning: ", text, "\n") end
-    end)
     return m
 end
 

@@ -93,7 +93,13 @@ function G.run(vessel, kind, o)
     -- over-stressed (~200 MPa) and is scaled down at once; its relaxation only has to be good
     -- enough for the first secant of step 2
     t0 = U.clock()
-    local m = E.new_model(o.damp, o.verbose)
+    local m = E.new_model(o.damp)
+    -- The genesis overlaps its bodies on purpose (the expansion grows them into each other,
+    -- the scaling and the floater step resize and move them): the engine's warning about
+    -- contacts that start overlapping is for mistakes, so it is off here, and said once.
+    m:placement_warning(false)
+    say("bodies are grown and moved into each other on purpose: the contacts that start " ..
+        "overlapping are booked as placement energy and not reported")
     m:contact_model("linear", { kn = o.kn, ks = o.ks, fric = 0 })
     vessel.build(m)
     kind:create(m, o.density, s)

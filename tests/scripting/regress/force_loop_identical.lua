@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- The force loop's ways of running give the same bits (docs/architecture.md, "Force
 -- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), the
+-- host's kernel of linear's law on its lane rows (`m:kernels`, docs/plugin-abi.md "Kernels"), the
 -- lanes (`m:lanes`: linear's lane law on host-owned state, docs/plugin-abi.md "Lanes"), and 1, 2
 -- or 3 threads (`m:threads`; 3 on a machine with 2 cores runs a thread more than there are
 -- cores, and grain 1 makes even this scene's few hundred pairs use them). One scene with what the
@@ -21,9 +22,10 @@ local T = require("testlib")
 -- energy: "groups" (traced, with groups), "off", "plain" (traced, a scene without groups:
 -- one contact rule with dashpots, every bond installed before the loose balls are made), or
 -- "bare" (off, and no clumps: the law of motion's plain loop, which threads share too)
-local function scene(batched, threads, energy, lanes)
+local function scene(batched, threads, energy, lanes, kernels)
     local m = talus.model{ gravity = {0, -9.81} }
     T.check(m:batched_law(batched) == batched, "m:batched_law(on) returns the setting")
+    T.check(m:kernels(kernels == true) == (kernels == true), "m:kernels(on) returns the setting")
     T.check(m:lanes(lanes == true) == (lanes == true), "m:lanes(on) returns the setting")
     T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
     m:on_warning(function() end)  -- guard findings of the pour are not this test's topic
@@ -120,25 +122,38 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
     T.check(ref_m:timestep().rule ~= "fixed", "automatic step")
     T.check(batchedLaws(ref_m) == 0, "m:batched_law(false): no batched call")
     for _, case in ipairs({{true, 1}, {true, 2}, {true, 3}, {false, 2}, {true, 1, true},
-                           {true, 2, true}, {true, 3, true}}) do
-        local batched, threads, lanes = case[1], case[2], case[3]
+                           {true, 2, true}, {true, 3, true}, {true, 1, false, true},
+                           {true, 2, false, true}, {true, 3, false, true},
+                           {false, 1, false, true}}) do
+        local batched, threads, lanes, kernels = case[1], case[2], case[3], case[4]
         local what = energy .. ", " .. (batched and "batched" or "per contact") ..
-                     (lanes and " with lanes" or "") .. ", " .. threads .. " thread(s)"
+                     (lanes and " with lanes" or "") .. (kernels and " with kernels" or "") ..
+                     ", " .. threads .. " thread(s)"
         local breaks
-        m, breaks = scene(batched, threads, energy, lanes)
+        m, breaks = scene(batched, threads, energy, lanes, kernels)
         local d, contacts = digest(m, energy)
-        -- The lanes ran linear's contacts (not with energy per group, by design), and some left
-        -- them for FDlaw (separations); the rest of the contacts went through the batch.
+        -- The lanes (or the kernels) ran linear's contacts, and some left them for FDlaw
+        -- (separations); the rest of the contacts went through the batch or FDlaw.
         local lane_steps, declined = m:profile():match("lane steps (%d+) %(declined (%d+)%)")
         lane_steps, declined = tonumber(lane_steps), tonumber(declined)
-        if lanes and energy ~= "groups" then
+        local kernel_steps, kernel_declined =
+            m:profile():match("kernel steps (%d+) %(declined (%d+)%)")
+        kernel_steps, kernel_declined = tonumber(kernel_steps), tonumber(kernel_declined)
+        if lanes then
             T.check(lane_steps > 10 * m:step() and declined > 0,
                     what .. ": lane steps " .. lane_steps .. " (declined " .. declined .. ") over " ..
                     m:step() .. " steps")
         else
             T.check(lane_steps == 0, what .. ": no lane steps (" .. lane_steps .. ")")
         end
-        if batched and not lanes then
+        if kernels and not lanes then
+            T.check(kernel_steps > 10 * m:step() and kernel_declined > 0,
+                    what .. ": kernel steps " .. kernel_steps .. " (declined " ..
+                    kernel_declined .. ") over " .. m:step() .. " steps")
+        else
+            T.check(kernel_steps == 0, what .. ": no kernel steps (" .. kernel_steps .. ")")
+        end
+        if batched and not lanes and not kernels then
             -- The pile settles into ~200 contacts, most of them linear: the batch was the usual
             -- path (at least ten contacts per step on average, over a run that starts in flight).
             T.check(batchedLaws(m) > 10 * m:step(),

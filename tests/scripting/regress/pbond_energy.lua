@@ -4,11 +4,15 @@
 -- the trial forces of the breaking step were never applied, so what it releases is
 -- F_old F_trial / (2k) per spring. With that booking the leapfrog balance closes to second
 -- order in the step; each scene checks |balance_error| against the throughput (the energy put
--- in). Measured (2026-11-24): tension 4.6e-8, bending 2e-16, shear 1.2e-10, ball-wall 4.8e-7,
--- impact with dashpots 6.3e-5 (the leapfrog's own bounded term, up to F^2 dt^2 / (8 m*) at the
--- bond's peak force, and the dashpots' corners). Bounds 1e-5 and 2e-4. Booking the trial
--- force's energy F_trial^2 / 2k as released instead (the defect cbond had) misses by
--- F_trial (F_trial - F_old) / 2k, here 1e-3 of the input and more: the 1e-5 bounds catch it.
+-- in). Tracing is switched on after the launch, while the bond is active, so the books open one
+-- step later, where its model has said what it holds (docs/physics/energy.md, "Switching
+-- tracing on"): the bond is stretched by then, and the balance keeps the leapfrog's bounded
+-- term of that instant (up to F^2 dt^2 / (8 m*), the same change a run traced from before shows
+-- from there: tests/core/test_energy.cpp). Measured (2026-11-28): tension 1.3e-5, bending
+-- 5.9e-6, shear 1.0e-5 (fjoint_energy.lua's tension: 1.6e-7 at resolution 90, the launch's
+-- one-step transient falling as dt^4), ball-wall 4.8e-7, impact with dashpots 1.5e-3 (below). Bounds 3e-5 and 3e-3. Booking the
+-- trial force's energy F_trial^2 / 2k as released instead (the defect cbond had) misses by
+-- F_trial (F_trial - F_old) / 2k, here 1e-3 of the input and more: the 3e-5 bounds catch it.
 -- The impact bonds at touch (a rule with bonded = 1), and since the crossing fix (pbond_crossing
 -- .lua) such a bond pays the onset corner of its force ramp, k du / 8 on its first step; the
 -- trapezoidal balance does not see that impulse correction (as for `linear`'s corners), so the
@@ -65,7 +69,7 @@ do
     local m, a, b = pair()
     a.vel = {-0.5, 0}
     b.vel = {0.5, 0}
-    run(m, "tension", "tension", 1e-5)
+    run(m, "tension", "tension", 3e-5)
 end
 
 -- 2. Pure bending: opposite spins (no slip at the contact point); the periphery fails in
@@ -74,7 +78,7 @@ do
     local m, a, b = pair()
     a.spin = -60
     b.spin = 60
-    run(m, "bending", "tension", 1e-5)
+    run(m, "bending", "tension", 3e-5)
 end
 
 -- 3. Shear: opposite tangential velocities; the bond shears (and the balls turn), then the
@@ -83,7 +87,7 @@ do
     local m, a, b = pair{ pb_ten = 1e8 }
     a.vel = {0, -2}
     b.vel = {0, 2}
-    run(m, "shear", "shear", 1e-5)
+    run(m, "shear", "shear", 3e-5)
 end
 
 -- 4. A ball bonded to a wall by setting `bonded` on its contact (the m:bond path), with
@@ -103,7 +107,7 @@ do
     end
     T.check(n == 1, "one ball-wall contact")
     b.vel = {0.3, 1.0}
-    run(m, "ball-wall", "tension", 1e-5)
+    run(m, "ball-wall", "tension", 3e-5)
 end
 
 -- 5. Dashpots on the linear part: a ball hits a wall at 1 m/s, bonds at its first touch

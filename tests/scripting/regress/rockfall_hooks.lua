@@ -51,6 +51,16 @@ if pvd then
     T.check(frames == 1 + rec.steps // 200, "a frame every 200 steps (" .. frames .. ")")
 end
 
+-- The hooks may save the model: run_rock's engine tracker (which a save refuses) is made after
+-- on_model and cleared before on_end, once its records are read.
+local saved = {}
+local ok_save, why = pcall(rockfall.run_rock, an, 1, {
+    on_model = function(m) m:save(out .. "/rock1_start.talus"); saved.start = m:step() end,
+    on_end = function(m) m:save(out .. "/rock1_end.talus"); saved.finish = m:step() end,
+})
+T.check(ok_save and saved.start == 0 and saved.finish == rec.steps,
+    "on_model and on_end may save the model (" .. tostring(why) .. ")")
+
 -- A mass release: one model with every rock, an animation of it.
 local mass_info, mass_end
 local recs = rockfall.mass_release(an, { n = 3,

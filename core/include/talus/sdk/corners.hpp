@@ -44,6 +44,28 @@ inline double springClosingCorrection(double k, double rate, double dt, double f
     return 0.5 * k * std::fabs(rate) * dt * x * x;
 }
 
+/// Separation of a spring whose force is updated incrementally (F <- max(0, F + k du)): from its
+/// value `force` at the last contact step it runs on at k `rate` (`rate` the overlap rate, < 0
+/// while separating) up to separation, a fraction `frac` of a step later (closingFraction), or
+/// to zero before that. Such a force need not reach zero where the overlap does (a normal that
+/// turned, a clip at zero on the way); where it does, this is the absolute spring's corner.
+struct IncrementalClosing {
+    double corner = 0.0;  ///< its integral from the end of the last window on, as a force over
+                          ///< the step after the last contact step [N] (a finite force's corner)
+    double left = 0.0;    ///< energy of the force still there at separation, F^2 / (2k) [J]
+};
+inline IncrementalClosing incrementalClosing(double force, double k, double rate, double dt,
+                                             double frac) {
+    IncrementalClosing c;
+    if (!(k > 0.0) || !(force > 0.0)) return c;
+    const double slope = k * rate * dt;  // the force's change over a step
+    const double end = force + slope * frac < 0.0 ? -force / slope : frac;  // zero before?
+    c.corner = force * (end - 0.5) + 0.5 * slope * (end * end - 0.25);
+    const double at_end = std::max(0.0, force + slope * end);
+    c.left = 0.5 * at_end * at_end / k;
+    return c;
+}
+
 /// Forces to add at a corner of the linear law's elastic part (normal spring, shear spring
 /// with a Coulomb slider), along n and t.
 struct Corners {

@@ -105,11 +105,13 @@ public:
     /// The linear law's forces (n, s) and, with energy tracing on, its strain, slip and dashpot
     /// energies, without writing them to fd (it sets kFdSliding). `incremental` is PFC's
     /// lin_mode 1: the normal force is updated by kn du_n from its last value (no tension) and
-    /// need not come down to zero where the overlap does, so no normal corner is paid at
-    /// separation; `linear` and `rrlinear` use the absolute form kn u_n.
+    /// need not come down to zero where the overlap does: at separation it is paid the corner of
+    /// a force that runs on at kn u_dot_n from its last value (incrementalClosing), and what it
+    /// still holds there is released; `linear` and `rrlinear` use the absolute form kn u_n.
     struct Forces {
         double fn = 0.0, fs = 0.0;
         double strain = 0.0, slip = 0.0, dash = 0.0;
+        double released = 0.0;  // incremental normal force let go at separation [J]
         Step step;
     };
     /// (Fd: FdBlock, or LaneFd for the lane law: the same code either way.)
@@ -129,13 +131,24 @@ public:
             // Separated. Pay what the last contact step owed for the part of the step the
             // contact lasted beyond (or fell short of) the step's centre (talus/sdk/dashpot.hpp):
             // the dashpots and the shear spring act until separation; the normal spring's force
-            // falls to zero there (a corner). With the no-tension limit and a normal dashpot the
-            // normal force had already reached zero before the overlap did: nothing is owed.
+            // falls to zero there (a corner), or, incremental, runs on from its last value to
+            // separation (the corner of a finite force; what it holds there is released: until
+            // 2026-11-28 neither was paid nor booked, and a ball bouncing on pbond with lin_mode 1
+            // lost 1e-3 of its throughput unbooked). With the no-tension limit and a normal
+            // dashpot the normal force had already reached zero before the overlap did: nothing
+            // is owed.
             if (touching_) {
                 const double frac = closingFraction(last_overlap_, fd.u_n);
-                const bool normal_corner = !incremental && (!noTension() || cn_ <= 0.0);
-                const Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd,
-                                                       frac, normal_corner);
+                const bool normal_corner = !noTension() || cn_ <= 0.0;
+                Corners k = linearClosingCorners(kn, ks, fric, lin_fs, lin_slip == 1.0, fd, frac,
+                                                 normal_corner && !incremental);
+                if (incremental && normal_corner) {
+                    const IncrementalClosing c =
+                        incrementalClosing(lin_fn, kn, fd.u_dot_n, fd.tdel, frac);
+                    k.normal = c.corner;
+                    if (lin_slip == 1.0) k.shear = std::copysign(fric * c.corner, lin_fs);
+                    out.released = c.left;
+                }
                 const double dn = normal_corner
                                       ? dashpotClosingForce(cn_, fd.u_dot_n, last_overlap_, fd.u_n)
                                       : 0.0;

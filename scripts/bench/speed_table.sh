@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# The current speed table of docs/benchmarks.md: the dense pack (10 000 and 50 000 disks, the
+# settled states of scripts/bench/dense_pack.sh) run interleaved in one session by
+#   Talus    1 thread (energy off, guard on), energy on, energy on with 8 groups, guard off,
+#            2 threads
+#   LAMMPS   1 and 2 MPI ranks (gran/hooke/history, scripts/bench/lammps/in.dense_pack)
+#   a plain  1 and 2 threads, when TALUS_BENCH_KERNEL names a plain-array DEM kernel's source
+#   kernel   (same scene and physics; compiled here with g++ -O3 -fopenmp)
+# and prints the minimum of each over the repeats (ns per particle-step) with the ratios the
+# page quotes. Speed varies by tens of percent between sessions on a shared machine: compare
+# within one run of this script, never across runs.
+#
+#   scripts/bench/dense_pack.sh                      # once: builds and caches the states
+#   TALUS_BENCH_REPEATS=3 scripts/bench/speed_table.sh
+#
+# Settings (environment): TALUS_BENCH_BUILD (build-bench), TALUS_BENCH_REPEATS (3),
+# TALUS_BENCH_WARMUP (300), TALUS_BENCH_SIZES ("10000 50000"), TALUS_BENCH_KERNEL (a .cpp),
+# TALUS_BENCH_RAW (the raw lines, default $build/bench-cache/speed-<session>.txt).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${TALUS_BENCH_BUILD:-build-bench}
+repeats=${TALUS_BENCH_REPEATS:-3}
+warmup=${TALUS_BENCH_WARMUP:-300}
+sizes=${TALUS_BENCH_SIZES:-"10000 50000"}
+bench=$build/tests/bench/talus_bench_dense_pack
+cache=$build/bench-cache
+[[ -x $bench ]] || { echo "no $bench: run scripts/bench/dense_pack.sh first" >&2; exit 1; }
+export TALUS_PLUGIN_PATH=$build/plugins
+session=$(date -u +%Y%m%dT%H%M%SZ)
+raw=${TALUS_BENCH_RAW:-$cache/speed-$session.txt}
+kernel=""
+if [[ -n ${TALUS_BENCH_KERNEL:-} ]]; then
+    kernel=$cache/plain_kernel
+    g++ -O3 -fopenmp -o "$kernel" "$TALUS_BENCH_KERNEL"
+fi
+root_flag=()
+[[ $(id -u) == 0 ]] && root_flag=(--allow-run-as-root)
+steps_of() { [[ $1 == 50000 ]] && echo 600 || echo 2000; }
+note() { echo "$*" | tee -a "$raw"; }
+
+echo "speed table, session $session; cpu: $(lscpu | sed -n 's/^Model name: *//p' | head -1)," \
+     "$(nproc) cpus; talus $(git describe --always --dirty 2>/dev/null)" | tee "$raw"
+for rep in $(seq 1 "$repeats"); do
+    for n in $sizes; do
+        steps=$(steps_of "$n")
+        state=$cache/state_n${n}_seed1.txt
+        [[ -f $state ]] || { echo "no settled state for $n (dense_pack.sh)" >&2; exit 1; }
+        for variant in "1 off" "1 on" "1 groups" "1 guardoff" "2 off"; do
+            read -r th what <<<"$variant"
+            extra=()
+            case $what in
+                on) extra=(--energy on) ;;
+                groups) extra=(--energy on --groups 8) ;;
+                guardoff) extra=(--guard off) ;;
+            esac
+            r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th OMP_WAIT_POLICY=passive "$bench" "$n" \
+                "$steps" sorted --state "$state" --warmup "$warmup" --no-profile "${extra[@]}" \
+                2>&1 | grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
+            note "rep=$rep n=$n code=talus threads=$th variant=$what ns=$r"
+        done
+        for np in 1 2; do
+            log=$(mktemp)
+            args=(-in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data"
+                  -var steps "$steps" -var warmup "$warmup" -log "$log" -screen none)
+            if [[ $np == 1 ]]; then
+                OMP_NUM_THREADS=1 lmp "${args[@]}"
+            else
+                OMP_NUM_THREADS=1 mpirun "${root_flag[@]}" -n 2 --bind-to none lmp "${args[@]}"
+            fi
+            r=$(python3 scripts/bench/dense_pack_report.py lammps-log "$log" "$n" |
+                grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
+            rm -f "$log"
+            note "rep=$rep n=$n code=lammps threads=$np variant=off ns=$r"
+        done
+        if [[ -n $kernel ]]; then
+            for th in 1 2; do
+                r=$(OMP_NUM_THREADS=$th "$kernel" "$state" "$steps" "$warmup" |
+                    sed -n 's/.*ns_per_particle_step \([0-9.]*\).*/\1/p')
+                note "rep=$rep n=$n code=kernel threads=$th variant=off ns=$r"
+            done
+        fi
+    done
+done
+python3 - "$raw" <<'EOF'
+import re, sys
+best = {}
+for line in open(sys.argv[1]):
+    m = dict(re.findall(r"(\w+)=(\S+)", line))
+    if "ns" not in m or not m["ns"]:
+        continue
+    key = (int(m["n"]), m["code"], int(m["threads"]), m["variant"])
+    best[key] = min(best.get(key, float("inf")), float(m["ns"]))
+print("\nminimum ns per particle-step (ratios within this session)\n")
+print("| | " + " | ".join(f"{n // 1000}k" for n in sorted({k[0] for k in best})) + " |")
+print("|---|" + "---|" * len({k[0] for k in best}))
+rows = [("Talus, 1 thread", ("talus", 1, "off")), ("Talus, energy on", ("talus", 1, "on")),
+        ("Talus, energy on, 8 groups", ("talus", 1, "groups")),
+        ("Talus, guard off", ("talus", 1, "guardoff")), ("Talus, 2 threads", ("talus", 2, "off")),
+        ("LAMMPS, 1 rank", ("lammps", 1, "off")), ("LAMMPS, 2 ranks", ("lammps", 2, "off")),
+        ("plain kernel, 1 thread", ("kernel", 1, "off")),
+        ("plain kernel, 2 threads", ("kernel", 2, "off"))]
+sizes = sorted({k[0] for k in best})
+for label, (code, th, var) in rows:
+    if not any((n, code, th, var) in best for n in sizes):
+        continue
+    print(f"| {label} | " + " | ".join(f"{best.get((n, code, th, var), float('nan')):.1f}"
+                                       for n in sizes) + " |")
+print()
+for n in sizes:
+    g = lambda c, t, v: best.get((n, c, t, v), float("nan"))
+    t1 = g("talus", 1, "off")
+    print(f"{n}: Talus/LAMMPS {t1 / g('lammps', 1, 'off'):.2f}; energy on +{100 * (g('talus', 1, 'on') / t1 - 1):.0f}%; "
+          f"8 groups +{100 * (g('talus', 1, 'groups') / t1 - 1):.0f}%; guard on "
+          f"+{100 * (t1 / g('talus', 1, 'guardoff') - 1):.0f}%; 2 threads {t1 / g('talus', 2, 'off'):.2f}x "
+          f"(LAMMPS {g('lammps', 1, 'off') / g('lammps', 2, 'off'):.2f}x, "
+          f"kernel {g('kernel', 1, 'off') / g('kernel', 2, 'off'):.2f}x)")
+EOF
+echo "raw runs: $raw"
