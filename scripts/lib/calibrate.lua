@@ -22,6 +22,11 @@
 --   C.fit_linear_dp_nratio{...}  linear's damping ratio for a restitution (rig and closed form)
 --   C.follow{...}                what a fixed parameter set gives over a table (auto exp modes)
 --   C.runout_rig{...}, C.fit_runout{...}  a property (rrlinear's rr_fric, ...) from a run-out
+--   C.nelder_mead(f, x0, step, opts)  the simplex minimiser fit_lsq uses
+--   C.design(p)                  a two-level fractional factorial design with a centre point
+--   C.fit_targets{...}           several parameters to several targets at once: a design, then
+--                                power-law response surfaces in a trust region (expensive,
+--                                noisy evaluations such as laboratory tests on a DEM specimen)
 --   C.print_table(rows, cols), C.write_csv(file, rows, cols [, number_format])
 
 local C = {}
@@ -308,8 +313,10 @@ function C.fit_param(spec)
     return rows
 end
 
--- Nelder-Mead simplex minimiser (own code) for a few parameters; x is a list.
-local function nelder_mead(f, x0, step, opts)
+--- Nelder-Mead simplex minimiser (own code) for a few parameters: x0 a list, step the initial
+--- simplex's offsets along each axis; opts max_iter (200), ftol (1e-10, relative spread of the
+--- simplex's values). Returns x, f(x), iterations.
+function C.nelder_mead(f, x0, step, opts)
     local n = #x0
     local pts, vals = { x0 }, { f(x0) }
     for i = 1, n do
@@ -400,7 +407,7 @@ function C.fit_lsq(spec)
         x0[j] = math.log(d.start or math.sqrt(d.lo * d.hi))
         step[j] = 0.25 * (math.log(d.hi) - math.log(d.lo))
     end
-    local best, val, it = nelder_mead(cost, x0, step, { max_iter = spec.max_iter or 150 })
+    local best, val, it = C.nelder_mead(cost, x0, step, { max_iter = spec.max_iter or 150 })
     local p = props_of(best)
     local out = { values = {}, rms = math.sqrt(val / #vs), rows = {}, evaluations = evals,
         iterations = it }
@@ -449,6 +456,307 @@ function C.follow(spec)
             note = (not ok) and tostring(e) or nil, info = ok and info or nil }
     end
     return rows
+end
+
+-- ------------------------------------------------------------------ several targets at once
+
+--- A two-level fractional factorial design for p factors, with a centre point: 2^q runs, q the
+--- smallest with 2^q >= p + 2 (at least one degree of freedom beyond a first-order model with
+--- its centre); the columns are the q base factors, then products of 3, 5, ... of them (so a
+--- main effect is aliased with no two-factor interaction while p <= 2^(q-1): resolution IV),
+--- then products of 2, 4, ... (resolution III beyond). Returns the list of points in
+--- {-1, 0, +1}^p, the centre {0, ..., 0} first. Columns are orthogonal and balanced, so a
+--- first-order least-squares fit on them estimates each main effect independently.
+function C.design(p)
+    assert(math.type(p) == "integer" and p >= 1 and p <= 15, "calibrate.design: p must be an integer in [1, 15]")
+    local q = 1
+    while 2 ^ q < p + 2 do q = q + 1 end
+    local subsets = {}
+    for mask = 1, 2 ^ q - 1 do
+        local size = 0
+        for j = 0, q - 1 do if mask & (1 << j) ~= 0 then size = size + 1 end end
+        subsets[#subsets + 1] = { mask = mask, size = size }
+    end
+    -- odd sizes first (1, 3, 5, ...), then even (2, 4, ...); within a size by mask
+    table.sort(subsets, function(a, b)
+        local ao, bo = a.size % 2, b.size % 2
+        if ao ~= bo then return ao > bo end
+        if a.size ~= b.size then return a.size < b.size end
+        return a.mask < b.mask
+    end)
+    local pts = { {} }
+    for j = 1, p do pts[1][j] = 0 end
+    for run = 0, 2 ^ q - 1 do
+        local x = {}
+        for j = 1, p do
+            local mask, v = subsets[j].mask, 1
+            for b = 0, q - 1 do
+                if mask & (1 << b) ~= 0 and run & (1 << b) == 0 then v = -v end
+            end
+            x[j] = v
+        end
+        pts[#pts + 1] = x
+    end
+    return pts
+end
+
+-- Solves the n x n system A x = b (Gaussian elimination with partial pivoting); nil when A is
+-- singular to working precision.
+local function solve_linear(A, b)
+    local n = #b
+    local M = {}
+    for i = 1, n do
+        M[i] = {}
+        for j = 1, n do M[i][j] = A[i][j] end
+        M[i][n + 1] = b[i]
+    end
+    for k = 1, n do
+        local piv = k
+        for i = k + 1, n do if math.abs(M[i][k]) > math.abs(M[piv][k]) then piv = i end end
+        if M[piv][k] == 0 then return nil end
+        M[k], M[piv] = M[piv], M[k]
+        for i = k + 1, n do
+            local f = M[i][k] / M[k][k]
+            for j = k, n + 1 do M[i][j] = M[i][j] - f * M[k][j] end
+        end
+    end
+    local x = {}
+    for i = n, 1, -1 do
+        local s = M[i][n + 1]
+        for j = i + 1, n do s = s - M[i][j] * x[j] end
+        x[i] = s / M[i][i]
+    end
+    return x
+end
+
+--- Weighted linear least squares: the coefficients beta minimising sum_i w_i (y_i - X_i beta)^2
+--- (normal equations; `ridge` adds ridge * trace/n to the diagonal, default 1e-10, so a design
+--- that leaves a coefficient undetermined gives a small one instead of failing).
+function C.lsq(X, y, w, ridge)
+    local n, m = #X, #X[1]
+    local A, b = {}, {}
+    for j = 1, m do
+        A[j], b[j] = {}, 0
+        for k = 1, m do A[j][k] = 0 end
+    end
+    for i = 1, n do
+        local wi = w and w[i] or 1
+        for j = 1, m do
+            b[j] = b[j] + wi * X[i][j] * y[i]
+            for k = 1, m do A[j][k] = A[j][k] + wi * X[i][j] * X[i][k] end
+        end
+    end
+    local tr = 0
+    for j = 1, m do tr = tr + A[j][j] end
+    for j = 1, m do A[j][j] = A[j][j] + (ridge or 1e-10) * tr / m end
+    return solve_linear(A, b)
+end
+
+local kTargetsKnown = { params = true, targets = true, evaluate = true, budget = true, radius = true,
+    min_radius = true, max_radius = true, design = true, on_point = true }
+
+--- Fits p parameters to several targets at once, for expensive and noisy evaluations (a DEM
+--- material's laboratory tests): a design of experiments, then power-law response surfaces
+--- fitted in log space and minimised in a trust region, each step evaluated and the surfaces
+--- refitted (docs/material.md, "Calibration against several targets").
+---
+--- spec:
+---   params  = {{name =, lo =, hi =, start =, spread =}, ...}: searched in s = ln x within
+---             [ln lo, ln hi] (0 < lo < hi), from start (default sqrt(lo hi)); spread = the
+---             design's half-width in ln x (default 0.35: x e^{+-0.35}, about x1.4)
+---   targets = {{name =, value =, weight = 1, tol = 0.05}, ...}: the outputs wanted (> 0); the
+---             misfit is F = sum_j weight_j ln(y_j / value_j)^2; a target is met when
+---             |y_j / value_j - 1| <= tol_j
+---   evaluate(points, batch) -> a list of outputs, one table {name = y} per point (nil, or a
+---             missing or non-positive y: the point failed). points = {{name = x}, ...}; batch
+---             counts the calls from 1 (a name for a checkpoint: the calls are the same on a
+---             rerun, as the method is deterministic given the outputs)
+---   budget  = the number of points evaluated at most (default design + 3 p)
+---   radius  = the first trust radius, in spreads (default 2); min_radius (0.1), max_radius (4)
+---   design  = a list of points in spreads (default C.design(p): the centre and a fractional
+---             factorial at +-1 spread)
+---   on_point(row): called after each evaluated point (progress, a report)
+---
+--- The method. (1) The design is evaluated in one batch. (2) Each output is fitted as a power
+--- law of the parameters, ln y_j = a_j + sum_k b_jk u_k (u = (s - s_c) / spread, about the
+--- best point so far s_c), by weighted least squares, the points weighted by a Gaussian of their
+--- distance from s_c with a width of twice the trust radius (far points count less as the
+--- search closes in). (3) The surfaces' misfit is minimised (Nelder-Mead) over u within the
+--- bounds and |u_k| <= radius. (4) That point is evaluated; if it lowers the misfit it becomes
+--- the best point and a step that reached the trust region's edge doubles the radius, else the
+--- radius halves. It stops when every target is met at the best point ("targets"), when the
+--- budget is spent ("budget"), or when the radius falls below min_radius ("radius").
+---
+--- Returns { best = row, rows = {row, ...}, stop, evaluations, elasticities = {[target] =
+--- {[param] = b}} (the last surfaces' d ln y / d ln x) }; a row = { index, batch, phase =
+--- "design" | "step", params = {name = x}, out = {name = y}, misfit, met (every target met),
+--- predicted (the surfaces' misfit there, steps only), radius }.
+function C.fit_targets(spec)
+    for k in pairs(spec) do
+        if not kTargetsKnown[k] then error("calibrate.fit_targets: unknown option '" .. tostring(k) .. "'", 2) end
+    end
+    local params, targets, evaluate = spec.params, spec.targets, spec.evaluate
+    if type(params) ~= "table" or #params == 0 then error("calibrate.fit_targets: 'params' must be a non-empty list", 2) end
+    if type(targets) ~= "table" or #targets == 0 then error("calibrate.fit_targets: 'targets' must be a non-empty list", 2) end
+    if type(evaluate) ~= "function" then error("calibrate.fit_targets: 'evaluate' must be a function", 2) end
+    local p, nt = #params, #targets
+    local s0, spread, ulo, uhi = {}, {}, {}, {}
+    for k, d in ipairs(params) do
+        if type(d.name) ~= "string" or type(d.lo) ~= "number" or type(d.hi) ~= "number" or not (d.lo > 0 and d.hi > d.lo) then
+            error(string.format("calibrate.fit_targets: params[%d] needs a name and 0 < lo < hi", k), 2)
+        end
+        local start = d.start or math.sqrt(d.lo * d.hi)
+        if not (start >= d.lo and start <= d.hi) then
+            error(string.format("calibrate.fit_targets: params[%d] ('%s'): start %g is outside [%g, %g]", k, d.name,
+                start, d.lo, d.hi), 2)
+        end
+        s0[k], spread[k] = math.log(start), d.spread or 0.35
+        ulo[k], uhi[k] = (math.log(d.lo) - s0[k]) / spread[k], (math.log(d.hi) - s0[k]) / spread[k]
+    end
+    for j, t in ipairs(targets) do
+        if type(t.name) ~= "string" or type(t.value) ~= "number" or not (t.value > 0) then
+            error(string.format("calibrate.fit_targets: targets[%d] needs a name and a value > 0", j), 2)
+        end
+    end
+    local design = spec.design or C.design(p)
+    local budget = spec.budget or (#design + 3 * p)
+    local radius, rmin, rmax = spec.radius or 2, spec.min_radius or 0.1, spec.max_radius or 4
+    local rows, batch = {}, 0
+    local function clamp_u(u)
+        local v = {}
+        for k = 1, p do v[k] = math.min(uhi[k], math.max(ulo[k], u[k])) end
+        return v
+    end
+    local function params_of(u)
+        local x = {}
+        for k, d in ipairs(params) do x[d.name] = math.exp(s0[k] + spread[k] * u[k]) end
+        return x
+    end
+    local function misfit_of(out)
+        if type(out) ~= "table" then return math.huge, false end
+        local F, met = 0, true
+        for _, t in ipairs(targets) do
+            local y = out[t.name]
+            if type(y) ~= "number" or not (y > 0) or y == math.huge then return math.huge, false end
+            F = F + (t.weight or 1) * math.log(y / t.value) ^ 2
+            if math.abs(y / t.value - 1) > (t.tol or 0.05) then met = false end
+        end
+        return F, met
+    end
+    local function run(us, phase)
+        batch = batch + 1
+        local pts = {}
+        for i, u in ipairs(us) do pts[i] = params_of(u) end
+        local outs = evaluate(pts, batch)
+        if type(outs) ~= "table" then error("calibrate.fit_targets: evaluate must return a list of outputs", 2) end
+        local new = {}
+        for i, u in ipairs(us) do
+            local F, met = misfit_of(outs[i])
+            local row = { index = #rows + 1, batch = batch, phase = phase, u = u, params = pts[i], out = outs[i],
+                          misfit = F, met = met, radius = radius }
+            rows[#rows + 1] = row
+            new[#new + 1] = row
+            if spec.on_point then spec.on_point(row) end
+        end
+        return new
+    end
+    local function best_row()
+        local b
+        for _, r in ipairs(rows) do
+            if not b or r.misfit < b.misfit then b = r end
+        end
+        return b
+    end
+    -- (1) the design, about the start, clamped to the bounds
+    local dus = {}
+    for i, d in ipairs(design) do
+        if i > budget then break end
+        dus[i] = clamp_u(d)
+    end
+    run(dus, "design")
+    local stop = "budget"
+    local surf -- the last surfaces: a[j], b[j][k] about uc
+    local function fit_surfaces(uc)
+        local X, w, ok = {}, {}, {}
+        for _, r in ipairs(rows) do
+            if r.misfit < math.huge then
+                local x, d2 = { 1 }, 0
+                for k = 1, p do x[k + 1] = r.u[k] - uc[k]; d2 = d2 + x[k + 1] ^ 2 end
+                X[#X + 1] = x
+                w[#w + 1] = math.max(1e-3, math.exp(-0.5 * d2 / (2 * radius) ^ 2))
+                ok[#ok + 1] = r
+            end
+        end
+        if #X < p + 1 then return nil end
+        local s = { a = {}, b = {}, uc = uc }
+        for j, t in ipairs(targets) do
+            local y = {}
+            for i, r in ipairs(ok) do y[i] = math.log(r.out[t.name]) end
+            local beta = C.lsq(X, y, w)
+            if not beta then return nil end
+            s.a[j], s.b[j] = beta[1], {}
+            for k = 1, p do s.b[j][k] = beta[k + 1] end
+        end
+        return s
+    end
+    local function predicted(s, u)
+        local F = 0
+        for j, t in ipairs(targets) do
+            local ly = s.a[j]
+            for k = 1, p do ly = ly + s.b[j][k] * (u[k] - s.uc[k]) end
+            F = F + (t.weight or 1) * (ly - math.log(t.value)) ^ 2
+        end
+        return F
+    end
+    while true do
+        local best = best_row()
+        if best.met then stop = "targets"; break end
+        if #rows >= budget then stop = "budget"; break end
+        if radius < rmin then stop = "radius"; break end
+        local uc = best.u
+        surf = fit_surfaces(uc)
+        if not surf then stop = "failed"; break end
+        -- (3) the surfaces' minimum within the bounds and the trust region (a point outside is
+        -- taken to the nearest inside, so the minimiser sees a continuous function)
+        local function inside(v)
+            local w = {}
+            for k = 1, p do
+                w[k] = math.min(uhi[k], math.max(ulo[k], math.min(uc[k] + radius, math.max(uc[k] - radius, v[k]))))
+            end
+            return w
+        end
+        local function fhat(v) return predicted(surf, inside(v)) end
+        local step = {}
+        for k = 1, p do step[k] = 0.5 * radius end
+        local ustar = uc
+        for _ = 1, 3 do -- restarts from the last minimum: a simplex may collapse on a bound
+            local x = C.nelder_mead(fhat, ustar, step, { max_iter = 2000, ftol = 1e-14 })
+            ustar = inside(x)
+        end
+        local moved = 0
+        for k = 1, p do moved = math.max(moved, math.abs(ustar[k] - uc[k])) end
+        local fpred = predicted(surf, ustar)
+        if moved < 1e-6 or fpred >= predicted(surf, uc) then
+            -- the surfaces see no better point here: look closer
+            radius = 0.5 * radius
+        else
+            local r = run({ ustar }, "step")[1]
+            r.predicted = fpred
+            if r.misfit < best.misfit then
+                if moved >= 0.9 * radius then radius = math.min(rmax, 2 * radius) end
+            else
+                radius = 0.5 * radius
+            end
+        end
+    end
+    local out = { best = best_row(), rows = rows, stop = stop, evaluations = #rows, elasticities = {} }
+    if surf then
+        for j, t in ipairs(targets) do
+            out.elasticities[t.name] = {}
+            for k, d in ipairs(params) do out.elasticities[t.name][d.name] = surf.b[j][k] / spread[k] end
+        end
+    end
+    return out
 end
 
 -- ------------------------------------------------------------------ run-out

@@ -14,12 +14,14 @@ local S = {}
 --- within `gap` between two different bodies (balls or clumps), then relaxed to the ratio.
 --- mat = { model = "cbond"|"pbond"|..., kn, ks, fric, density, bond = {props of the bond
 ---         model, each a number or {mean, sd, dist}}, platen = {kn, ks, fric} (default: kn,
----         ks of the material, fric 0), damp (0.7), gap (default 1e-3 rmin), seed }
+---         ks of the material, fric 0), damp (0.7), gap (default 1e-3 rmin), seed, slit =
+---         {fraction, gap} (a flat joint's slit interfaces, S.install_slits) }
 --- opts = { sides = false, balls = {indices} (a subset, e.g. a disk), relax_ratio = 1e-4,
 ---          energy = true, clumps = true (false: the packing's grains stay single balls),
 ---          jaws = "curved" | "flat" (a disk of M.disk only; default "curved": the Brazilian
 ---          loading walls, see M.make_jaws), jaw_angle, jaw_segments (M.make_jaws) }
---- sp.balls lists every ball (pebbles too), sp.clumps the clumps.
+--- sp.balls lists every ball (pebbles too), sp.clumps the clumps, sp.bonds the bonds installed
+--- and sp.slits how many of them are slit.
 function S.specimen(pk, mat, opts)
     opts = opts or {}
     local t0 = U.clock()
@@ -117,7 +119,7 @@ function S.specimen(pk, mat, opts)
     m:cycle(1)
     m:placement_warning(placement)
     local gap = mat.gap or 1e-3 * (pk.rmin or 1e-3)
-    sp.bonds = S.install_bonds(m, mat, gap)
+    sp.bonds, sp.slits = S.install_bonds(m, mat, gap)
     sp.timing.bond = U.clock() - t0
     t0 = U.clock()
     -- the ratio judged every 50 steps, the step held (E.hold_step, re-held every 1 000 steps)
@@ -132,7 +134,8 @@ end
 --- "rock" and the near-contacts within `gap` (m:bond, reset = true: a stress-free start, PFC
 --- practice; mat.reset = false keeps the forces). The material's kn, ks and fric go to the bond
 --- model only if it has them (the linear part of cbond and pbond; a flat joint has its own).
---- Returns the number of bonds.
+--- With mat.slit (a flat joint), a fraction of them are then made slit (S.install_slits).
+--- Returns the number of bonds (slit ones included) and of slit interfaces.
 function S.install_bonds(m, mat, gap)
     local model = mat.model or "cbond"
     local has = {}
@@ -142,8 +145,48 @@ function S.install_bonds(m, mat, gap)
     if has.ks then props.ks = mat.ks or mat.kn end
     if has.fric then props.fric = mat.fric or 0 end
     for k, v in pairs(mat.bond or {}) do props[k] = v end
-    return m:bond{ model = model, props = props, group = "rock", gap = gap, seed = mat.seed or 1,
-                   reset = mat.reset ~= false }
+    local n = m:bond{ model = model, props = props, group = "rock", gap = gap, seed = mat.seed or 1,
+                      reset = mat.reset ~= false }
+    local slits = mat.slit and S.install_slits(m, mat, has) or 0
+    return n, slits
+end
+
+--- A flat-jointed material's slit interfaces (Potyondy 2012: a share of the interfaces installed
+--- unbonded, optionally open by a gap, lowers the tensile strength far more than the compressive
+--- one): mat.slit = { fraction = f, gap = g (m, default 0) } reinstalls a fraction f of the
+--- bonded interfaces, drawn with mat.seed in the order of their balls' ids, as slit (fj_mtype 2,
+--- fj_gap0 = g: unbonded, force-free, open by g). Right after m:bond with reset the interfaces
+--- hold no force, so nothing is released. Returns the number of slit interfaces.
+function S.install_slits(m, mat, has)
+    local model = mat.model or "cbond"
+    local sl = mat.slit
+    if not has.fj_mtype then
+        error(string.format("material.specimen: mat.slit is for a flat joint (a model with fj_mtype), not '%s'", model), 4)
+    end
+    local f, g = sl.fraction, sl.gap or 0
+    if type(f) ~= "number" or not (f >= 0 and f <= 1) then
+        error("material.specimen: mat.slit.fraction must be in [0, 1] (got " .. tostring(f) .. ")", 4)
+    end
+    if type(g) ~= "number" or not (g >= 0) then
+        error("material.specimen: mat.slit.gap must be >= 0 (got " .. tostring(g) .. ")", 4)
+    end
+    local list = {}
+    for c in m:contacts{ model = model } do
+        if c:prop("bonded") == 1 and c.ball2 then list[#list + 1] = { c = c, a = c.ball1.id, b = c.ball2.id } end
+    end
+    table.sort(list, function(x, y) return x.a < y.a or (x.a == y.a and x.b < y.b) end)
+    -- a stream of its own (the genesis and m:bond draw from theirs)
+    local u01 = U.drawer(0x5117 + 7919 * (mat.seed or 1))
+    local n = 0
+    for _, e in ipairs(list) do
+        if u01() < f then
+            e.c:set_prop("fj_mtype", 2)
+            e.c:set_prop("fj_gap0", g)
+            e.c:set_prop("bonded", 1)
+            n = n + 1
+        end
+    end
+    return n
 end
 
 return S

@@ -27,15 +27,19 @@ end
 T.check(named >= 10, "the page shows the module's functions (" .. named .. ")")
 T.check(page:find("(results/material.md)", 1, true) ~= nil, "the user page links to its measurement logs")
 local lines = select(2, page:gsub("\n", "\n"))
-T.check(lines < 250, "the user page is brief (" .. lines .. " lines)")
+-- (brief: genesis, specimens, the three tests, cracks, the envelope, the granite and the
+-- calibrations on one page of under 300 lines)
+T.check(lines < 300, "the user page is brief (" .. lines .. " lines)")
 
 -- no workshop words
 local files = { "docs/material.md", "docs/results/material.md" }
 for _, part in ipairs { "init", "util", "equilibrium", "walls", "floaters", "bodies", "vessels", "genesis", "packing",
-    "specimen", "jaws", "loading", "cracks", "compress", "brazilian", "statistics", "ldb" } do
+    "specimen", "jaws", "loading", "cracks", "compress", "brazilian", "statistics", "ldb", "envelope", "calibration",
+    "seeds" } do
     files[#files + 1] = "scripts/lib/material/" .. part .. ".lua"
 end
-for _, ex in ipairs { "ucs", "brazilian", "berea_ucs", "calibrate_ucs", "calibrated_seeds", "ldb_pbond", "ldb_brazilian" } do
+for _, ex in ipairs { "ucs", "brazilian", "berea_ucs", "calibrate_ucs", "calibrated_seeds", "ldb_pbond", "ldb_brazilian",
+    "ldb_flatjoint", "calibrate_granite" } do
     files[#files + 1] = "scripts/examples/" .. ex .. ".lua"
 end
 local words = { "[Tt]hesis A", "[Tt]hesis B", "[Ss]eed digest", "digest section", "bodies%-bonds%-rockfall",

@@ -1,0 +1,146 @@
+-- SPDX-License-Identifier: MIT
+--
+-- calibrate_granite.lua: a Lac du Bonnet granite fitted to the laboratory's E, nu, UCS and
+-- Brazilian tensile strength at once (and its friction angle with `phi`), by M.calibrate
+-- (docs/material.md, "Calibration against several targets"): a design of experiments, then
+-- power-law response surfaces in a trust region, each point tested on the same packings.
+--
+--   talus run scripts/examples/calibrate_granite.lua [outdir] [material] [scale] [nseeds] [budget] [phi] [start]
+--
+--   material  fjoint (default; flat joints, Potyondy 2012), pbond (parallel bonds, Potyondy &
+--             Cundall 2004) or clumped (grains of 1-3 balls with parallel bonds, Cho et al. 2007)
+--   scale     specimen size factor (0.5: 15.9 x 31.7 mm, ~1 000 balls; the default)
+--   nseeds    packings per point (2), seeds 1..nseeds (disks 101..)
+--   budget    points at most (15); each point is nseeds x (UCS + Brazilian) tests, plus a biaxial
+--             test per seed with `phi`
+--   phi       `phi` adds the friction angle (59 deg, tolerance 10%) to the targets; `-` not
+--   start     the first point: `default` (M.lac_du_bonnet's values) or a Lua table of
+--             parameters, e.g. "{fj_ten = 3e7}"
+--
+-- Laboratory (Potyondy & Cundall 2004; Martin & Chandler 1994): E 69 +- 5.8 GPa, nu 0.26 +- 0.04,
+-- UCS 200 +- 22 MPa, sigma_t 9.3 +- 1.3 MPa; each target's tolerance is that scatter. Runs every
+-- test through talus.map (all cores; under mpirun, all ranks), keeps each finished test in
+-- OUTDIR/ckpt_<material>_<scale>: run the same command again after an interruption and it goes
+-- on from there. Writes OUTDIR/calibrate_<material>.csv (one row per point), a plot of the fit
+-- (OUTDIR/calibrate_<material>.png, scripts/plot_calibration.py), and prints the table and the
+-- best parameters.
+local M = require("material")
+local outdir = arg[1] or "out"
+local kind = arg[2] or "fjoint"
+local scale = tonumber(arg[3] or "0.5")
+local nseeds = tonumber(arg[4] or "2")
+local budget = tonumber(arg[5] or "15")
+local with_phi = arg[6] == "phi"
+local start = {}
+if arg[7] and arg[7] ~= "default" then
+    start = assert(load("return " .. arg[7]))()
+end
+talus.mkdir(outdir)
+
+-- the searched parameters (log space), from M.lac_du_bonnet's values unless `start` gives others
+local d = M.ldb_defaults[kind]
+if not d then error("calibrate_granite.lua: material '" .. kind .. "' (known: fjoint, pbond, clumped)") end
+local function from(name) return start[name] or d[name] end
+local params
+if kind == "fjoint" then
+    -- the slit fraction lowers the tensile strength most; near 0.5 the bonded interfaces stop
+    -- forming a connected network and the strength falls away, hence its narrow design spread;
+    -- the friction of unbonded elements (slits, broken elements) acts in compression only
+    params = {
+        { name = "fj_emod", lo = 20e9, hi = 400e9, start = from("fj_emod") },
+        { name = "fj_kratio", lo = 0.7, hi = 5, start = from("fj_kratio") },
+        { name = "fj_ten", lo = 3e6, hi = 300e6, start = from("fj_ten") },
+        { name = "fj_coh", lo = 20e6, hi = 3000e6, start = from("fj_coh") },
+        { name = "slit", lo = 0.05, hi = 0.5, start = from("slit"), spread = 0.2 },
+        { name = "fj_fric", lo = 0.3, hi = 2, start = from("fj_fric") },
+    }
+else
+    params = {
+        { name = "emod", lo = 10e9, hi = 300e9, start = from("emod") },
+        { name = "kratio", lo = 0.7, hi = 5, start = from("kratio") },
+        { name = "pb_ten", lo = 5e6, hi = 1000e6, start = from("pb_ten") },
+        { name = "pb_coh", lo = 5e6, hi = 3000e6, start = from("pb_coh") },
+    }
+end
+-- the others stay at their values (start may set them)
+local fixed = {}
+for k, v in pairs(d) do
+    local searched = false
+    for _, p in ipairs(params) do searched = searched or p.name == k end
+    if not searched then fixed[k] = start[k] or v end
+end
+local targets = {
+    { name = "E", value = 69e9, tol = 5.8 / 69 },
+    { name = "nu", value = 0.26, tol = 0.04 / 0.26 },
+    { name = "ucs", value = 200e6, tol = 22 / 200 },
+    { name = "tensile", value = 9.3e6, tol = 1.3 / 9.3 },
+}
+if with_phi then targets[#targets + 1] = { name = "phi", value = 59, tol = 0.1 } end
+local seeds = {}
+for i = 1, nseeds do seeds[i] = i end
+local W, H, D = 0.0317 * scale, 0.0634 * scale, 0.98 * 0.0317 * scale
+local _, genesis, disk = M.lac_du_bonnet(kind)
+local fixed_text = {}
+for k, v in pairs(fixed) do fixed_text[#fixed_text + 1] = k .. "=" .. string.format("%.17g", v) end
+table.sort(fixed_text)
+local csv = string.format("%s/calibrate_%s.csv", outdir, kind)
+local t0 = os.clock()
+local r = M.calibrate{
+    material = function(p, seed)
+        local mat = M.lac_du_bonnet(kind, p)
+        mat.seed = seed
+        return mat
+    end,
+    packing = function(seed) return genesis(W, H, seed) end,
+    disk = function(seed) return disk(D, 100 + seed) end,
+    params = params, fixed = fixed, targets = targets, seeds = seeds, budget = budget,
+    checkpoint = string.format("%s/ckpt_%s_%g", outdir, kind, scale),
+    key = string.format("ldb %s scale %g fixed %s v1", kind, scale, table.concat(fixed_text, ",")),
+    csv = csv,
+}
+if talus.rank() == 0 then
+    local C = require("calibrate")
+    local rows = {}
+    for _, row in ipairs(r.rows) do
+        local t = { point = row.index, phase = row.phase, misfit = row.misfit }
+        for k, v in pairs(row.params) do t[k] = v end
+        local o = row.out or {}
+        t.E = o.E and o.E / 1e9; t.nu = o.nu; t.ucs = o.ucs and o.ucs / 1e6; t.tensile = o.tensile and o.tensile / 1e6
+        t.ratio = o.ratio; t.phi = o.phi
+        rows[#rows + 1] = t
+    end
+    local cols = { "point", "phase" }
+    for _, p in ipairs(params) do cols[#cols + 1] = p.name end
+    for _, c in ipairs({ { "E", "E [GPa]" }, { "nu", "nu" }, { "ucs", "UCS [MPa]" }, { "tensile", "sigma_t [MPa]" },
+                         { "ratio", "UCS/sigma_t" }, { "phi", "phi [deg]" }, { "misfit", "misfit" } }) do
+        cols[#cols + 1] = c
+    end
+    C.print_table(rows, cols)
+    local b = r.best
+    local parts = {}
+    for _, p in ipairs(params) do parts[#parts + 1] = string.format("%s = %.4g", p.name, b.params[p.name]) end
+    print(string.format("best: point %d (%s), misfit %.4g%s; stopped by %s after %d points (%d tests each)", b.index,
+        table.concat(parts, ", "), b.misfit, b.met and ", every target met" or "", r.stop, r.evaluations,
+        r.tests_per_point))
+    print("elasticities d ln(output) / d ln(parameter) of the last surfaces:")
+    for _, t in ipairs(targets) do
+        local e = r.elasticities[t.name]
+        if e then
+            local s = {}
+            for _, p in ipairs(params) do s[#s + 1] = string.format("%s %+.2f", p.name, e[p.name]) end
+            print(string.format("  %-8s %s", t.name, table.concat(s, ", ")))
+        end
+    end
+    print(string.format("CPU: %.0f s for the tests and packings (%.0f s packings); this process %.0f s", r.cpu,
+        r.packings, os.clock() - t0))
+    local src = debug.getinfo(1, "S").source:sub(2)
+    local tool = (src:match("^(.*)/examples/[^/]*$") or "scripts") .. "/plot_calibration.py"
+    local png = string.format("%s/calibrate_%s.png", outdir, kind)
+    -- Debian's python3 has matplotlib (python3-matplotlib); another python3 first on PATH may not
+    local f = io.open("/usr/bin/python3")
+    local py = f and "/usr/bin/python3" or "python3"
+    if f then f:close() end
+    local cmd = string.format("%s '%s' '%s' -o '%s' --title 'Lac du Bonnet, %s, scale %g'", py, tool, csv, png, kind,
+        scale)
+    if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
+end

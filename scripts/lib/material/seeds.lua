@@ -1,0 +1,187 @@
+-- SPDX-License-Identifier: MIT
+-- material/seeds.lua: a material's laboratory table over seeds: per seed a UCS test, a Brazilian
+-- test and, when asked, biaxial tests for the friction angle; their means and scatter.
+local U = require("material.util")
+local S = require("material.specimen")
+local C = require("material.compress")
+local Br = require("material.brazilian")
+local Env = require("material.envelope")
+
+local Sd = {}
+
+local kKnown = U.set_of { "material", "genesis", "disk", "seeds", "scale", "width", "height", "diameter",
+    "confinements", "platen_fric", "jobs", "checkpoint", "key", "outdir", "name" }
+
+--- Runs the table. spec:
+---   material = M.specimen's material table (each seed gets mat.seed = its seed)
+---   genesis(width, height, seed), disk(diameter, seed): the packings (M.lac_du_bonnet's)
+---   seeds = {1, ..., 5}; scale (1): the specimen's size factor; width (0.0317 m), height
+---   (0.0634 m), diameter (0.98 width) at scale 1; the disk's genesis seed is 100 + seed
+---   confinements = {} (Pa): biaxial tests on the UCS specimen's packing; with one or more, phi,
+---   c (Mohr-Coulomb) and m_i (Hoek-Brown) per seed from those and the UCS test
+---   platen_fric = the Brazilian jaws' friction (0.5); jobs, checkpoint, key: talus.map's
+---   outdir, name: when given, histories and crack lists are written there as
+---   NAME_ucs_<seed>.csv, NAME_brazilian_<seed>.csv, NAME_biaxial_<sigma3 MPa>_<seed>.csv
+--- Returns { rows = {{seed, balls, porosity, ucs, E, nu, tensile, valid, reason, ratio, phi, c,
+--- m_i, peaks = {[sigma3] = sigma1}, steps, stop, ci_ratio, cd_ratio, cpu}, ...}, failed (talus.map's),
+--- cpu (tests and packings, s), cpu_packings }. Statistics: Sd.summary.
+function Sd.run(spec)
+    U.check_known(spec, kKnown, "run_seeds")
+    local mat = U.req(spec, "material", "run_seeds")
+    local genesis = U.req(spec, "genesis", "run_seeds")
+    local disk = U.req(spec, "disk", "run_seeds")
+    local seeds = spec.seeds or { 1, 2, 3, 4, 5 }
+    local scale = spec.scale or 1
+    local W, H = (spec.width or 0.0317) * scale, (spec.height or 0.0634) * scale
+    local D = (spec.diameter or 0.98 * (spec.width or 0.0317)) * scale
+    local confs = spec.confinements or {}
+    local function map_opts(sub)
+        local o = { jobs = spec.jobs }
+        if spec.checkpoint then o.checkpoint, o.key = spec.checkpoint .. "/" .. sub, spec.key or "" end
+        return o
+    end
+    local pitems = {}
+    for k, seed in ipairs(seeds) do
+        pitems[#pitems + 1] = { k = k, seed = seed, kind = "block" }
+        pitems[#pitems + 1] = { k = k, seed = seed, kind = "disk" }
+    end
+    local pks = talus.map(#pitems, function(i)
+        local it = pitems[i]
+        local c0 = U.clock()
+        local pk = it.kind == "block" and genesis(W, H, it.seed) or disk(D, 100 + it.seed)
+        pk.cpu_genesis = U.clock() - c0
+        return pk
+    end, map_opts("packings"))
+    local blocks, disks, cpu_pk = {}, {}, 0
+    for i, it in ipairs(pitems) do
+        local pk = pks[i]
+        if pk then
+            cpu_pk = cpu_pk + pk.cpu_genesis
+            if it.kind == "block" then blocks[it.k] = pk else disks[it.k] = pk end
+        end
+    end
+    local items = {}
+    for k, seed in ipairs(seeds) do
+        items[#items + 1] = { k = k, seed = seed, kind = "ucs" }
+        items[#items + 1] = { k = k, seed = seed, kind = "brazilian" }
+        for _, s3 in ipairs(confs) do items[#items + 1] = { k = k, seed = seed, kind = "biaxial", confinement = s3 } end
+    end
+    local function file(kind, it)
+        if not spec.outdir then return nil end
+        local tag = kind == "biaxial" and string.format("biaxial_%g", it.confinement / 1e6) or kind
+        return string.format("%s/%s_%s_%d.csv", spec.outdir, spec.name or "ldb", tag, it.seed)
+    end
+    local res = talus.map(#items, function(i)
+        local it = items[i]
+        local c0 = U.clock()
+        local m = {}
+        for key, v in pairs(mat) do m[key] = v end
+        m.seed = it.seed
+        if it.kind == "brazilian" then
+            local pd = disks[it.k]
+            if not pd then error("the disk packing of seed " .. it.seed .. " failed") end
+            local pl = {}
+            for key, v in pairs(mat.platen or {}) do pl[key] = v end
+            pl.fric = spec.platen_fric or 0.5
+            m.platen = pl
+            local b = Br.brazilian(S.specimen(pd, m, { balls = Br.disk(pd) }), { post_peak = 0.5, csv = file("brazilian", it) })
+            return { kind = it.kind, seed = it.seed, tensile = b.tensile, valid = b.valid, reason = b.reason, stop = b.stop,
+                     steps = b.steps, balls = b.balls, cpu = U.clock() - c0 }
+        end
+        local pk = blocks[it.k]
+        if not pk then error("the block packing of seed " .. it.seed .. " failed") end
+        local r = C.compress(S.specimen(pk, m, { sides = it.kind == "biaxial" }),
+            { post_peak = 0.8, confinement = it.confinement, csv = file(it.kind, it) })
+        local th = Env.thresholds(r)
+        return { kind = it.kind, seed = it.seed, confinement = it.confinement or 0, peak = r.ucs, E = r.E, nu = r.nu,
+                 stop = r.stop, steps = r.steps, balls = r.balls, porosity = pk.porosity,
+                 ci_ratio = th.ci and th.ci.ratio, cd_ratio = th.cd and th.cd.ratio, cpu = U.clock() - c0 }
+    end, map_opts("tests"))
+    local rows, by_seed, cpu = {}, {}, cpu_pk
+    for k, seed in ipairs(seeds) do
+        rows[k] = { seed = seed, peaks = {}, cpu = 0 }
+        by_seed[seed] = rows[k]
+    end
+    for i, it in ipairs(items) do
+        local r = res[i]
+        local row = by_seed[it.seed]
+        if r then
+            cpu = cpu + r.cpu
+            row.cpu = row.cpu + r.cpu
+            if r.kind == "ucs" then
+                row.ucs, row.E, row.nu, row.balls, row.porosity = r.peak, r.E, r.nu, r.balls, r.porosity
+                row.stop, row.steps, row.ci_ratio, row.cd_ratio = r.stop, r.steps, r.ci_ratio, r.cd_ratio
+            elseif r.kind == "brazilian" then
+                row.tensile, row.valid, row.reason, row.stop_brazilian = r.tensile, r.valid, r.reason, r.stop
+            else
+                row.peaks[r.confinement] = r.peak
+            end
+        end
+    end
+    for _, row in ipairs(rows) do
+        if row.ucs and row.tensile then row.ratio = row.ucs / row.tensile end
+        if row.ucs and next(row.peaks) then
+            local pts = { { 0, row.ucs } }
+            for s3, s1 in pairs(row.peaks) do pts[#pts + 1] = { s3, s1 } end
+            table.sort(pts, function(a, b) return a[1] < b[1] end)
+            local mc = Env.mohr_coulomb(pts)
+            row.phi, row.c = mc.phi, mc.c
+            row.m_i = Env.hoek_brown(pts, row.ucs).m_i
+        end
+    end
+    return { rows = rows, failed = res.failed, cpu = cpu, cpu_packings = cpu_pk, confinements = confs }
+end
+
+--- Mean, sd and count of `key` over the rows that have it (tensile and ratio: the Brazilian tests
+--- that split, M.brazilian's `valid`).
+function Sd.stat(rows, key)
+    local list = {}
+    for _, r in ipairs(rows) do
+        local v = r[key]
+        if v and ((key ~= "tensile" and key ~= "ratio") or r.valid) then list[#list + 1] = v end
+    end
+    return Env.mean_sd_list(list)
+end
+
+--- Prints the table of Sd.run's result and its means; returns the summary { ucs = {mean, sd,
+--- n}, E, nu, tensile, ratio, phi, c, m_i }.
+function Sd.print(res, title)
+    if title then print(title) end
+    print("seed balls porosity UCS[MPa] E[GPa]  nu     sigma_t[MPa] UCS/sigma_t phi[deg] CI/UCS CD/UCS stop(UCS) steps")
+    for _, r in ipairs(res.rows) do
+        print(string.format("%4d %5s  %5s  %8s %6s  %5s  %8s%s  %8s   %6s    %4s   %4s   %-9s %6s", r.seed, r.balls or "-",
+            r.porosity and string.format("%.3f", r.porosity) or "-", r.ucs and string.format("%.1f", r.ucs / 1e6) or "-",
+            r.E and string.format("%.1f", r.E / 1e9) or "-", r.nu and string.format("%.3f", r.nu) or "-",
+            r.tensile and string.format("%.2f", r.tensile / 1e6) or "-", r.tensile and (r.valid and " " or "*") or " ",
+            r.ratio and string.format("%.1f", r.ratio) or "-", r.phi and string.format("%.1f", r.phi) or "-",
+            r.ci_ratio and string.format("%.2f", r.ci_ratio) or "-", r.cd_ratio and string.format("%.2f", r.cd_ratio) or "-",
+            r.stop or "-", r.steps or "-"))
+    end
+    local sum = {}
+    local parts = {}
+    for _, k in ipairs({ "ucs", "E", "nu", "tensile", "ratio", "phi", "c", "m_i" }) do
+        local m, s, n = Sd.stat(res.rows, k)
+        sum[k] = { mean = m, sd = s, n = n }
+        if m then
+            local scale, unit, f = 1, "", "%.3f"
+            if k == "ucs" or k == "tensile" or k == "c" then scale, unit, f = 1e-6, " MPa", "%.2f" end
+            if k == "E" then scale, unit, f = 1e-9, " GPa", "%.1f" end
+            if k == "ratio" or k == "phi" or k == "m_i" then f = "%.1f" end
+            if k == "phi" then unit = " deg" end
+            parts[#parts + 1] = string.format("%s " .. f .. " +- " .. f .. "%s (%d)", k == "ucs" and "UCS" or
+                (k == "tensile" and "sigma_t" or (k == "ratio" and "UCS/sigma_t" or k)), m * scale, s * scale, unit, n)
+        end
+    end
+    print("mean +- sd (n): " .. table.concat(parts, ", "))
+    for _, r in ipairs(res.rows) do
+        if r.tensile and not r.valid then
+            print(string.format("* seed %d: Brazilian test not valid, left out of sigma_t: %s", r.seed, r.reason))
+        end
+    end
+    if res.failed then
+        for _, f in ipairs(res.failed) do print("failed: " .. f.message) end
+    end
+    return sum
+end
+
+return Sd
