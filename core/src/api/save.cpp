@@ -294,7 +294,7 @@ void Model::saveState(SaveWriter& w) const {
         w.u32(p.end1), w.u32(p.end2);
         w.boolean(p.wall), w.boolean(p.active), w.boolean(p.sliding), w.boolean(p.bonded);
         w.boolean(p.loading);
-        w.u32(c.steps);
+        w.u32(uint32_t{c.steps} | uint32_t{c.apart} << 16);  // (files before the idle count: 0)
         w.u32(p.rule);
         w.f64(c.mass_eff), w.f64(c.inv_mass_eff_s), w.f64(c.activity);
         w.f64(p.n_force), w.f64(p.s_force), w.f64(p.moment), w.f64(c.overlap);
@@ -663,7 +663,9 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             p.end1 = r.u32(), p.end2 = r.u32();
             p.wall = r.boolean(), p.active = r.boolean(), p.sliding = r.boolean();
             p.bonded = r.boolean(), p.loading = r.boolean();
-            c.steps = r.u32();
+            const uint32_t watch = r.u32();
+            c.steps = static_cast<uint16_t>(watch & 0xffffu);
+            c.apart = static_cast<uint16_t>(watch >> 16);
             const uint32_t rule = r.u32();
             c.mass_eff = r.f64(), c.inv_mass_eff_s = r.f64(), c.activity = r.f64();
             if (!(c.activity >= 0.0) || !std::isfinite(c.activity))

@@ -287,7 +287,12 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             c.knest = fd.knest;
             c.ksest = fd.ksest;
             c.steps += g.overlap > 0.0;
-            if (c.steps > kGuardWatch) p.watched = false;  // (endContact checks up to the watch)
+            c.apart += !(g.overlap > 0.0);
+            // (endContact checks up to the watch.) A contact active without overlap for as many
+            // steps sits in a packing, not in an impact: it leaves the watch as one that
+            // outlived it, so that the loop stops reading its cold record.
+            if (c.apart > kGuardWatch) c.steps = kGuardWatch + 1;
+            if (c.steps > kGuardWatch) p.watched = false;
         }
         // A contact that was pushing the bodies apart cannot reverse its normal within a step
         // unless one body went through the other (a model exerting no force may let it). One

@@ -176,7 +176,8 @@ struct PairCold {
     uint64_t key = 0;
     // The guard: its watch of the contact's first kGuardWatch steps.
     double overlap = 0.0;  // at the last watched step
-    uint32_t steps = 0;    // steps with positive overlap in this life, up to kGuardWatch + 1
+    uint16_t steps = 0;    // steps with positive overlap in this life, up to kGuardWatch + 1
+    uint16_t apart = 0;    // watched steps active without overlap, up to kGuardWatch + 1
     uint32_t rules_version = 0;
     double work = 0.0, work_peak = 0.0;  // energy the contact took in this life [J]
     // ... written at touch and at the deepest overlap (when the overlap stops growing).
