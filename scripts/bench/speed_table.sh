@@ -8,7 +8,9 @@
 #   LAMMPS   1 and 2 MPI ranks (gran/hooke/history, scripts/bench/lammps/in.dense_pack)
 #   a plain  1 and 2 threads, when TALUS_BENCH_KERNEL names a plain-array DEM kernel's source
 #   kernel   (same scene and physics; compiled here with g++ -O3 -fopenmp)
-# and prints the minimum of each over the repeats (ns per particle-step) with the ratios the
+# with OpenMP's default wait policy (what a user gets; OMP_WAIT_POLICY=passive puts the second
+# thread to sleep between the step's parallel regions: no gain at 10k), and prints the minimum of
+# each over the repeats (ns per particle-step) with the ratios the
 # page quotes. Speed varies by tens of percent between sessions on a shared machine: compare
 # within one run of this script, never across runs.
 #
@@ -58,7 +60,7 @@ for rep in $(seq 1 "$repeats"); do
                 groups) extra=(--energy on --groups 8) ;;
                 guardoff) extra=(--guard off) ;;
             esac
-            r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th OMP_WAIT_POLICY=passive "$bench" "$n" \
+            r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th "$bench" "$n" \
                 "$steps" sorted --state "$state" --warmup "$warmup" --no-profile "${extra[@]}" \
                 2>&1 | grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
             note "rep=$rep n=$n code=talus threads=$th variant=$what ns=$r"
