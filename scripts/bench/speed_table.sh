@@ -25,6 +25,7 @@
 # TALUS_BENCH_RAW (the raw lines, default $build/bench-cache/speed-<session>.txt).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/bench/lammps_dense_pack.sh
 build=${TALUS_BENCH_BUILD:-build-bench}
 repeats=${TALUS_BENCH_REPEATS:-3}
 warmup=${TALUS_BENCH_WARMUP:-300}
@@ -40,8 +41,6 @@ if [[ -n ${TALUS_BENCH_KERNEL:-} ]]; then
     kernel=$cache/plain_kernel
     g++ -O3 -fopenmp -o "$kernel" "$TALUS_BENCH_KERNEL"
 fi
-root_flag=()
-[[ $(id -u) == 0 ]] && root_flag=(--allow-run-as-root)
 steps_of() { [[ $1 == 50000 ]] && echo 600 || echo 2000; }
 note() { echo "$*" | tee -a "$raw"; }
 
@@ -75,17 +74,7 @@ for rep in $(seq 1 "$repeats"); do
             done
         fi
         for np in 1 2; do
-            log=$(mktemp)
-            args=(-in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data"
-                  -var steps "$steps" -var warmup "$warmup" -log "$log" -screen none)
-            if [[ $np == 1 ]]; then
-                OMP_NUM_THREADS=1 lmp "${args[@]}"
-            else
-                OMP_NUM_THREADS=1 mpirun "${root_flag[@]}" -n 2 --bind-to none lmp "${args[@]}"
-            fi
-            r=$(python3 scripts/bench/dense_pack_report.py lammps-log "$log" "$n" |
-                grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
-            rm -f "$log"
+            r=$(lammps_dense_pack_ns "$cache/pack_n${n}.data" "$n" "$steps" "$warmup" "$np")
             note "rep=$rep n=$n code=lammps threads=$np variant=off ns=$r"
         done
         if [[ -n $kernel ]]; then

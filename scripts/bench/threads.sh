@@ -12,6 +12,7 @@
 # TALUS_BENCH_WARMUP (300). Prints one line per run; compare minima (the host is noisy).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/bench/lammps_dense_pack.sh
 build=${TALUS_BENCH_BUILD:-build-bench}
 repeats=${TALUS_BENCH_REPEATS:-3}
 warmup=${TALUS_BENCH_WARMUP:-300}
@@ -19,8 +20,6 @@ bench=$build/tests/bench/talus_bench_dense_pack
 cache=$build/bench-cache
 [[ -x $bench ]] || { echo "no $bench: run scripts/bench/dense_pack.sh first" >&2; exit 1; }
 export TALUS_PLUGIN_PATH=$build/plugins
-root_flag=()
-[[ $(id -u) == 0 ]] && root_flag=(--allow-run-as-root)
 for rep in $(seq 1 "$repeats"); do
     for n in 10000 50000; do
         steps=2000
@@ -34,17 +33,7 @@ for rep in $(seq 1 "$repeats"); do
             echo "rep=$rep n=$n talus threads=$th ${extra:-} $r load=$(cut -d' ' -f1 /proc/loadavg)"
         done
         for np in 1 2; do
-            log=$(mktemp)
-            args=(-in scripts/bench/lammps/in.dense_pack -var data "$cache/pack_n${n}.data"
-                  -var steps "$steps" -var warmup "$warmup" -log "$log" -screen none)
-            if [[ $np == 1 ]]; then
-                OMP_NUM_THREADS=1 lmp "${args[@]}"
-            else
-                OMP_NUM_THREADS=1 mpirun "${root_flag[@]}" -n 2 --bind-to none lmp "${args[@]}"
-            fi
-            r=$(python3 scripts/bench/dense_pack_report.py lammps-log "$log" "$n" |
-                grep -o "ns_per_particle_step=[^ ]*")
-            rm -f "$log"
+            r="ns_per_particle_step=$(lammps_dense_pack_ns "$cache/pack_n${n}.data" "$n" "$steps" "$warmup" "$np")"
             echo "rep=$rep n=$n lammps ranks=$np $r"
         done
     done
