@@ -73,20 +73,8 @@ local res = talus.map(n, function(i)
              shear = r.breaks.shear, f1 = gc[1] / #pk.balls, f2 = 2 * gc[2] / #pk.balls,
              f3 = 3 * gc[3] / #pk.balls, bonds = r.bonds }
 end)
--- A seed that failed (talus.map records it, nil in its place, and goes on) is left out of the
--- table and the statistics, and said so.
-local function finished(list, count)
-    local ok = {}
-    for i = 1, count do
-        if list[i] ~= nil then ok[#ok + 1] = list[i] end
-    end
-    if list.failed then
-        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
-            list.failed[1].message))
-    end
-    return ok
-end
-res = finished(res, n)
+-- A seed that failed is left out of the table and the statistics, and said so (M.finished).
+res = M.finished(res, n)
 local function stats(key) return M.mean_sd(res, key) end
 print("seed balls porosity  UCS[MPa]  E[GPa]  E50[GPa]  nu     UCS*R/Fn  breaks(t/s)  bonds  balls in grains of 1/2/3")
 for _, r in ipairs(res) do

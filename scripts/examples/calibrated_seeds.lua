@@ -41,20 +41,8 @@ local rows = talus.map(n, function(i)
     return out
 end)
 
--- A seed that failed (talus.map records it, nil in its place, and goes on) is left out of the
--- table and the statistics, and said so.
-local function finished(list, count)
-    local ok = {}
-    for i = 1, count do
-        if list[i] ~= nil then ok[#ok + 1] = list[i] end
-    end
-    if list.failed then
-        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
-            list.failed[1].message))
-    end
-    return ok
-end
-rows = finished(rows, n)
+-- A seed that failed is left out of the table and the statistics, and said so (M.finished).
+rows = M.finished(rows, n)
 
 print(string.format("kn %.6g N/m, ks/kn %.6g, cb_tenf %.6g N, cb_shearf %.6g N", kn, ratio, tenf, 10 * tenf))
 print("seed balls porosity  E0[GPa] nu0    UCS[MPa] E[GPa] nu     stop")

@@ -83,20 +83,8 @@ local res = talus.map(n, function(k)
              contact_top = sp.disk.first_contact[1], contact_bottom = sp.disk.first_contact[2],
              cpu_genesis = t1 - t0, cpu_test = os.clock() - t1 }
 end)
--- A seed that failed (talus.map records it, nil in its place, and goes on) is left out of the
--- table and the statistics, and said so.
-local function finished(list, count)
-    local ok = {}
-    for i = 1, count do
-        if list[i] ~= nil then ok[#ok + 1] = list[i] end
-    end
-    if list.failed then
-        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
-            list.failed[1].message))
-    end
-    return ok
-end
-res = finished(res, n)
+-- A seed that failed is left out of the table and the statistics, and said so (M.finished).
+res = M.finished(res, n)
 print(string.format("LdB Brazilian, %s jaws, scale %g (disk %.1f mm, %s)", jaws, scale, 31.7 * scale * 0.98,
     disk == "vessel" and "made in a circular vessel" or "cut from a box packing"))
 print("seed balls porosity bonds D[mm]  sigma_t[MPa] breaks band  cover angle  jaw/pre-peak  split crush  steps  stop       cpu(gen/test)[s]  1st contact top/bottom [deg]")

@@ -27,7 +27,7 @@
 --   jaws.lua        M.make_jaws: the ISRM curved jaws (radius 1.5 R)
 --   loading.lua     the platen loop of the tests, M.columns of its history
 --   cracks.lua      the tests' crack lists: M.write_cracks(file, list), M.crack_columns
---   statistics.lua  M.analyse (E tangent at 50%, secant E50, nu), M.mean_sd over seeds
+--   statistics.lua  M.analyse (E tangent at 50%, secant E50, nu), M.mean_sd over seeds, M.finished
 --   ldb.lua         M.lac_du_bonnet(kind, p): Lac du Bonnet granite with parallel bonds, flat
 --                   joints or clumped grains
 --   seeds.lua       M.run_seeds, M.print_seeds: a material's UCS, Brazilian and biaxial tests
@@ -73,7 +73,7 @@ return {
     disk = Br.disk, brazilian = Br.brazilian, fracture = Br.fracture, brazilian_validity = Br.validity,
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
-    analyse = St.analyse, mean_sd = St.mean_sd, write_csv = U.write_csv,
+    analyse = St.analyse, mean_sd = St.mean_sd, finished = St.finished, write_csv = U.write_csv,
     lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults, ldb_calibrated = Ldb.calibrated,
     run_seeds = Sd.run, print_seeds = Sd.print, seeds_stat = Sd.stat,
     -- strength envelope

@@ -79,4 +79,18 @@ function St.mean_sd(results, key)
     return mean, n > 1 and math.sqrt(s2 / (n - 1)) or (n == 1 and 0 or 0 / 0), n
 end
 
+--- The results of a talus.map over `count` seeds without the seeds that failed (talus.map
+--- records a failure, nil in its place, and goes on), saying how many were left out.
+function St.finished(list, count)
+    local ok = {}
+    for i = 1, count do
+        if list[i] ~= nil then ok[#ok + 1] = list[i] end
+    end
+    if list.failed then
+        print(string.format("%d of %d seeds failed and are left out; the first: %s", #list.failed, count,
+            list.failed[1].message))
+    end
+    return ok
+end
+
 return St
