@@ -5,6 +5,19 @@
 -- contact, deletes one, and writes the packing's balls; the genesis steps are the same for all.
 local U = require("material.util")
 
+-- The sum over ball-ball contacts of overlap / (R1 + R2), and their count: the mean relative
+-- overlap behind both kinds' affine estimate of the bulk stiffness.
+local function overlap_sum(m)
+    local rel, nc = 0, 0
+    for c in m:contacts{} do
+        local b2 = c.ball2
+        if b2 and c.overlap > 0 then
+            rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
+        end
+    end
+    return rel, nc
+end
+
 local B = {}
 
 --- Groups balls into grains of at most kmax touching balls. nbrs[i] lists the balls touching
@@ -98,13 +111,7 @@ function B.balls(rmin, rmax, clump_max, seed)
     -- The affine estimate of the bulk stiffness, B = sigma / (mean overlap / (R1 + R2)), and
     -- the fraction of the step to take with it (all of it).
     function k:affine_modulus(m, sig)
-        local rel, nc = 0, 0
-        for c in m:contacts{} do
-            local b2 = c.ball2
-            if b2 and c.overlap > 0 then
-                rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
-            end
-        end
+        local rel, nc = overlap_sum(m)
         rel = nc > 0 and rel / nc or 0
         return rel > 0 and sig / rel or nil, 1
     end
@@ -256,13 +263,7 @@ function B.grains(rmin, rmax, shares)
     -- move by more than eps (r1 + r2) when it shrinks about a centroid off the pebble's centre,
     -- so B may be underestimated: only half the step is taken.
     function k:affine_modulus(m, sig)
-        local rel, nc = 0, 0
-        for c in m:contacts{} do
-            local b2 = c.ball2
-            if b2 and c.overlap > 0 then
-                rel = rel + c.overlap / (c.ball1.radius + b2.radius); nc = nc + 1
-            end
-        end
+        local rel, nc = overlap_sum(m)
         return (nc > 0 and rel > 0) and sig * nc / rel or nil, 0.5
     end
 
