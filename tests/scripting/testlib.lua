@@ -71,6 +71,38 @@ function T.sorted_keys(t)
     return keys
 end
 
+--- A digest of a value: every field of every table in a fixed order, numbers to 17 digits,
+--- hashed with FNV-1a (64 bits; Lua's integers wrap around). Equal digests, equal records.
+function T.digest(value)
+    local out = {}
+    local function serialize(v)
+        if type(v) == "number" then
+            out[#out + 1] = math.type(v) == "integer" and string.format("%d", v) or string.format("%.17g", v)
+        elseif type(v) == "table" then
+            local keys = {}
+            for k in pairs(v) do keys[#keys + 1] = k end
+            table.sort(keys, function(a, b)
+                if type(a) == type(b) then return a < b end
+                return type(a) == "number"
+            end)
+            out[#out + 1] = "{"
+            for _, k in ipairs(keys) do
+                out[#out + 1] = tostring(k) .. "="
+                serialize(v[k])
+                out[#out + 1] = ","
+            end
+            out[#out + 1] = "}"
+        else
+            out[#out + 1] = tostring(v)
+        end
+    end
+    serialize(value)
+    local text = table.concat(out)
+    local h = -3750763034362895579 -- 0xcbf29ce484222325
+    for i = 1, #text do h = (h ~ text:byte(i)) * 0x100000001b3 end
+    return string.format("%016x", h)
+end
+
 function T.done(name)
     print(string.format("%s: %d checks passed", name, T.checks))
 end

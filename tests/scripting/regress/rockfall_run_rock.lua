@@ -37,35 +37,8 @@ local an = rf.analysis{
 local recs = {}
 for i = 1, 20 do recs[i] = rf.run_rock(an, i, { trajectory = i % 2 == 1 }) end
 
--- Every field of every record, in a fixed order, numbers to 17 digits.
-local function serialize(v, out)
-    if type(v) == "number" then
-        out[#out + 1] = math.type(v) == "integer" and string.format("%d", v) or string.format("%.17g", v)
-    elseif type(v) == "table" then
-        local keys = {}
-        for k in pairs(v) do keys[#keys + 1] = k end
-        table.sort(keys, function(a, b)
-            if type(a) == type(b) then return a < b end
-            return type(a) == "number"
-        end)
-        out[#out + 1] = "{"
-        for _, k in ipairs(keys) do
-            out[#out + 1] = tostring(k) .. "="
-            serialize(v[k], out)
-            out[#out + 1] = ","
-        end
-        out[#out + 1] = "}"
-    else
-        out[#out + 1] = tostring(v)
-    end
-end
-local text = {}
-serialize(recs, text)
-text = table.concat(text)
--- FNV-1a, 64 bits (Lua's integers wrap around).
-local h = -3750763034362895579 -- 0xcbf29ce484222325
-for i = 1, #text do h = (h ~ text:byte(i)) * 0x100000001b3 end
-local digest = string.format("%016x", h)
+-- Every field of every record (T.digest).
+local digest = T.digest(recs)
 
 local rows = {}
 for _, r in ipairs(recs) do
