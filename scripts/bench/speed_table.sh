@@ -43,6 +43,15 @@ if [[ -n ${TALUS_BENCH_KERNEL:-} ]]; then
 fi
 steps_of() { [[ $1 == 50000 ]] && echo 600 || echo 2000; }
 note() { echo "$*" | tee -a "$raw"; }
+# One timed run of a build's dense-pack benchmark: talus_ns BUILD_DIR THREADS [options...]
+talus_ns() {
+    local dir=$1 th=$2
+    shift 2
+    TALUS_PLUGIN_PATH=$dir/plugins TALUS_THREADS=$th OMP_NUM_THREADS=$th \
+        "$dir/tests/bench/talus_bench_dense_pack" "$n" "$steps" sorted --state "$state" \
+        --warmup "$warmup" --no-profile "$@" 2>&1 |
+        grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2
+}
 
 echo "speed table, session $session; cpu: $(lscpu | sed -n 's/^Model name: *//p' | head -1)," \
      "$(nproc) cpus; talus $(git describe --always --dirty 2>/dev/null)" | tee "$raw"
@@ -59,17 +68,12 @@ for rep in $(seq 1 "$repeats"); do
                 groups) extra=(--energy on --groups 8) ;;
                 guardoff) extra=(--guard off) ;;
             esac
-            r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th "$bench" "$n" \
-                "$steps" sorted --state "$state" --warmup "$warmup" --no-profile "${extra[@]}" \
-                2>&1 | grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
+            r=$(talus_ns "$build" "$th" "${extra[@]}")
             note "rep=$rep n=$n code=talus threads=$th variant=$what ns=$r"
         done
         if [[ -n ${TALUS_BENCH_BASELINE:-} ]]; then
             for what in off on; do
-                r=$(TALUS_PLUGIN_PATH=$TALUS_BENCH_BASELINE/plugins TALUS_THREADS=1 OMP_NUM_THREADS=1 \
-                    "$TALUS_BENCH_BASELINE/tests/bench/talus_bench_dense_pack" "$n" "$steps" sorted \
-                    --state "$state" --warmup "$warmup" --no-profile --energy "$what" 2>&1 |
-                    grep -o "ns_per_particle_step=[^ ]*" | cut -d= -f2)
+                r=$(talus_ns "$TALUS_BENCH_BASELINE" 1 --energy "$what")
                 note "rep=$rep n=$n code=baseline threads=1 variant=$what ns=$r"
             done
         fi
