@@ -22,9 +22,10 @@ import math
 import os
 import sys
 
-UNITS = {"E": (1e-9, "GPa"), "ucs": (1e-6, "MPa"), "tensile": (1e-6, "MPa"), "nu": (1, ""), "phi": (1, "deg"),
-         "ratio": (1, "")}
-LABELS = {"E": "E", "nu": "ν", "ucs": "UCS", "tensile": "σ_t", "ratio": "UCS/σ_t", "phi": "φ"}
+UNITS = {"E": (1e-9, "GPa"), "E_elastic": (1e-9, "GPa"), "ucs": (1e-6, "MPa"), "tensile": (1e-6, "MPa"),
+         "nu": (1, ""), "nu_elastic": (1, ""), "phi": (1, "deg"), "ratio": (1, "")}
+LABELS = {"E": "E", "nu": "ν", "E_elastic": "E (elastic part)", "nu_elastic": "ν (elastic part)", "ucs": "UCS",
+          "tensile": "σ_t", "ratio": "UCS/σ_t", "phi": "φ"}
 
 
 class PlotError(Exception):

@@ -12,8 +12,9 @@
 -- the biaxial tests (two more tests per seed). `material` = fjoint (default), pbond (parallel
 -- bonds calibrated the same way), clumped (grains of 1-3 balls with parallel bonds, Cho et al.
 -- 2007) or pbond-pc (Potyondy & Cundall's 2004 parallel-bonded material, as ldb_pbond.lua): the
--- same table for each, with the calibrated micro-parameters of M.ldb_calibrated. A Brazilian test that did not split is marked * and
--- left out of sigma_t. Writes OUTDIR/ldb_<material>_seeds_<first>.csv; every test runs through
+-- same table for each, with the calibrated micro-parameters of M.ldb_calibrated. A Brazilian
+-- test that is not valid (M.brazilian: it did not fail, slipped, was crushed, did not split, or
+-- peaked after cracking) is marked * and left out of sigma_t. Writes OUTDIR/ldb_<material>_seeds_<first>.csv; every test runs through
 -- talus.map (all cores; under mpirun, all ranks).
 local M = require("material")
 local outdir = arg[1] or "out"
@@ -42,6 +43,6 @@ if talus.rank() == 0 then
     print(string.format("CPU: %.0f s (tests %.0f s, packings %.0f s; this process %.0f s)", res.cpu,
         res.cpu - res.cpu_packings, res.cpu_packings, os.clock() - t0))
     M.write_csv(string.format("%s/ldb_%s_seeds_%d.csv", outdir, kind, first), res.rows,
-        { "seed", "balls", "porosity", "ucs", "E", "nu", "tensile", "valid", "ratio", "phi", "c", "m_i", "ci_ratio",
-          "cd_ratio", "steps", "cpu" })
+        { "seed", "balls", "porosity", "ucs", "E", "nu", "E_elastic", "nu_elastic", "tensile", "valid", "ratio", "phi",
+          "c", "m_i", "ci_ratio", "cd_ratio", "steps", "cpu" })
 end

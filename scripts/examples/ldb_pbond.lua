@@ -34,7 +34,7 @@ local res = talus.map(n, function(k)
     local md = {}
     for k, v in pairs(m) do md[k] = v end
     md.platen = { kn = mat.platen.kn, ks = mat.platen.ks, fric = 0.5 }
-    local b = M.brazilian(M.specimen(pd, md, { balls = M.disk(pd) }), { post_peak = 0.5 })
+    local b = M.brazilian(M.specimen(pd, md, { balls = M.disk(pd) }))
     return { seed = i, balls = #pk.balls, porosity = pk.porosity, ucs = u.ucs, E = u.E, nu = u.nu,
              tensile = b.tensile, ratio = u.ucs / b.tensile, stop = u.stop .. "/" .. b.stop,
              deleted = pk.deleted, links = pk.chain_links, steps = u.steps, valid = b.valid,

@@ -90,13 +90,53 @@ function Br.fracture(breaks, center, D, t_peak)
              jaw_first = near, split = split, crush = (not split) and n > 0 and near >= 0.5 * first }
 end
 
+--- The secant stiffness at the peak over the elastic stiffness: the least-squares slope of the
+--- load against the strain over the rows before the first break with at least a fifth of the
+--- load there, and the secant from that line's zero-load strain to the peak. About 1 when the
+--- disk split from an elastic state (0.66-1.05 on the flat-jointed granite's disks that split);
+--- far below it when the disk cracked through, its load stopped rising, and the pieces then
+--- loaded up again as they compacted between the jaws (0.14-0.34 on those disks). nil when
+--- fewer than 3 such rows (rows without strain or break counts: no judgement).
+function Br.peak_stiffness(rows, ipeak)
+    local last = 0
+    for i = 1, ipeak do
+        local r = rows[i]
+        if not (r.ea and r.sa and r.breaks_tension and r.breaks_shear) then return nil end
+        if r.breaks_tension + r.breaks_shear > 0 then break end
+        last = math.max(last, r.sa)
+    end
+    local n, sx, sy, sxx, sxy = 0, 0, 0, 0, 0
+    for i = 1, ipeak do
+        local r = rows[i]
+        if r.breaks_tension + r.breaks_shear > 0 then break end
+        if r.sa >= 0.2 * last and last > 0 then
+            n = n + 1; sx = sx + r.ea; sy = sy + r.sa; sxx = sxx + r.ea * r.ea; sxy = sxy + r.ea * r.sa
+        end
+    end
+    if n < 3 then return nil end
+    local den = sxx - sx * sx / n
+    if not (den > 0) then return nil end
+    local k = (sxy - sx * sy / n) / den
+    if not (k > 0) then return nil end
+    local e0 = sx / n - (sy / n) / k
+    local p = rows[ipeak]
+    if not (p.ea > e0) then return nil end
+    return p.sa / (p.ea - e0) / k
+end
+
+--- A peak reached at less than this secant over elastic stiffness (Br.peak_stiffness) is not a
+--- splitting strength.
+Br.min_peak_stiffness = 0.5
+
 --- Whether a Brazilian test measured a tensile strength: the disk split along the loaded
 --- diameter, and its peak came from that fracture. Not valid (with the reason) when the test
 --- stopped before the disk failed (max_steps, max_strain); when the load fell after its peak
 --- with no bond breaking (the disk slipped or rolled at a jaw: the peak is a friction limit, not
 --- a strength); when the first breaks were under a jaw and the disk did not split (a crushed
---- contact: fracture.crush); or when it did not split (fracture.split). res: M.brazilian's
---- result (stop, rows, ipeak, cracks, fracture). Returns valid, reason.
+--- contact: fracture.crush); when it did not split (fracture.split); or when the peak came
+--- after the disk had cracked through and its load had risen again (Br.peak_stiffness below
+--- Br.min_peak_stiffness: the elastic solution behind 2F / (pi D t) no longer held). res:
+--- M.brazilian's result (stop, rows, ipeak, cracks, fracture). Returns valid, reason.
 function Br.validity(res)
     if res.stop ~= "post_peak" then
         return false, string.format("the disk did not fail (the test stopped at %s)", res.stop)
@@ -117,6 +157,11 @@ function Br.validity(res)
     if not f.split then
         return false, string.format("no split along the loaded diameter (%.0f%% of the breaks within 0.1 D of it, "
             .. "crack along %.0f%% of it)", 100 * f.band, 100 * f.cover)
+    end
+    local k = Br.peak_stiffness(res.rows, res.ipeak)
+    if k and k < Br.min_peak_stiffness then
+        return false, string.format("the peak came after the disk had cracked (its secant stiffness there %.2f of the "
+            .. "elastic one): the cracked disk compacting between the jaws, not a splitting strength", k)
     end
     return true, nil
 end

@@ -14,7 +14,7 @@ local Cal = require("calibrate")
 local M = {}
 
 -- The outputs a calibration can aim at, from the tests of one point.
-M.outputs = { "E", "nu", "ucs", "tensile", "ratio", "phi" }
+M.outputs = { "E", "nu", "ucs", "tensile", "ratio", "phi", "E_elastic", "nu_elastic" }
 local kOutput = U.set_of(M.outputs)
 
 -- FNV-1a, 64 bits: a short key for a long description (talus.map's checkpoint key)
@@ -38,15 +38,16 @@ local kKnown = U.set_of { "material", "packing", "disk", "params", "fixed", "tar
 ---   disk(seed) -> the Brazilian disk's packing (M.genesis_disk; made once per seed), needed
 ---       when a target is tensile or ratio
 ---   params = {{name =, lo =, hi =, start =, spread =}, ...} (calibrate.fit_targets), fixed = {}
----   targets = {{name =, value =, weight = 1, tol = 0.05}, ...}, names among E, nu, ucs,
----       tensile, ratio (ucs / tensile) and phi (Mohr-Coulomb, from the UCS test and one biaxial
----       test at `confinement` per seed)
+---   targets = {{name =, value =, weight = 1, tol = 0.05}, ...}, names among E, nu (at 50% of
+---       the peak), E_elastic, nu_elastic (over 10-30% of it, M.compress), ucs, tensile, ratio
+---       (ucs / tensile) and phi (Mohr-Coulomb, from the UCS test and one biaxial test at
+---       `confinement` per seed)
 ---   seeds = {1, 2}: every point is tested on the same packings (common random numbers: the
 ---       differences between points are not blurred by the packings' scatter)
 ---   confinement = 10e6 (Pa), report_phi (run the biaxial test without a phi target)
 ---   budget = points at most (calibrate.fit_targets), radius, min_radius, design
----   tests = { ucs = M.compress's options (post_peak 0.8), brazilian = M.brazilian's (post_peak
----       0.5), disk = M.specimen's options for the disk, platen_fric = the Brazilian jaws'
+---   tests = { ucs = M.compress's options (post_peak 0.8), brazilian = M.brazilian's (its
+---       defaults), disk = M.specimen's options for the disk, platen_fric = the Brazilian jaws'
 ---       friction (0.5) }
 ---   jobs = talus.map's; checkpoint = a directory: every test is kept there as it finishes
 ---       (talus.map's checkpoint, one directory per batch of points, keyed by the points, the
@@ -137,7 +138,7 @@ function M.calibrate(spec)
             md.platen = pl
             local so = { balls = Br.disk(disks[k]) }
             for key, v in pairs(tests.disk or {}) do so[key] = v end
-            local bo = { post_peak = 0.5 }
+            local bo = {}
             for key, v in pairs(tests.brazilian or {}) do bo[key] = v end
             local b = Br.brazilian(S.specimen(disks[k], md, so), bo)
             return { seed = seed, kind = kind, tensile = b.tensile, valid = b.valid, steps = b.steps, stop = b.stop,
@@ -147,8 +148,8 @@ function M.calibrate(spec)
         for key, v in pairs(tests.ucs or {}) do o[key] = v end
         if kind == "biaxial" then o.confinement = confinement end
         local r = C.compress(S.specimen(blocks[k], mat, { sides = kind == "biaxial" }), o)
-        return { seed = seed, kind = kind, peak = r.ucs, E = r.E, nu = r.nu, steps = r.steps, stop = r.stop,
-                 cpu = U.clock() - c0 }
+        return { seed = seed, kind = kind, peak = r.ucs, E = r.E, nu = r.nu, E_elastic = r.E_elastic,
+                 nu_elastic = r.nu_elastic, steps = r.steps, stop = r.stop, cpu = U.clock() - c0 }
     end
     local function mean_sd(list)
         local m, s = Env.mean_sd_list(list)
@@ -157,10 +158,12 @@ function M.calibrate(spec)
     -- the outputs of a point from its tests
     local function outputs(res)
         local ucs, E, nu, ten_valid, ten_all, biax, cpu = {}, {}, {}, {}, {}, {}, 0
+        local E_el, nu_el = {}, {}
         for _, r in ipairs(res) do
             cpu = cpu + r.cpu
             if r.kind == "ucs" then
                 ucs[r.seed], E[#E + 1], nu[#nu + 1] = r.peak, r.E, r.nu
+                E_el[#E_el + 1], nu_el[#nu_el + 1] = r.E_elastic, r.nu_elastic
             elseif r.kind == "biaxial" then
                 biax[r.seed] = r.peak
             else
@@ -174,6 +177,8 @@ function M.calibrate(spec)
         o.ucs, o.ucs_sd = mean_sd(u)
         o.E, o.E_sd = mean_sd(E)
         o.nu, o.nu_sd = mean_sd(nu)
+        o.E_elastic, o.E_elastic_sd = mean_sd(E_el)
+        o.nu_elastic, o.nu_elastic_sd = mean_sd(nu_el)
         if #ten_all > 0 then
             -- the tests that split; all of them when none did (said by tensile_valid = 0)
             o.tensile, o.tensile_sd = mean_sd(#ten_valid > 0 and ten_valid or ten_all)

@@ -44,7 +44,7 @@ end
 --- (history file), cracks_csv (crack list; default next to csv: NAME_cracks.csv), band (side
 --- band width, default 2 rmax). Returns { ucs (peak axial stress, Pa; for biaxial the peak
 --- axial stress, deviator = ucs - confinement), E (tangent at 50%), E50 (secant), nu,
---- peak_strain, rows, steps, breaks = {tension, shear}, cracks (cracks.lua), crack_damage
+--- E_elastic and nu_elastic (the slopes over 10-30% of the peak), peak_strain, rows, steps, breaks = {tension, shear}, cracks (cracks.lua), crack_damage
 --- (statistics.lua), ... }.
 function C.compress(sp, opts)
     opts = opts or {}
@@ -102,6 +102,11 @@ function C.compress(sp, opts)
     res.crack_damage = St.crack_damage(res.rows, res.ipeak)
     local a = St.analyse(res.rows, res.ipeak)
     res.ucs, res.E, res.E50, res.nu = res.peak, a.E, a.E50, a.nu
+    -- the same slopes over 10-30% of the peak: the elastic part, before a bonded material's first
+    -- cracks (at 0.3-0.7 of the peak in the Lac du Bonnet materials) add their opening to the
+    -- lateral strain (docs/material.md, "E and nu")
+    local el = St.analyse(res.rows, res.ipeak, 0.1, 0.3)
+    res.E_elastic, res.nu_elastic = el.E, el.nu
     res.fit_points = a.points
     res.peak_strain = res.rows[res.ipeak].ea
     res.width = width

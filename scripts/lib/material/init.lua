@@ -71,6 +71,7 @@ return {
     specimen = S.specimen, install_bonds = S.install_bonds,
     compress = C.compress,
     disk = Br.disk, brazilian = Br.brazilian, fracture = Br.fracture, brazilian_validity = Br.validity,
+    brazilian_peak_stiffness = Br.peak_stiffness,
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
     analyse = St.analyse, mean_sd = St.mean_sd, finished = St.finished, write_csv = U.write_csv,

@@ -22,14 +22,17 @@ local function ball_genesis(E, kratio)
     return genesis, disk
 end
 
--- The micro-parameters: those of the flat-jointed and the clumped materials were calibrated
--- (scripts/examples/calibrate_granite.lua at half size, 2 seeds; docs/results/material.md has the
--- calibrations), those of "pbond" are Potyondy & Cundall's (2004); Ldb.calibrated.pbond is the
--- parallel-bonded material calibrated the same way.
+-- The micro-parameters: the flat joints' from a search at full size (docs/results/material.md,
+-- "Lac du Bonnet flat joints, calibrated again at full size"), the clumped grains' calibrated by
+-- scripts/examples/calibrate_granite.lua at half size on 2 seeds, those of "pbond" Potyondy &
+-- Cundall's (2004); Ldb.calibrated.pbond is the parallel-bonded material calibrated the same way.
 Ldb.defaults = {
-    -- calibrate_granite.lua out fjoint 0.5 2 27: the best of 16 points; fj_fa, fj_nr, cv fixed
-    fjoint = { fj_emod = 1.092e11, fj_kratio = 1.374, fj_ten = 5.497e7, fj_coh = 4.366e8, fj_fa = 40, fj_fric = 0.9162,
-               fj_nr = 2, cv = 0.1, slit = 0.3329, slit_gap = 0 },
+    -- full size, seeds 1-5, E and nu over the elastic part: a tenth of the interfaces slit (a
+    -- third made the bonded network so sparse that each packing gave another granite), tensile
+    -- strength 34 +- 6.8 MPa, the unbonded elements' friction 2 (the bonded elements break in
+    -- tension, 99%; the broken ones' friction carries the compressive strength)
+    fjoint = { fj_emod = 1.07e11, fj_kratio = 2.0, fj_ten = 3.4e7, fj_coh = 4.366e8, fj_fa = 40, fj_fric = 2.0,
+               fj_nr = 2, cv = 0.2, slit = 0.1, slit_gap = 0 },
     -- calibrate_granite.lua out clumped 0.5 2 15: the best of 15 points, its emod then scaled by
     -- 69 / 78.28 (E is proportional to emod, the other outputs independent of it)
     clumped = { emod = 3.929e10, kratio = 0.7, pb_ten = 7.628e7, pb_coh = 7.609e8, cv = 0.23, fric = 0.5 },

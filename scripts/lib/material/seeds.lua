@@ -84,7 +84,7 @@ function Sd.run(spec)
             for key, v in pairs(mat.platen or {}) do pl[key] = v end
             pl.fric = spec.platen_fric or 0.5
             m.platen = pl
-            local b = Br.brazilian(S.specimen(pd, m, { balls = Br.disk(pd) }), { post_peak = 0.5, csv = file("brazilian", it) })
+            local b = Br.brazilian(S.specimen(pd, m, { balls = Br.disk(pd) }), { csv = file("brazilian", it) })
             return { kind = it.kind, seed = it.seed, tensile = b.tensile, valid = b.valid, reason = b.reason, stop = b.stop,
                      steps = b.steps, balls = b.balls, cpu = U.clock() - c0 }
         end
@@ -94,7 +94,7 @@ function Sd.run(spec)
             { post_peak = 0.8, confinement = it.confinement, csv = file(it.kind, it) })
         local th = Env.thresholds(r)
         return { kind = it.kind, seed = it.seed, confinement = it.confinement or 0, peak = r.ucs, E = r.E, nu = r.nu,
-                 stop = r.stop, steps = r.steps, balls = r.balls, porosity = pk.porosity,
+                 E_elastic = r.E_elastic, nu_elastic = r.nu_elastic, stop = r.stop, steps = r.steps, balls = r.balls, porosity = pk.porosity,
                  ci_ratio = th.ci and th.ci.ratio, cd_ratio = th.cd and th.cd.ratio, cpu = U.clock() - c0 }
     end, map_opts("tests"))
     local rows, by_seed, cpu = {}, {}, cpu_pk
@@ -110,6 +110,7 @@ function Sd.run(spec)
             row.cpu = row.cpu + r.cpu
             if r.kind == "ucs" then
                 row.ucs, row.E, row.nu, row.balls, row.porosity = r.peak, r.E, r.nu, r.balls, r.porosity
+                row.E_elastic, row.nu_elastic = r.E_elastic, r.nu_elastic
                 row.stop, row.steps, row.ci_ratio, row.cd_ratio = r.stop, r.steps, r.ci_ratio, r.cd_ratio
             elseif r.kind == "brazilian" then
                 row.tensile, row.valid, row.reason, row.stop_brazilian = r.tensile, r.valid, r.reason, r.stop
@@ -144,14 +145,16 @@ function Sd.stat(rows, key)
 end
 
 --- Prints the table of Sd.run's result and its means; returns the summary { ucs = {mean, sd,
---- n}, E, nu, tensile, ratio, phi, c, m_i }.
+--- n}, E, nu, E_elastic, nu_elastic, tensile, ratio, phi, c, m_i }.
 function Sd.print(res, title)
     if title then print(title) end
-    print("seed balls porosity UCS[MPa] E[GPa]  nu     sigma_t[MPa] UCS/sigma_t phi[deg] CI/UCS CD/UCS stop(UCS) steps")
+    print("seed balls porosity UCS[MPa] E[GPa]  nu     E_el   nu_el  sigma_t[MPa] UCS/sigma_t phi[deg] CI/UCS CD/UCS stop(UCS) steps")
     for _, r in ipairs(res.rows) do
-        print(string.format("%4d %5s  %5s  %8s %6s  %5s  %8s%s  %8s   %6s    %4s   %4s   %-9s %6s", r.seed, r.balls or "-",
-            r.porosity and string.format("%.3f", r.porosity) or "-", r.ucs and string.format("%.1f", r.ucs / 1e6) or "-",
-            r.E and string.format("%.1f", r.E / 1e9) or "-", r.nu and string.format("%.3f", r.nu) or "-",
+        print(string.format("%4d %5s  %5s  %8s %6s  %5s  %5s  %5s  %8s%s  %8s   %6s    %4s   %4s   %-9s %6s", r.seed,
+            r.balls or "-", r.porosity and string.format("%.3f", r.porosity) or "-",
+            r.ucs and string.format("%.1f", r.ucs / 1e6) or "-", r.E and string.format("%.1f", r.E / 1e9) or "-",
+            r.nu and string.format("%.3f", r.nu) or "-", r.E_elastic and string.format("%.1f", r.E_elastic / 1e9) or "-",
+            r.nu_elastic and string.format("%.3f", r.nu_elastic) or "-",
             r.tensile and string.format("%.2f", r.tensile / 1e6) or "-", r.tensile and (r.valid and " " or "*") or " ",
             r.ratio and string.format("%.1f", r.ratio) or "-", r.phi and string.format("%.1f", r.phi) or "-",
             r.ci_ratio and string.format("%.2f", r.ci_ratio) or "-", r.cd_ratio and string.format("%.2f", r.cd_ratio) or "-",
@@ -159,13 +162,13 @@ function Sd.print(res, title)
     end
     local sum = {}
     local parts = {}
-    for _, k in ipairs({ "ucs", "E", "nu", "tensile", "ratio", "phi", "c", "m_i" }) do
+    for _, k in ipairs({ "ucs", "E", "nu", "E_elastic", "nu_elastic", "tensile", "ratio", "phi", "c", "m_i" }) do
         local m, s, n = Sd.stat(res.rows, k)
         sum[k] = { mean = m, sd = s, n = n }
         if m then
             local scale, unit, f = 1, "", "%.3f"
             if k == "ucs" or k == "tensile" or k == "c" then scale, unit, f = 1e-6, " MPa", "%.2f" end
-            if k == "E" then scale, unit, f = 1e-9, " GPa", "%.1f" end
+            if k == "E" or k == "E_elastic" then scale, unit, f = 1e-9, " GPa", "%.1f" end
             if k == "ratio" or k == "phi" or k == "m_i" then f = "%.1f" end
             if k == "phi" then unit = " deg" end
             parts[#parts + 1] = string.format("%s " .. f .. " +- " .. f .. "%s (%d)", k == "ucs" and "UCS" or

@@ -75,6 +75,32 @@ T.check(v == false and why:find("crushed at a jaw (3 of the first 4", 1, true), 
 v, why = M.brazilian_validity(fake({ split = true, crush = false }, true))
 T.check(v == true and why == nil, "split, cracks after the peak: valid")
 
+-- 4b. A peak after the disk cracked through: the load linear (1e10 Pa per unit strain) for ten
+-- rows without a break, then breaks and a slow rise (1e5 Pa a row) to a peak at row 40. The
+-- elastic line passes through the origin, so the secant at the peak over the elastic slope is
+-- (1e7 + 30e5) / 4e-3 / 1e10 = 0.325 exactly: not a splitting strength. The same rows cut at
+-- row 11, where the load still follows the elastic line: 1, valid.
+local function rows_to(last)
+    local rows = {}
+    for i = 1, last do
+        local ea = i * 1e-4
+        local sa = i <= 10 and 1e10 * ea or 1e7 + (i - 10) * 1e5
+        if last == 11 and i == 11 then sa = 1e10 * ea end
+        rows[i] = { time = i, ea = ea, sa = sa, breaks_tension = i <= 10 and 0 or i - 10, breaks_shear = 0 }
+    end
+    return rows
+end
+local late = rows_to(40)
+T.near(M.brazilian_peak_stiffness(late, 40), 0.325, 1e-9, "secant at a compaction peak")
+T.near(M.brazilian_peak_stiffness(rows_to(11), 11), 1, 1e-9, "secant at a splitting peak")
+local r = { stop = "post_peak", ipeak = 40, rows = late, cracks = { { time = 41 } }, fracture = { split = true } }
+v, why = M.brazilian_validity(r)
+T.check(v == false and why:find("0.33 of the elastic one", 1, true), "compaction peak: " .. tostring(why))
+r.rows, r.ipeak = rows_to(11), 11
+r.cracks = { { time = 12 } }
+v, why = M.brazilian_validity(r)
+T.check(v == true and why == nil, "splitting peak: valid (" .. tostring(why) .. ")")
+
 -- 5. mean and sd over the valid tests only, and how many
 local mean, sd, n = M.mean_sd({ { tensile = 1 }, { tensile = 100, valid = false }, { tensile = 3, valid = true } }, "tensile")
 T.check(mean == 2 and sd == math.sqrt(2) and n == 2, string.format("mean_sd over valid: %g %g %d", mean, sd, n))
