@@ -36,6 +36,30 @@ function E.hold_step(m)
     return dt
 end
 
+--- Cycles with the step held (E.hold_step) and held again every `every` steps (a number, or a
+--- function giving it when asked; nil: the automatic step throughout). Returns a stepper:
+--- cycle(n) runs n steps, the hold's two automatic ones among them; release() makes the step
+--- automatic again if it was held.
+function E.held_stepper(m, every)
+    local held_at = nil
+    local st = {}
+    local function due()
+        return not held_at or m:step() - held_at >= (type(every) == "function" and every() or every)
+    end
+    function st.cycle(n)
+        if every and n > 2 and due() then
+            held_at = m:step()
+            E.hold_step(m)
+            n = n - 2
+        end
+        m:cycle(n)
+    end
+    function st.release()
+        if held_at then m:timestep{ fixed = false } end
+    end
+    return st
+end
+
 --- A relaxation has stalled when its ratio has not fallen below stall_drop (0.9) of its best
 --- for a window of steps (docs/material.md "Genesis").
 E.stall_drop = 0.9
@@ -58,19 +82,13 @@ function E.solve_ratio(m, ratio, max_steps, chunk, window, hold)
     end
     local r = math.huge
     local best, best_at = math.huge, 0
-    local held_at = nil
+    local stepper = E.held_stepper(m, hold)
     local function done(why)
-        if held_at then m:timestep{ fixed = false } end
+        stepper.release()
         return m:step() - s0, r, why
     end
     while m:step() - s0 < max_steps do
-        local n = math.min(chunk, max_steps - (m:step() - s0))
-        if hold and n > 2 and (not held_at or m:step() - held_at >= hold) then
-            held_at = m:step()
-            E.hold_step(m)
-            n = n - 2
-        end
-        m:cycle(n)
+        stepper.cycle(math.min(chunk, max_steps - (m:step() - s0)))
         local u = m:unbalanced()
         r = u.ratio
         local k = m:step() - s0

@@ -220,15 +220,10 @@ function G.run(vessel, kind, o)
         end
         local s0 = m:step()
         local sv = vessel.servo(m, sigma0, o.kn, rmean)
-        local best, best_at, held_at, why = math.huge, 0, nil, nil
+        local best, best_at, why = math.huge, 0, nil
+        local stepper = E.held_stepper(m, window)
         while true do
-            local n = 200
-            if not held_at or m:step() - held_at >= window() then
-                held_at = m:step()
-                E.hold_step(m)
-                n = n - 2
-            end
-            m:cycle(n)
+            stepper.cycle(200)
             sv.update()
             local k = m:step() - s0
             if vessel.at_stress(sigma0, o.tolerance) then
@@ -250,7 +245,7 @@ function G.run(vessel, kind, o)
             end
         end
         sv.stop()
-        m:timestep{ fixed = false }
+        stepper.release()
         relaxations[#relaxations + 1] = { phase = phase, steps = m:step() - s0, ratio = r, stop = why }
         say(string.format("%s: servo %d steps, %s, ratio %.3g (%s)", phase, m:step() - s0, vessel.stress_text(), r, why))
         return r

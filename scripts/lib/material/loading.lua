@@ -77,21 +77,14 @@ function L.load_platens(sp, opts, measure)
     -- loop gathers per pair) was a fifth of a UCS test step (1 250 balls: 142 against 184 us per
     -- step, the same UCS to 0.05%, E and nu to the digits shown). Without it, the automatic step
     -- every cycle.
-    local hold_every = opts.hold_step and (opts.hold_every or 1000) or nil
-    local held_at = nil
+    local stepper = E.held_stepper(m, opts.hold_step and (opts.hold_every or 1000) or nil)
     row()
     while true do
         local k = m:step() - s0
         local f = math.min(1, (k + 0.5 * every) / ramp)
         sp.top.wall.vel = { 0, -v * f }
         sp.bottom.wall.vel = { 0, v * f }
-        local n = every
-        if hold_every and n > 2 and (not held_at or m:step() - held_at >= hold_every) then
-            held_at = m:step()
-            E.hold_step(m)
-            n = n - 2
-        end
-        m:cycle(n)
+        stepper.cycle(every)
         local r = row()
         if r.sa > peak then peak, ipeak = r.sa, #rows end
         -- post-peak stop only once bonds broke: before the platens touch, a noise "peak" of a
@@ -109,7 +102,7 @@ function L.load_platens(sp, opts, measure)
         if m:step() - s0 >= max_steps then break end
     end
     sp.top.wall.vel, sp.bottom.wall.vel = { 0, 0 }, { 0, 0 }
-    if held_at then m:timestep{ fixed = false } end
+    stepper.release()
     m:remove_on_event(handler)
     return {
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
