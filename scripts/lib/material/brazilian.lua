@@ -5,6 +5,7 @@ local U = require("material.util")
 local Wl = require("material.walls")
 local L = require("material.loading")
 local Cr = require("material.cracks")
+local St = require("material.statistics")
 
 local Br = {}
 
@@ -105,20 +106,19 @@ function Br.peak_stiffness(rows, ipeak)
         if r.breaks_tension + r.breaks_shear > 0 then break end
         last = math.max(last, r.sa)
     end
-    local n, sx, sy, sxx, sxy = 0, 0, 0, 0, 0
+    local xs, ys, sx, sy = {}, {}, 0, 0
     for i = 1, ipeak do
         local r = rows[i]
         if r.breaks_tension + r.breaks_shear > 0 then break end
         if r.sa >= 0.2 * last and last > 0 then
-            n = n + 1; sx = sx + r.ea; sy = sy + r.sa; sxx = sxx + r.ea * r.ea; sxy = sxy + r.ea * r.sa
+            xs[#xs + 1], ys[#ys + 1] = r.ea, r.sa
+            sx, sy = sx + r.ea, sy + r.sa
         end
     end
-    if n < 3 then return nil end
-    local den = sxx - sx * sx / n
-    if not (den > 0) then return nil end
-    local k = (sxy - sx * sy / n) / den
-    if not (k > 0) then return nil end
-    local e0 = sx / n - (sy / n) / k
+    if #xs < 3 then return nil end
+    local k = St.lsq_slope(xs, ys)
+    if not (k and k > 0) then return nil end
+    local e0 = (sx - sy / k) / #xs
     local p = rows[ipeak]
     if not (p.ea > e0) then return nil end
     return p.sa / (p.ea - e0) / k
@@ -166,6 +166,12 @@ function Br.validity(res)
     return true, nil
 end
 
+--- A copy of material `mat` whose platens (the jaws) have friction `fric`: between smooth
+--- jaws a disk slid or rolled out sideways (docs/results/material.md).
+function Br.with_jaw_friction(mat, fric)
+    return U.merged(mat, { platen = U.merged(mat.platen, { fric = fric }) })
+end
+
 --- Brazilian test on a disk specimen (M.specimen(pk, mat, { balls = M.disk(pk) })), between
 --- the curved jaws of the ISRM suggested method (the default, M.make_jaws) or flat platens
 --- (M.specimen's opts.jaws = "flat"); sigma_t = 2 F / (pi D t), F the mean of the two jaws'
@@ -184,8 +190,7 @@ function Br.brazilian(sp, opts)
             tostring(opts.jaws), sp.jaws and ("'" .. sp.jaws .. "'") or "flat platens", tostring(opts.jaws)), 2)
     end
     -- a copy, the caller's table untouched
-    local o = {}
-    for k, v in pairs(opts) do o[k] = v end
+    local o = U.merged(opts)
     o.jaws = nil
     -- see load_platens: a load that comes back after a break under a platen is not cut
     if o.confirm == nil then o.confirm = 0.5 end

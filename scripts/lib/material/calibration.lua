@@ -118,34 +118,20 @@ function M.calibrate(spec)
     say(string.format("calibrate: %d packings made (%.0f s CPU)", #pk_items, cpu_pk))
 
     local fixed = spec.fixed or {}
-    local function point_params(x)
-        local p = {}
-        for k, v in pairs(fixed) do p[k] = v end
-        for k, v in pairs(x) do p[k] = v end
-        return p
-    end
+    local function point_params(x) return U.merged(fixed, x) end
     -- one test: kind on seed k at point p
     local function run_test(p, k, kind)
         local c0 = U.clock()
         local seed = seeds[k]
         local mat = material(p, seed)
         if kind == "brazilian" then
-            local md = {}
-            for key, v in pairs(mat) do md[key] = v end
-            local pl = {}
-            for key, v in pairs(mat.platen or {}) do pl[key] = v end
-            pl.fric = tests.platen_fric or 0.5
-            md.platen = pl
-            local so = { balls = Br.disk(disks[k]) }
-            for key, v in pairs(tests.disk or {}) do so[key] = v end
-            local bo = {}
-            for key, v in pairs(tests.brazilian or {}) do bo[key] = v end
-            local b = Br.brazilian(S.specimen(disks[k], md, so), bo)
+            local md = Br.with_jaw_friction(mat, tests.platen_fric or 0.5)
+            local so = U.merged({ balls = Br.disk(disks[k]) }, tests.disk)
+            local b = Br.brazilian(S.specimen(disks[k], md, so), U.merged(tests.brazilian))
             return { seed = seed, kind = kind, tensile = b.tensile, valid = b.valid, steps = b.steps, stop = b.stop,
                      cpu = U.clock() - c0 }
         end
-        local o = { post_peak = 0.8 }
-        for key, v in pairs(tests.ucs or {}) do o[key] = v end
+        local o = U.merged({ post_peak = 0.8 }, tests.ucs)
         if kind == "biaxial" then o.confinement = confinement end
         local r = C.compress(S.specimen(blocks[k], mat, { sides = kind == "biaxial" }), o)
         return { seed = seed, kind = kind, peak = r.ucs, E = r.E, nu = r.nu, E_elastic = r.E_elastic,

@@ -74,16 +74,11 @@ function Sd.run(spec)
     local res = talus.map(#items, function(i)
         local it = items[i]
         local c0 = U.clock()
-        local m = {}
-        for key, v in pairs(mat) do m[key] = v end
-        m.seed = it.seed
+        local m = U.merged(mat, { seed = it.seed })
         if it.kind == "brazilian" then
             local pd = disks[it.k]
             if not pd then error("the disk packing of seed " .. it.seed .. " failed") end
-            local pl = {}
-            for key, v in pairs(mat.platen or {}) do pl[key] = v end
-            pl.fric = spec.platen_fric or 0.5
-            m.platen = pl
+            m = Br.with_jaw_friction(m, spec.platen_fric or 0.5)
             local b = Br.brazilian(S.specimen(pd, m, { balls = Br.disk(pd) }), { csv = file("brazilian", it) })
             return { kind = it.kind, seed = it.seed, tensile = b.tensile, valid = b.valid, reason = b.reason, stop = b.stop,
                      steps = b.steps, balls = b.balls, cpu = U.clock() - c0 }

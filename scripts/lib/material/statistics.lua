@@ -3,7 +3,8 @@
 -- results over seeds.
 local St = {}
 
-local function lsq_slope(xs, ys)
+--- The least-squares slope of ys on xs (nil for fewer than 2 points or equal xs).
+function St.lsq_slope(xs, ys)
     local n = #xs
     if n < 2 then return nil end
     local mx, my = 0, 0
@@ -31,8 +32,8 @@ function St.analyse(rows, ipeak, lo, hi)
             xs[#xs + 1] = r.ea; ys[#ys + 1] = r.sa; ls[#ls + 1] = r.el
         end
     end
-    local E = lsq_slope(xs, ys)
-    local nu = lsq_slope(xs, ls)
+    local E = St.lsq_slope(xs, ys)
+    local nu = St.lsq_slope(xs, ls)
     local E50
     for i = 2, ipeak do
         local a, b = rows[i - 1], rows[i]

@@ -26,6 +26,16 @@ function U.check_known(opts, known, where, level)
     end
 end
 
+--- A new table with the entries of each argument in turn (later ones win; nil arguments are
+--- skipped): a copy with some entries changed, the tables given left as they are.
+function U.merged(...)
+    local o = {}
+    for i = 1, select("#", ...) do
+        for k, v in pairs(select(i, ...) or {}) do o[k] = v end
+    end
+    return o
+end
+
 function U.set_of(list)
     local s = {}
     for _, v in ipairs(list) do s[v] = true end
