@@ -23,6 +23,7 @@
 #include "world/body_store.hpp"
 #include "world/broadphase.hpp"
 #include "world/contact_store.hpp"
+#include "world/lanes.hpp"
 #include "world/messages.hpp"
 #include "world/types.hpp"
 
@@ -41,11 +42,15 @@ void refreshPairMasses(World& world, uint32_t s) {
     // Pairs cache their effective mass (force/loop.cpp); a mass change is rare.
     const auto& b = world.bodies.balls;
     for (auto& p : world.contacts.pairs)
-        if (p.end1 == s || (!p.wall && p.end2 == s))
+        if (p.end1 == s || (!p.wall && p.end2 == s)) {
+            // A kernel's step takes the mass from the contact's row (force/kernels.hpp,
+            // kernelMasses): back to its object, whose next FDlaw takes the new mass.
+            leaveLane(world.contacts, p);
             world.contacts.coldOf(p).mass_eff =
                 p.wall ? b.mass[p.end1]
                        : b.mass[p.end1] * b.mass[p.end2] / (b.mass[p.end1] + b.mass[p.end2]),
             world.contacts.coldOf(p).inv_mass_eff_s = tangentialInverseMass(world, p);
+        }
 }
 
 void updateMass(World& world, uint32_t s) {

@@ -67,8 +67,7 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
     kf.du_n = kf.u_dot_n * v.dt;
     kf.du_s = kf.u_dot_s * v.dt;
     kf.dtheta = kf.t_dot_rel * v.dt;
-    kf.mass_eff = v.cold[i].mass_eff;
-    kf.inv_mass_eff_s = v.cold[i].inv_mass_eff_s;
+    kernelMasses(rule.kernel, row, &v.cold[i], kf);
     kf.n_force = p.n_force;
     kf.s_force = p.s_force;
     kf.moment = p.moment;

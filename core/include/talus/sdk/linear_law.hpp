@@ -266,6 +266,7 @@ public:
     // dashpot history on its row, the same code as FDlaw, so the same bits. The row: the
     // constants the step reads (kLinearLaneConstants), then the state it writes.
     static constexpr int kLinearLaneConstants = 10;
+    static constexpr int kLaneMassEff = 3, kLaneCs = 6;  // (row[3] mass_eff, row[6] cs)
     /// The law's kernel id (ABI 1.3, talus_plugin_kernel): a model that runs linearLaneStep on
     /// these rows may name it, and a host that knows it runs the step itself. Raise the number
     /// whenever the rows or the step change.
