@@ -44,7 +44,7 @@ void refreshPairMasses(World& world, uint32_t s) {
     for (auto& p : world.contacts.pairs)
         if (p.end1 == s || (!p.wall && p.end2 == s)) {
             // A kernel's step takes the mass from the contact's row (force/kernels.hpp,
-            // kernelMasses): back to its object, whose next FDlaw takes the new mass.
+            // runKernel): back to its object, whose next FDlaw takes the new mass.
             leaveLane(world.contacts, p);
             world.contacts.coldOf(p).mass_eff =
                 p.wall ? b.mass[p.end1]

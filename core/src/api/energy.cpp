@@ -36,7 +36,7 @@ void Model::setEnergyTracing(bool on) {
         // Models report stored energy only while tracing is on; until the next step it is not
         // known.
         world.books.acc.strain = 0.0;
-        for (auto& c : world.contacts.cold) c.strain = c.bond = 0.0;
+        for (auto& held : world.contacts.stored) held = PairStored{};
         world.books.snapshot = world.books.acc;
         world.books.on = true;
         world.books.groups = EnergyBooks::GroupBooks{};

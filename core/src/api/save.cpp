@@ -303,7 +303,7 @@ void Model::saveState(SaveWriter& w) const {
         w.f64(c.knest_at_max), w.f64(c.dt_at_max), w.f64(c.approach_rate), w.f64(c.closure);
         w.boolean(c.born_overlapped);
         w.u32(c.rules_version), w.u64(c.key), w.f64(c.krest), w.f64(c.duration);
-        w.f64(c.strain), w.f64(c.bond);
+        w.f64(world.contacts.stored[i].strain), w.f64(world.contacts.stored[i].bond);
         w.boolean(p.model != nullptr);
         syncLane(world.contacts, p);
         if (p.model) writeModelState(w, *p.model);
@@ -657,6 +657,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         const std::size_t np = r.count(150, "pairs");
         cs.pairs.reserve(np);
         cs.cold.reserve(np);
+        cs.stored.reserve(np);
         for (std::size_t i = 0; i < np; ++i) {
             Pair p;
             PairCold c;
@@ -677,7 +678,8 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             c.closure = r.f64();
             c.born_overlapped = r.boolean();
             c.rules_version = r.u32(), c.key = r.u64(), c.krest = r.f64(), c.duration = r.f64();
-            c.strain = r.f64(), c.bond = r.f64();
+            PairStored held;
+            held.strain = r.f64(), held.bond = r.f64();
             const bool has_model = r.boolean();
             const std::string at = "pair " + std::to_string(i);
             if (p.end1 >= b.size() || (p.wall ? p.end2 >= bs.segments.size() : p.end2 >= b.size()))
@@ -699,6 +701,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
                 r.fail(at + " repeats the key of another pair");
             cs.pairs.push_back(p);
             cs.cold.push_back(c);
+            cs.stored.push_back(held);
             // Clone with the ends' properties (as the pair was made), then its saved state.
             Pair& q = cs.pairs.back();
             PairCold& qc = cs.cold.back();
@@ -709,6 +712,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             } catch (const std::exception& e) {
                 cs.pairs.pop_back();
                 cs.cold.pop_back();
+                cs.stored.pop_back();
                 r.fail(at + ": " + e.what());
             }
             applyModelState(r, *q.model, state, rule_versions[rule],

@@ -49,32 +49,20 @@ struct KernelFd : sdk::LaneFd {
     static constexpr double reserved[3] = {0.0, 0.0, 0.0};
 };
 
-/// The effective masses of a contact's step by kernel `k`, read from its cold record only when
-/// the law uses them: a kernel's contact otherwise leaves that record alone, which at 50 000
-/// disks is a cache line per contact and step. The linear law solves its shear dashpot with
-/// inv_mass_eff_s (only with one, cs > 0) and checks its row's mass_eff against the pair's
-/// (declining the step when the mass changed); a mass change takes the contact out of its lane
-/// (refreshPairMasses), so the row's mass is the pair's whenever the kernel runs. The contact
-/// bond's step uses neither.
-/// (`cold` a pointer: a reference may be read ahead of the test, which is the read to avoid.)
-__attribute__((always_inline)) inline void kernelMasses(Kernel k, const double* row,
-                                                        const PairCold* cold, KernelFd& fd) {
+/// One contact's step by kernel `k` on its row; false: declined (row untouched). The effective
+/// masses are read from the contact's cold record only where the law uses them: a kernel's
+/// contact otherwise leaves that record alone, which at 50 000 disks is a cache line per contact
+/// and step. The linear law solves its shear dashpot with inv_mass_eff_s (only with one, cs > 0)
+/// and checks its row's mass_eff against the pair's (declining the step when the mass changed); a
+/// mass change takes the contact out of its lane (refreshPairMasses), so the row's mass is the
+/// pair's whenever the kernel runs. The contact bond's step uses neither. (`cold` a pointer: a
+/// reference may be read ahead of the test, and that read is the one to avoid.)
+__attribute__((always_inline)) inline bool runKernel(Kernel k, double* row, const PairCold* cold,
+                                                     KernelFd& fd) {
     switch (k) {
         case Kernel::Linear:
             fd.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             fd.inv_mass_eff_s = row[sdk::LinearLaw::kLaneCs] > 0.0 ? cold->inv_mass_eff_s : 0.0;
-            return;
-        case Kernel::ContactBond:
-        case Kernel::None:
-            break;
-    }
-    fd.mass_eff = fd.inv_mass_eff_s = 0.0;
-}
-
-/// One contact's step by kernel `k` on its row; false: declined (row and fd untouched).
-__attribute__((always_inline)) inline bool runKernel(Kernel k, double* row, KernelFd& fd) {
-    switch (k) {
-        case Kernel::Linear:
             return sdk::LinearLaw::linearLaneStep(row, fd);
         case Kernel::ContactBond:
             return sdk::ContactBondLaw::laneStep(row, fd);

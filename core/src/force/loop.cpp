@@ -48,11 +48,12 @@ ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_tem
                     bool lanes, bool blocks, bool groups) {
     auto& b = world.bodies.balls;
     ForceScratch& scratch = world.contacts.force_scratch;
-    return ForceView{world, world.contacts.pairs, world.contacts.cold, world.contacts.rules.data(),
-                     b.pos.data(), b.vel.data(), b.radius.data(), b.spin.data(), b.fat.data(),
-                     b.force.data(), b.moment.data(), world.bodies.walls.data(),
-                     world.bodies.segments.data(), world.contacts.ball_moved.data(),
-                     world.contacts.segment_moved.data(), scratch.actions.data(),
+    return ForceView{world, world.contacts.pairs, world.contacts.cold, world.contacts.stored,
+                     world.contacts.rules.data(), b.pos.data(), b.vel.data(), b.radius.data(),
+                     b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
+                     world.bodies.walls.data(), world.bodies.segments.data(),
+                     world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
+                     scratch.actions.data(),
                      step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
                      step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
                      world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,

@@ -67,14 +67,13 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
     kf.du_n = kf.u_dot_n * v.dt;
     kf.du_s = kf.u_dot_s * v.dt;
     kf.dtheta = kf.t_dot_rel * v.dt;
-    kernelMasses(rule.kernel, row, &v.cold[i], kf);
     kf.n_force = p.n_force;
     kf.s_force = p.s_force;
     kf.moment = p.moment;
     if constexpr (Features::kEnergy)
         for (double& en : kf.energy) en = 0.0;
     ++counts.kernel;
-    if (runKernel(rule.kernel, row, kf)) {
+    if (runKernel(rule.kernel, row, &v.cold[i], kf)) {
         finishContact<Features, kMode>(v, sums, i, e, kf, false, part);
         return;
     }
@@ -107,7 +106,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         // No pair can take it (no holder, or one with a contact of its own): the contact ends
         // here, and what it still stores is released.
         Pair& p = v.pairs[i];
-        const double stored = v.cold[i].strain + v.cold[i].bond;
+        const double stored = v.stored[i].strain + v.stored[i].bond;
         if constexpr (Features::kEnergy) {
             if constexpr (kMode == Delivery::Direct) v.world.books.acc.released += stored;
             if (v.groups) bookReleasedToGroups(world, p, stored);

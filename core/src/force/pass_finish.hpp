@@ -185,6 +185,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             }
         }
         if constexpr (Features::kEnergy) {
+            PairStored& held = v.stored[i];
             // The plugin's partitions against the ABI's contract (rare path when broken): every
             // partition finite (x - x is 0 only for a finite x) and no dissipation negative. Only
             // with finite kinematics: a state already non-finite is the engine's to report
@@ -198,20 +199,21 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                     DeferredItem item{static_cast<uint32_t>(i), Deferred::Contract};
                     item.flags = static_cast<uint32_t>(part->contracts.size());
                     part->items.push_back(item);
-                    part->contracts.push_back(
-                        {asFdBlock(fd, v.fd_template), fn_old, fs_old, m_old, c.strain, c.bond});
+                    part->contracts.push_back({asFdBlock(fd, v.fd_template), fn_old, fs_old, m_old,
+                                               held.strain, held.bond});
                 } else {
-                    checkEnergyContract(world, p, c.strain, c.bond, asFdBlock(fd, v.fd_template),
-                                        fn_old, fs_old, m_old, v.totals_before);
+                    checkEnergyContract(world, p, held.strain, held.bond,
+                                        asFdBlock(fd, v.fd_template), fn_old, fs_old, m_old,
+                                        v.totals_before);
                 }
             }
             // A break releases what the bond held (Potyondy & Cundall 2004; the model says how
             // much), and so does the end of a contact that is still loaded.
-            c.strain = fd.energy[kEnergyStrain];
-            c.bond = fd.energy[kEnergyBondStrain];
-            double held = 0.0;
+            held.strain = fd.energy[kEnergyStrain];
+            held.bond = fd.energy[kEnergyBondStrain];
+            double before = 0.0;
             const bool baseline = world.books.strain_baseline_pending && !first;
-            if (baseline) held = storedBefore(fd, fn_old, fs_old, m_old);
+            if (baseline) before = storedBefore(fd, fn_old, fs_old, m_old);
             if constexpr (kMode == Delivery::Direct) {
                 // Into the books at once, in the order bookPairEnergy adds a PairEnergy.
                 EnergyBooks& books = world.books;
@@ -222,12 +224,12 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 books.dashpot_pending += fd.energy[kEnergyDashpot];
                 books.acc.plastic += fd.energy[kEnergyPlastic];
                 books.acc.released += fd.energy[kEnergyReleased];
-                if (baseline) sums.held_before += held;
+                if (baseline) sums.held_before += before;
                 if (ends) {
-                    books.acc.released += c.strain + c.bond;
+                    books.acc.released += held.strain + held.bond;
                 } else {
-                    sums.strain_now += c.strain;
-                    sums.bond_now += c.bond;
+                    sums.strain_now += held.strain;
+                    sums.bond_now += held.bond;
                 }
             } else {
                 PairEnergy& pe = v.energies[i];
@@ -237,20 +239,21 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 pe.dashpot = fd.energy[kEnergyDashpot];
                 pe.plastic = fd.energy[kEnergyPlastic];
                 pe.released = fd.energy[kEnergyReleased];
-                if (baseline) pe.held = held, pe.what |= PairEnergy::kHeld;
+                if (baseline) pe.held = before, pe.what |= PairEnergy::kHeld;
                 if (ends) {
-                    pe.released_end = c.strain + c.bond;
+                    pe.released_end = held.strain + held.bond;
                     pe.what |= PairEnergy::kEnds;
                 } else {
-                    pe.strain = c.strain;
-                    pe.bond = c.bond;
+                    pe.strain = held.strain;
+                    pe.bond = held.bond;
                     pe.what |= PairEnergy::kStored;
                 }
             }
             // Group shares and the work across group borders (group_energy.cpp): one branch per
             // contact, taken only with groups traced (one thread).
             if (v.groups)
-                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, held, f, g.point);
+                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, before, f,
+                                    g.point);
         }
     }
 
@@ -310,10 +313,13 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     p.n_force = fd.n_force;
     p.s_force = fd.s_force;
     p.moment = fd.moment;
-    // (flags written only when they change: each write of a bit is a read-modify-write)
-    if (const bool sliding = (fd.flags & kFdSliding) != 0; sliding != p.sliding)
+    // (flags written only when they change: each write of a bit is a read-modify-write; one
+    // test for both, as nearly every contact of a pack sticks, unbonded, step after step)
+    const bool sliding = (fd.flags & kFdSliding) != 0, bonded = (fd.flags & kFdBonded) != 0;
+    if ((sliding | bonded | p.sliding | p.bonded) && (sliding != p.sliding || bonded != p.bonded)) {
         p.sliding = sliding;
-    if (const bool bonded = (fd.flags & kFdBonded) != 0; bonded != p.bonded) p.bonded = bonded;
+        p.bonded = bonded;
+    }
     // The law's estimates, for the automatic step and the messages (findNonFiniteContact names
     // a contact by them); without the automatic step they are left as they were, and the step's
     // survey asks the models when it is switched on (timestep.cpp, surveyPairs).

@@ -40,6 +40,7 @@ struct ForceView {
     // arrays) in the middle of the loop.
     std::vector<Pair>& pairs;
     std::vector<PairCold>& cold;
+    std::vector<PairStored>& stored;
     const std::unique_ptr<Rule>* rules;  // Pair::rule indexes it
     // Balls and walls do not change size during the loop.
     const Vec2* pos;

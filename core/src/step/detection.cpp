@@ -331,6 +331,7 @@ bool makePair(World& world, uint32_t s1, uint32_t other, bool other_is_segment) 
     world.contacts.key_index.emplace(cold.key, static_cast<uint32_t>(world.contacts.pairs.size()));
     world.contacts.pairs.push_back(p);
     world.contacts.cold.push_back(cold);
+    world.contacts.stored.emplace_back();
     ++world.contacts.pairs_version;
     ++world.profile.pairs_created;
     return true;
@@ -341,10 +342,9 @@ void removePair(World& world, std::size_t i) {
     // A contact removed while active (its ball deleted) ends with what it stores: released,
     // not dropped (the next step's strain sum no longer holds it).
     if (p.active && world.books.on) {
-        world.books.acc.released += world.contacts.cold[i].strain + world.contacts.cold[i].bond;
-        if (world.books.groups.on)
-            bookReleasedToGroups(world, p,
-                                 world.contacts.cold[i].strain + world.contacts.cold[i].bond);
+        const PairStored& held = world.contacts.stored[i];
+        world.books.acc.released += held.strain + held.bond;
+        if (world.books.groups.on) bookReleasedToGroups(world, p, held.strain + held.bond);
     }
     if (p.model) {
         dropLane(world.contacts, p);
@@ -357,10 +357,12 @@ void removePair(World& world, std::size_t i) {
     if (i != last) {
         world.contacts.pairs[i] = world.contacts.pairs[last];
         world.contacts.cold[i] = world.contacts.cold[last];
+        world.contacts.stored[i] = world.contacts.stored[last];
         world.contacts.key_index[world.contacts.cold[i].key] = static_cast<uint32_t>(i);
     }
     world.contacts.pairs.pop_back();
     world.contacts.cold.pop_back();
+    world.contacts.stored.pop_back();
     ++world.contacts.pairs_version;
 }
 
@@ -410,6 +412,7 @@ void resetPair(World& world, Pair& p) {
     fresh.key = c.key;
     fresh.rules_version = c.rules_version;
     c = fresh;
+    world.contacts.storedOf(p) = PairStored{};
 }
 
 // ------------------------------------------------------------------------ wall vertices
@@ -546,13 +549,16 @@ void sortBalls(World& world) {
     });
     std::vector<Pair> pairs(world.contacts.pairs.size());
     std::vector<PairCold> cold(world.contacts.cold.size());
+    std::vector<PairStored> stored(world.contacts.stored.size());
     for (std::size_t i = 0; i < porder.size(); ++i) {
         pairs[i] = world.contacts.pairs[porder[i]];
         cold[i] = world.contacts.cold[porder[i]];
+        stored[i] = world.contacts.stored[porder[i]];
         world.contacts.key_index[cold[i].key] = static_cast<uint32_t>(i);
     }
     world.contacts.pairs.swap(pairs);
     world.contacts.cold.swap(cold);
+    world.contacts.stored.swap(stored);
     ++world.contacts.pairs_version;
     repackContactObjects(world);
     reorderLanes(world);

@@ -87,6 +87,7 @@ void bookContactToGroups(World& world, std::size_t i, const double* energy, doub
     auto& gb = world.books.groups;
     const Pair& p = world.contacts.pairs[i];
     const PairCold& c = world.contacts.cold[i];
+    const PairStored& stored = world.contacts.stored[i];  // (this step's, written before)
     const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
     const double placed = (first && c.born_overlapped) ? world.books.last_placed : 0.0;
     auto* groups = gb.g.data();
@@ -102,10 +103,10 @@ void bookContactToGroups(World& world, std::size_t i, const double* energy, doub
         a.placement += s * placed;
         gr.held_before += s * held;
         if (ends) {
-            a.released += s * (c.strain + c.bond);
+            a.released += s * (stored.strain + stored.bond);
         } else {
-            gr.strain_now += s * c.strain;
-            gr.bond_now += s * c.bond;
+            gr.strain_now += s * stored.strain;
+            gr.bond_now += s * stored.bond;
         }
     }
     // Work passed across a group border: only when the ends' groups differ (with a wall, only

@@ -46,6 +46,7 @@ void ContactStore::swapState(std::size_t i, std::size_t j) {
     std::swap(pairs[i].end2, pairs[j].end2);
     std::swap(cold[i], cold[j]);
     std::swap(cold[i].key, cold[j].key);
+    std::swap(stored[i], stored[j]);
 }
 
 uint16_t ContactStore::ruleIndex(const Rule* rule) const {

@@ -27,6 +27,7 @@ struct ContactStore {
     // --- pairs (broadphase candidates; active pairs carry a model object)
     std::vector<Pair> pairs;
     std::vector<PairCold> cold;                        // same index as `pairs`
+    std::vector<PairStored> stored;                    // same index (energy tracing)
     std::unordered_map<uint64_t, uint32_t> key_index;  // ContactKey value -> index
     // Bumped whenever a pair is added or removed or an end's slot changes (the threads'
     // incidence lists are rebuilt then; force/scratch.hpp).
@@ -63,6 +64,7 @@ struct ContactStore {
     /// A pair's cold record (same index) and its rule.
     PairCold& coldOf(const Pair& p) { return cold[pairIndex(p)]; }
     const PairCold& coldOf(const Pair& p) const { return cold[pairIndex(p)]; }
+    PairStored& storedOf(const Pair& p) { return stored[pairIndex(p)]; }
     Rule& ruleOf(const Pair& p) const { return *rules[p.rule]; }
     /// The index of a rule (for Pair::rule); throws InputError beyond 65 535 rules.
     uint16_t ruleIndex(const Rule* rule) const;

@@ -132,10 +132,10 @@ struct WallData {
 /// The force loop streams through all pairs every step and is limited by memory traffic, so a
 /// pair is split in two records of the same index: `Pair`, what the loop reads for every pair at
 /// every step (48 bytes), and `PairCold`, what the law through FDlaw, the time step, the guard,
-/// the energy books, the queries and the bookkeeping need. A contact whose law the host runs
-/// itself (a kernel, force/kernels.hpp) keeps its model's state in its rule's lanes and reads
-/// its cold record only while the guard watches it, with the automatic step, and with energy
-/// tracing.
+/// the queries and the bookkeeping need; the energy books' `PairStored` is a third. A contact
+/// whose law the host runs itself (a kernel, force/kernels.hpp) keeps its model's state in its
+/// rule's lanes and reads its cold record only while the guard watches it and with the automatic
+/// step.
 struct Pair {
     uint32_t end1 = 0;  // ball slot
     uint32_t end2 = 0;  // ball slot, or segment index when `wall`
@@ -189,10 +189,15 @@ struct PairCold {
     double approach_rate = 0.0;    // u_dot_n at touch [m/s]
     double closure = 0.0;          // overlap the step's motion could create at touch [m]
     bool born_overlapped = false;  // first touched with more overlap than one step's approach
-    // Energy tracing.
-    double strain = 0.0, bond = 0.0;  // stored energies reported at the last FDlaw [J]
 };
-static_assert(sizeof(PairCold) == 176, "PairCold is 176 bytes (docs/architecture.md quotes it)");
+static_assert(sizeof(PairCold) == 160, "PairCold is 160 bytes (docs/architecture.md quotes it)");
+
+/// Energy tracing: a pair's stored energies as its law last reported them [J], same index as
+/// Pair. Written for every contact at every traced step, so kept apart from PairCold (16 bytes
+/// here, in pair order, against a line of the cold record per contact and step).
+struct PairStored {
+    double strain = 0.0, bond = 0.0;
+};
 
 struct BallArrays {
     std::vector<Vec2> pos, vel, force, fapp;
