@@ -53,6 +53,27 @@ function T.hex(v)
     return tostring(v)
 end
 
+--- A model's state written exactly (T.hex), for runs compared bit for bit: every ball's position,
+--- velocity and spin; every contact's key, forces and overlap with the contact-model properties
+--- named in `opts.props`; the energy items named in `opts.energies`; the time.
+function T.state_text(m, opts)
+    opts = opts or {}
+    local out = {}
+    local function put(...) for _, v in ipairs({...}) do out[#out + 1] = T.hex(v) end end
+    for b in m:balls() do put(b.pos[1], b.pos[2], b.vel[1], b.vel[2], b.spin) end
+    for c in m:contacts{} do
+        out[#out + 1] = tostring(c.key)
+        put(c.normal_force, c.shear_force, c.overlap)
+        for _, k in ipairs(opts.props or {}) do put(c:prop(k)) end
+    end
+    if opts.energies then
+        local e = m:energies()
+        for _, k in ipairs(opts.energies) do put(e[k]) end
+    end
+    put(m:time())
+    return table.concat(out, " ")
+end
+
 --- A reproducible stream of numbers in [0, 1) from `seed` (the C library's classic linear
 --- congruential rule, the same on every platform): scenes that place balls "at random" the
 --- same way in every run.

@@ -308,7 +308,7 @@ std::size_t Model::bond(const BondSettings& s) {
     for (uint32_t i : cand) {
         Pair& p = world.contacts.pairs[i];
         PairCold& c = world.contacts.cold[i];
-        PairStored& held = world.contacts.stored[i];
+        PairStored& stored = world.contacts.stored[i];
         Vec2 normal, point;
         double overlap;
         if (!pairGeometry(world, p, normal, overlap, point)) continue;
@@ -435,7 +435,7 @@ std::size_t Model::bond(const BondSettings& s) {
         // when a bond breaks: docs/models/cbond.md, Energies). du from the velocities the last
         // force loop used, which are the current ones (the law of motion has not run since).
         if (energy) {
-            const double before = was_active ? held.strain + held.bond : 0.0;
+            const double before = was_active ? stored.total() : 0.0;
             const double after = fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain];
             double unpaid = 0.0;
             if (was_active && world.clock.dt > 0.0) {
@@ -460,15 +460,15 @@ std::size_t Model::bond(const BondSettings& s) {
             world.books.acc.released += change;
             // The current stored energies as well (the next snapshot may come before the next
             // force loop sums them again).
-            world.books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? held.strain : 0.0);
-            world.books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? held.bond : 0.0);
+            world.books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? stored.strain : 0.0);
+            world.books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? stored.bond : 0.0);
             if (world.books.groups.on) {
                 bookReleasedToGroups(world, p, change);
                 // The groups' current stored energies, shared as the force loop shares them
                 // (group_energy.cpp: half to each ball's groups, all to the ball's for a wall).
                 const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
-                const double ds = fd.energy[kEnergyStrain] - (was_active ? held.strain : 0.0);
-                const double db = fd.energy[kEnergyBondStrain] - (was_active ? held.bond : 0.0);
+                const double ds = fd.energy[kEnergyStrain] - (was_active ? stored.strain : 0.0);
+                const double db = fd.energy[kEnergyBondStrain] - (was_active ? stored.bond : 0.0);
                 auto& books = world.books.groups;
                 for (uint64_t mk = (g1 | (p.wall ? 0 : g2)) & books.traced; mk; mk &= mk - 1) {
                     const uint64_t bit = mk & (~mk + 1);
@@ -480,8 +480,8 @@ std::size_t Model::bond(const BondSettings& s) {
                     gr.acc.bond += w * db;
                 }
             }
-            held.strain = fd.energy[kEnergyStrain];
-            held.bond = fd.energy[kEnergyBondStrain];
+            stored.strain = fd.energy[kEnergyStrain];
+            stored.bond = fd.energy[kEnergyBondStrain];
         }
 
         p.n_force = fd.n_force;

@@ -106,7 +106,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         // No pair can take it (no holder, or one with a contact of its own): the contact ends
         // here, and what it still stores is released.
         Pair& p = v.pairs[i];
-        const double stored = v.stored[i].strain + v.stored[i].bond;
+        const double stored = v.stored[i].total();
         if constexpr (Features::kEnergy) {
             if constexpr (kMode == Delivery::Direct) v.world.books.acc.released += stored;
             if (v.groups) bookReleasedToGroups(world, p, stored);

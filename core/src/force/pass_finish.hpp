@@ -185,7 +185,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
             }
         }
         if constexpr (Features::kEnergy) {
-            PairStored& held = v.stored[i];
+            PairStored& stored = v.stored[i];
             // The plugin's partitions against the ABI's contract (rare path when broken): every
             // partition finite (x - x is 0 only for a finite x) and no dissipation negative. Only
             // with finite kinematics: a state already non-finite is the engine's to report
@@ -200,20 +200,20 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                     item.flags = static_cast<uint32_t>(part->contracts.size());
                     part->items.push_back(item);
                     part->contracts.push_back({asFdBlock(fd, v.fd_template), fn_old, fs_old, m_old,
-                                               held.strain, held.bond});
+                                               stored.strain, stored.bond});
                 } else {
-                    checkEnergyContract(world, p, held.strain, held.bond,
+                    checkEnergyContract(world, p, stored.strain, stored.bond,
                                         asFdBlock(fd, v.fd_template), fn_old, fs_old, m_old,
                                         v.totals_before);
                 }
             }
             // A break releases what the bond held (Potyondy & Cundall 2004; the model says how
             // much), and so does the end of a contact that is still loaded.
-            held.strain = fd.energy[kEnergyStrain];
-            held.bond = fd.energy[kEnergyBondStrain];
-            double before = 0.0;
+            stored.strain = fd.energy[kEnergyStrain];
+            stored.bond = fd.energy[kEnergyBondStrain];
+            double held = 0.0;
             const bool baseline = world.books.strain_baseline_pending && !first;
-            if (baseline) before = storedBefore(fd, fn_old, fs_old, m_old);
+            if (baseline) held = storedBefore(fd, fn_old, fs_old, m_old);
             if constexpr (kMode == Delivery::Direct) {
                 // Into the books at once, in the order bookPairEnergy adds a PairEnergy.
                 EnergyBooks& books = world.books;
@@ -224,12 +224,12 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 books.dashpot_pending += fd.energy[kEnergyDashpot];
                 books.acc.plastic += fd.energy[kEnergyPlastic];
                 books.acc.released += fd.energy[kEnergyReleased];
-                if (baseline) sums.held_before += before;
+                if (baseline) sums.held_before += held;
                 if (ends) {
-                    books.acc.released += held.strain + held.bond;
+                    books.acc.released += stored.total();
                 } else {
-                    sums.strain_now += held.strain;
-                    sums.bond_now += held.bond;
+                    sums.strain_now += stored.strain;
+                    sums.bond_now += stored.bond;
                 }
             } else {
                 PairEnergy& pe = v.energies[i];
@@ -239,21 +239,20 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 pe.dashpot = fd.energy[kEnergyDashpot];
                 pe.plastic = fd.energy[kEnergyPlastic];
                 pe.released = fd.energy[kEnergyReleased];
-                if (baseline) pe.held = before, pe.what |= PairEnergy::kHeld;
+                if (baseline) pe.held = held, pe.what |= PairEnergy::kHeld;
                 if (ends) {
-                    pe.released_end = held.strain + held.bond;
+                    pe.released_end = stored.total();
                     pe.what |= PairEnergy::kEnds;
                 } else {
-                    pe.strain = held.strain;
-                    pe.bond = held.bond;
+                    pe.strain = stored.strain;
+                    pe.bond = stored.bond;
                     pe.what |= PairEnergy::kStored;
                 }
             }
             // Group shares and the work across group borders (group_energy.cpp): one branch per
             // contact, taken only with groups traced (one thread).
             if (v.groups)
-                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, before, f,
-                                    g.point);
+                bookContactToGroups(world, i, fd.energy, fd.moment, first, ends, held, f, g.point);
         }
     }
 

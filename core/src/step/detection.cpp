@@ -342,9 +342,9 @@ void removePair(World& world, std::size_t i) {
     // A contact removed while active (its ball deleted) ends with what it stores: released,
     // not dropped (the next step's strain sum no longer holds it).
     if (p.active && world.books.on) {
-        const PairStored& held = world.contacts.stored[i];
-        world.books.acc.released += held.strain + held.bond;
-        if (world.books.groups.on) bookReleasedToGroups(world, p, held.strain + held.bond);
+        const double stored = world.contacts.stored[i].total();
+        world.books.acc.released += stored;
+        if (world.books.groups.on) bookReleasedToGroups(world, p, stored);
     }
     if (p.model) {
         dropLane(world.contacts, p);

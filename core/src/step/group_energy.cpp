@@ -103,7 +103,7 @@ void bookContactToGroups(World& world, std::size_t i, const double* energy, doub
         a.placement += s * placed;
         gr.held_before += s * held;
         if (ends) {
-            a.released += s * (stored.strain + stored.bond);
+            a.released += s * stored.total();
         } else {
             gr.strain_now += s * stored.strain;
             gr.bond_now += s * stored.bond;

@@ -197,6 +197,7 @@ static_assert(sizeof(PairCold) == 160, "PairCold is 160 bytes (docs/architecture
 /// here, in pair order, against a line of the cold record per contact and step).
 struct PairStored {
     double strain = 0.0, bond = 0.0;
+    double total() const { return strain + bond; }  // what the contact releases if it ends now
 };
 
 struct BallArrays {

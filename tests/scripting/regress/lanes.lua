@@ -36,22 +36,10 @@ end
 
 local STATE = {"lin_fn", "lin_fs", "dp_fn", "dp_fs", "lin_slip"}
 
+local ENERGIES = {"body", "kinetic", "strain", "slip", "dashpot", "released", "balance_error"}
+
 local function digest(m)
-    local out = {}
-    local function put(...) for _, v in ipairs({...}) do out[#out + 1] = T.hex(v) end end
-    for b in m:balls() do put(b.pos[1], b.pos[2], b.vel[1], b.vel[2], b.spin) end
-    for c in m:contacts{} do
-        out[#out + 1] = tostring(c.key)
-        put(c.normal_force, c.shear_force, c.overlap)
-        for _, k in ipairs(STATE) do put(c:prop(k)) end
-    end
-    local e = m:energies()
-    for _, k in ipairs({"body", "kinetic", "strain", "slip", "dashpot", "released",
-                        "balance_error"}) do
-        put(e[k])
-    end
-    put(m:time())
-    return table.concat(out, " ")
+    return T.state_text(m, { props = STATE, energies = ENERGIES })
 end
 
 local function laneSteps(m)
