@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law, m:lanes, m:kernels and
-// m:threads.
-// None changes a result: they are for measurements and for tests that prove it.
+// m:threads, none of which changes a result (they are for measurements and for tests that prove
+// it), and m:sort_interval, the balls' memory order (the same physics; sums in another order).
 #include <string>
 
 #include "lua_bindings.hpp"
@@ -77,6 +77,31 @@ int w_threads(lua_State* L) {
     });
 }
 
+/// m:sort_interval(steps | "auto") sets how often the balls are re-ordered in memory, 0 never;
+/// m:sort_interval() reads it (a number, or "auto").
+int w_sort_interval(lua_State* L) {
+    return catchexcept(L, [&] {
+        LuaModel& lm = checkModel(L, 1, "sort_interval");
+        if (!lua_isnoneornil(L, 2)) {
+            if (lua_type(L, 2) == LUA_TSTRING && std::string(lua_tostring(L, 2)) == "auto") {
+                lm.model->setSortInterval(Model::kSortAuto);
+            } else if (lua_isinteger(L, 2) && lua_tointeger(L, 2) >= 0) {
+                lm.model->setSortInterval(lua_tointeger(L, 2));
+            } else {
+                throw ScriptError(std::string("sort_interval: expected a step count >= 0 or "
+                                              "\"auto\" (got ") +
+                                  luaL_tolstring(L, 2, nullptr) + ")");
+            }
+        }
+        const int64_t every = lm.model->sortInterval();
+        if (every == Model::kSortAuto)
+            lua_pushliteral(L, "auto");
+        else
+            lua_pushinteger(L, every);
+        return 1;
+    });
+}
+
 }  // namespace
 
 extern const luaL_Reg kForceLoopMethods[] = {
@@ -84,6 +109,7 @@ extern const luaL_Reg kForceLoopMethods[] = {
     {"lanes", w_lanes},
     {"kernels", w_kernels},
     {"threads", w_threads},
+    {"sort_interval", w_sort_interval},
     {nullptr, nullptr},
 };
 

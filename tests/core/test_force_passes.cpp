@@ -227,6 +227,30 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     CHECK(act.add[1][0] == f2.x());
     CHECK(act.add[1][1] == f2.y());
     CHECK(act.add[1][2] == b.moment[1]);
+
+    // A thread adds onto the ball it owns at once and records only the other end's action.
+    const double m1 = b.moment[0], m2 = b.moment[1];
+    sc.world.contacts.pairs[0] = before;
+    std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
+    std::fill(b.moment.begin(), b.moment.end(), 0.0);
+    auto& scratch = sc.world.contacts.force_scratch;
+    scratch.route.assign(b.size(), kRouteShared);
+    scratch.route[0] = 1;
+    v.route = scratch.route.data();
+    const double untouched = 7.0;
+    scratch.actions.assign(1, PairAction{{{untouched, untouched, untouched}, {0.0, 0.0, 0.0}}});
+    ForceThreadPart part;
+    part.index = 1;
+    finishContact<Features, Delivery::Parallel>(v, sums, 0, e, fd, false, &part);
+    CHECK(b.force[0] == f1);
+    CHECK(b.moment[0] == m1);
+    CHECK(b.force[1] == Vec2::Zero());
+    CHECK(b.moment[1] == 0.0);
+    CHECK(act.add[0][0] == untouched);
+    CHECK(act.add[0][2] == untouched);
+    CHECK(act.add[1][0] == f2.x());
+    CHECK(act.add[1][1] == f2.y());
+    CHECK(act.add[1][2] == m2);
 }
 
 TEST_CASE("pass 3: a pair apart whose fat boxes separated is removed") {

@@ -272,9 +272,18 @@ public:
     // ------------------------------------------------------------------ performance
     Profile& profile();
     const Profile& profile() const;
-    /// Re-orders the balls in memory along a space-filling curve every `every` steps (0 = never)
-    /// so that neighbours are close in memory.
+    /// Re-orders the balls in memory along a space-filling curve (and the pairs with them) at
+    /// the first step and every `every` steps after (steps 1, 1 + every, ...), so that
+    /// neighbours are close in memory; 0 = never. The default, kSortAuto, sorts every
+    /// kSortAutoEvery steps while the model holds kSortAutoBalls balls or more (docs/lua-api.md,
+    /// "Force loop").
+    /// The physics is the same in any order; sums taken in another order differ in their last
+    /// bits.
     void setSortInterval(int64_t every);
+    int64_t sortInterval() const;
+    static constexpr int64_t kSortAuto = -1;
+    static constexpr int64_t kSortAutoEvery = 1000;
+    static constexpr std::size_t kSortAutoBalls = 4096;
     /// Calls the batched FDlaw of the models that offer one (docs/plugin-abi.md, "Batched
     /// FDlaw"; default on). Off: FDlaw per contact. Both give the same bits; the switch is for
     /// tests and measurements.

@@ -24,6 +24,7 @@ struct Profile {
     int64_t kernel_steps = 0;     ///< contact steps run by the host's kernel of a model's law
     int64_t kernel_declined = 0;  ///< ... of which the kernel declined (FDlaw ran them)
     int64_t threaded_steps = 0;   ///< steps whose force loop ran on more than one thread
+    int64_t sorts = 0;            ///< memory re-orderings of the balls (setSortInterval)
     void reset() { *this = Profile{enabled}; }
     double total() const {
         return timestep + motion + detection + force_displacement + bookkeeping;

@@ -129,7 +129,13 @@ MassMode Model::massMode() const { return m_world->settings.mass_mode; }
 bool Model::energyTracing() const { return m_world->books.on; }
 Profile& Model::profile() { return m_world->profile; }
 const Profile& Model::profile() const { return m_world->profile; }
-void Model::setSortInterval(int64_t every) { m_world->settings.sort_every = every; }
+void Model::setSortInterval(int64_t every) {
+    if (every < kSortAuto)
+        throw InputError("sort interval: expected steps >= 0, or automatic (got " +
+                         std::to_string(every) + ")");
+    m_world->settings.sort_every = every;
+}
+int64_t Model::sortInterval() const { return m_world->settings.sort_every; }
 bool Model::batchedLaw() const { return m_world->settings.batched_law; }
 bool Model::lanes() const { return m_world->settings.lanes; }
 
@@ -247,7 +253,7 @@ std::string Profile::report(std::size_t balls) const {
        << ", contacts created " << contacts_created << ", batched laws " << batched_laws
        << ", lane steps " << lane_steps << " (declined " << lane_declined << ")"
        << ", kernel steps " << kernel_steps << " (declined " << kernel_declined << ")"
-       << ", threaded steps " << threaded_steps << "\n";
+       << ", threaded steps " << threaded_steps << ", memory sorts " << sorts << "\n";
     return os.str();
 }
 

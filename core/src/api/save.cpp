@@ -399,7 +399,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         world.settings.damping.local = r.f64();
         world.settings.damping.viscous = r.f64();
         world.settings.sort_every = r.i64();
-        if (world.settings.sort_every < 0) r.fail("sort interval must be >= 0");
+        if (world.settings.sort_every < Model::kSortAuto) r.fail("sort interval must be >= -1");
         world.callbacks.contact_events = r.boolean();
         const std::size_t ng = r.count(8, "group names");
         if (ng > 64) r.fail("more than 64 group names");

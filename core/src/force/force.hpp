@@ -21,10 +21,22 @@ void setSingleThreadedProcess();
 /// The approach limits of the pairs that were apart in this force loop, from the step's
 /// complete forces.
 void noteApproaches(const World& world, const std::vector<uint32_t>& apart, StepLimits& limits);
-/// The per-ball sums of the threads' per-pair actions, in pair order.
-void gatherPairActions(World& world, int nthreads, bool automatic);
-/// The balls' pairs in pair order, for the threads' gather.
-void buildIncidence(World& world);
+/// Thread t's range of pairs [pairRangeStart(t), pairRangeStart(t + 1)) with n threads.
+inline std::size_t pairRangeStart(std::size_t npairs, int nthreads, int t) {
+    return npairs * static_cast<std::size_t>(t) / static_cast<std::size_t>(nthreads);
+}
+/// The thread whose range holds pair i.
+inline int pairThread(std::size_t npairs, int nthreads, std::size_t i) {
+    int t = static_cast<int>(i * static_cast<std::size_t>(nthreads) / npairs);
+    while (t + 1 < nthreads && pairRangeStart(npairs, nthreads, t + 1) <= i) ++t;
+    while (t > 0 && pairRangeStart(npairs, nthreads, t) > i) --t;
+    return t;
+}
+/// The sums of the balls the threads did not add onto at once (shared and diverted), from the
+/// pairs' actions in pair order.
+void gatherPairActions(World& world, bool automatic);
+/// The balls' pairs in pair order and their routes, for `nthreads` threads.
+void buildIncidence(World& world, int nthreads);
 void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl);
 bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
 void endContact(World& world, Pair& p, PairCold& c, bool check_guard);

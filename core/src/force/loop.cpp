@@ -53,7 +53,7 @@ ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_tem
                      b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
                      world.bodies.walls.data(), world.bodies.segments.data(),
                      world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
-                     scratch.actions.data(),
+                     scratch.route.data(), scratch.actions.data(),
                      step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
                      step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
                      world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,
@@ -72,12 +72,37 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
     ForceScratch& scratch = world.contacts.force_scratch;
     ++world.profile.threaded_steps;
     auto& parts = scratch.parts;
+    auto& balls = world.bodies.balls;
+    const std::size_t nballs = balls.size();
+    uint16_t* route = scratch.route.data();
+    // Until the routes are whole again (gatherPairActions), a failure must rebuild them.
+    const uint64_t routes_version = scratch.incidence_version;
+    scratch.incidence_version = UINT64_MAX;
 #pragma omp parallel num_threads(nthreads)
     {
         const int t = omp_get_thread_num();
         ForceThreadPart& part = parts[static_cast<std::size_t>(t)];
-        const std::size_t lo = npairs * static_cast<std::size_t>(t) / nthreads;
-        const std::size_t hi = npairs * static_cast<std::size_t>(t + 1) / nthreads;
+        const std::size_t lo = pairRangeStart(npairs, nthreads, t);
+        const std::size_t hi = pairRangeStart(npairs, nthreads, t + 1);
+        // Every ball's sums start from zero (a thread adds onto the balls it owns at once).
+        for (std::size_t k = pairRangeStart(nballs, nthreads, t);
+             k < pairRangeStart(nballs, nthreads, t + 1); ++k) {
+            balls.force[k] = Vec2::Zero();
+            balls.moment[k] = 0.0;
+            if constexpr (Features::kAuto) balls.k_tran[k] = balls.k_rot[k] = 0.0;
+        }
+#pragma omp barrier
+        // A pair left to the serial part adds onto its balls after the thread's later pairs:
+        // from it on, the thread's pairs record what they do to those balls (gatherPairActions).
+        const auto defer = [&](std::size_t i) {
+            const Pair& p = v.pairs[i];
+            for (const uint32_t k : {p.end1, p.wall ? p.end1 : p.end2})
+                if (route[k] == part.index) {
+                    route[k] = kRouteDiverted;
+                    part.diverted.emplace_back(k, static_cast<uint32_t>(i));
+                }
+            part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+        };
         std::size_t i = lo;
         try {
             PairEntry e;
@@ -100,7 +125,7 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                 }
                 prefetchModel(v, i, hi);
                 if (v.pairs[i].wall) {
-                    part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+                    defer(i);
                     ++i;
                     continue;
                 }
@@ -121,7 +146,7 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                 } else if (step == PairStep::Apart) {
                     finishApart<Features, Delivery::Parallel>(v, i, step, &part);
                 } else {  // Touch
-                    part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+                    defer(i);
                 }
                 ++i;
             }
@@ -194,7 +219,8 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
         for (const uint32_t i : part.lane_entries)
             if (i < failed) offerLane(v, v.pairs[i]);
     if (failed_part) std::rethrow_exception(failed_part->failure);
-    gatherPairActions(world, nthreads, Features::kAuto);
+    gatherPairActions(world, Features::kAuto);
+    scratch.incidence_version = routes_version;
     if constexpr (Features::kEnergy)
         for (std::size_t i = 0; i < npairs; ++i)
             if (v.energies[i].what) bookPairEnergy(world.books, sums, v.energies[i]);

@@ -73,9 +73,14 @@ __attribute__((always_inline)) inline void finishApart(const ForceView& v, std::
                                                        PairStep step, ForceThreadPart* part) {
     const Pair& p = v.pairs[i];
     if constexpr (kMode != Delivery::Direct) {
-        std::fill(&v.actions[i].add[0][0], &v.actions[i].add[0][0] + 6, -0.0);
-        if constexpr (Features::kAuto)
-            std::fill(&v.stiffness[i].add[0][0], &v.stiffness[i].add[0][0] + 4, -0.0);
+        // Nothing for the gather to add (-0.0 adds nothing) at an end a thread does not own.
+        for (int end = 0; end < (p.wall ? 1 : 2); ++end) {
+            if (kMode == Delivery::Parallel && v.route[end ? p.end2 : p.end1] == part->index)
+                continue;
+            std::fill(v.actions[i].add[end], v.actions[i].add[end] + 3, -0.0);
+            if constexpr (Features::kAuto)
+                std::fill(v.stiffness[i].add[end], v.stiffness[i].add[end] + 2, -0.0);
+        }
         if constexpr (Features::kEnergy) v.energies[i].what = 0;
     }
     // The approach limit needs the step's complete forces: noted after the loop.
@@ -136,17 +141,21 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     const Vec2 r1c = g.point - x1;
     const Vec2 f = fd.n_force * g.normal + fd.s_force * perp(g.normal);
     const double moment1 = cross(r1c, f) + fd.moment;
-    if constexpr (kMode == Delivery::Direct) {
+    // With threads, onto a ball at once where the thread owns it (its route), else recorded.
+    const auto owned = [&](uint32_t ball) {
+        if constexpr (kMode == Delivery::Parallel) return v.route[ball] == part->index;
+        return kMode == Delivery::Direct;
+    };
+    if (owned(s1)) {
         v.force[s1] -= f;
         v.moment[s1] -= moment1;
     } else {
         double* add = v.actions[i].add[0];
         add[0] = -f.x(), add[1] = -f.y(), add[2] = -moment1;
-        add[3] = -0.0, add[4] = -0.0, add[5] = -0.0;  // (a wall pair's end 2 is no ball)
     }
     if (!p.wall) {
         const double moment2 = cross(g.point - e.x2, f) + fd.moment;
-        if constexpr (kMode == Delivery::Direct) {
+        if (owned(p.end2)) {
             v.force[p.end2] += f;
             v.moment[p.end2] += moment2;
         } else {
@@ -174,11 +183,21 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                 noteContact(world, p, c, fd.knest, fd.ksest, fd.krest, r1c.squaredNorm(), arm2_sq,
                             c.mass_eff);
             } else {
-                // noteContact's stiffness sums, term by term, for the gather
-                double* add = v.stiffness[i].add[0];
-                add[0] = add[2] = fd.knest + fd.ksest;
-                add[1] = fd.ksest * r1c.squaredNorm() + fd.krest;
-                add[3] = fd.ksest * arm2_sq + fd.krest;
+                // noteContact's stiffness sums, term by term, at once or for the gather
+                auto& balls = world.bodies.balls;
+                const double k_tran = fd.knest + fd.ksest;
+                const double k_rot1 = fd.ksest * r1c.squaredNorm() + fd.krest;
+                const double k_rot2 = fd.ksest * arm2_sq + fd.krest;
+                if (owned(s1))
+                    balls.k_tran[s1] += k_tran, balls.k_rot[s1] += k_rot1;
+                else
+                    v.stiffness[i].add[0][0] = k_tran, v.stiffness[i].add[0][1] = k_rot1;
+                if (p.wall) {
+                } else if (owned(p.end2)) {
+                    balls.k_tran[p.end2] += k_tran, balls.k_rot[p.end2] += k_rot2;
+                } else {
+                    v.stiffness[i].add[1][0] = k_tran, v.stiffness[i].add[1][1] = k_rot2;
+                }
                 noteContactLimits(
                     world, p, c, fd.knest, c.mass_eff,
                     kMode == Delivery::Parallel ? part->limits : world.stepping.limits);

@@ -2,8 +2,9 @@
 //
 // The force loop's scratch (force/loop.cpp; docs/architecture.md, "Force loop" and
 // "Threads"): what pass 1 (geometry) of a pair hands to its law and its finish, and, when threads
-// run the loop, what each pair does to its ends (PairAction), the balls' pairs in pair order
-// (the incidence the gather reads) and each thread's deferred work. Not installed.
+// run the loop, which thread adds onto which ball (the routes), what a pair does to the ends it
+// cannot add onto (PairAction), the balls' pairs in pair order (the incidence the gather reads)
+// and each thread's deferred work. Not installed.
 #pragma once
 
 #include <cstddef>
@@ -98,9 +99,10 @@ struct LaneScratch {
     }
 };
 
-/// What one pair did to its balls in this step, kept per pair when threads run the loop: every
-/// ball then adds its pairs' actions in pair order (gatherPairActions), the same
-/// additions in the same order as one thread adding each contact onto its ends at once.
+/// What one pair did to a ball it may not add onto at once, kept per pair when threads run the
+/// loop (a ball whose pairs two threads share, or one a deferred pair diverted): such a ball then
+/// adds its pairs' actions in pair order (gatherPairActions), the same additions in the same
+/// order as one thread adding each contact onto its ends at once.
 /// add[e] is what end e (0: end 1, 1: end 2) gets: force x, force y, moment. End 1's are the
 /// negated values one thread subtracts (x - y == x + (-y) exactly in IEEE 754), and a pair that
 /// did nothing holds -0.0, which leaves every sum as it was (x + (-0.0) == x, -0.0 included): so
@@ -110,6 +112,12 @@ struct PairAction {
 };
 static_assert(sizeof(PairAction) == 48,
               "PairAction is 48 bytes: written per pair and read by the gather when threads run");
+
+/// A ball's route with threads (ForceScratch::route): the thread that owns all of its pairs and
+/// adds them onto it at once, in pair order as one thread does; or one of these.
+constexpr uint16_t kRouteShared = 0xFFFF;    // its pairs span two threads' ranges: gathered
+constexpr uint16_t kRouteDiverted = 0xFFFE;  // its thread deferred one of its pairs this step
+constexpr int kMaxRoutedThreads = 0xFFFD;
 
 /// The same for the automatic step's stiffness sums: translational, rotational per end.
 struct PairStiffness {
@@ -166,6 +174,7 @@ struct DeferredItem {
 /// move between the cores at every write (false sharing; two lines, for the adjacent-line
 /// prefetch).
 struct alignas(128) ForceThreadPart {
+    uint16_t index = 0;                  // the thread's number (its route)
     FdBlock fd;                          // the thread's FdBlock (a copy of the step's template)
     LaneScratch lanes;                   // the thread's lane blocks
     std::vector<uint32_t> lane_entries;  // contacts to put into the lanes (serially, after)
@@ -174,6 +183,8 @@ struct alignas(128) ForceThreadPart {
     int64_t lane_declined = 0;                                   // ... of which declined
     int64_t kernel_steps = 0, kernel_declined = 0;               // kernels
     std::vector<DeferredItem> items;                             // in pair order
+    // Its balls diverted this step: (ball, the first pair it did not add), in pair order.
+    std::vector<std::pair<uint32_t, uint32_t>> diverted;
     std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
     std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)
     StepLimits limits;                    // automatic step: from its contacts
@@ -190,12 +201,18 @@ struct ForceScratch {
     std::string error;                     // one thread's caught exception text
     std::vector<uint32_t> apart;           // one thread: pairs apart (automatic step)
     std::vector<ForceThreadPart> parts;    // threads: one per thread
-    std::vector<PairAction> actions;       // threads: per pair
+    std::vector<PairAction> actions;       // threads: per pair (the ends not routed)
     std::vector<PairStiffness> stiffness;  // threads, automatic step: per pair
     std::vector<PairEnergy> energies;      // threads, energy tracing: per pair
     // Threads: ball -> its pairs in pair order, as (pair index << 1) | (ball is end 2), CSR.
     std::vector<uint32_t> incidence_start, incidence;
-    uint64_t incidence_version = UINT64_MAX;  // ContactStore::pairs_version it was built for
+    // Threads: per ball, the thread that adds onto it (or kRouteShared), and the shared balls.
+    std::vector<uint16_t> route;
+    std::vector<uint32_t> shared;
+    // ContactStore::pairs_version and thread count the incidence and routes were built for
+    // (UINT64_MAX while a threaded loop runs: one that fails leaves balls diverted).
+    uint64_t incidence_version = UINT64_MAX;
+    int route_threads = 0;
 };
 
 }  // namespace talus

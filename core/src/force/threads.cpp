@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 //
 // The force loop on threads (docs/architecture.md, "Threads"): how many a step takes, the
-// threads' scratch, and the gather of the pairs' actions onto the balls in pair order, which
-// makes the result the same bit for bit for any thread count.
+// threads' scratch, which thread adds onto which ball (the routes), and the gather of the pairs'
+// actions onto the balls no one thread owns, in pair order: the result is the same bit for bit
+// for any thread count.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -20,51 +21,69 @@ bool g_single_threaded_process = false;  // Model::singleThreadedProcess
 
 void setSingleThreadedProcess() { g_single_threaded_process = true; }
 
-void gatherPairActions(World& world, int nthreads, bool automatic) {
+namespace {
+
+/// Adds ball k's actions from its incidence entries [from, to) onto (fx, fy, m) (and the
+/// stiffness sums onto (kt, kr) with the automatic step), in pair order.
+struct BallSums {
+    double fx, fy, m, kt, kr;
+};
+inline void addActions(const ForceScratch& s, uint32_t from, uint32_t to, bool automatic,
+                       BallSums& sum) {
+    for (uint32_t q = from; q < to; ++q) {
+        const uint32_t code = s.incidence[q];
+        const double* add = s.actions[code >> 1].add[code & 1u];
+        sum.fx += add[0];
+        sum.fy += add[1];
+        sum.m += add[2];
+    }
+    if (automatic)
+        for (uint32_t q = from; q < to; ++q) {
+            const uint32_t code = s.incidence[q];
+            const double* add = s.stiffness[code >> 1].add[code & 1u];
+            sum.kt += add[0];
+            sum.kr += add[1];
+        }
+}
+
+}  // namespace
+
+void gatherPairActions(World& world, bool automatic) {
     auto& b = world.bodies.balls;
-    const ForceScratch& s = world.contacts.force_scratch;
-    const PairAction* actions = s.actions.data();
-    const PairStiffness* stiffness = s.stiffness.data();
+    ForceScratch& s = world.contacts.force_scratch;
     const uint32_t* start = s.incidence_start.data();
-    const uint32_t* incidence = s.incidence.data();
-    Vec2* force = b.force.data();
-    double* moment = b.moment.data();
-    double* k_tran = b.k_tran.data();
-    double* k_rot = b.k_rot.data();
-    const auto nballs = static_cast<std::ptrdiff_t>(b.size());
-    (void)nthreads;
-    // Each ball's sums start from zero and take its pairs in pair order: the additions one
+    const auto store = [&](uint32_t k, const BallSums& sum) {
+        b.force[k] = Vec2(sum.fx, sum.fy);
+        b.moment[k] = sum.m;
+        if (automatic) b.k_tran[k] = sum.kt, b.k_rot[k] = sum.kr;
+    };
+    // A shared ball's sums start from zero and take its pairs in pair order: the additions one
     // thread makes (finishContact), in its order (PairAction).
-    TALUS_OMP(omp parallel for num_threads(nthreads) schedule(static))
-    for (std::ptrdiff_t k = 0; k < nballs; ++k) {
-        double fx = 0.0, fy = 0.0, m = 0.0;
-        for (uint32_t q = start[k]; q < start[k + 1]; ++q) {
-            const uint32_t code = incidence[q];
-            const double* add = actions[code >> 1].add[code & 1u];
-            fx += add[0];
-            fy += add[1];
-            m += add[2];
+    for (const uint32_t k : s.shared) {
+        BallSums sum{0.0, 0.0, 0.0, 0.0, 0.0};
+        addActions(s, start[k], start[k + 1], automatic, sum);
+        store(k, sum);
+    }
+    // A diverted ball holds what its thread added before the deferred pair: the rest follows.
+    for (auto& part : s.parts) {
+        for (const auto& [k, first] : part.diverted) {
+            BallSums sum{b.force[k].x(), b.force[k].y(), b.moment[k], 0.0, 0.0};
+            if (automatic) sum.kt = b.k_tran[k], sum.kr = b.k_rot[k];
+            uint32_t q = start[k];
+            while (q < start[k + 1] && (s.incidence[q] >> 1) < first) ++q;
+            addActions(s, q, start[k + 1], automatic, sum);
+            store(k, sum);
+            s.route[k] = part.index;
         }
-        force[k] = Vec2(fx, fy);
-        moment[k] = m;
-        if (automatic) {
-            double kt = 0.0, kr = 0.0;
-            for (uint32_t q = start[k]; q < start[k + 1]; ++q) {
-                const uint32_t code = incidence[q];
-                const double* add = stiffness[code >> 1].add[code & 1u];
-                kt += add[0];
-                kr += add[1];
-            }
-            k_tran[k] = kt, k_rot[k] = kr;
-        }
+        part.diverted.clear();
     }
 }
 
-void buildIncidence(World& world) {
+void buildIncidence(World& world, int nthreads) {
     ForceScratch& s = world.contacts.force_scratch;
     const auto& pairs = world.contacts.pairs;
     const std::size_t nballs = world.bodies.balls.size();
-    if (s.incidence_version == world.contacts.pairs_version &&
+    if (s.incidence_version == world.contacts.pairs_version && s.route_threads == nthreads &&
         s.incidence_start.size() == nballs + 1)
         return;
     if (pairs.size() >= (std::size_t{1} << 31))
@@ -83,7 +102,22 @@ void buildIncidence(World& world) {
         s.incidence[fill[pairs[i].end1]++] = code;
         if (!pairs[i].wall) s.incidence[fill[pairs[i].end2]++] = code | 1u;
     }
+    // A ball whose first and last pair fall in one thread's range is that thread's alone.
+    s.route.assign(nballs, 0);
+    s.shared.clear();
+    const std::size_t npairs = pairs.size();
+    for (std::size_t k = 0; k < nballs; ++k) {
+        if (start[k] == start[k + 1]) continue;
+        const int t = pairThread(npairs, nthreads, s.incidence[start[k]] >> 1);
+        if (t == pairThread(npairs, nthreads, s.incidence[start[k + 1] - 1] >> 1)) {
+            s.route[k] = static_cast<uint16_t>(t);
+        } else {
+            s.route[k] = kRouteShared;
+            s.shared.push_back(static_cast<uint32_t>(k));
+        }
+    }
     s.incidence_version = world.contacts.pairs_version;
+    s.route_threads = nthreads;
 }
 
 int forceThreads(const World& world, std::size_t npairs) {
@@ -91,9 +125,9 @@ int forceThreads(const World& world, std::size_t npairs) {
     const int wanted = world.facade.threads();
     if (wanted <= 1 || g_single_threaded_process) return 1;
     const std::size_t by_grain = npairs / static_cast<std::size_t>(world.facade.threadGrain());
-    const int n =
-        static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));
+    int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(wanted), by_grain));
     if (n < 2) return 1;
+    if (n > kMaxRoutedThreads) n = kMaxRoutedThreads;
     // Energy per group books every contact into its groups' sums and border records as it
     // goes: one thread (docs/architecture.md, "Threads").
     if (world.books.on && world.books.groups.on) return 1;
@@ -110,7 +144,10 @@ int forceThreads(const World& world, std::size_t npairs) {
 void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl) {
     ForceScratch& s = world.contacts.force_scratch;
     s.parts.resize(static_cast<std::size_t>(nthreads));
-    for (auto& part : s.parts) {
+    for (std::size_t t = 0; t < s.parts.size(); ++t) {
+        ForceThreadPart& part = s.parts[t];
+        part.index = static_cast<uint16_t>(t);
+        part.diverted.clear();
         part.fd = tmpl;
         part.items.clear();
         part.apart.clear();
@@ -129,7 +166,7 @@ void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl) {
     if (world.settings.timestep.automatic) s.stiffness.resize(world.contacts.pairs.size());
     if (world.books.on) s.energies.resize(world.contacts.pairs.size());
     for (auto& part : s.parts) part.contracts.clear();
-    buildIncidence(world);
+    buildIncidence(world, nthreads);
 }
 
 }  // namespace talus

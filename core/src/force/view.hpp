@@ -54,7 +54,9 @@ struct ForceView {
     const Segment* segments;
     const uint8_t* ball_moved;
     const uint8_t* segment_moved;
-    // Threads: per pair, what it does to its ends (gathered after the loop).
+    // Threads: per ball, the thread that adds onto it at once; per pair, what it does to the
+    // ends no thread owns (gathered after the loop).
+    uint16_t* route;
     PairAction* actions;
     PairStiffness* stiffness;
     PairEnergy* energies;

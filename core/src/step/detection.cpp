@@ -181,7 +181,13 @@ void addPairsForSegment(World& world, uint32_t seg) {
 
 void detectContacts(World& world, const StepContext& /*step: detection needs only the positions*/) {
     auto& b = world.bodies.balls;
-    if (world.settings.sort_every > 0 && world.clock.step % world.settings.sort_every == 0) {
+    // The memory order (Model::setSortInterval): at the first step, as the balls were made, and
+    // every `every` steps after.
+    int64_t every = world.settings.sort_every;
+    if (every == Model::kSortAuto)
+        every = b.size() >= Model::kSortAutoBalls ? Model::kSortAutoEvery : 0;
+    if (every > 0 && (world.clock.step - 1) % every == 0) {
+        ++world.profile.sorts;
         sortBalls(world);
         rebuildBallTree(world);
     }
