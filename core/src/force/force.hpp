@@ -21,16 +21,9 @@ void setSingleThreadedProcess();
 /// The approach limits of the pairs that were apart in this force loop, from the step's
 /// complete forces.
 void noteApproaches(const World& world, const std::vector<uint32_t>& apart, StepLimits& limits);
-/// Thread t's range of pairs [pairRangeStart(t), pairRangeStart(t + 1)) with n threads.
-inline std::size_t pairRangeStart(std::size_t npairs, int nthreads, int t) {
-    return npairs * static_cast<std::size_t>(t) / static_cast<std::size_t>(nthreads);
-}
-/// The thread whose range holds pair i.
-inline int pairThread(std::size_t npairs, int nthreads, std::size_t i) {
-    int t = static_cast<int>(i * static_cast<std::size_t>(nthreads) / npairs);
-    while (t + 1 < nthreads && pairRangeStart(npairs, nthreads, t + 1) <= i) ++t;
-    while (t > 0 && pairRangeStart(npairs, nthreads, t) > i) --t;
-    return t;
+/// Where thread t's share of `count` items (pairs, balls) starts; it ends at t + 1's.
+inline std::size_t threadRangeStart(std::size_t count, int nthreads, int t) {
+    return count * static_cast<std::size_t>(t) / static_cast<std::size_t>(nthreads);
 }
 /// The sums of the balls the threads did not add onto at once (shared and diverted), from the
 /// pairs' actions in pair order.

@@ -82,11 +82,11 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
     {
         const int t = omp_get_thread_num();
         ForceThreadPart& part = parts[static_cast<std::size_t>(t)];
-        const std::size_t lo = pairRangeStart(npairs, nthreads, t);
-        const std::size_t hi = pairRangeStart(npairs, nthreads, t + 1);
+        const std::size_t lo = threadRangeStart(npairs, nthreads, t);
+        const std::size_t hi = threadRangeStart(npairs, nthreads, t + 1);
         // Every ball's sums start from zero (a thread adds onto the balls it owns at once).
-        for (std::size_t k = pairRangeStart(nballs, nthreads, t);
-             k < pairRangeStart(nballs, nthreads, t + 1); ++k) {
+        for (std::size_t k = threadRangeStart(nballs, nthreads, t);
+             k < threadRangeStart(nballs, nthreads, t + 1); ++k) {
             balls.force[k] = Vec2::Zero();
             balls.moment[k] = 0.0;
             if constexpr (Features::kAuto) balls.k_tran[k] = balls.k_rot[k] = 0.0;
@@ -95,12 +95,14 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
         // A pair left to the serial part adds onto its balls after the thread's later pairs:
         // from it on, the thread's pairs record what they do to those balls (gatherPairActions).
         const auto defer = [&](std::size_t i) {
+            const auto divert = [&](uint32_t k) {
+                if (route[k] != part.index) return;
+                route[k] = kRouteDiverted;
+                part.diverted.emplace_back(k, static_cast<uint32_t>(i));
+            };
             const Pair& p = v.pairs[i];
-            for (const uint32_t k : {p.end1, p.wall ? p.end1 : p.end2})
-                if (route[k] == part.index) {
-                    route[k] = kRouteDiverted;
-                    part.diverted.emplace_back(k, static_cast<uint32_t>(i));
-                }
+            divert(p.end1);
+            if (!p.wall) divert(p.end2);
             part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
         };
         std::size_t i = lo;

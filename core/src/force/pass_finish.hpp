@@ -67,6 +67,14 @@ __attribute__((always_inline)) inline void bookPairEnergy(EnergyBooks& books, Fo
     }
 }
 
+/// Whether a finish adds onto `ball` at once: always on one thread, never in the threads' serial
+/// part (it records), in a thread's range where the thread owns the ball (its route).
+template <Delivery kMode>
+inline bool addsAtOnce(const ForceView& v, const ForceThreadPart* part, uint32_t ball) {
+    if constexpr (kMode == Delivery::Parallel) return v.route[ball] == part->index;
+    return kMode == Delivery::Direct;
+}
+
 /// Pass 3 for a pair that is not a contact this step (Apart or Elsewhere).
 template <class Features, Delivery kMode>
 __attribute__((always_inline)) inline void finishApart(const ForceView& v, std::size_t i,
@@ -75,8 +83,7 @@ __attribute__((always_inline)) inline void finishApart(const ForceView& v, std::
     if constexpr (kMode != Delivery::Direct) {
         // Nothing for the gather to add (-0.0 adds nothing) at an end a thread does not own.
         for (int end = 0; end < (p.wall ? 1 : 2); ++end) {
-            if (kMode == Delivery::Parallel && v.route[end ? p.end2 : p.end1] == part->index)
-                continue;
+            if (addsAtOnce<kMode>(v, part, end ? p.end2 : p.end1)) continue;
             std::fill(v.actions[i].add[end], v.actions[i].add[end] + 3, -0.0);
             if constexpr (Features::kAuto)
                 std::fill(v.stiffness[i].add[end], v.stiffness[i].add[end] + 2, -0.0);
@@ -142,10 +149,7 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
     const Vec2 f = fd.n_force * g.normal + fd.s_force * perp(g.normal);
     const double moment1 = cross(r1c, f) + fd.moment;
     // With threads, onto a ball at once where the thread owns it (its route), else recorded.
-    const auto owned = [&](uint32_t ball) {
-        if constexpr (kMode == Delivery::Parallel) return v.route[ball] == part->index;
-        return kMode == Delivery::Direct;
-    };
+    const auto owned = [&](uint32_t ball) { return addsAtOnce<kMode>(v, part, ball); };
     if (owned(s1)) {
         v.force[s1] -= f;
         v.moment[s1] -= moment1;
@@ -192,11 +196,11 @@ __attribute__((always_inline)) inline void finishContact(const ForceView& v, For
                     balls.k_tran[s1] += k_tran, balls.k_rot[s1] += k_rot1;
                 else
                     v.stiffness[i].add[0][0] = k_tran, v.stiffness[i].add[0][1] = k_rot1;
-                if (p.wall) {
-                } else if (owned(p.end2)) {
-                    balls.k_tran[p.end2] += k_tran, balls.k_rot[p.end2] += k_rot2;
-                } else {
-                    v.stiffness[i].add[1][0] = k_tran, v.stiffness[i].add[1][1] = k_rot2;
+                if (!p.wall) {
+                    if (owned(p.end2))
+                        balls.k_tran[p.end2] += k_tran, balls.k_rot[p.end2] += k_rot2;
+                    else
+                        v.stiffness[i].add[1][0] = k_tran, v.stiffness[i].add[1][1] = k_rot2;
                 }
                 noteContactLimits(
                     world, p, c, fd.knest, c.mass_eff,

@@ -23,11 +23,19 @@ void setSingleThreadedProcess() { g_single_threaded_process = true; }
 
 namespace {
 
-/// Adds ball k's actions from its incidence entries [from, to) onto (fx, fy, m) (and the
-/// stiffness sums onto (kt, kr) with the automatic step), in pair order.
+/// The thread whose range holds pair i.
+int pairThread(std::size_t npairs, int nthreads, std::size_t i) {
+    int t = static_cast<int>(i * static_cast<std::size_t>(nthreads) / npairs);
+    while (t + 1 < nthreads && threadRangeStart(npairs, nthreads, t + 1) <= i) ++t;
+    while (t > 0 && threadRangeStart(npairs, nthreads, t) > i) --t;
+    return t;
+}
+
+/// A ball's sums: force, moment, and the automatic step's stiffness sums.
 struct BallSums {
     double fx, fy, m, kt, kr;
 };
+/// Adds the actions of a ball's incidence entries [from, to) onto its sums, in pair order.
 inline void addActions(const ForceScratch& s, uint32_t from, uint32_t to, bool automatic,
                        BallSums& sum) {
     for (uint32_t q = from; q < to; ++q) {

@@ -43,7 +43,7 @@ struct Settings {
     TimestepSettings timestep;
     GuardSettings guard;
     DampingSettings damping;
-    int64_t sort_every = -1;  // re-order the balls every N steps (0: never; -1: Model::kSortAuto)
+    int64_t sort_every = Model::kSortAuto;  // re-order the balls every N steps (0: never)
     bool batched_law = true;
     bool lanes = false;
     bool kernels = true;   // the host's kernels of the shipped models' laws (force/kernels.hpp)
