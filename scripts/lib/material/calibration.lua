@@ -9,7 +9,8 @@ local S = require("material.specimen")
 local C = require("material.compress")
 local Br = require("material.brazilian")
 local Env = require("material.envelope")
-local Cal = require("calibrate")
+local Opt = require("talus_util.optimize")
+local raise = require("talus_util.errors").raise
 
 local M = {}
 
@@ -71,14 +72,14 @@ function M.calibrate(spec)
     local need = {}
     for i, t in ipairs(targets) do
         if not kOutput[t.name] then
-            error(string.format("material.calibrate: targets[%d] is '%s' (known: %s)", i, tostring(t.name),
-                table.concat(M.outputs, ", ")), 2)
+            raise(string.format("material.calibrate: targets[%d] is '%s' (known: %s)", i, tostring(t.name),
+                table.concat(M.outputs, ", ")))
         end
         need[t.name] = true
     end
     local kinds = { "ucs" }
     if need.tensile or need.ratio then
-        if not spec.disk then error("material.calibrate: a tensile or ratio target needs 'disk'", 2) end
+        if not spec.disk then raise("material.calibrate: a tensile or ratio target needs 'disk'") end
         kinds[#kinds + 1] = "brazilian"
     end
     if need.phi or spec.report_phi then kinds[#kinds + 1] = "biaxial" end
@@ -109,8 +110,8 @@ function M.calibrate(spec)
     for i, it in ipairs(pk_items) do
         local pk = pk_list[i]
         if not pk then
-            error(string.format("material.calibrate: the %s packing of seed %d failed: %s", it.kind, it.seed,
-                pk_list.failed and pk_list.failed[1].message or "?"), 2)
+            raise(string.format("material.calibrate: the %s packing of seed %d failed: %s", it.kind, it.seed,
+                pk_list.failed and pk_list.failed[1].message or "?"))
         end
         cpu_pk = cpu_pk + (pk.cpu_genesis or 0)
         if it.kind == "block" then blocks[it.k] = pk else disks[it.k] = pk end
@@ -232,7 +233,7 @@ function M.calibrate(spec)
         return string.format("point %d (%s): %s -> %s; misfit %.4g%s", row.index, row.phase, table.concat(parts, ", "),
             table.concat(outs, ", "), row.misfit, row.met and " (targets met)" or "")
     end
-    local result = Cal.fit_targets{
+    local result = Opt.fit_targets{
         params = params, targets = targets, evaluate = evaluate, budget = spec.budget, radius = spec.radius,
         min_radius = spec.min_radius, design = spec.design,
         on_point = function(row) say("calibrate: " .. fmt_row(row)) end,

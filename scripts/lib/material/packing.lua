@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- material/packing.lua: a packing (a genesis' result, a plain table) written to and read from a
 -- Lua file, exactly (17 significant digits), so calibration loops reuse one genesis.
+local raise = require("talus_util.errors").raise
 local P = {}
 
 local function ser(v, ind)
@@ -37,7 +38,7 @@ end
 
 function P.load(file)
     local chunk, err = loadfile(file, "t", {})
-    if not chunk then error("material.load_packing: " .. err, 2) end
+    if not chunk then raise("material.load_packing: " .. err) end
     return chunk()
 end
 
