@@ -45,30 +45,25 @@ local function first_events(records, field, key, name)
     return events, firsts
 end
 
---- Per collector (analysis.collectors, plus lines met only in the records): crossings (all
---- events), rocks (distinct rocks), fraction = rocks / N, and describe() of height, ke_trans,
---- ke_rot, ke, v and spin (|spin|, rad/s) over each rock's FIRST crossing of the line.
-function M.collectors(records, analysis, opts)
-    local where = "collectors"
+--- The statistics of each line of one kind (the analysis' spec.list, plus names met only in
+--- the records): spec.entry(name, x, events, firsts, N, level) gives its counts, and
+--- describe() of each of spec.quantities over each rock's FIRST event on the line (the records
+--- keep the events in spec.field, the line's name in spec.key; spec.value(q, v) maps a value).
+local function per_line(records, analysis, opts, spec)
     opts = opts or {}
-    check_records(records, where)
+    check_records(records, spec.where)
     local level = opts.confidence or (analysis and analysis.confidence) or M.CONFIDENCE
     local probs = opts.quantiles or M.QUANTILES
     local N = #records
-    local names, xs = names_of(analysis and analysis.collectors, records, "crossings", "line")
+    local names, xs = names_of(analysis and analysis[spec.list], records, spec.field, spec.key)
     local res = {}
     for i, name in ipairs(names) do
-        local events, firsts = first_events(records, "crossings", "line", name)
-        local c = { name = name, x = xs[name] or NaN, crossings = events, rocks = #firsts,
-            fraction = N > 0 and #firsts / N or NaN, stats = {} }
-        c.lo, c.hi = S.wilson(#firsts, N, level)
-        for _, q in ipairs(M.COLLECTOR_QUANTITIES) do
+        local events, firsts = first_events(records, spec.field, spec.key, name)
+        local c = spec.entry(name, xs[name] or NaN, events, firsts, N, level)
+        c.stats = {}
+        for _, q in ipairs(spec.quantities) do
             local vals = {}
-            for _, f in ipairs(firsts) do
-                local v = f.e[q]
-                if q == "spin" and isnum(v) then v = math.abs(v) end
-                vals[#vals + 1] = v
-            end
+            for _, f in ipairs(firsts) do vals[#vals + 1] = spec.value(q, f.e[q]) end
             c.stats[q] = S.describe(vals, probs, level)
         end
         res[i] = c
@@ -76,42 +71,57 @@ function M.collectors(records, analysis, opts)
     return res
 end
 
+--- Per collector (analysis.collectors, plus lines met only in the records): crossings (all
+--- events), rocks (distinct rocks), fraction = rocks / N, and describe() of height, ke_trans,
+--- ke_rot, ke, v and spin (|spin|, rad/s) over each rock's FIRST crossing of the line.
+function M.collectors(records, analysis, opts)
+    return per_line(records, analysis, opts, {
+        where = "collectors", list = "collectors", field = "crossings", key = "line",
+        quantities = M.COLLECTOR_QUANTITIES,
+        value = function(q, v)
+            if q == "spin" and isnum(v) then return math.abs(v) end
+            return v
+        end,
+        entry = function(name, x, events, firsts, N, level)
+            local c = { name = name, x = x, crossings = events, rocks = #firsts,
+                fraction = N > 0 and #firsts / N or NaN }
+            c.lo, c.hi = S.wilson(#firsts, N, level)
+            return c
+        end,
+    })
+end
+
+--- Rocks of `firsts` whose impacts on barrier `name` include one flagged stopped.
+local function stopped_at(firsts, name)
+    local stopped = 0
+    for _, f in ipairs(firsts) do
+        for _, e in ipairs(f.rec.barrier) do
+            if e.name == name and e.stopped then
+                stopped = stopped + 1
+                break
+            end
+        end
+    end
+    return stopped
+end
+
 --- Per barrier (analysis.barriers, plus names met only in the records): rocks = distinct rocks
 --- with an impact, stopped = rocks with an impact flagged stopped, passed = rocks - stopped,
 --- not_reached = N - rocks, impacts = all events, and describe() of energy, height and angle
 --- over each rock's FIRST impact on the barrier.
 function M.barriers(records, analysis, opts)
-    local where = "barriers"
-    opts = opts or {}
-    check_records(records, where)
-    local level = opts.confidence or (analysis and analysis.confidence) or M.CONFIDENCE
-    local probs = opts.quantiles or M.QUANTILES
-    local N = #records
-    local names, xs = names_of(analysis and analysis.barriers, records, "barrier", "name")
-    local res = {}
-    for i, name in ipairs(names) do
-        local events, firsts = first_events(records, "barrier", "name", name)
-        local stopped = 0
-        for _, f in ipairs(firsts) do
-            for _, e in ipairs(f.rec.barrier) do
-                if e.name == name and e.stopped then
-                    stopped = stopped + 1
-                    break
-                end
-            end
-        end
-        local b = { name = name, x = xs[name] or NaN, impacts = events, rocks = #firsts,
-            stopped = stopped, passed = #firsts - stopped, not_reached = N - #firsts,
-            fraction_stopped = N > 0 and stopped / N or NaN,
-            fraction_passed = N > 0 and (#firsts - stopped) / N or NaN, stats = {} }
-        for _, q in ipairs(M.BARRIER_QUANTITIES) do
-            local vals = {}
-            for _, f in ipairs(firsts) do vals[#vals + 1] = f.e[q] end
-            b.stats[q] = S.describe(vals, probs, level)
-        end
-        res[i] = b
-    end
-    return res
+    return per_line(records, analysis, opts, {
+        where = "barriers", list = "barriers", field = "barrier", key = "name",
+        quantities = M.BARRIER_QUANTITIES,
+        value = function(_, v) return v end,
+        entry = function(name, x, events, firsts, N)
+            local stopped = stopped_at(firsts, name)
+            return { name = name, x = x, impacts = events, rocks = #firsts,
+                stopped = stopped, passed = #firsts - stopped, not_reached = N - #firsts,
+                fraction_stopped = N > 0 and stopped / N or NaN,
+                fraction_passed = N > 0 and (#firsts - stopped) / N or NaN }
+        end,
+    })
 end
 
 return M
