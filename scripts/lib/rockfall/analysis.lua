@@ -57,16 +57,13 @@ local function check_model(name, props, where)
     end
 end
 
---- Builds and checks an analysis. See docs/rockfall.md for every option and its default.
-local function analysis(opts)
-    local W = "analysis"
-    check_keys(opts, ANALYSIS_KEYS, W)
-    local an = {}
-    -- Profile.
+local W = "analysis"
+
+--- The profile, its materials, their zones and the roughness.
+local function ground_options(opts, an)
     local prof = opts.profile
     if type(prof) == "string" then prof = read_csv(prof) end
     an.points = check_points(prof, W .. ".profile")
-    -- Materials.
     local materials = opts.materials or { slope = { model = "linear", props = {} } }
     if type(materials) ~= "table" or next(materials) == nil then fail("%s.materials must be a non-empty table", W) end
     for name, mat in pairs(materials) do
@@ -89,7 +86,10 @@ local function analysis(opts)
         if r.spacing ~= nil then num(r.spacing, W .. ".roughness.spacing", 1e-6) end
         an.roughness = { amplitude = r.amplitude, spacing = r.spacing, per_rock = r.per_rock ~= false }
     end
-    -- Seed and count.
+end
+
+--- The seed, the number of rocks and the seeders with their rocks and release velocities.
+local function seeder_options(opts, an)
     an.seed = opts.seed or 1
     if math.type(an.seed) ~= "integer" then
         if type(an.seed) == "number" and an.seed == math.floor(an.seed) then an.seed = math.tointeger(an.seed)
@@ -130,7 +130,10 @@ local function analysis(opts)
         an.seeder_weight = an.seeder_weight + sd.weight
     end
     if an.seeder_weight <= 0 then fail("%s.seeders: the weights sum to 0", W) end
-    -- Collectors and barriers.
+end
+
+--- The collector and barrier lines (within the profile's x range) and the envelope's bins.
+local function line_options(opts, an)
     local x0, x1 = an.points[1][1], an.points[#an.points][1]
     an.collectors = {}
     for k, c in ipairs(opts.collectors or {}) do
@@ -149,13 +152,15 @@ local function analysis(opts)
         an.barriers[k] = { name = b.name or ("barrier" .. k), x = b.x, energy = b.energy, height = b.height }
     end
     table.sort(an.barriers, function(a, b) return a.x < b.x end)
-    -- Envelope bins.
     local env = opts.envelope or { x0 = x0, x1 = x1, dx = 1 }
     check_keys(env, { "x0", "x1", "dx" }, W .. ".envelope")
     an.envelope = { x0 = num(env.x0 or x0, W .. ".envelope.x0"), x1 = num(env.x1 or x1, W .. ".envelope.x1"),
         dx = num(env.dx or 1, W .. ".envelope.dx", 1e-9) }
     an.envelope.nbins = math.max(1, math.ceil((an.envelope.x1 - an.envelope.x0) / an.envelope.dx - 1e-9))
-    -- Engine and end rules.
+end
+
+--- The engine's settings, the end rules, rock-rock contact and the shadow-angle apex.
+local function engine_options(opts, an)
     an.gravity = opts.gravity and point(opts.gravity, W .. ".gravity") or { 0, -9.81 }
     an.margin = opts.margin and num(opts.margin, W .. ".margin", 1e-9)
     an.rest_speed = num(opts.rest_speed or 0.1, W .. ".rest_speed", 0)
@@ -172,12 +177,22 @@ local function analysis(opts)
     an.rock_contact = { model = rc.model or "linear",
         props = rc.props or { kn = 1e9, ks = 5e8, fric = 0.5, dp_nratio = 0.3 } }
     check_model(an.rock_contact.model, an.rock_contact.props, W .. ".rock_contact")
-    -- Shadow angles (rockfall_stats): the apex, or the steepness from which a downslope
+    -- Shadow angles (rockfall.stats): the apex, or the steepness from which a downslope
     -- segment counts as the cliff whose toe is the apex.
     if opts.shadow_apex ~= nil then an.shadow_apex = point(opts.shadow_apex, W .. ".shadow_apex") end
     if opts.shadow_steep ~= nil then
         an.shadow_steep = num(opts.shadow_steep, W .. ".shadow_steep", 1e-9, 90)
     end
+end
+
+--- Builds and checks an analysis. See docs/rockfall.md for every option and its default.
+local function analysis(opts)
+    check_keys(opts, ANALYSIS_KEYS, W)
+    local an = {}
+    ground_options(opts, an)
+    seeder_options(opts, an)
+    line_options(opts, an)
+    engine_options(opts, an)
     an.y_min = math.huge
     for _, p in ipairs(an.points) do an.y_min = math.min(an.y_min, p[2]) end
     an.is_analysis = true

@@ -49,32 +49,8 @@ local function is_rank0()
     return ((t and t.rank and t.rank()) or 0) == 0
 end
 
---- Computes everything, writes the CSV files into outdir (created if missing) on MPI rank 0
---- only, and returns the summary table (on every rank). opts: confidence, and
---- trajectories = false to skip trajectories.csv (written when records carry `path`).
---- Files (columns in docs/rockfall-statistics.md): endpoints.csv, endpoint_hist.csv,
---- endpoint_percentiles.csv, stops.csv, reach.csv, envelopes.csv (when analysis.envelope),
---- collectors.csv, barriers.csv, angles.csv, summary.csv, profile.csv (when
---- analysis.profile), trajectories.csv (when paths).
-function M.write(records, analysis, outdir, opts)
-    analysis = analysis or {}
-    opts = opts or {}
-    local level = opts.confidence or analysis.confidence or M.CONFIDENCE
-    local d = direction_of(analysis, "write")
-    local ep = M.endpoints(records, { confidence = level, envelope = analysis.envelope,
-        direction = d, bins = opts.bins })
-    local env = analysis.envelope and M.envelopes(records, analysis, { confidence = level }) or nil
-    local col = M.collectors(records, analysis, { confidence = level })
-    local bar = M.barriers(records, analysis, { confidence = level })
-    local ang = M.angles(records, analysis, { confidence = level, deposited = opts.deposited })
-
-    local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
-        percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
-        apex = ang.apex, shadow_note = ang.note, deposited = ang.deposited,
-        beyond_apex = ang.beyond_apex,
-        collectors = col, barriers = bar, outdir = outdir, files = {} }
-
-    -- summary rows: section, name, value, ci_lo, ci_hi
+--- The summary rows (summary.csv): section, name, value, ci_lo, ci_hi.
+local function summary_rows(records, ep, ang, col, bar)
     local srows = { { "rocks", "n", #records } }
     for _, s in ipairs(ep.stops) do srows[#srows + 1] = { "stop", s.rule, s.count } end
     for _, p in ipairs(ep.percentiles) do
@@ -104,21 +80,11 @@ function M.write(records, analysis, outdir, opts)
             b.stats.energy.q95_lo, b.stats.energy.q95_hi }
         srows[#srows + 1] = { "barrier:" .. tostring(b.name), "energy_max", b.stats.energy.max }
     end
-    summary.rows = srows
+    return srows
+end
 
-    if not is_rank0() then return summary end
-    local t = rawget(_G, "talus")
-    if t and t.mkdir then
-        t.mkdir(outdir)
-    else
-        os.execute('mkdir -p "' .. tostring(outdir):gsub('"', '\\"') .. '"')
-    end
-    local function out(name, header, rows)
-        local path = outdir .. "/" .. name
-        write_csv(path, header, rows)
-        summary.files[#summary.files + 1] = path
-    end
-
+--- The files of the end points: endpoints, endpoint_hist, endpoint_percentiles, stops, reach.
+local function write_point_files(out, records, ep, ang)
     local rows = {}
     for i, r in ipairs(records) do
         local rx, ry = point_xy(r.release)
@@ -145,7 +111,12 @@ function M.write(records, analysis, outdir, opts)
     rows = {}
     for i, r in ipairs(ep.reach) do rows[i] = { r.x, r.count, r.reach, r.lo, r.hi } end
     out("reach.csv", { "x", "count", "reach", "ci_lo", "ci_hi" }, rows)
+end
 
+--- The files along the slope and of the lines: envelopes (with an envelope), collectors,
+--- barriers, angles.
+local function write_line_files(out, env, col, bar, ang)
+    local rows
     if env then
         local header = { "bin", "x_lo", "x_hi", "x_mid", "n", "reach" }
         for _, h in ipairs(describe_header("height_", M.QUANTILES)) do header[#header + 1] = h end
@@ -197,18 +168,61 @@ function M.write(records, analysis, outdir, opts)
         rows[#rows + 1] = row
     end
     out("angles.csv", header, rows)
+end
 
-    out("summary.csv", { "section", "name", "value", "ci_lo", "ci_hi" }, srows)
+--- Computes everything, writes the CSV files into outdir (created if missing) on MPI rank 0
+--- only, and returns the summary table (on every rank). opts: confidence, and
+--- trajectories = false to skip trajectories.csv (written when records carry `path`).
+--- Files (columns in docs/rockfall-statistics.md): endpoints.csv, endpoint_hist.csv,
+--- endpoint_percentiles.csv, stops.csv, reach.csv, envelopes.csv (when analysis.envelope),
+--- collectors.csv, barriers.csv, angles.csv, summary.csv, profile.csv (when
+--- analysis.profile), trajectories.csv (when paths).
+function M.write(records, analysis, outdir, opts)
+    analysis = analysis or {}
+    opts = opts or {}
+    local level = opts.confidence or analysis.confidence or M.CONFIDENCE
+    local d = direction_of(analysis, "write")
+    local ep = M.endpoints(records, { confidence = level, envelope = analysis.envelope,
+        direction = d, bins = opts.bins })
+    local env = analysis.envelope and M.envelopes(records, analysis, { confidence = level }) or nil
+    local col = M.collectors(records, analysis, { confidence = level })
+    local bar = M.barriers(records, analysis, { confidence = level })
+    local ang = M.angles(records, analysis, { confidence = level, deposited = opts.deposited })
+
+    local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
+        percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
+        apex = ang.apex, shadow_note = ang.note, deposited = ang.deposited,
+        beyond_apex = ang.beyond_apex,
+        collectors = col, barriers = bar, outdir = outdir, files = {} }
+
+    summary.rows = summary_rows(records, ep, ang, col, bar)
+
+    if not is_rank0() then return summary end
+    local t = rawget(_G, "talus")
+    if t and t.mkdir then
+        t.mkdir(outdir)
+    else
+        os.execute('mkdir -p "' .. tostring(outdir):gsub('"', '\\"') .. '"')
+    end
+    local function out(name, header, rows)
+        local path = outdir .. "/" .. name
+        write_csv(path, header, rows)
+        summary.files[#summary.files + 1] = path
+    end
+
+    write_point_files(out, records, ep, ang)
+    write_line_files(out, env, col, bar, ang)
+    out("summary.csv", { "section", "name", "value", "ci_lo", "ci_hi" }, summary.rows)
 
     local pts = profile_points(analysis, "write")
     if pts then
-        rows = {}
+        local rows = {}
         for i, p in ipairs(pts) do rows[i] = { p[1], p[2] } end
         out("profile.csv", { "x", "y" }, rows)
     end
 
     if opts.trajectories ~= false then
-        rows = {}
+        local rows = {}
         for i, r in ipairs(records) do
             for _, p in ipairs(r.path or {}) do
                 rows[#rows + 1] = { r.rock or i, p.t or p[1], p.x or p[2], p.y or p[3] }
