@@ -2,6 +2,7 @@
 -- rockfall/monte_carlo.lua: the rocks of an analysis run independently on all cores (talus.map), written and
 -- summed up.
 local Rand = require("rockfall.random")
+local fnv1a = require("talus_util.random").fnv1a
 local An = require("rockfall.analysis")
 local Run = require("rockfall.run")
 local Out = require("rockfall.output")
@@ -45,13 +46,6 @@ local function canonical(v, out)
         out[#out + 1] = t:sub(1, 1) .. tostring(v)
     end
     return out
-end
-
---- 64-bit FNV-1a hash of a string, as 16 hex digits (Lua integers wrap modulo 2^64).
-local function fnv1a(text)
-    local h = -3750763034362895579 -- 0xcbf29ce484222325
-    for k = 1, #text do h = (h ~ text:byte(k)) * 0x100000001b3 end
-    return string.format("%016x", h)
 end
 
 --- Runs the analysis' rocks independently (talus.map when present: all cores, MPI ranks),

@@ -81,4 +81,12 @@ function R.xorshift64star(state)
     return setmetatable({ state = state }, XorShift64Star)
 end
 
+--- FNV-1a (Fowler, Noll & Vo), 64 bits, of a text, as 16 hex digits: a short key for a long
+--- description (a checkpoint's key; Lua integers wrap modulo 2^64 as the hash needs).
+function R.fnv1a(text)
+    local h = -3750763034362895579 -- 0xcbf29ce484222325, the offset basis
+    for i = 1, #text do h = (h ~ text:byte(i)) * 0x100000001b3 end
+    return string.format("%016x", h)
+end
+
 return R
