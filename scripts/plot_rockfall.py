@@ -6,7 +6,7 @@
     python3 scripts/plot_rockfall.py out/rockfall -o fig.pdf --trajectories 5 --logy-energy
 
 DIR is the directory that `rockfall_stats.write(records, analysis, DIR)` filled
-(scripts/lib/rockfall_stats.lua; columns in docs/rockfall-statistics.md). The figure has four
+(rockfall.stats, scripts/lib/rockfall/stats/; columns in docs/rockfall-statistics.md). The figure has four
 panels sharing the x axis:
   1. the slope profile (profile.csv: x,y), a few trajectories (trajectories.csv: rock,t,x,y,
      when present), the end points coloured by stop rule (endpoints.csv), collector and barrier

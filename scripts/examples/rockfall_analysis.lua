@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall_analysis.lua: a small rockfall analysis with scripts/lib/rockfall.lua (docs/rockfall.md).
+-- rockfall_analysis.lua: a small rockfall analysis with the rockfall library, scripts/lib/rockfall/ (docs/rockfall.md).
 -- Clump rocks from a line seeder at the crest of Nejati's (2008) stepped profile, two slope
 -- materials, a barrier line near the toe and two collectors; a Monte Carlo
 -- of independent rocks (all cores when talus.map exists), per-rock CSVs and, when the module

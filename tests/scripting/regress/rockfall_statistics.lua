@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- rockfall_stats (scripts/lib/rockfall_stats.lua) against a hand-computed small Monte Carlo:
+-- rockfall_stats (scripts/lib/rockfall/stats/) against a hand-computed small Monte Carlo:
 -- 20 synthetic per-rock records whose end points, envelope entries, collector crossings and
 -- barrier impacts are chosen so that every statistic can be worked out by hand (the working
 -- is in the comments). Then the edge cases: 0 rocks, 1 rock, all rocks stopped by a barrier,
