@@ -18,7 +18,9 @@ local merged = Opt.merged
 --- e must be monotonic in x over [lo, hi]. Returns rows { v, target, value, e, iterations,
 --- note }; value = nil with a note when the target is out of reach or the rig failed.
 function C.fit_param(spec)
-    if not (spec.rig and spec.param and spec.lo and spec.hi and spec.target) then raise("calibrate.fit_param: needs rig, param, lo, hi, target") end
+    if not (spec.rig and spec.param and spec.lo and spec.hi and spec.target) then
+        raise("calibrate.fit_param: needs rig, param, lo, hi, target")
+    end
     local target = T.target(spec.target)
     local uselog = spec.log
     if uselog == nil then uselog = spec.lo > 0 end
@@ -151,7 +153,9 @@ end
 --- rock, radius, density, mass) }. The run-out must fall as the property grows over [lo, hi].
 --- Returns value, { distance =, iterations =, d_lo =, d_hi = }.
 function C.fit_runout(spec)
-    if not (spec.model and spec.prop and spec.measured and spec.lo and spec.hi) then raise("calibrate.fit_runout: needs model, prop, measured, lo, hi") end
+    if not (spec.model and spec.prop and spec.measured and spec.lo and spec.hi) then
+        raise("calibrate.fit_runout: needs model, prop, measured, lo, hi")
+    end
     local ok, info = pcall(talus.contact_model_info, spec.model)
     if not ok then
         raise(string.format("calibrate.fit_runout: contact model '%s' is not available (%s)",

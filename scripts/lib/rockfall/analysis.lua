@@ -225,7 +225,9 @@ end
 --- Damping ratio of a linear dashpot that gives normal restitution e for a contact that lasts
 --- until the overlap is back to zero: e = exp(-pi beta / sqrt(1 - beta^2)), inverted.
 local function dp_nratio(e)
-    if type(e) ~= "number" or e <= 0 or e > 1 then require("talus_util.errors").raise("rockfall.dp_nratio: e must be in (0, 1] (got %s)", tostring(e)) end
+    if type(e) ~= "number" or e <= 0 or e > 1 then
+        require("talus_util.errors").raise("rockfall.dp_nratio: e must be in (0, 1] (got %s)", tostring(e))
+    end
     local l = math.log(e)
     return -l / math.sqrt(math.pi * math.pi + l * l)
 end

@@ -7,7 +7,8 @@ local K = require("rockfall.check")
 local fail, check_keys, need_analysis, check_hook = K.fail, K.check_keys, K.need_analysis, K.check_hook
 local sample, rock_profile = Draw.sample, Draw.rock_profile
 local new_model, build_slope, place_rock = Model.new_model, Model.build_slope, Model.place_rock
-local rock_lines, track_rock, ended_at_start, collect_rock = Tr.rock_lines, Tr.track_rock, Tr.ended_at_start, Tr.collect_rock
+local rock_lines, track_rock = Tr.rock_lines, Tr.track_rock
+local ended_at_start, collect_rock = Tr.ended_at_start, Tr.collect_rock
 
 --- Releases n rocks at once into one model (rock-rock contact with analysis.rock_contact);
 --- returns one record per rock, as run_rock does. All rocks meet the nominal (or the analysis'

@@ -18,7 +18,9 @@ local C = {}
 function C.root(f, a, b, opts)
     opts = opts or {}
     if not (type(f) == "function") then raise("calibrate.root: f must be a function") end
-    if not (type(a) == "number" and type(b) == "number" and a == a and b == b) then raise("calibrate.root: the bracket must be two numbers") end
+    if not (type(a) == "number" and type(b) == "number" and a == a and b == b) then
+        raise("calibrate.root: the bracket must be two numbers")
+    end
     local xtol = opts.xtol or (1e-12 * (math.abs(a) + math.abs(b)) + 1e-300)
     local ftol = opts.ftol or 0
     local max_iter = opts.max_iter or 200
@@ -137,7 +139,9 @@ end
 --- {-1, 0, +1}^p, the centre {0, ..., 0} first. Columns are orthogonal and balanced, so a
 --- first-order least-squares fit on them estimates each main effect independently.
 function C.design(p)
-    if not (math.type(p) == "integer" and p >= 1 and p <= 15) then raise("calibrate.design: p must be an integer in [1, 15]") end
+    if not (math.type(p) == "integer" and p >= 1 and p <= 15) then
+        raise("calibrate.design: p must be an integer in [1, 15]")
+    end
     local q = 1
     while 2 ^ q < p + 2 do q = q + 1 end
     local subsets = {}
@@ -231,18 +235,24 @@ local kTargetsKnown = { params = true, targets = true, evaluate = true, budget =
 local function targets_state(spec)
     Opt.check(spec, kTargetsKnown, nil, "calibrate.fit_targets: ")
     local params, targets, evaluate = spec.params, spec.targets, spec.evaluate
-    if type(params) ~= "table" or #params == 0 then raise("calibrate.fit_targets: 'params' must be a non-empty list") end
-    if type(targets) ~= "table" or #targets == 0 then raise("calibrate.fit_targets: 'targets' must be a non-empty list") end
+    if type(params) ~= "table" or #params == 0 then
+        raise("calibrate.fit_targets: 'params' must be a non-empty list")
+    end
+    if type(targets) ~= "table" or #targets == 0 then
+        raise("calibrate.fit_targets: 'targets' must be a non-empty list")
+    end
     if type(evaluate) ~= "function" then raise("calibrate.fit_targets: 'evaluate' must be a function") end
     local p = #params
     local s0, spread, ulo, uhi = {}, {}, {}, {}
     for k, d in ipairs(params) do
-        if type(d.name) ~= "string" or type(d.lo) ~= "number" or type(d.hi) ~= "number" or not (d.lo > 0 and d.hi > d.lo) then
+        if type(d.name) ~= "string" or type(d.lo) ~= "number" or type(d.hi) ~= "number"
+            or not (d.lo > 0 and d.hi > d.lo) then
             raise("calibrate.fit_targets: params[%d] needs a name and 0 < lo < hi", k)
         end
         local start = d.start or math.sqrt(d.lo * d.hi)
         if not (start >= d.lo and start <= d.hi) then
-            raise("calibrate.fit_targets: params[%d] ('%s'): start %g is outside [%g, %g]", k, d.name, start, d.lo, d.hi)
+            raise("calibrate.fit_targets: params[%d] ('%s'): start %g is outside [%g, %g]", k, d.name, start, d.lo,
+                d.hi)
         end
         s0[k], spread[k] = math.log(start), d.spread or 0.35
         ulo[k], uhi[k] = (math.log(d.lo) - s0[k]) / spread[k], (math.log(d.hi) - s0[k]) / spread[k]

@@ -45,6 +45,15 @@ line = T.line() + 1
 T.fails(function() M.genesis{ width = 0.01, height = 0.02, rmin = 3e-4, rmax = 5e-4 } end,
     { script .. ":" .. line .. ": material.genesis: option 'kn' is required" }, "genesis required option")
 
+-- The statistics check their records several calls down.
+line = T.line() + 1
+T.fails(function() stats.endpoints({ { rock = 3 } }) end,
+    { script .. ":" .. line .. ": rockfall_stats.endpoints: record 1 (rock 3): end_x must be a number" },
+    "rockfall_stats input")
+line = T.line() + 1
+T.fails(function() stats.write({ { rock = 1, end_x = 1, end_y = 0, stop = "rest" } }, { direction = 3 }, out) end,
+    { script .. ":" .. line .. ": rockfall_stats.write: analysis.direction must be 1 or -1" }, "rockfall_stats.write input")
+
 -- Files the disk refuses (/dev/full: every write gets ENOSPC): an error naming the file, at the
 -- user's line.
 local f = io.open("/dev/full", "w")

@@ -5,7 +5,8 @@ local M = require("rockfall.stats.defaults")
 local R = require("rockfall.stats.records")
 local NaN, INF = 0 / 0, math.huge
 local isnum = S.isnum
-local fail, check_records, direction_of, profile_points, point_xy, profile_y = R.fail, R.check_records, R.direction_of, R.profile_points, R.point_xy, R.profile_y
+local fail, check_records, direction_of = R.fail, R.check_records, R.direction_of
+local profile_points, point_xy, profile_y = R.profile_points, R.point_xy, R.profile_y
 
 --- The profile's points in the order a rock travelling along d meets them.
 local function travel_order(pts, d)

@@ -5,7 +5,8 @@ local S = require("talus_util.stats")
 local M = require("rockfall.stats.defaults")
 local R = require("rockfall.stats.records")
 local NaN, INF = 0 / 0, math.huge
-local fail, check_records, direction_of, envelope_of, x_far, nice_width = R.fail, R.check_records, R.direction_of, R.envelope_of, R.x_far, R.nice_width
+local check_records, direction_of = R.check_records, R.direction_of
+local envelope_of, x_far, nice_width = R.envelope_of, R.x_far, R.nice_width
 
 --- End-point statistics. opts (all optional):
 ---   confidence   level of the intervals (default 0.95)

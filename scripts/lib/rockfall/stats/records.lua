@@ -10,16 +10,9 @@ local NaN = 0 / 0
 local isnum = S.isnum
 R.NaN, R.isnum = NaN, isnum
 
---- Raises "rockfall_stats.<where>: <message>" at the first caller outside this module, so the
---- position names the user's script line.
+--- Raises "rockfall_stats.<where>: <message>" at the user's script line.
 local function fail(where, fmt, ...)
-    local level, here = 2, debug.getinfo(1, "S").source
-    while true do
-        local info = debug.getinfo(level, "S")
-        if not info or info.source ~= here then break end
-        level = level + 1
-    end
-    error("rockfall_stats." .. where .. ": " .. string.format(fmt, ...), level)
+    Err.raise("rockfall_stats." .. where .. ": " .. string.format(fmt, ...))
 end
 
 local function point_xy(pt)
