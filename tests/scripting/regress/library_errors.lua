@@ -80,6 +80,10 @@ if f then
     T.fails(function() M.write_csv("/dev/full", { { v = 1 } }, { "v" }) end,
         { script .. ":" .. line .. ": material: cannot write '/dev/full'", "No space left on device" },
         "material.write_csv on a full disk")
+    line = T.line() + 1
+    T.fails(function() M.save_packing({ balls = { { 0, 0, 1 } } }, "/dev/full") end,
+        { script .. ":" .. line .. ": material.save_packing: cannot write '/dev/full'", "No space left on device" },
+        "material.save_packing on a full disk")
 else
     print("library_errors: /dev/full is missing here; the full-disk checks are skipped")
 end
