@@ -11,8 +11,8 @@
 --                             target = rn, velocities = {1, 2, 3} }
 --   C.print_table(rows, { "v", "target", "value", "e" })
 --
--- The parts, one file each in this folder (the optimisers are talus_util/optimize.lua's, shared
--- with material.calibrate):
+-- The parts, one file each in this folder (the optimisers are talus_util's optimize.lua and
+-- response_surface.lua, shared with material.calibrate):
 --   C.root(f, a, b, opts)        bracketing root finder (Illinois regula falsi), own code
 --   C.target(t)                  a function e(v) from a function or a table {{v, e}, ...}
 --   C.rocfall(rn, vref)          RocFall's velocity-scaled restitution (Pfeiffer & Bowen 1989)
@@ -32,6 +32,7 @@
 
 
 local Opt = require("talus_util.optimize")
+local RS = require("talus_util.response_surface")
 local T = require("calibrate.targets")
 local Rigs = require("calibrate.rigs")
 local Fits = require("calibrate.fits")
@@ -40,7 +41,7 @@ local Out = require("calibrate.output")
 return {
     -- optimisers
     root = Opt.root, nelder_mead = Opt.nelder_mead, design = Opt.design, lsq = Opt.lsq,
-    fit_targets = Opt.fit_targets,
+    fit_targets = RS.fit_targets,
     -- targets and rigs
     rocfall = T.rocfall, target = T.target,
     impact_rig = Rigs.impact_rig, triangle_pebbles = Rigs.triangle_pebbles,

@@ -9,7 +9,7 @@ local S = require("material.specimen")
 local C = require("material.compress")
 local Br = require("material.brazilian")
 local Env = require("material.envelope")
-local Opt = require("talus_util.optimize")
+local RS = require("talus_util.response_surface")
 local raise = require("talus_util.errors").raise
 
 local M = {}
@@ -247,7 +247,7 @@ function M.calibrate(spec)
     local cs = calibration_state(spec)
     make_packings(cs)
     cs.total_cpu = cs.cpu_pk
-    local result = Opt.fit_targets{
+    local result = RS.fit_targets{
         params = cs.params, targets = cs.targets, budget = spec.budget, radius = spec.radius,
         min_radius = spec.min_radius, design = spec.design,
         evaluate = function(points, batch) return evaluate(cs, points, batch) end,

@@ -8,8 +8,9 @@
 --   csv.lua       the CSV writer: one cell format, every write checked
 --   interp.lua    piecewise-linear interpolation with an explicit rule outside the points
 --   stats.lua     quantiles with distribution-free intervals, Wilson's interval, summaries
---   optimize.lua  root finder, Nelder-Mead, two-level designs, least squares, the
---                 response-surface fit of several parameters to several targets
+--   optimize.lua  root finder, Nelder-Mead, two-level designs, least squares
+--   response_surface.lua  several parameters fitted to several targets (a design, then
+--                 power-law surfaces in a trust region)
 --
 --   local U = require("talus_util")
 --   local ok, err = U.csv.write("out/a.csv", { "x", "y" }, { { 1, 0.5 } })
@@ -21,4 +22,5 @@ return {
     interp = require("talus_util.interp"),
     stats = require("talus_util.stats"),
     optimize = require("talus_util.optimize"),
+    response_surface = require("talus_util.response_surface"),
 }
