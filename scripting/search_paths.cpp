@@ -2,6 +2,8 @@
 // The talus command's search paths, relative to its executable (search_paths.hpp).
 #include "search_paths.hpp"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
@@ -43,14 +45,43 @@ std::vector<std::string> besideExecutable(const std::string& exe_dir,
     return existing.empty() ? all : existing;
 }
 
+/// "a:b::c" -> {"a", "b", "", "c"} (PATH-style lists; an empty entry is kept).
+std::vector<std::string> splitColons(const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (std::size_t end; (end = text.find(':', start)) != std::string::npos; start = end + 1)
+        parts.push_back(text.substr(start, end - start));
+    parts.push_back(text.substr(start));
+    return parts;
+}
+
+/// Without /proc (a bare chroot): argv0 itself when it names a path, else the first executable
+/// of that name on PATH (an empty entry is the current directory), as the shell found it.
+fs::path executableFromArgv0(const std::string& argv0) {
+    std::error_code ec;
+    if (argv0.find('/') != std::string::npos) {
+        const fs::path exe = fs::canonical(argv0, ec);
+        return ec ? fs::path() : exe;
+    }
+    const char* path = std::getenv("PATH");
+    if (argv0.empty() || !path) return {};
+    for (const std::string& dir : splitColons(path)) {
+        const fs::path candidate = fs::path(dir.empty() ? "." : dir) / argv0;
+        if (fs::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) {
+            const fs::path exe = fs::canonical(candidate, ec);
+            if (!ec) return exe;
+        }
+    }
+    return {};
+}
+
 }  // namespace
 
 std::string executableDirectory(const char* argv0) {
     std::error_code ec;
     fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (ec && argv0 && std::string(argv0).find('/') != std::string::npos)
-        exe = fs::canonical(argv0, ec);
-    if (ec || exe.empty()) return {};
+    if (ec || exe.empty()) exe = executableFromArgv0(argv0 ? argv0 : "");
+    if (exe.empty()) return {};
     return exe.parent_path().string();
 }
 
@@ -67,17 +98,9 @@ std::vector<std::string> shippedLuaDirectories(const std::string& exe_dir) {
 
 std::vector<std::string> luaPathFromEnvironment() {
     std::vector<std::string> dirs;
-    const char* env = std::getenv("TALUS_LUA_PATH");
-    if (!env) return dirs;
-    const std::string text = env;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t end = text.find(':', start);
-        const std::string dir = text.substr(start, end == std::string::npos ? end : end - start);
-        if (!dir.empty()) dirs.push_back(dir);
-        if (end == std::string::npos) break;
-        start = end + 1;
-    }
+    if (const char* env = std::getenv("TALUS_LUA_PATH"))
+        for (const std::string& dir : splitColons(env))
+            if (!dir.empty()) dirs.push_back(dir);
     return dirs;
 }
 

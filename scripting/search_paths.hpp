@@ -21,8 +21,8 @@
 
 namespace talus::lua {
 
-/// The directory of the running executable (/proc/self/exe; else argv0 when it holds a '/'),
-/// or empty when it cannot be told.
+/// The directory of the running executable (/proc/self/exe; without /proc, argv0 as a path or
+/// looked up on PATH), or empty when it cannot be told.
 std::string executableDirectory(const char* argv0);
 
 /// The shipped plugin directories, for PluginRegistry::appendSearchDirectory.

@@ -2,6 +2,35 @@
 # Helpers of the install tests (included by relocated.cmake, shipped_plugins.cmake and
 # deb_contents.cmake).
 
+# talus_require_args(<script> <VAR>...): every -D<VAR>=... given, else a usage error. Also
+# defaults CONFIG to Release and makes BUILD_DIR and SOURCE_DIR real paths when given.
+macro(talus_require_args script)
+  foreach(var ${ARGN})
+    if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+      message(FATAL_ERROR "${script}: -D${var}=... is required")
+    endif()
+  endforeach()
+  if(NOT CONFIG)
+    set(CONFIG Release)
+  endif()
+  foreach(var BUILD_DIR SOURCE_DIR)
+    if(DEFINED ${var})
+      file(REAL_PATH "${${var}}" ${var})
+    endif()
+  endforeach()
+endmacro()
+
+# talus_missing(<var> <list variable> <item>...): the items not in the list, in order.
+function(talus_missing var list)
+  set(out)
+  foreach(item ${ARGN})
+    if(NOT item IN_LIST ${list})
+      list(APPEND out "${item}")
+    endif()
+  endforeach()
+  set(${var} ${out} PARENT_SCOPE)
+endfunction()
+
 # talus_scratch(<var> <name>): a new empty directory outside the source and build trees (under
 # TMPDIR or /tmp), so that a path inside it can never be mistaken for one of theirs.
 function(talus_scratch var name)

@@ -15,16 +15,7 @@
 #       -P relocated.cmake
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/install_support.cmake)
-foreach(var BUILD_DIR SOURCE_DIR)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "relocated.cmake: -D${var}=... is required")
-  endif()
-endforeach()
-if(NOT CONFIG)
-  set(CONFIG Release)
-endif()
-file(REAL_PATH "${BUILD_DIR}" BUILD_DIR)
-file(REAL_PATH "${SOURCE_DIR}" SOURCE_DIR)
+talus_require_args(relocated.cmake BUILD_DIR SOURCE_DIR)
 
 talus_scratch(tmp relocated)
 talus_run("${tmp}" "cmake --install" "${CMAKE_COMMAND}" --install "${BUILD_DIR}"

@@ -9,12 +9,7 @@
 # cmake -DBUILD_DIR=<talus build> -DSOURCE_DIR=<talus source> -DTALUS=<talus> -P shipped_plugins.cmake
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/install_support.cmake)
-foreach(var BUILD_DIR SOURCE_DIR TALUS)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "shipped_plugins.cmake: -D${var}=... is required")
-  endif()
-endforeach()
-file(REAL_PATH "${BUILD_DIR}" BUILD_DIR)
+talus_require_args(shipped_plugins.cmake BUILD_DIR SOURCE_DIR TALUS)
 
 talus_shipped_models(shipped "${SOURCE_DIR}")
 file(GLOB built_files "${BUILD_DIR}/plugins/libtalus_*.so")
