@@ -41,10 +41,15 @@ foreach(b ${binaries})
 endforeach()
 
 # Every installed library module: lib/a.lua -> a, lib/a/init.lua -> a, lib/a/b.lua -> a.b.
+# An editor's definition file (LuaLS, first line "---@meta") is not a module: it is not loaded.
 set(libdir "${prefix}/share/talus/scripts/lib")
 file(GLOB_RECURSE lua_files RELATIVE "${libdir}" "${libdir}/*.lua")
 set(modules)
 foreach(f ${lua_files})
+  file(STRINGS "${libdir}/${f}" first LIMIT_COUNT 1)
+  if(first MATCHES "^---@meta")
+    continue()
+  endif()
   string(REGEX REPLACE "\\.lua$" "" m "${f}")
   string(REGEX REPLACE "/init$" "" m "${m}")
   string(REPLACE "/" "." m "${m}")
