@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <climits>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -209,6 +210,11 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
     if (luaL_loadfile(L, script.c_str()) != LUA_OK) {
         // "cannot open x.lua: No such file or directory", or "x.lua:3: syntax error near ..."
         std::fprintf(stderr, "talus: error: %s\n", talus::lua::errorText(L, -1).c_str());
+        status = 1;
+    } else if (!lua_checkstack(L, static_cast<int>(std::min<std::size_t>(args.size(), INT_MAX)))) {
+        // The chunk's `...` holds every argument: the stack must grow for them (a C function
+        // may use only LUA_MINSTACK = 20 slots unchecked; beyond, pushing corrupts the heap).
+        std::fprintf(stderr, "talus: error: too many script arguments (%zu)\n", args.size());
         status = 1;
     } else {
         for (const std::string& a : args) lua_pushstring(L, a.c_str());
