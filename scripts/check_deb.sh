@@ -12,7 +12,9 @@
 #
 #   scripts/check_deb.sh [--no-plugin] [--keep] [talus_*.deb]
 #
-# Without a package argument it packages build/ as it is now (cpack -G DEB).
+# Without a package argument it always packages the build as it is now: cpack -G DEB on
+# ${TALUS_BUILD_DIR:-build} (which first brings the build up to date, as `make` would), into a
+# scratch directory, so that no older talus_*.deb lying about is ever the one tested.
 # TALUS_DEBIAN_MIRROR overrides the mirror (default http://deb.debian.org/debian); the suite is
 # this machine's (VERSION_CODENAME in /etc/os-release).
 set -euo pipefail
@@ -32,15 +34,43 @@ done
 [[ $(id -u) -eq 0 ]] || { echo "check_deb: run as root (debootstrap, chroot)" >&2; exit 1; }
 command -v debootstrap >/dev/null ||
     { echo "check_deb: needs debootstrap (apt-get install debootstrap)" >&2; exit 1; }
+pkgdir=""  # the package made here, if any (a package given is left alone)
+root=""
+cleanup() {
+    if [[ -n $root ]]; then
+        mountpoint -q "$root/dev/pts" && umount "$root/dev/pts"
+        mountpoint -q "$root/proc" && umount "$root/proc"
+        if ((keep)); then echo "check_deb: kept $root"; else rm -rf "$root"; fi
+    fi
+    if [[ -n $pkgdir ]]; then
+        if ((keep)); then echo "check_deb: kept $pkgdir"; else rm -rf "$pkgdir"; fi
+    fi
+}
+trap cleanup EXIT
 if [[ -z $deb ]]; then
-    # Package the build as it is now (an older .deb left in build/ would test older files).
-    rm -f build/talus_*.deb
-    (cd build && cpack -G DEB >/dev/null 2>&1)
+    build=${TALUS_BUILD_DIR:-build}
+    [[ -f $build/CPackConfig.cmake ]] ||
+        { echo "check_deb: no configured build in $build/ (scripts/build.sh first)" >&2; exit 1; }
+    type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt")
+    [[ $type == Release ]] ||
+        echo "check_deb: warning: $build/ is a ${type:-no-type} build, not Release" >&2
+    pkgdir=$(mktemp -d "${TMPDIR:-/tmp}/talus-deb.XXXXXX")
+    echo "check_deb: cpack -G DEB on $build/ into $pkgdir"
+    if ! cpack -G DEB --config "$build/CPackConfig.cmake" -B "$pkgdir" >"$pkgdir/cpack.log" 2>&1; then
+        tail -30 "$pkgdir/cpack.log" >&2
+        exit 1
+    fi
     shopt -s nullglob
-    debs=(build/talus_*.deb)
-    ((${#debs[@]} == 1)) || { echo "check_deb: cpack -G DEB in build/ made no package" >&2; exit 1; }
+    debs=("$pkgdir"/talus_*.deb)
+    shopt -u nullglob
+    if ((${#debs[@]} != 1)); then
+        echo "check_deb: cpack made ${#debs[@]} packages in $pkgdir:" >&2
+        tail -30 "$pkgdir/cpack.log" >&2
+        exit 1
+    fi
     deb=${debs[0]}
 fi
+[[ -f $deb ]] || { echo "check_deb: no such package $deb" >&2; exit 1; }
 deb=$(realpath "$deb")
 # shellcheck source=/dev/null
 . /etc/os-release
@@ -49,12 +79,6 @@ mirror=${TALUS_DEBIAN_MIRROR:-http://deb.debian.org/debian}
 
 root=$(mktemp -d "${TMPDIR:-/tmp}/talus-clean-root.XXXXXX")
 chmod 755 "$root"  # apt downloads as the user _apt, who must reach the root's directories
-cleanup() {
-    mountpoint -q "$root/dev/pts" && umount "$root/dev/pts"
-    mountpoint -q "$root/proc" && umount "$root/proc"
-    if ((keep)); then echo "check_deb: kept $root"; else rm -rf "$root"; fi
-}
-trap cleanup EXIT
 in_root() { chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root \
     DEBIAN_FRONTEND=noninteractive "$@"; }
 step() { echo "check_deb: $*"; }
