@@ -17,7 +17,7 @@ local ANALYSIS_KEYS = {
     "profile", "materials", "zones", "material", "roughness", "seeders", "collectors", "barriers",
     "seed", "n", "envelope", "gravity", "margin", "rest_speed", "rest_ke", "rest_time", "t_max",
     "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance", "shadow_apex",
-    "shadow_steep",
+    "shadow_steep", "shadow_talus",
 }
 
 local function check_model(name, props, where)
@@ -183,6 +183,9 @@ local function engine_options(opts, an)
     if opts.shadow_steep ~= nil then
         an.shadow_steep = num(opts.shadow_steep, W .. ".shadow_steep", 1e-9, 90)
     end
+    if opts.shadow_talus ~= nil then
+        an.shadow_talus = num(opts.shadow_talus, W .. ".shadow_talus", 1e-9, 90)
+    end
 end
 
 --- Builds and checks an analysis. See docs/rockfall.md for every option and its default.
@@ -218,7 +221,7 @@ local function describe(an)
         profile = prof, envelope = { x0 = an.envelope.x0, x1 = an.envelope.x1, dx = an.envelope.dx },
         collectors = cols, barriers = bars, release = { x = sx / sw, y = sy / sw }, seed = an.seed, n = an.n,
         shadow_apex = an.shadow_apex and { an.shadow_apex[1], an.shadow_apex[2] } or nil,
-        shadow_steep = an.shadow_steep,
+        shadow_steep = an.shadow_steep, shadow_talus = an.shadow_talus,
     }
 end
 

@@ -124,13 +124,16 @@ local function monte_carlo(an, opts)
                 local summary = stats.write(records, describe(an), opts.outdir)
                 info.stats = true
                 info.apex, info.shadow_note = summary.apex, summary.shadow_note
+                info.no_apex, info.shadow_warning = summary.no_apex, summary.shadow_warning
                 if not opts.quiet then
                     -- The apex decides every shadow angle: say which one was used.
                     local a = summary.apex
                     print(a and string.format("rockfall: shadow angles from the apex (%.4g, %.4g): %s",
                         a.x, a.y, a.rule)
-                        or "rockfall: no shadow angles (no steep downslope segment and no shadow_apex)")
+                        or "rockfall: no shadow angles: " .. tostring(summary.no_apex)
+                            .. "; give shadow_apex = {x, y} if there is a talus apex")
                     if summary.shadow_note then print("rockfall: note: " .. summary.shadow_note) end
+                    if summary.shadow_warning then print("rockfall: warning: " .. summary.shadow_warning) end
                 end
             elseif not opts.quiet then
                 print("rockfall: statistics module rockfall_stats not found; wrote per-rock CSVs only")

@@ -34,11 +34,12 @@ function M.print_summary(summary, print_fn)
         if kind == "shadow" then
             extra = s.apex
                 and string.format(" (apex %.4g, %.4g: %s)", s.apex.x, s.apex.y, s.apex.rule)
-                or " (no apex: no steep downslope segment and no shadow_apex given)"
+                or " (no apex: " .. tostring(s.no_apex) .. ")"
         end
         p(string.format("  %s angle [deg]%s: %s", kind == "shadow" and "shadow" or "energy-line",
             extra, table.concat(parts, "; ")))
         if kind == "shadow" and s.shadow_note then p("    note: " .. s.shadow_note) end
+        if kind == "shadow" and s.shadow_warning then p("    warning: " .. s.shadow_warning) end
     end
     for _, c in ipairs(s.collectors) do
         p(string.format("  collector %s: %d rocks crossed (%s), ke q95 %s J, max %s J; "

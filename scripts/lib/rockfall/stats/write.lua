@@ -160,11 +160,19 @@ local function write_line_files(out, env, col, bar, ang)
 
     header = { "angle", "apex_x", "apex_y", "deposited" }
     for _, h in ipairs(describe_header("", M.ANGLE_PERCENTILES)) do header[#header + 1] = h end
+    header[#header + 1] = "note"
     rows = {}
     for _, kind in ipairs({ "energy_line", "shadow" }) do
         local row = { kind, kind == "shadow" and ang.apex and ang.apex.x or NaN,
             kind == "shadow" and ang.apex and ang.apex.y or NaN, ang.deposited }
         describe_cells(row, ang[kind])
+        if kind == "shadow" then
+            local notes = {}
+            for _, t in ipairs({ ang.no_apex and "no apex: " .. ang.no_apex, ang.note, ang.warning }) do
+                if t then notes[#notes + 1] = t end
+            end
+            row[#row + 1] = table.concat(notes, "; ")
+        end
         rows[#rows + 1] = row
     end
     out("angles.csv", header, rows)
@@ -191,7 +199,8 @@ function M.write(records, analysis, outdir, opts)
 
     local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
         percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
-        apex = ang.apex, shadow_note = ang.note, deposited = ang.deposited,
+        apex = ang.apex, no_apex = ang.no_apex, shadow_note = ang.note,
+        shadow_warning = ang.warning, deposited = ang.deposited,
         beyond_apex = ang.beyond_apex,
         collectors = col, barriers = bar, outdir = outdir, files = {} }
 
