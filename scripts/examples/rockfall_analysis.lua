@@ -31,7 +31,8 @@
 --             unit thickness, density 2600 kg/m^3: r_eq about 0.43 m at 1500 kg); random angle.
 --   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-3 m/s, vy 0, spin 0.
 --   lines     collectors at x = 30 m (second bench) and x = 50 m (toe flat); a barrier at
---             x = 52 m with capacity 30 kJ and height 2 m.
+--             x = 52 m with capacity 30 kJ and height 2 m; the catchment between the toe
+--             (x = 46 m) and the barrier, whose retention the statistics report.
 -- Outputs in <outdir> (default out/rockfall_analysis): per rock rock_endpoints.csv,
 -- rock_crossings.csv, rock_barriers.csv, rock_profile.csv, rock_impacts.csv (--impacts),
 -- rock_paths.csv (the first --paths rocks), and the statistics files of rockfall_stats when
@@ -94,6 +95,7 @@ local an = rockfall.analysis{
     } },
     collectors = { { name = "bench2", x = 30 }, { name = "toe", x = 50 } },
     barriers = { { name = "fence", x = 52, energy = 30e3, height = 2 } },
+    catchments = { { name = "toe_area", x_from = 46, x_to = 52 } },
     envelope = { x0 = 0, x1 = 170, dx = 2 },
     seed = seed, n = n,
 }
@@ -129,6 +131,17 @@ if (talus.rank and talus.rank() or 0) == 0 then
         print(string.format("  collector %s (x = %g m): %d of %d rocks crossed; kinetic energy median %.3g J, "
             .. "95%% %.3g J", c.name, c.x, passed[c.name] or 0, #records,
             ke[math.max(1, math.ceil(0.5 * #ke))] or 0, ke[math.max(1, math.ceil(0.95 * #ke))] or 0))
+    end
+    local ret = info and info.summary and info.summary.retention
+    if ret then
+        local w = ret.widths[2]
+        print(string.format("  catchment: %.1f%% of the rocks stopped above the toe (x = %g m); 95%% within "
+            .. "%.3g m of it [%.3g, %.3g]", 100 * ret.curve[1].fraction, ret.toe.x, w.width, w.lo, w.hi))
+        for _, c in ipairs(ret.catchments) do
+            print(string.format("  catchment %s (x = %g..%g m): retained %.1f%% of the rocks [%.1f, %.1f], "
+                .. "%.1f%% of the %d that reached it", c.name, c.x_from, c.x_to, 100 * c.fraction, 100 * c.lo,
+                100 * c.hi, 100 * c.of_reached, c.reached))
+        end
     end
     print(string.format("  CPU %.2f s in this process (%.3f s per rock%s); wall about %d s",
         cpu, cpu / #records, (info and info.parallel) and ", workers not counted" or "", os.time() - wall))

@@ -17,7 +17,7 @@ local ANALYSIS_KEYS = {
     "profile", "materials", "zones", "material", "roughness", "seeders", "collectors", "barriers",
     "seed", "n", "envelope", "gravity", "margin", "rest_speed", "rest_ke", "rest_time", "t_max",
     "impact_min_vn", "path_every", "rock_contact", "timestep", "clearance", "shadow_apex",
-    "shadow_steep", "shadow_talus",
+    "shadow_steep", "shadow_talus", "toe", "catchments",
 }
 
 local function check_model(name, props, where)
@@ -152,6 +152,20 @@ local function line_options(opts, an)
         an.barriers[k] = { name = b.name or ("barrier" .. k), x = b.x, energy = b.energy, height = b.height }
     end
     table.sort(an.barriers, function(a, b) return a.x < b.x end)
+    -- Catchments: the toe the retention distances start from, and named catchment areas.
+    if opts.toe ~= nil then an.toe = num(opts.toe, W .. ".toe", x0, x1) end
+    an.catchments = opts.catchments and {} or nil
+    local names = {}
+    for k, c in ipairs(opts.catchments or {}) do
+        local w = string.format("%s.catchments[%d]", W, k)
+        check_keys(c, { "name", "x_from", "x_to" }, w)
+        local name = c.name or ("catchment" .. k)
+        if names[name] then fail("%s: the name '%s' is taken by catchments[%d]", w, name, names[name]) end
+        names[name] = k
+        num(c.x_from, w .. ".x_from", x0, x1)
+        num(c.x_to, w .. ".x_to", c.x_from + 1e-9, x1)
+        an.catchments[k] = { name = name, x_from = c.x_from, x_to = c.x_to }
+    end
     local env = opts.envelope or { x0 = x0, x1 = x1, dx = 1 }
     check_keys(env, { "x0", "x1", "dx" }, W .. ".envelope")
     an.envelope = { x0 = num(env.x0 or x0, W .. ".envelope.x0"), x1 = num(env.x1 or x1, W .. ".envelope.x1"),
@@ -209,6 +223,8 @@ local function describe(an)
     for k, b in ipairs(an.barriers) do
         bars[k] = { name = b.name, x = b.x, energy = b.energy, height = b.height }
     end
+    local catch = {}
+    for k, c in ipairs(an.catchments or {}) do catch[k] = { name = c.name, x_from = c.x_from, x_to = c.x_to } end
     local sx, sy, sw = 0, 0, 0
     for _, s in ipairs(an.seeders) do
         sx = sx + s.weight * 0.5 * (s.from[1] + s.to[1])
@@ -222,6 +238,7 @@ local function describe(an)
         collectors = cols, barriers = bars, release = { x = sx / sw, y = sy / sw }, seed = an.seed, n = an.n,
         shadow_apex = an.shadow_apex and { an.shadow_apex[1], an.shadow_apex[2] } or nil,
         shadow_steep = an.shadow_steep, shadow_talus = an.shadow_talus,
+        toe = an.toe, catchments = catch,
     }
 end
 

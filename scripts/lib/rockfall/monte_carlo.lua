@@ -122,7 +122,7 @@ local function monte_carlo(an, opts)
             local ok, stats = pcall(require, "rockfall.stats")
             if ok and type(stats) == "table" and stats.write then
                 local summary = stats.write(records, describe(an), opts.outdir)
-                info.stats = true
+                info.stats, info.summary = true, summary
                 info.apex, info.shadow_note = summary.apex, summary.shadow_note
                 info.no_apex, info.shadow_warning = summary.no_apex, summary.shadow_warning
                 if not opts.quiet then
@@ -134,6 +134,11 @@ local function monte_carlo(an, opts)
                             .. "; give shadow_apex = {x, y} if there is a talus apex")
                     if summary.shadow_note then print("rockfall: note: " .. summary.shadow_note) end
                     if summary.shadow_warning then print("rockfall: warning: " .. summary.shadow_warning) end
+                    local toe = summary.retention and summary.retention.toe
+                    if toe then
+                        print(string.format("rockfall: catchment retention from the toe x = %.4g: %s", toe.x,
+                            toe.rule))
+                    end
                 end
             elseif not opts.quiet then
                 print("rockfall: statistics module rockfall_stats not found; wrote per-rock CSVs only")

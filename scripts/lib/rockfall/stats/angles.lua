@@ -7,21 +7,14 @@ local NaN, INF = 0 / 0, math.huge
 local isnum = S.isnum
 local fail, check_records, direction_of = R.fail, R.check_records, R.direction_of
 local profile_points, point_xy, profile_y = R.profile_points, R.point_xy, R.profile_y
-
---- The profile's points in the order a rock travelling along d meets them.
-local function travel_order(pts, d)
-    if d * (pts[#pts][1] - pts[1][1]) >= 0 then return pts end
-    local r = {}
-    for i = #pts, 1, -1 do r[#r + 1] = pts[i] end
-    return r
-end
+local travel_order, inclination = R.travel_order, R.inclination
 
 -- Segments of the profile by their inclination in the direction of travel (degrees, positive
 -- down): a cliff goes down at shadow_steep or more, a talus at shadow_talus or more (and less
 -- than a cliff); anything flatter, level or rising (a bench, a ditch floor, a ditch's far wall)
 -- is neither.
 local function segment_kind(a, b, steep, talus)
-    local deg = math.deg(math.atan(a[2] - b[2], math.abs(b[1] - a[1])))
+    local deg = inclination(a, b)
     if deg >= steep then return "cliff", deg end
     if deg >= talus then return "talus", deg end
     return "other", deg

@@ -14,6 +14,7 @@ M.STOP_RULES = { "rest", "left", "time", "barrier" }
 M.SHADOW_STEEP_DEG = 45 -- a profile segment at least this steep is "cliff" for the apex rule
 M.SHADOW_TALUS_DEG = 10 -- one less steep but at least this steep is "talus"
 M.SHADOW_MIN_DEG = 27.5 -- Evans & Hungr's (1993) lowest shadow angle: a warning below it
+M.RETENTION_WIDTHS = { 0.9, 0.95, 0.99 } -- catchment widths reported for these retentions
 M.COLLECTOR_QUANTITIES = { "height", "ke_trans", "ke_rot", "ke", "v", "spin" }
 M.BARRIER_QUANTITIES = { "energy", "height", "angle" }
 

@@ -54,6 +54,20 @@ function M.print_summary(summary, print_fn)
             tostring(b.name), b.stopped, b.passed, b.not_reached, fmt_ci(b.stats.energy.q95,
                 b.stats.energy.q95_lo, b.stats.energy.q95_hi), g(b.stats.energy.max)))
     end
+    local ret = s.retention
+    if ret then
+        local parts = {}
+        for _, w in ipairs(ret.widths) do
+            parts[#parts + 1] = string.format("%g %% within %s m", 100 * w.p, fmt_ci(w.width, w.lo, w.hi))
+        end
+        p(string.format("  catchment retention from the toe x = %.4g: %s", ret.toe.x,
+            table.concat(parts, "; ")))
+        for _, c in ipairs(ret.catchments) do
+            p(string.format("  catchment %s (x %.4g..%.4g): retained %s of all rocks, %s of the %d "
+                .. "that reached it", tostring(c.name), c.x_from, c.x_to, fmt_ci(c.fraction, c.lo, c.hi),
+                fmt_ci(c.of_reached, c.of_reached_lo, c.of_reached_hi), c.reached))
+        end
+    end
     if #s.files > 0 then p("  wrote " .. #s.files .. " files in " .. tostring(s.outdir)) end
 end
 

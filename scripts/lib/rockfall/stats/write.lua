@@ -10,6 +10,7 @@ require("rockfall.stats.endpoints")
 require("rockfall.stats.envelopes")
 require("rockfall.stats.lines")
 require("rockfall.stats.angles")
+require("rockfall.stats.retention")
 local NaN = 0 / 0
 local direction_of, profile_points, point_xy = R.direction_of, R.profile_points, R.point_xy
 
@@ -49,8 +50,22 @@ local function is_rank0()
     return ((t and t.rank and t.rank()) or 0) == 0
 end
 
+--- The summary rows of catchment retention: the toe, the widths, the named catchments.
+local function retention_rows(srows, ret)
+    if not ret then return end
+    srows[#srows + 1] = { "retention", "toe_x", ret.toe.x }
+    for _, w in ipairs(ret.widths) do
+        srows[#srows + 1] = { "retention", "width_" .. w.name, w.width, w.lo, w.hi }
+    end
+    for _, c in ipairs(ret.catchments) do
+        local sec = "catchment:" .. tostring(c.name)
+        srows[#srows + 1] = { sec, "retained", c.fraction, c.lo, c.hi }
+        srows[#srows + 1] = { sec, "retained_of_reached", c.of_reached, c.of_reached_lo, c.of_reached_hi }
+    end
+end
+
 --- The summary rows (summary.csv): section, name, value, ci_lo, ci_hi.
-local function summary_rows(records, ep, ang, col, bar)
+local function summary_rows(records, ep, ang, col, bar, ret)
     local srows = { { "rocks", "n", #records } }
     for _, s in ipairs(ep.stops) do srows[#srows + 1] = { "stop", s.rule, s.count } end
     for _, p in ipairs(ep.percentiles) do
@@ -80,6 +95,7 @@ local function summary_rows(records, ep, ang, col, bar)
             b.stats.energy.q95_lo, b.stats.energy.q95_hi }
         srows[#srows + 1] = { "barrier:" .. tostring(b.name), "energy_max", b.stats.energy.max }
     end
+    retention_rows(srows, ret)
     return srows
 end
 
@@ -111,6 +127,24 @@ local function write_point_files(out, records, ep, ang)
     rows = {}
     for i, r in ipairs(ep.reach) do rows[i] = { r.x, r.count, r.reach, r.lo, r.hi } end
     out("reach.csv", { "x", "count", "reach", "ci_lo", "ci_hi" }, rows)
+end
+
+--- The catchment files: retention.csv (the curve from the toe) and catchments.csv (named ones).
+local function write_retention_files(out, ret)
+    if not ret then return end
+    local rows = {}
+    for i, c in ipairs(ret.curve) do
+        rows[i] = { c.distance, c.x, c.retained, c.fraction, c.lo, c.hi }
+    end
+    out("retention.csv", { "distance", "x", "retained", "fraction", "ci_lo", "ci_hi" }, rows)
+    if #ret.catchments == 0 then return end
+    rows = {}
+    for i, c in ipairs(ret.catchments) do
+        rows[i] = { c.name, c.x_from, c.x_to, ret.n, c.reached, c.retained, c.fraction, c.lo, c.hi,
+            c.of_reached, c.of_reached_lo, c.of_reached_hi }
+    end
+    out("catchments.csv", { "catchment", "x_from", "x_to", "rocks", "reached", "retained", "fraction",
+        "fraction_lo", "fraction_hi", "of_reached", "of_reached_lo", "of_reached_hi" }, rows)
 end
 
 --- The files along the slope and of the lines: envelopes (with an envelope), collectors,
@@ -196,15 +230,16 @@ function M.write(records, analysis, outdir, opts)
     local col = M.collectors(records, analysis, { confidence = level })
     local bar = M.barriers(records, analysis, { confidence = level })
     local ang = M.angles(records, analysis, { confidence = level, deposited = opts.deposited })
+    local ret = M.retention(records, analysis, { confidence = level })
 
     local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
         percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
         apex = ang.apex, no_apex = ang.no_apex, shadow_note = ang.note,
         shadow_warning = ang.warning, deposited = ang.deposited,
         beyond_apex = ang.beyond_apex,
-        collectors = col, barriers = bar, outdir = outdir, files = {} }
+        collectors = col, barriers = bar, retention = ret, outdir = outdir, files = {} }
 
-    summary.rows = summary_rows(records, ep, ang, col, bar)
+    summary.rows = summary_rows(records, ep, ang, col, bar, ret)
 
     if not is_rank0() then return summary end
     local t = rawget(_G, "talus")
@@ -221,6 +256,7 @@ function M.write(records, analysis, outdir, opts)
 
     write_point_files(out, records, ep, ang)
     write_line_files(out, env, col, bar, ang)
+    write_retention_files(out, ret)
     out("summary.csv", { "section", "name", "value", "ci_lo", "ci_hi" }, summary.rows)
 
     local pts = profile_points(analysis, "write")
