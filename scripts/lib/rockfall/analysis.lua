@@ -223,6 +223,19 @@ local function describe(an)
     for k, b in ipairs(an.barriers) do
         bars[k] = { name = b.name, x = b.x, energy = b.energy, height = b.height }
     end
+    -- Each material's nominal Rn: a disk's, head on, for a linear dashpot with its dp_nratio
+    -- (the closed form dp_nratio inverts; dp_mode full only).
+    local mats = {}
+    for name, mat in pairs(an.materials) do
+        local props, model = mat.props or {}, mat.model or "linear"
+        local beta, mode = props.dp_nratio, props.dp_mode
+        local rn
+        if (model == "linear" or model == "rrlinear") and type(beta) == "number"
+            and (mode == nil or mode == 0 or mode == "full") then
+            rn = beta < 1 and math.exp(-math.pi * beta / math.sqrt(1 - beta * beta)) or 0
+        end
+        mats[name] = { model = model, rn = rn }
+    end
     local catch = {}
     for k, c in ipairs(an.catchments or {}) do catch[k] = { name = c.name, x_from = c.x_from, x_to = c.x_to } end
     local sx, sy, sw = 0, 0, 0
@@ -238,7 +251,7 @@ local function describe(an)
         collectors = cols, barriers = bars, release = { x = sx / sw, y = sy / sw }, seed = an.seed, n = an.n,
         shadow_apex = an.shadow_apex and { an.shadow_apex[1], an.shadow_apex[2] } or nil,
         shadow_steep = an.shadow_steep, shadow_talus = an.shadow_talus,
-        toe = an.toe, catchments = catch,
+        toe = an.toe, catchments = catch, materials = mats,
     }
 end
 

@@ -68,6 +68,20 @@ function M.print_summary(summary, print_fn)
                 fmt_ci(c.of_reached, c.of_reached_lo, c.of_reached_hi), c.reached))
         end
     end
+    local by_material, order = {}, {}
+    for _, grp in ipairs(s.restitution or {}) do
+        if not by_material[grp.material] then
+            by_material[grp.material] = {}
+            order[#order + 1] = grp
+        end
+        local st = grp.stats
+        table.insert(by_material[grp.material], string.format("%s median %s (%d impacts, %.0f %% above 1)",
+            grp.shape, fmt_ci(st.median, st.median_lo, st.median_hi), st.n, 100 * grp.above_1))
+    end
+    for _, grp in ipairs(order) do
+        p(string.format("  apparent Rn on %s (a disk's: %s): %s", grp.material, g(grp.nominal),
+            table.concat(by_material[grp.material], "; ")))
+    end
     if #s.files > 0 then p("  wrote " .. #s.files .. " files in " .. tostring(s.outdir)) end
 end
 

@@ -11,6 +11,7 @@ require("rockfall.stats.envelopes")
 require("rockfall.stats.lines")
 require("rockfall.stats.angles")
 require("rockfall.stats.retention")
+require("rockfall.stats.restitution")
 local NaN = 0 / 0
 local direction_of, profile_points, point_xy = R.direction_of, R.profile_points, R.point_xy
 
@@ -64,8 +65,17 @@ local function retention_rows(srows, ret)
     end
 end
 
+--- The summary rows of the apparent restitution: the median per material and shape.
+local function restitution_rows(srows, rest)
+    for _, g in ipairs(rest) do
+        local st = g.stats
+        srows[#srows + 1] = { "restitution:" .. g.material .. ":" .. g.shape, "rn_median", st.median,
+            st.median_lo, st.median_hi }
+    end
+end
+
 --- The summary rows (summary.csv): section, name, value, ci_lo, ci_hi.
-local function summary_rows(records, ep, ang, col, bar, ret)
+local function summary_rows(records, ep, ang, col, bar, ret, rest)
     local srows = { { "rocks", "n", #records } }
     for _, s in ipairs(ep.stops) do srows[#srows + 1] = { "stop", s.rule, s.count } end
     for _, p in ipairs(ep.percentiles) do
@@ -96,6 +106,7 @@ local function summary_rows(records, ep, ang, col, bar, ret)
         srows[#srows + 1] = { "barrier:" .. tostring(b.name), "energy_max", b.stats.energy.max }
     end
     retention_rows(srows, ret)
+    restitution_rows(srows, rest)
     return srows
 end
 
@@ -145,6 +156,22 @@ local function write_retention_files(out, ret)
     end
     out("catchments.csv", { "catchment", "x_from", "x_to", "rocks", "reached", "retained", "fraction",
         "fraction_lo", "fraction_hi", "of_reached", "of_reached_lo", "of_reached_hi" }, rows)
+end
+
+--- restitution.csv: the apparent Rn per material and shape (when there were impacts).
+local function write_restitution_file(out, rest)
+    if #rest == 0 then return end
+    local header = { "material", "shape", "nominal_rn" }
+    for _, h in ipairs(describe_header("", M.RESTITUTION_PERCENTILES)) do header[#header + 1] = h end
+    header[#header + 1] = "above_1"
+    local rows = {}
+    for i, g in ipairs(rest) do
+        local row = { g.material, g.shape, g.nominal }
+        describe_cells(row, g.stats)
+        row[#row + 1] = g.above_1
+        rows[i] = row
+    end
+    out("restitution.csv", header, rows)
 end
 
 --- The files along the slope and of the lines: envelopes (with an envelope), collectors,
@@ -231,15 +258,17 @@ function M.write(records, analysis, outdir, opts)
     local bar = M.barriers(records, analysis, { confidence = level })
     local ang = M.angles(records, analysis, { confidence = level, deposited = opts.deposited })
     local ret = M.retention(records, analysis, { confidence = level })
+    local rest = M.restitution(records, analysis, { confidence = level })
 
     local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
         percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
         apex = ang.apex, no_apex = ang.no_apex, shadow_note = ang.note,
         shadow_warning = ang.warning, deposited = ang.deposited,
         beyond_apex = ang.beyond_apex,
-        collectors = col, barriers = bar, retention = ret, outdir = outdir, files = {} }
+        collectors = col, barriers = bar, retention = ret, restitution = rest, outdir = outdir,
+        files = {} }
 
-    summary.rows = summary_rows(records, ep, ang, col, bar, ret)
+    summary.rows = summary_rows(records, ep, ang, col, bar, ret, rest)
 
     if not is_rank0() then return summary end
     local t = rawget(_G, "talus")
@@ -257,6 +286,7 @@ function M.write(records, analysis, outdir, opts)
     write_point_files(out, records, ep, ang)
     write_line_files(out, env, col, bar, ang)
     write_retention_files(out, ret)
+    write_restitution_file(out, rest)
     out("summary.csv", { "section", "name", "value", "ci_lo", "ci_hi" }, summary.rows)
 
     local pts = profile_points(analysis, "write")
