@@ -19,8 +19,8 @@ function M.schedule(first, max_n, growth)
     growth = growth or 2
     if not (math.type(first) == "integer" and first >= 1 and math.type(max_n) == "integer"
             and max_n >= first and type(growth) == "number" and growth > 1) then
-        error(string.format("sequential.schedule: need integers 1 <= first <= max_n and growth > 1 "
-            .. "(got %s, %s, %s)", tostring(first), tostring(max_n), tostring(growth)), 2)
+        require("talus_util.errors").raise("sequential.schedule: need integers 1 <= first <= max_n and "
+            .. "growth > 1 (got %s, %s, %s)", tostring(first), tostring(max_n), tostring(growth))
     end
     local looks, n = { first }, first
     while n < max_n do
