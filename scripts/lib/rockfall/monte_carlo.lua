@@ -94,6 +94,10 @@ local function until_precise(an, opts, keep, key)
     local first = math.min(opts.n or 100, max_n)
     local growth = opts.growth or 2
     if type(growth) ~= "number" or growth <= 1 then fail("monte_carlo: growth must be a number > 1") end
+    local level = opts.confidence or 0.95
+    if type(level) ~= "number" or not (level > 0 and level < 1) then
+        fail("monte_carlo: confidence must be a level in (0, 1) (got %s)", tostring(level))
+    end
     local desc = describe(an)
     local records, failed = {}, {}
     local seq_targets = {}
@@ -101,7 +105,7 @@ local function until_precise(an, opts, keep, key)
         seq_targets[i] = { within = t.within,
             estimate = function(level) return Precision.estimate(t, records, desc, level) end }
     end
-    local seq = Seq.run{ schedule = Seq.schedule(first, max_n, growth), level = opts.confidence or 0.95,
+    local seq = Seq.run{ schedule = Seq.schedule(first, max_n, growth), level = level,
         targets = seq_targets,
         more = function(a, b)
             local dir = opts.outdir and opts.resume ~= false
@@ -110,7 +114,7 @@ local function until_precise(an, opts, keep, key)
             for _, r in ipairs(recs) do records[#records + 1] = r end
             for _, f in ipairs(fails) do failed[#failed + 1] = f end
         end }
-    seq.targets, seq.confidence = targets, opts.confidence or 0.95
+    seq.targets, seq.confidence = targets, level
     return records, failed, seq
 end
 

@@ -10,15 +10,14 @@ local function say(opts, rank, fmt, ...)
     if not opts.quiet and rank == 0 then print(string.format(fmt, ...)) end
 end
 
---- The precision reached, printed: "rockfall: 95 % run-out 52 m [50.9, 53.6], +-1.35 m (wanted
---- +-2 m) after 800 rocks ...".
+--- The precision reached, printed: "rockfall: 95 % run-out 52 m [52, 55.34], +-1.67 m (wanted
+--- +-2 m)", then how many rocks and looks it took.
 local function print_precision(seq, opts, rank)
     local last = seq.history[#seq.history]
     for i, t in ipairs(seq.targets) do
-        local e = last.estimates[i]
-        say(opts, rank, "rockfall: %s %.4g%s [%.4g, %.4g], +-%.3g%s (wanted +-%g)%s", t.label, e.value,
-            t.unit ~= "" and " " .. t.unit or "", e.lo, e.hi, e.half, t.unit ~= "" and " " .. t.unit or "",
-            t.within, e.met and "" or ": NOT reached")
+        local e, unit = last.estimates[i], t.unit ~= "" and " " .. t.unit or ""
+        say(opts, rank, "rockfall: %s %.4g%s [%.4g, %.4g], +-%.3g%s (wanted +-%g%s)%s", t.label, e.value, unit,
+            e.lo, e.hi, e.half, unit, t.within, unit, e.met and "" or ": NOT reached")
     end
     say(opts, rank, "rockfall: %s after %d rocks in %d looks (each interval at %.4g %% confidence, so that "
         .. "stopping at the first look that has them keeps %g %%)", seq.met and "known" or "max_n reached",

@@ -133,5 +133,7 @@ T.fails(function() rockfall.monte_carlo(an, { precision = { { stat = "barrier_en
 T.fails(function() rockfall.monte_carlo(an, { precision = { { stat = "run_out", p = 95, within = 2 } } }) end,
     { "precision[1].p must be <= 1" }, "p as a percentage")
 T.fails(function() rockfall.monte_carlo(an, { n = 5, max_n = 10 }) end, { "max_n goes with precision" }, "max_n alone")
+T.fails(function() rockfall.monte_carlo(an, { precision = target, confidence = 95 }) end,
+    { "confidence must be a level in (0, 1) (got 95)" }, "a confidence in percent")
 
 T.done("rockfall_precision")
