@@ -19,9 +19,11 @@
 -- talus.map (all cores; under mpirun, all ranks).
 -- --rate: the loading rate as the axial strain per P-wave crossing of the specimen (default
 -- M.strain_per_crossing, docs/material.md "Loading rate"); --max-steps: each test's step cap
--- (default: the steps that strain the specimen by 2% at the rate); --material as the 6th argument.
+-- (default: the steps that strain the specimen by 2% at the rate); --material as the 6th argument;
+-- --checkpoint=DIR keeps every packing and test there as it finishes (talus.map): a rerun goes on
+-- from there, and a rerun at another rate makes its tests on the same packings.
 local M = require("material")
-local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps", "material" })
+local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps", "material", "checkpoint" })
 local outdir = args[1] or "out"
 local n = tonumber(args[2] or "5")
 local scale = tonumber(args[3] or "1")
@@ -43,7 +45,9 @@ for i = 1, n do seeds[i] = first + i - 1 end
 local t0 = os.clock()
 local res = M.run_seeds{ material = mat, genesis = genesis, disk = disk, seeds = seeds, scale = scale,
                          confinements = phi and { 10e6, 20e6 } or nil, strain_per_crossing = opt.rate,
-                         max_steps = opt["max-steps"] }
+                         max_steps = opt["max-steps"], checkpoint = opt.checkpoint,
+                         key = opt.checkpoint and string.format("ldb %s scale %g seeds %d-%d", kind, scale, first,
+                             first + n - 1) or nil }
 if talus.rank() == 0 then
     M.print_seeds(res, string.format("Lac du Bonnet, %s, scale %g, seeds %d-%d, rate %g per P-wave crossing", kind,
         scale, first, first + n - 1, opt.rate or M.strain_per_crossing))

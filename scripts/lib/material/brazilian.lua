@@ -92,25 +92,34 @@ function Br.fracture(breaks, center, D, t_peak)
              jaw_first = near, split = split, crush = (not split) and n > 0 and near >= 0.5 * first }
 end
 
---- A split needs the load to fall by this fraction of its peak (Br.split).
+--- A split needs the load to fall by this fraction of its peak (Br.split), or the crack to run
+--- through this fraction of the loaded diameter once the load is past its peak.
 Br.split_drop = 0.1
+Br.split_through = 0.8
 
---- The split of a Brazilian disk, judged at the last of `rows`: the load there has fallen to
---- (1 - drop) of the highest load so far (rows[ipeak]) or less, and the bonds broken so far
---- (`cracks`, each with x, y) form a crack through the loaded diameter (Br.fracture: most breaks
---- within 0.1 D of it, and spanning at least half of it). The splitting strength is then the
---- load at rows[ipeak]: the first peak followed by such a drop (a load that fell without a crack
---- through the diameter, a break under a jaw, and came back does not count; the highest load up
---- to the split is the peak). center, D: the disk's centre and diameter; drop: Br.split_drop.
---- Returns the fracture (Br.fracture of those breaks) when the disk has split, else nil.
-function Br.split(rows, ipeak, cracks, center, D, drop)
+--- The split of a Brazilian disk, judged at the last of `rows`: the load there is below the
+--- highest load so far (rows[ipeak]) by a fifth of `drop` at least, the bonds broken so far (`cracks`, each with x, y) form a
+--- crack through the loaded diameter (Br.fracture: most breaks within 0.1 D of it, spanning at
+--- least half of it), and either the load has fallen to (1 - drop) of that peak or less, or the
+--- crack spans `through` of the diameter (a disk whose load stays on a plateau while it splits).
+--- The splitting strength is then the load at rows[ipeak]: the first peak followed by the split
+--- (a load that fell without a crack through the diameter, a break under a jaw, and came back
+--- does not count; the highest load up to the split is the peak). center, D: the disk's centre
+--- and diameter; drop, through: Br.split_drop, Br.split_through. Returns the fracture (Br.fracture
+--- of those breaks) when the disk has split, else nil.
+function Br.split(rows, ipeak, cracks, center, D, drop, through)
     local last, peak = rows[#rows], rows[ipeak]
-    if not (peak and peak.sa > 0 and #rows > ipeak) then return nil end
-    if last.sa > (1 - (drop or Br.split_drop)) * peak.sa then return nil end
+    drop = drop or Br.split_drop
+    -- past the peak: at least a fifth of the drop (a row a hair below the running maximum is
+    -- noise on the rising load, where the central tensile cracks may already line the diameter)
+    if not (peak and peak.sa > 0 and #rows > ipeak and last.sa <= (1 - 0.2 * drop) * peak.sa) then return nil end
+    local dropped = last.sa <= (1 - drop) * peak.sa
+    if not dropped and #cracks == 0 then return nil end
     local at = {}
     for i, c in ipairs(cracks) do at[i] = { c.x, c.y, c.time } end
     local f = Br.fracture(at, center, D, peak.time)
-    return f.split and f or nil
+    if f.split and (dropped or f.cover >= (through or Br.split_through)) then return f end
+    return nil
 end
 
 --- The secant stiffness at the peak over the elastic stiffness: the least-squares slope of the
@@ -213,7 +222,8 @@ end
 --- is valid, nil otherwise. The test stops at the split (Br.split; `stop` = "split"), at
 --- `post_peak` (0.5) of the peak at 1.5 times its strain (a disk that failed without
 --- splitting), or at its cap (max_steps: the steps that strain the disk by cap_strain, 2%, at
---- the rate). `split_drop` (Br.split_drop, 0.1): the drop a split needs.
+--- the rate). `split_drop` (Br.split_drop, 0.1), `split_through` (Br.split_through, 0.8): the
+--- load drop, or the share of the loaded diameter the crack spans, that make a split.
 function Br.brazilian(sp, opts)
     opts = opts or {}
     if opts.jaws ~= nil and opts.jaws ~= (sp.jaws or "flat") then
@@ -234,10 +244,10 @@ function Br.brazilian(sp, opts)
     local e = sp.extent
     local D = 0.5 * ((e[3] - e[1]) + (e[4] - e[2]))
     local center = sp.disk and sp.disk.center or { 0.5 * (e[1] + e[3]), 0.5 * (e[2] + e[4]) }
-    local drop = o.split_drop or Br.split_drop
-    o.split_drop = nil
+    local drop, through = o.split_drop or Br.split_drop, o.split_through or Br.split_through
+    o.split_drop, o.split_through = nil, nil
     o.stop = function(rows, ipeak, cracks)
-        return Br.split(rows, ipeak, cracks, center, D, drop) and "split" or nil
+        return Br.split(rows, ipeak, cracks, center, D, drop, through) and "split" or nil
     end
     local res = L.load_platens(sp, o, function(h0, h)
         local F = 0.5 * (Wl.push(sp.top) + Wl.push(sp.bottom))

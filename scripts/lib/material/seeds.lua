@@ -42,9 +42,11 @@ function Sd.run(spec)
     local W, H = (spec.width or 0.0317) * scale, (spec.height or 0.0634) * scale
     local D = (spec.diameter or 0.98 * (spec.width or 0.0317)) * scale
     local confs = spec.confinements or {}
-    local function map_opts(sub)
+    -- the packings' checkpoint is keyed by `key`; the tests' also by their loading (a rerun at
+    -- another rate makes its tests again on the same packings)
+    local function map_opts(sub, extra)
         local o = { jobs = spec.jobs }
-        if spec.checkpoint then o.checkpoint, o.key = spec.checkpoint .. "/" .. sub, spec.key or "" end
+        if spec.checkpoint then o.checkpoint, o.key = spec.checkpoint .. "/" .. sub, (spec.key or "") .. (extra or "") end
         return o
     end
     local pitems = {}
@@ -102,7 +104,8 @@ function Sd.run(spec)
                  E_elastic = r.E_elastic, nu_elastic = r.nu_elastic, stop = r.stop, steps = r.steps, balls = r.balls,
                  porosity = pk.porosity, ci_ratio = th.ci and th.ci.ratio, cd_ratio = th.cd and th.cd.ratio,
                  qs_difference = q.difference_peak, qs_kinetic = q.kinetic_peak, cpu = U.clock() - c0 }
-    end, map_opts("tests"))
+    end, map_opts("tests", string.format(" rate %s %s max_steps %s", tostring(spec.strain_per_crossing),
+        tostring(spec.rate), tostring(spec.max_steps))))
     local rows, by_seed, cpu = {}, {}, cpu_pk
     for k, seed in ipairs(seeds) do
         rows[k] = { seed = seed, peaks = {}, cpu = 0 }

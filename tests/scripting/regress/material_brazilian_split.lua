@@ -23,7 +23,8 @@ local function curve(n, sa, breaks)
 end
 
 -- Cracks at given times: `along` on the loaded diameter (x within 0.02 D of it, spread evenly
--- over the diameter from one jaw to the other as they come), `under` at the top jaw (y 0.45 D
+-- over `span` of the diameter about the centre as they come; 0.6 unless given: a crack through
+-- less than the 0.8 that makes a split without a drop), `under` at the top jaw (y 0.45 D
 -- above the centre), `off` spread over the disk away from the diameter (0.3 D to its side).
 local function cracks(list)
     local out = {}
@@ -31,7 +32,8 @@ local function cracks(list)
         for k = 1, c.n do
             local x, y
             if c.kind == "along" then
-                x, y = C[1] + 0.02 * D * ((k % 3) - 1), C[2] + D * (-0.45 + 0.9 * (k - 0.5) / c.n)
+                local span = c.span or 0.6
+                x, y = C[1] + 0.02 * D * ((k % 3) - 1), C[2] + D * span * (-0.5 + (k - 0.5) / c.n)
             elseif c.kind == "under" then
                 x, y = C[1] + 0.02 * D * ((k % 3) - 1), C[2] + 0.45 * D
             else
@@ -67,6 +69,10 @@ do
     T.check(at == 105 and ip == 100, string.format("a split after the peak: stops at row %s (105), peak row %s (100)",
         tostring(at), tostring(ip)))
     T.near(rows[ip].sa, peak, 0, "the splitting strength is the peak")
+    -- the same with the crack through 0.9 of the diameter at once: split as soon as the load is
+    -- past its peak by a fifth of the drop (row 101, 0.98 of the peak)
+    at, ip = scan(rows, cracks{ { kind = "along", n = 40, time = 100, span = 0.9 } })
+    T.check(at == 101 and ip == 100, string.format("a crack through the diameter: stops at row %s (101)", tostring(at)))
 end
 
 -- 2. A break under a jaw first: the load falls by 15% at row 60 with cracks under the top jaw
@@ -121,6 +127,30 @@ do
             0.2) then stopped = i; break end
     end
     T.check(stopped == nil, "a drop of 0.2 asked: the 0.85 dip is no split (" .. tostring(stopped) .. ")")
+end
+
+-- 4c. A load that stays on a plateau (0.97 of the peak) while the crack runs along the diameter,
+-- one more break a row: no drop of a tenth, but once the crack spans 0.8 of the diameter it has
+-- split. Breaks 1..k line the diameter in order from one jaw to the other, spaced 0.9 D / 40, so
+-- they cover 0.05 D bins; the cover reaches 0.8 (16 of the 20 bins) after ~36 breaks.
+do
+    local p = K * 99 * de
+    local rows = curve(200, function(i) return i <= 100 and K * (i - 1) * de or 0.97 * p end,
+        function(i) return math.max(0, i - 100) end)
+    local list = {}
+    for k = 1, 100 do
+        list[k] = { x = C[1], y = C[2] + D * (-0.45 + 0.9 * (k - 0.5) / 40), time = 100 + k - 0.5 }
+    end
+    local at, ip = scan(rows, list)
+    local upto = {}
+    for _, c in ipairs(list) do if at and c.time <= rows[at].time then upto[#upto + 1] = { c.x, c.y, c.time } end end
+    local f = M.fracture(upto, C, D, 100)
+    T.check(at and ip == 100 and f.cover >= 0.8 and at > 110 and at < 145,
+        string.format("a plateau: split once the crack spans 0.8 of the diameter (row %s, cover %.2f)", tostring(at), f.cover))
+    -- and a plateau without a crack through it: no split
+    local short = {}
+    for k = 1, 10 do short[k] = list[k] end
+    T.check(scan(rows, short) == nil, "a plateau with a short crack: no split")
 end
 
 -- 5. The validity of a test stopped at the split, and of one stopped at its cap.
