@@ -23,6 +23,8 @@
 --   C.fit_linear_dp_nratio{...}  linear's damping ratio for a restitution (rig and closed form)
 --   C.follow{...}                what a fixed parameter set gives over a table (auto exp modes)
 --   C.runout_rig{...}, C.fit_runout{...}  a property (rrlinear's rr_fric, ...) from a run-out
+--   C.fit_apparent_rn{...}       a slope material fitted to a target apparent Rn, on the
+--                                analysis' own rocks and slope (apparent.lua)
 --   C.nelder_mead(f, x0, step, opts)  the simplex minimiser fit_lsq uses
 --   C.design(p)                  a two-level fractional factorial design with a centre point
 --   C.fit_targets{...}           several parameters to several targets at once: a design, then
@@ -37,6 +39,7 @@ local T = require("calibrate.targets")
 local Rigs = require("calibrate.rigs")
 local Fits = require("calibrate.fits")
 local Out = require("calibrate.output")
+local App = require("calibrate.apparent")
 
 return {
     -- optimisers
@@ -49,7 +52,7 @@ return {
     -- fits
     fit_param = Fits.fit_param, fit_lsq = Fits.fit_lsq, linear_beta = Fits.linear_beta,
     linear_e = Fits.linear_e, fit_linear_dp_nratio = Fits.fit_linear_dp_nratio, follow = Fits.follow,
-    fit_runout = Fits.fit_runout,
+    fit_runout = Fits.fit_runout, fit_apparent_rn = App.fit_apparent_rn, apparent_rn = App.apparent_rn,
     -- output
     print_table = Out.print_table, write_csv = Out.write_csv,
 }

@@ -44,7 +44,8 @@ end
 --- density (2600), angle (rad, default 0: two pebbles down, "dropped flat"), mass ("disk" or
 --- "sphere"; sphere gives direct mass properties: each pebble 4/3 pi R^3 rho with I = 2/5 m R^2,
 --- plus the parallel-axis terms, since the model refuses union clumps in sphere mode), gap
---- (initial gap of the lowest point, default 1e-3 R), timestep (table for m:timestep), max_time,
+--- (initial gap of the lowest point, default 1e-3 R), spin (rad/s at the start, counter-clockwise,
+--- default 0), timestep (table for m:timestep), max_time,
 --- measure ("vy", default: the centroid's vertical velocity ratio; "energy": sqrt of the
 --- kinetic energy after / before, translation and rotation, as An (2006) read it).
 function C.clump_drop_rig(opts)
@@ -71,7 +72,8 @@ function C.clump_drop_rig(opts)
         end
         local gap = opts.gap or 1e-3 * R
         local y0 = gap - low
-        local spec = { pebbles = pebbles, pos = { 0, y0 }, angle = angle, vel = { 0, -v } }
+        local spec = { pebbles = pebbles, pos = { 0, y0 }, angle = angle, vel = { 0, -v },
+            spin = opts.spin or 0 }
         if mass_mode == "sphere" then
             local mass, inertia = 0, 0
             for _, p in ipairs(pebbles) do

@@ -17,7 +17,10 @@
 --   run.lua            rockfall.run_rock: one rock alone
 --   mass_release.lua   rockfall.mass_release: rocks together
 --   output.lua         the per-rock CSV files, rockfall.summary
---   monte_carlo.lua    rockfall.monte_carlo: all rocks on all cores, CSVs and statistics
+--   monte_carlo.lua    rockfall.monte_carlo: all rocks on all cores, n of them or until named
+--                      statistics are known to a stated precision
+--   precision.lua      the statistics monte_carlo can be asked for, checked and estimated
+--   report.lua         what a Monte Carlo writes and says: CSVs, statistics, precision, notes
 --   stats/             the Monte Carlo statistics (rockfall.stats, also require("rockfall_stats"))
 --
 --   local rockfall = require("rockfall")

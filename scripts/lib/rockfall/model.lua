@@ -2,12 +2,13 @@
 -- rockfall/model.lua: a rock's model: the engine model, the slope's walls by material, the rock body.
 
 --- A rock's model; the engine's warnings (from the first call on) go into `warnings`, which
---- the record carries, instead of one line on stderr per rock.
-local function new_model(an, margin, warnings)
+--- the record carries, instead of one line on stderr per rock. The analysis' timestep settings,
+--- else `timestep` (nil: the engine's).
+local function new_model(an, margin, warnings, timestep)
     local m = talus.model{ gravity = an.gravity, mass = "disk" }
     m:on_warning(function(text) warnings[#warnings + 1] = text end)
     m:contact_model(an.rock_contact.model, an.rock_contact.props)
-    if an.timestep then m:timestep(an.timestep) end
+    if an.timestep or timestep then m:timestep(an.timestep or timestep) end
     m:broadphase{ margin = margin }
     return m
 end

@@ -4,6 +4,7 @@ local Draw = require("rockfall.draw")
 local Model = require("rockfall.model")
 local Tr = require("rockfall.tracking")
 local K = require("rockfall.check")
+local An = require("rockfall.analysis")
 local fail, check_keys, need_analysis, check_hook = K.fail, K.check_keys, K.need_analysis, K.check_hook
 local sample = Draw.sample
 local new_model, build_slope, place_rock = Model.new_model, Model.build_slope, Model.place_rock
@@ -26,7 +27,7 @@ local function run_rock(an, i, opts)
     -- (the kinematic rule), so a wide box means few steps in flight; a rock has only the slope's
     -- few segments as candidates, so the wider box costs nothing measurable.
     local warnings = {}
-    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3), warnings)
+    local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3), warnings, An.ROCK_TIMESTEP)
     local wall_material = build_slope(m, an, s.points, s.materials)
     local body = place_rock(m, s)
     m:energy{ on = true }

@@ -11,6 +11,8 @@
 --   optimize.lua  root finder, Nelder-Mead, two-level designs, least squares
 --   response_surface.lua  several parameters fitted to several targets (a design, then
 --                 power-law surfaces in a trust region)
+--   sequential.lua  a Monte Carlo run until named statistics are known to a stated precision
+--                 (looks fixed in advance, intervals corrected for stopping on them)
 --
 --   local U = require("talus_util")
 --   local ok, err = U.csv.write("out/a.csv", { "x", "y" }, { { 1, 0.5 } })
@@ -23,4 +25,5 @@ return {
     stats = require("talus_util.stats"),
     optimize = require("talus_util.optimize"),
     response_surface = require("talus_util.response_surface"),
+    sequential = require("talus_util.sequential"),
 }

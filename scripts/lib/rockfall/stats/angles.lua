@@ -7,47 +7,113 @@ local NaN, INF = 0 / 0, math.huge
 local isnum = S.isnum
 local fail, check_records, direction_of = R.fail, R.check_records, R.direction_of
 local profile_points, point_xy, profile_y = R.profile_points, R.point_xy, R.profile_y
+local travel_order, inclination = R.travel_order, R.inclination
 
---- The profile's points in the order a rock travelling along d meets them.
-local function travel_order(pts, d)
-    if d * (pts[#pts][1] - pts[1][1]) >= 0 then return pts end
-    local r = {}
-    for i = #pts, 1, -1 do r[#r + 1] = pts[i] end
-    return r
+-- Segments of the profile by their inclination in the direction of travel (degrees, positive
+-- down): a cliff goes down at shadow_steep or more, a talus at shadow_talus or more (and less
+-- than a cliff); anything flatter, level or rising (a bench, a ditch floor, a ditch's far wall)
+-- is neither.
+local function segment_kind(a, b, steep, talus)
+    local deg = inclination(a, b)
+    if deg >= steep then return "cliff", deg end
+    if deg >= talus then return "talus", deg end
+    return "other", deg
 end
 
---- The shadow-angle apex: analysis.shadow_apex ({x, y} or {x =, y =}) when given; else the
---- lower end (the toe) of the last DOWNSLOPE segment, in the direction of travel, whose
---- inclination is at least analysis.shadow_steep degrees (default M.SHADOW_STEEP_DEG). A
---- segment that rises in the direction of travel (the far wall of a ditch, the face of a
---- berm) is never a cliff the rocks fell from, so it never defines the apex. nil when neither.
-function M.shadow_apex(analysis)
+--- The x where the rocks start: analysis.release, else the mean of the records' releases.
+local function release_x(analysis, records)
+    local x = point_xy(analysis.release)
+    if isnum(x) then return x end
+    local sum, n = 0, 0
+    for _, r in ipairs(records or {}) do
+        local rx = point_xy(r.release)
+        if isnum(rx) then sum, n = sum + rx, n + 1 end
+    end
+    return n > 0 and sum / n or nil
+end
+
+local function angle_option(analysis, key, default, where)
+    local v = analysis[key]
+    if v == nil then return default end
+    if not (isnum(v) and v > 0 and v <= 90) then
+        fail(where, "analysis.%s must be an angle in (0, 90] degrees (got %s)", key, tostring(v))
+    end
+    return v
+end
+
+--- The shadow-angle apex (Evans & Hungr 1993): the top of the talus below the cliff the rocks
+--- fall from. analysis.shadow_apex ({x, y} or {x =, y =}) when given. Otherwise, walking the
+--- profile in the direction of travel from the release (analysis.release, else the records'):
+--- the source cliff is the run of cliff segments (downslope at analysis.shadow_steep degrees or
+--- more, default 45) the rocks start on, or the first one they reach over level or gentle ground
+--- (a crest); when they start on a talus, the cliff right above it. The apex is the cliff's toe
+--- when a talus (downslope at analysis.shadow_talus or more, default 10) follows it. A ditch, a
+--- step or a bench below never makes an apex. Returns apex {x, y, rule}, or nil and the reason.
+function M.shadow_apex(analysis, records)
     local where = "shadow_apex"
-    if analysis and analysis.shadow_apex ~= nil then
+    analysis = analysis or {}
+    if analysis.shadow_apex ~= nil then
         local x, y = point_xy(analysis.shadow_apex)
         if not (isnum(x) and isnum(y)) then fail(where, "analysis.shadow_apex must be {x, y}") end
         return { x = x, y = y, rule = "given" }
     end
     local pts = profile_points(analysis, where)
-    if not pts then return nil end
+    if not pts then return nil, "no profile and no shadow_apex" end
     local d = direction_of(analysis, where)
-    local steep = analysis.shadow_steep or M.SHADOW_STEEP_DEG
-    if not (isnum(steep) and steep > 0 and steep <= 90) then
-        fail(where, "analysis.shadow_steep must be an angle in (0, 90] degrees (got %s)",
-            tostring(steep))
+    local steep = angle_option(analysis, "shadow_steep", M.SHADOW_STEEP_DEG, where)
+    local talus = angle_option(analysis, "shadow_talus", M.SHADOW_TALUS_DEG, where)
+    if talus >= steep then
+        fail(where, "analysis.shadow_talus (%g) must be less than shadow_steep (%g)", talus, steep)
     end
-    local apex
     local path = travel_order(pts, d)
-    for i = 1, #path - 1 do
-        local a, b = path[i], path[i + 1]
-        local drop = a[2] - b[2] -- > 0: the segment goes down in the direction of travel
-        if drop > 0 and math.deg(math.atan(drop, math.abs(b[1] - a[1]))) >= steep then
-            apex = { x = b[1], y = b[2],
-                rule = string.format("toe of the last downslope segment of %g deg or steeper",
-                    steep) }
-        end
+    local kind, deg = {}, {}
+    for k = 1, #path - 1 do kind[k], deg[k] = segment_kind(path[k], path[k + 1], steep, talus) end
+    local xr = release_x(analysis, records) or path[1][1]
+    local k = 1
+    while k < #path - 1 and d * path[k + 1][1] < d * xr do k = k + 1 end
+    local function at(p) return string.format("(%.4g, %.4g)", p[1], p[2]) end
+    local function apex_at(j, how)
+        return { x = path[j][1], y = path[j][2], rule = how }
     end
-    return apex
+    if kind[k] == "talus" then
+        local j = k
+        while j > 1 and kind[j - 1] == "talus" do j = j - 1 end
+        if j > 1 and kind[j - 1] == "cliff" then
+            return apex_at(j, "top of the talus the rocks start on, below a cliff")
+        end
+        return nil, string.format("the rocks start on a %.3g deg slope, less steep than a cliff "
+            .. "(shadow_steep = %g deg), with no cliff above it: no talus apex", deg[k], steep)
+    end
+    while kind[k] == "other" and k < #path - 1 do k = k + 1 end
+    if kind[k] ~= "cliff" then
+        return nil, kind[k] == "talus"
+            and string.format("the rocks reach a %.3g deg slope, less steep than a cliff "
+                .. "(shadow_steep = %g deg), before any cliff: no talus apex", deg[k], steep)
+            or "no cliff (a segment of shadow_steep = " .. steep .. " deg or steeper) below the release"
+    end
+    local j = k
+    while j < #path - 1 and kind[j + 1] == "cliff" do j = j + 1 end
+    if j < #path - 1 and kind[j + 1] == "talus" then
+        return apex_at(j + 1, string.format("top of the talus below the cliff %s-%s", at(path[k]),
+            at(path[j + 1])))
+    end
+    return nil, string.format("the cliff %s-%s ends on ground that does not go down at "
+        .. "shadow_talus = %g deg or more (a bench, a ditch, a flat): no talus apex",
+        at(path[k]), at(path[j + 1]), talus)
+end
+
+--- The warning for shadow angles below Evans & Hungr's (1993) lowest, 27.5 deg (nil if none).
+function M.shadow_warning(shadow)
+    local low, min = 0, INF
+    for _, a in ipairs(shadow) do
+        if a < M.SHADOW_MIN_DEG then low = low + 1 end
+        min = math.min(min, a)
+    end
+    if low == 0 then return nil end
+    return string.format("%d of %d rocks beyond the apex stopped at shadow angles below %g deg "
+        .. "(the lowest %.3g deg), the lowest Evans & Hungr (1993) found in the field: check the "
+        .. "materials' restitution and rolling resistance, and the apex", low, #shadow,
+        M.SHADOW_MIN_DEG, min)
 end
 
 --- Energy-line and shadow angles (degrees) of the deposited rocks. A rock is deposited when
@@ -71,8 +137,8 @@ function M.angles(records, analysis, opts)
     local dep = opts.deposited or { rest = true }
     local d = direction_of(analysis, where)
     local pts = profile_points(analysis, where)
-    local apex = M.shadow_apex(analysis)
-    local res = { per_rock = {}, apex = apex, deposited = 0, beyond_apex = 0 }
+    local apex, no_apex = M.shadow_apex(analysis, records)
+    local res = { per_rock = {}, apex = apex, no_apex = no_apex, deposited = 0, beyond_apex = 0 }
     local el, sh = {}, {}
     for i, r in ipairs(records) do
         local row = { rock = r.rock or i, energy_line = NaN, shadow = NaN }
@@ -103,6 +169,7 @@ function M.angles(records, analysis, opts)
     end
     res.energy_line = S.describe(el, probs, level)
     res.shadow = S.describe(sh, probs, level)
+    res.warning = M.shadow_warning(sh)
     -- An apex at or below the ground the rocks come to rest on (a cliff straight onto a flat
     -- floor, a ditch at the toe of a slope with no cliff above it) makes the shadow angles
     -- there 0 or negative, which says nothing: say so, with the way out.

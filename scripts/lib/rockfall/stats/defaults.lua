@@ -12,6 +12,10 @@ M.QUANTILES = { 0.5, 0.9, 0.95, 0.98 } -- of envelopes, collectors and barriers 
 M.ANGLE_PERCENTILES = { 0.01, 0.02, 0.05, 0.1, 0.5 } -- low angles are the far-reaching rocks
 M.STOP_RULES = { "rest", "left", "time", "barrier" }
 M.SHADOW_STEEP_DEG = 45 -- a profile segment at least this steep is "cliff" for the apex rule
+M.SHADOW_TALUS_DEG = 10 -- one less steep but at least this steep is "talus"
+M.SHADOW_MIN_DEG = 27.5 -- Evans & Hungr's (1993) lowest shadow angle: a warning below it
+M.RETENTION_WIDTHS = { 0.9, 0.95, 0.99 } -- catchment widths reported for these retentions
+M.RESTITUTION_PERCENTILES = { 0.1, 0.5, 0.9 } -- of the apparent Rn per material and shape
 M.COLLECTOR_QUANTITIES = { "height", "ke_trans", "ke_rot", "ke", "v", "spin" }
 M.BARRIER_QUANTITIES = { "energy", "height", "angle" }
 

@@ -24,8 +24,8 @@
 --
 -- The parts, one file each in this folder: defaults.lua (the module table and its defaults),
 -- records.lua (checks, profile, direction), endpoints.lua, envelopes.lua, lines.lua (collectors
--- and barriers), angles.lua, write.lua (CSV files), summary.lua (printed); the general
--- statistics are talus_util/stats.lua's.
+-- and barriers), angles.lua, retention.lua (catchment retention), write.lua (CSV files),
+-- summary.lua (printed); the general statistics are talus_util/stats.lua's.
 
 local S = require("talus_util.stats")
 local M = require("rockfall.stats.defaults")

@@ -52,6 +52,19 @@ local function direction_of(analysis, where)
     return 1
 end
 
+--- The profile's points in the order a rock travelling along d meets them.
+local function travel_order(pts, d)
+    if d * (pts[#pts][1] - pts[1][1]) >= 0 then return pts end
+    local r = {}
+    for i = #pts, 1, -1 do r[#r + 1] = pts[i] end
+    return r
+end
+
+--- Inclination (degrees) of the segment a-b in the direction of travel, positive going down.
+local function inclination(a, b)
+    return math.deg(math.atan(a[2] - b[2], math.abs(b[1] - a[1])))
+end
+
 --- Surface height of the profile at x (linear between points; NaN outside the profile).
 local function profile_y(pts, x)
     return (Interp.linear(pts, x, "nan"))
@@ -110,5 +123,6 @@ end
 R.fail, R.point_xy, R.profile_points, R.direction_of, R.profile_y = fail, point_xy, profile_points,
     direction_of, profile_y
 R.check_records, R.envelope_of, R.x_far, R.nice_width = check_records, envelope_of, x_far, nice_width
+R.travel_order, R.inclination = travel_order, inclination
 
 return R

@@ -34,11 +34,12 @@ function M.print_summary(summary, print_fn)
         if kind == "shadow" then
             extra = s.apex
                 and string.format(" (apex %.4g, %.4g: %s)", s.apex.x, s.apex.y, s.apex.rule)
-                or " (no apex: no steep downslope segment and no shadow_apex given)"
+                or " (no apex: " .. tostring(s.no_apex) .. ")"
         end
         p(string.format("  %s angle [deg]%s: %s", kind == "shadow" and "shadow" or "energy-line",
             extra, table.concat(parts, "; ")))
         if kind == "shadow" and s.shadow_note then p("    note: " .. s.shadow_note) end
+        if kind == "shadow" and s.shadow_warning then p("    warning: " .. s.shadow_warning) end
     end
     for _, c in ipairs(s.collectors) do
         p(string.format("  collector %s: %d rocks crossed (%s), ke q95 %s J, max %s J; "
@@ -52,6 +53,34 @@ function M.print_summary(summary, print_fn)
             .. "q95 %s J, max %s J",
             tostring(b.name), b.stopped, b.passed, b.not_reached, fmt_ci(b.stats.energy.q95,
                 b.stats.energy.q95_lo, b.stats.energy.q95_hi), g(b.stats.energy.max)))
+    end
+    local ret = s.retention
+    if ret then
+        local parts = {}
+        for _, w in ipairs(ret.widths) do
+            parts[#parts + 1] = string.format("%g %% within %s m", 100 * w.p, fmt_ci(w.width, w.lo, w.hi))
+        end
+        p(string.format("  catchment retention from the toe x = %.4g: %s", ret.toe.x,
+            table.concat(parts, "; ")))
+        for _, c in ipairs(ret.catchments) do
+            p(string.format("  catchment %s (x %.4g..%.4g): retained %s of all rocks, %s of the %d "
+                .. "that reached it", tostring(c.name), c.x_from, c.x_to, fmt_ci(c.fraction, c.lo, c.hi),
+                fmt_ci(c.of_reached, c.of_reached_lo, c.of_reached_hi), c.reached))
+        end
+    end
+    local by_material, order = {}, {}
+    for _, grp in ipairs(s.restitution or {}) do
+        if not by_material[grp.material] then
+            by_material[grp.material] = {}
+            order[#order + 1] = grp
+        end
+        local st = grp.stats
+        table.insert(by_material[grp.material], string.format("%s median %s (%d impacts, %.0f %% above 1)",
+            grp.shape, fmt_ci(st.median, st.median_lo, st.median_hi), st.n, 100 * grp.above_1))
+    end
+    for _, grp in ipairs(order) do
+        p(string.format("  apparent Rn on %s (a disk's: %s): %s", grp.material, g(grp.nominal),
+            table.concat(by_material[grp.material], "; ")))
     end
     if #s.files > 0 then p("  wrote " .. #s.files .. " files in " .. tostring(s.outdir)) end
 end

@@ -10,6 +10,8 @@ require("rockfall.stats.endpoints")
 require("rockfall.stats.envelopes")
 require("rockfall.stats.lines")
 require("rockfall.stats.angles")
+require("rockfall.stats.retention")
+require("rockfall.stats.restitution")
 local NaN = 0 / 0
 local direction_of, profile_points, point_xy = R.direction_of, R.profile_points, R.point_xy
 
@@ -49,8 +51,31 @@ local function is_rank0()
     return ((t and t.rank and t.rank()) or 0) == 0
 end
 
+--- The summary rows of catchment retention: the toe, the widths, the named catchments.
+local function retention_rows(srows, ret)
+    if not ret then return end
+    srows[#srows + 1] = { "retention", "toe_x", ret.toe.x }
+    for _, w in ipairs(ret.widths) do
+        srows[#srows + 1] = { "retention", "width_" .. w.name, w.width, w.lo, w.hi }
+    end
+    for _, c in ipairs(ret.catchments) do
+        local sec = "catchment:" .. tostring(c.name)
+        srows[#srows + 1] = { sec, "retained", c.fraction, c.lo, c.hi }
+        srows[#srows + 1] = { sec, "retained_of_reached", c.of_reached, c.of_reached_lo, c.of_reached_hi }
+    end
+end
+
+--- The summary rows of the apparent restitution: the median per material and shape.
+local function restitution_rows(srows, rest)
+    for _, g in ipairs(rest) do
+        local st = g.stats
+        srows[#srows + 1] = { "restitution:" .. g.material .. ":" .. g.shape, "rn_median", st.median,
+            st.median_lo, st.median_hi }
+    end
+end
+
 --- The summary rows (summary.csv): section, name, value, ci_lo, ci_hi.
-local function summary_rows(records, ep, ang, col, bar)
+local function summary_rows(records, ep, ang, col, bar, ret, rest)
     local srows = { { "rocks", "n", #records } }
     for _, s in ipairs(ep.stops) do srows[#srows + 1] = { "stop", s.rule, s.count } end
     for _, p in ipairs(ep.percentiles) do
@@ -80,6 +105,8 @@ local function summary_rows(records, ep, ang, col, bar)
             b.stats.energy.q95_lo, b.stats.energy.q95_hi }
         srows[#srows + 1] = { "barrier:" .. tostring(b.name), "energy_max", b.stats.energy.max }
     end
+    retention_rows(srows, ret)
+    restitution_rows(srows, rest)
     return srows
 end
 
@@ -111,6 +138,40 @@ local function write_point_files(out, records, ep, ang)
     rows = {}
     for i, r in ipairs(ep.reach) do rows[i] = { r.x, r.count, r.reach, r.lo, r.hi } end
     out("reach.csv", { "x", "count", "reach", "ci_lo", "ci_hi" }, rows)
+end
+
+--- The catchment files: retention.csv (the curve from the toe) and catchments.csv (named ones).
+local function write_retention_files(out, ret)
+    if not ret then return end
+    local rows = {}
+    for i, c in ipairs(ret.curve) do
+        rows[i] = { c.distance, c.x, c.retained, c.fraction, c.lo, c.hi }
+    end
+    out("retention.csv", { "distance", "x", "retained", "fraction", "ci_lo", "ci_hi" }, rows)
+    if #ret.catchments == 0 then return end
+    rows = {}
+    for i, c in ipairs(ret.catchments) do
+        rows[i] = { c.name, c.x_from, c.x_to, ret.n, c.reached, c.retained, c.fraction, c.lo, c.hi,
+            c.of_reached, c.of_reached_lo, c.of_reached_hi }
+    end
+    out("catchments.csv", { "catchment", "x_from", "x_to", "rocks", "reached", "retained", "fraction",
+        "fraction_lo", "fraction_hi", "of_reached", "of_reached_lo", "of_reached_hi" }, rows)
+end
+
+--- restitution.csv: the apparent Rn per material and shape (when there were impacts).
+local function write_restitution_file(out, rest)
+    if #rest == 0 then return end
+    local header = { "material", "shape", "nominal_rn" }
+    for _, h in ipairs(describe_header("", M.RESTITUTION_PERCENTILES)) do header[#header + 1] = h end
+    header[#header + 1] = "above_1"
+    local rows = {}
+    for i, g in ipairs(rest) do
+        local row = { g.material, g.shape, g.nominal }
+        describe_cells(row, g.stats)
+        row[#row + 1] = g.above_1
+        rows[i] = row
+    end
+    out("restitution.csv", header, rows)
 end
 
 --- The files along the slope and of the lines: envelopes (with an envelope), collectors,
@@ -160,11 +221,19 @@ local function write_line_files(out, env, col, bar, ang)
 
     header = { "angle", "apex_x", "apex_y", "deposited" }
     for _, h in ipairs(describe_header("", M.ANGLE_PERCENTILES)) do header[#header + 1] = h end
+    header[#header + 1] = "note"
     rows = {}
     for _, kind in ipairs({ "energy_line", "shadow" }) do
         local row = { kind, kind == "shadow" and ang.apex and ang.apex.x or NaN,
             kind == "shadow" and ang.apex and ang.apex.y or NaN, ang.deposited }
         describe_cells(row, ang[kind])
+        if kind == "shadow" then
+            local notes = {}
+            for _, t in ipairs({ ang.no_apex and "no apex: " .. ang.no_apex, ang.note, ang.warning }) do
+                if t then notes[#notes + 1] = t end
+            end
+            row[#row + 1] = table.concat(notes, "; ")
+        end
         rows[#rows + 1] = row
     end
     out("angles.csv", header, rows)
@@ -188,14 +257,18 @@ function M.write(records, analysis, outdir, opts)
     local col = M.collectors(records, analysis, { confidence = level })
     local bar = M.barriers(records, analysis, { confidence = level })
     local ang = M.angles(records, analysis, { confidence = level, deposited = opts.deposited })
+    local ret = M.retention(records, analysis, { confidence = level })
+    local rest = M.restitution(records, analysis, { confidence = level })
 
     local summary = { n = #records, confidence = level, direction = d, stops = ep.stop_count,
         percentiles = ep.percentiles, energy_line = ang.energy_line, shadow = ang.shadow,
-        apex = ang.apex, shadow_note = ang.note, deposited = ang.deposited,
+        apex = ang.apex, no_apex = ang.no_apex, shadow_note = ang.note,
+        shadow_warning = ang.warning, deposited = ang.deposited,
         beyond_apex = ang.beyond_apex,
-        collectors = col, barriers = bar, outdir = outdir, files = {} }
+        collectors = col, barriers = bar, retention = ret, restitution = rest, outdir = outdir,
+        files = {} }
 
-    summary.rows = summary_rows(records, ep, ang, col, bar)
+    summary.rows = summary_rows(records, ep, ang, col, bar, ret, rest)
 
     if not is_rank0() then return summary end
     local t = rawget(_G, "talus")
@@ -212,6 +285,8 @@ function M.write(records, analysis, outdir, opts)
 
     write_point_files(out, records, ep, ang)
     write_line_files(out, env, col, bar, ang)
+    write_retention_files(out, ret)
+    write_restitution_file(out, rest)
     out("summary.csv", { "section", "name", "value", "ci_lo", "ci_hi" }, summary.rows)
 
     local pts = profile_points(analysis, "write")
