@@ -50,7 +50,7 @@ local src = debug.getinfo(1, "S").source:sub(2)
 local tool = (src:match("^(.*)/examples/[^/]*$") or "scripts") .. "/plot_history.py"
 local png = outdir .. "/ucs_stress_strain.png"
 local cmd = string.format("python3 '%s' '%s' -o '%s' --x strain_axial --columns 'stress_axial [Pa]' "
-    .. "--xlabel 'axial strain' --ylabel 'axial stress [Pa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
+    .. "--stress-unit MPa --xlabel 'axial strain' --ylabel 'axial stress [MPa]' --title 'UCS test (E tangent at 50%% of peak)'", tool, csv, png)
 if os.execute(cmd) then print("plot: " .. png) else print("plot: failed (" .. cmd .. ")") end
 
 print(string.format("cracks: %d listed in %s/ucs_history_cracks.csv; crack damage threshold %.2f MPa (%.0f%% of UCS)",
