@@ -19,7 +19,56 @@
 -- UCS, the peak strain, the steps, and over the rows above half the peak the largest and mean
 -- platen difference, kinetic/stored energy and ratio, and the breaks per P-wave crossing over
 -- the tenth of the test before the peak.
+--
+--   talus run scripts/bench/material_rate.lua OUTDIR seeds [scale] [rate] [nseeds] [material]
+--
+-- The work-precision check of the default rate: M.run_seeds (a UCS and a Brazilian test per seed,
+-- the examples' code) on seeds 1..nseeds at `rate` (default M.strain_per_crossing) and at half of
+-- it, on the same packings (kept in OUTDIR/ck_*). Prints per seed the UCS at both rates, E, the
+-- quasi-static measure and the Brazilian outcome, then one RESULT line: the change of the mean
+-- UCS when the rate halves, how many disks gave a valid sigma_t at each rate, and the CPU (the
+-- tests' own clocks, which a loaded machine stretches less than the wall clock).
 local M = require("material")
+if arg[2] == "seeds" then
+    local outdir, scale = arg[1], tonumber(arg[3] or "0.5")
+    local rate, n, kind = tonumber(arg[4] or tostring(M.strain_per_crossing)), tonumber(arg[5] or "5"), arg[6] or "fjoint"
+    talus.mkdir(outdir)
+    local mat, genesis, disk = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
+    local seeds = {}
+    for i = 1, n do seeds[i] = i end
+    local runs = {}
+    for k, r in ipairs { rate, 0.5 * rate } do
+        runs[k] = M.run_seeds{ material = mat, genesis = genesis, disk = disk, seeds = seeds, scale = scale,
+                               strain_per_crossing = r, checkpoint = string.format("%s/ck_%g", outdir, r),
+                               key = string.format("%s scale %g", kind, scale) }
+    end
+    local function stat(res, key)
+        local m, sd, k = M.seeds_stat(res.rows, key)
+        return { mean = m, sd = sd, n = k }
+    end
+    local function valid(res)
+        local v = 0
+        for _, row in ipairs(res.rows) do v = v + ((row.valid and row.tensile) and 1 or 0) end
+        return v
+    end
+    print(string.format("%s, scale %g, rates %g and %g per P-wave crossing", kind, scale, rate, 0.5 * rate))
+    print("seed  UCS(r)  UCS(r/2) [MPa]  change   E(r) [GPa]  dF/F(r)   sigma_t(r)  sigma_t(r/2) [MPa]")
+    for i, a in ipairs(runs[1].rows) do
+        local b = runs[2].rows[i]
+        local function t(row) return row.valid and row.tensile and string.format("%.2f", row.tensile / 1e6)
+            or "- (" .. tostring(row.reason) .. ")" end
+        print(string.format("%4d  %6.1f  %6.1f          %+6.2f%%  %6.1f      %.1e   %s   %s", a.seed, a.ucs / 1e6,
+            b.ucs / 1e6, 100 * (b.ucs / a.ucs - 1), (a.E_elastic or 0) / 1e9, a.qs_difference or 0, t(a), t(b)))
+    end
+    local ua, ub = stat(runs[1], "ucs"), stat(runs[2], "ucs")
+    local ta, tb = stat(runs[1], "tensile"), stat(runs[2], "tensile")
+    print(string.format("RESULT %s scale %g rate %g: mean UCS %.2f +- %.2f MPa, at half the rate %.2f +- %.2f MPa "
+        .. "(change %+.2f%%); valid sigma_t %d of %d (%.2f +- %.2f MPa), at half the rate %d of %d (%.2f +- %.2f MPa); "
+        .. "CPU %.0f s and %.0f s", kind, scale, rate, ua.mean / 1e6, (ua.sd or 0) / 1e6, ub.mean / 1e6, (ub.sd or 0) / 1e6,
+        100 * (ub.mean / ua.mean - 1), valid(runs[1]), n, (ta.mean or 0) / 1e6, (ta.sd or 0) / 1e6, valid(runs[2]), n,
+        (tb.mean or 0) / 1e6, (tb.sd or 0) / 1e6, runs[1].cpu, runs[2].cpu))
+    return
+end
 local Wl = require("material.walls")
 local E = require("material.equilibrium")
 
