@@ -270,6 +270,7 @@ extern const luaL_Reg kPictureMethods[];       // wrap_picture.cpp: picture
 extern const luaL_Reg kSaveMethods[];          // wrap_save.cpp: save
 extern const luaL_Reg kCrackMethods[];         // wrap_cracks.cpp: cracks
 extern const luaL_Reg kTrackerMethods[];       // wrap_tracker.cpp: track, trackers, clear_trackers
+extern const luaL_Reg kServoMethods[];         // wrap_servos.cpp: servo
 /// Every model method name in kModelMethodTables, sorted.
 std::vector<std::string> modelMethodNames();
 /// The `talus` module's functions, one table per thing likewise; kModuleFunctionTables

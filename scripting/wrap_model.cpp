@@ -587,6 +587,7 @@ const luaL_Reg* const kModelMethodTables[] = {
     kSaveMethods,          // wrap_save.cpp
     kCrackMethods,         // wrap_cracks.cpp
     kTrackerMethods,       // wrap_tracker.cpp
+    kServoMethods,         // wrap_servos.cpp
 };
 
 }  // namespace

@@ -10,7 +10,9 @@ both written by material.calibrate (docs/material.md, "Calibration against sever
 Draws one panel per target: the output of every point against the point's number, with its
 scatter over seeds as an error bar, the target as a line and its tolerance as a band; the
 design's points are circles, the steps squares, the best point a star; and a last panel with
-the misfit (log scale). PNG, PDF or SVG by the extension of -o.
+the misfit (log scale). A point whose tests gave no value for a target (a tensile strength where
+no Brazilian disk split: tensile_valid 0) is drawn as a red cross at the foot of that panel and of
+the misfit panel, labelled "not measured". PNG, PDF or SVG by the extension of -o.
 
 Errors (missing file, no rows, a target with no column) are printed on stderr as
 "plot_calibration: error: ..." with exit status 2.
@@ -59,6 +61,11 @@ def load(path):
     return rows, targets
 
 
+def unmeasured(rows, name):
+    """The rows that have no value of output `name` (a point without a valid tensile strength)."""
+    return [i for i, r in enumerate(rows) if math.isnan(number(r.get(name)))]
+
+
 def plot(rows, targets, out, title=None):
     import matplotlib
 
@@ -85,10 +92,21 @@ def plot(rows, targets, out, title=None):
         for i, b in enumerate(best):
             if b:
                 ax.plot(idx[i], ys[i], "*", ms=14, color="C3", label="best")
+        missing = unmeasured(rows, name)
+        if missing:
+            # at the foot of the panel (axes coordinates in y): no value to draw
+            ax.plot([idx[i] for i in missing], [0.04] * len(missing), "x", ms=8, mew=2, color="C3",
+                    transform=ax.get_xaxis_transform(), label="not measured")
+            ax.legend(loc="best", fontsize=7)
         ax.set_ylabel(f"{LABELS.get(name, name)} [{unit}]" if unit else LABELS.get(name, name))
     axes[0].legend(loc="best", fontsize=8)
     mis = [number(r["misfit"]) for r in rows]
     axes[-1].semilogy(idx, mis, "k.-")
+    nomis = [i for i, m in enumerate(mis) if math.isnan(m)]
+    if nomis:
+        axes[-1].plot([idx[i] for i in nomis], [0.04] * len(nomis), "x", ms=8, mew=2, color="C3",
+                      transform=axes[-1].get_xaxis_transform(), label="a target not measured")
+        axes[-1].legend(loc="best", fontsize=7)
     axes[-1].set_ylabel("misfit")
     axes[-1].set_xlabel("point")
     if title:

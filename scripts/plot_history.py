@@ -334,6 +334,28 @@ def ensure_matplotlib(script: str) -> None:
         os.execv(system, [system, os.path.abspath(script)] + sys.argv[1:])
 
 
+# --stress-unit: the factor from Pa to each unit a stress axis may be drawn in.
+STRESS_UNITS = {"Pa": 1.0, "kPa": 1e-3, "MPa": 1e-6, "GPa": 1e-9}
+
+
+def convert_stresses(series: Sequence[Series], unit: str) -> None:
+    """Draw every series in Pa (a talus stress column, or a header cell "name [Pa]") in `unit`:
+    the values scaled, the axis label and the legend saying the new unit."""
+    if unit not in STRESS_UNITS:
+        raise PlotError(f"unknown stress unit '{unit}' (known: {', '.join(STRESS_UNITS)})")
+    factor = STRESS_UNITS[unit]
+    for s in series:
+        if s.unit != "Pa" or unit == "Pa":
+            continue
+        s.y = [v * factor for v in s.y]
+        s.unit = unit
+        s.label = s.label.replace("[Pa]", f"[{unit}]")
+    for s in series:
+        if s.x_unit == "Pa" and unit != "Pa":
+            s.x = [v * factor for v in s.x]
+            s.x_unit = unit
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(
         prog="plot_history.py",
@@ -353,6 +375,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     p.add_argument("--title", help="plot title")
     p.add_argument("--xlabel", help="x axis label (default: column name [unit])")
     p.add_argument("--ylabel", help="y axis label (default: energy [J], or names [unit])")
+    p.add_argument("--stress-unit", default="Pa", choices=list(STRESS_UNITS),
+                   help="unit of the stress columns (those in Pa) on the axes (default Pa)")
     p.add_argument("--equal", action="store_true",
                    help="same scale on both axes (trajectories)")
     p.add_argument("--size", type=_size, default=(8.0, 5.0), help="figure size W,H in inches")
@@ -360,6 +384,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = p.parse_args(argv)
     try:
         series = load_series(args.files, _split_columns(args.columns), args.x)
+        convert_stresses(series, args.stress_unit)
         out = plot(series, args.output, title=args.title, logx=args.logx, logy=args.logy,
                    linthresh=args.linthresh, equal=args.equal, xlabel=args.xlabel,
                    ylabel=args.ylabel, size=args.size, dpi=args.dpi)

@@ -6,6 +6,7 @@
 -- power-law response surfaces in a trust region, each point tested on the same packings.
 --
 --   talus run scripts/examples/calibrate_granite.lua [outdir] [material] [scale] [nseeds] [budget] [phi] [start] [moduli]
+--       [--rate=R] [--max-steps=N]
 --
 --   material  fjoint (default; flat joints, Potyondy 2012), pbond (parallel bonds, Potyondy &
 --             Cundall 2004) or clumped (grains of 1-3 balls with parallel bonds, Cho et al. 2007)
@@ -21,6 +22,12 @@
 --             start at a third of the peak and open the lateral strain by half of it) or `50`
 --             (the tangents at 40-60% of the peak; the default for pbond and clumped, which crack
 --             above half the peak)
+--   --rate    the tests' loading rate, the axial strain per P-wave crossing (default
+--             M.strain_per_crossing); --max-steps: each test's step cap (default: 2% strain)
+--
+-- A point whose Brazilian disks did not split has no sigma_t (nor UCS/sigma_t): its misfit is
+-- infinite, the table marks it (disks split 0/n) and the plot too; the calibration says which
+-- targets it could not measure.
 --
 -- Laboratory (Potyondy & Cundall 2004; Martin & Chandler 1994): E 69 +- 5.8 GPa, nu 0.26 +- 0.04,
 -- UCS 200 +- 22 MPa, sigma_t 9.3 +- 1.3 MPa; each target's tolerance is that scatter. Runs every
@@ -30,17 +37,18 @@
 -- (OUTDIR/calibrate_<material>.png, scripts/plot_calibration.py), and prints the table and the
 -- best parameters.
 local M = require("material")
-local outdir = arg[1] or "out"
-local kind = arg[2] or "fjoint"
-local scale = tonumber(arg[3] or "0.5")
-local nseeds = tonumber(arg[4] or "2")
-local budget = tonumber(arg[5] or "15")
-local with_phi = arg[6] == "phi"
+local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps" })
+local outdir = args[1] or "out"
+local kind = args[2] or "fjoint"
+local scale = tonumber(args[3] or "0.5")
+local nseeds = tonumber(args[4] or "2")
+local budget = tonumber(args[5] or "15")
+local with_phi = args[6] == "phi"
 local start = {}
-if arg[7] and arg[7] ~= "default" then
-    start = assert(load("return " .. arg[7]))()
+if args[7] and args[7] ~= "default" then
+    start = assert(load("return " .. args[7]))()
 end
-local moduli = arg[8] or (kind == "fjoint" and "elastic" or "50")
+local moduli = args[8] or (kind == "fjoint" and "elastic" or "50")
 if moduli ~= "elastic" and moduli ~= "50" then error("calibrate_granite.lua: moduli '" .. moduli .. "' (known: elastic, 50)") end
 local E_name, nu_name = "E", "nu"
 if moduli == "elastic" then E_name, nu_name = "E_elastic", "nu_elastic" end
@@ -104,8 +112,11 @@ local r = M.calibrate{
     disk = function(seed) return disk(D, 100 + seed) end,
     params = params, fixed = fixed, targets = targets, seeds = seeds, budget = budget,
     checkpoint = string.format("%s/ckpt_%s_%g", outdir, kind, scale),
-    key = string.format("ldb %s scale %g fixed %s moduli %s v2", kind, scale, table.concat(fixed_text, ","), moduli),
+    key = string.format("ldb %s scale %g fixed %s moduli %s rate %s v3", kind, scale, table.concat(fixed_text, ","),
+        moduli, tostring(opt.rate or M.strain_per_crossing)),
     csv = csv,
+    tests = { ucs = { strain_per_crossing = opt.rate, max_steps = opt["max-steps"] },
+              brazilian = { strain_per_crossing = opt.rate, max_steps = opt["max-steps"] } },
 }
 if talus.rank() == 0 then
     local C = require("calibrate")
@@ -117,22 +128,31 @@ if talus.rank() == 0 then
         t.E = o.E and o.E / 1e9; t.nu = o.nu; t.ucs = o.ucs and o.ucs / 1e6; t.tensile = o.tensile and o.tensile / 1e6
         t.E_el = o.E_elastic and o.E_elastic / 1e9; t.nu_el = o.nu_elastic
         t.ratio = o.ratio; t.phi = o.phi
+        -- a point whose disks did not split has no sigma_t (marked, never a number)
+        if o.disks then t.disks = string.format("%d/%d", o.tensile_valid, o.disks) end
         rows[#rows + 1] = t
     end
     local cols = { "point", "phase" }
     for _, p in ipairs(params) do cols[#cols + 1] = p.name end
     for _, c in ipairs({ { "E", "E [GPa]" }, { "nu", "nu" }, { "E_el", "E elastic [GPa]" }, { "nu_el", "nu elastic" },
                          { "ucs", "UCS [MPa]" }, { "tensile", "sigma_t [MPa]" },
-                         { "ratio", "UCS/sigma_t" }, { "phi", "phi [deg]" }, { "misfit", "misfit" } }) do
+                         { "disks", "disks split" }, { "ratio", "UCS/sigma_t" }, { "phi", "phi [deg]" },
+                         { "misfit", "misfit" } }) do
         cols[#cols + 1] = c
     end
     C.print_table(rows, cols)
+    for _, u in ipairs(r.unmeasured) do print("NOT MEASURED: " .. u) end
     local b = r.best
-    local parts = {}
-    for _, p in ipairs(params) do parts[#parts + 1] = string.format("%s = %.4g", p.name, b.params[p.name]) end
-    print(string.format("best: point %d (%s), misfit %.4g%s; stopped by %s after %d points (%d tests each)", b.index,
-        table.concat(parts, ", "), b.misfit, b.met and ", every target met" or "", r.stop, r.evaluations,
-        r.tests_per_point))
+    if b then
+        local parts = {}
+        for _, p in ipairs(params) do parts[#parts + 1] = string.format("%s = %.4g", p.name, b.params[p.name]) end
+        print(string.format("best: point %d (%s), misfit %.4g%s; stopped by %s after %d points (%d tests each)", b.index,
+            table.concat(parts, ", "), b.misfit, b.met and ", every target met" or "", r.stop, r.evaluations,
+            r.tests_per_point))
+    else
+        print(string.format("no best point: no point had every target measured (%d points, stopped by %s)",
+            r.evaluations, r.stop))
+    end
     print("elasticities d ln(output) / d ln(parameter) of the last surfaces:")
     for _, t in ipairs(targets) do
         local e = r.elasticities[t.name]

@@ -18,23 +18,36 @@
 -- scale 1: 31.1 mm disks (~1 500 balls; cut: ~30.7 mm, ~1 440); 0.5: 15.5 mm (~378 balls; cut:
 -- ~14.8 mm, ~345), same ball sizes (P&C: the ball size is not a free parameter, a smaller disk
 -- is a different test). jaws = curved | flat.
+-- Options: --rate (the axial strain per P-wave crossing, default M.strain_per_crossing),
+-- --max-steps (default: the steps that strain the disk by 2% at the rate), --material (pbond-pc,
+-- the default: Potyondy & Cundall's parallel bonds; or fjoint, pbond, clumped: M.ldb_calibrated).
+-- The test stops at the split (docs/material.md "Brazilian test").
 -- Writes OUTDIR/ldb_brazilian_<disk>_<jaws>_<scale>_<seed>.png (balls coloured by the distance
 -- to the nearest broken bond, dark = at a break) and ldb_brazilian_<disk>_<jaws>_<scale>.csv.
 local M = require("material")
-local outdir = arg[1] or "out"
-local n = tonumber(arg[2] or "5")
-local scale = tonumber(arg[3] or "1")
-local jaws = arg[4] or "curved"
-local first = tonumber(arg[5] or "1") - 1
-local jaw_angle = tonumber(arg[6]) -- degrees about the jaw's centre (M.make_jaws; default 20)
-local disk = arg[7] or "vessel"
+local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps", "material" })
+local outdir = args[1] or "out"
+local n = tonumber(args[2] or "5")
+local scale = tonumber(args[3] or "1")
+local jaws = args[4] or "curved"
+local first = tonumber(args[5] or "1") - 1
+local jaw_angle = tonumber(args[6]) -- degrees about the jaw's centre (M.make_jaws; default 20)
+local disk = args[7] or "vessel"
+local kind = opt.material or "pbond-pc"
 if disk ~= "vessel" and disk ~= "cut" then
     error("ldb_brazilian.lua: disk = '" .. disk .. "' (known: vessel, cut)")
 end
 talus.mkdir(outdir)
 -- as ldb_pbond.lua, Brazilian platens/jaws with friction 0.5 (the one change between the two
 -- runs compared in docs/results/material.md is the jaw shape)
-local mat, genesis, vessel_disk = M.lac_du_bonnet()
+local mat, genesis, vessel_disk
+if kind == "pbond-pc" then
+    mat, genesis, vessel_disk = M.lac_du_bonnet("pbond")
+elseif M.ldb_calibrated[kind] then
+    mat, genesis, vessel_disk = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
+else
+    error("ldb_brazilian.lua: material '" .. kind .. "' (known: pbond-pc, fjoint, pbond, clumped)")
+end
 mat.platen.fric = 0.5
 -- The disk's porosity: 1 - (the balls' area) / (pi D^2 / 4), D the ball extent as sigma_t uses
 -- it (the same measure for a cut and a vessel disk; a cut disk's rough rim counts as pore).
@@ -59,7 +72,7 @@ local res = talus.map(n, function(k)
     local sp = M.specimen(pd, md, { balls = sp_idx, jaws = jaws,
                                         jaw_angle = jaws == "curved" and jaw_angle or nil })
     local t1 = os.clock()
-    local b = M.brazilian(sp, { post_peak = 0.5 })
+    local b = M.brazilian(sp, { strain_per_crossing = opt.rate, max_steps = opt["max-steps"] })
     local fr = b.fracture
     local at = b.breaks_at
     sp.model:picture{ file = string.format("%s/ldb_brazilian_%s_%s_%g_%d.png", outdir, disk, jaws, scale, i),
@@ -70,11 +83,12 @@ local res = talus.map(n, function(k)
             end
             return math.sqrt(dmin) * 1e3
         end, range = { 0, 1.5 }, label = "distance to a broken bond [mm]", size = { 700, 744 }, cracks = true,
-        title = string.format("%s disk, %s, seed %d: sigma_t %.1f MPa", disk, jaws, i, b.tensile / 1e6) }
+        title = b.valid and string.format("%s disk, %s, seed %d: sigma_t %.1f MPa", disk, jaws, i, b.tensile / 1e6)
+            or string.format("%s disk, %s, seed %d: no split (peak %.1f MPa)", disk, jaws, i, b.peak / 1e6) }
     local pts = {}
     for _, k in ipairs(sp_idx) do pts[#pts + 1] = pd.balls[k] end
     return { seed = i, balls = b.balls, porosity = disk_porosity(pts, b.diameter), bonds = sp.bonds,
-             D = b.diameter, tensile = b.tensile,
+             D = b.diameter, tensile = b.tensile, peak = b.peak,
              force = b.force, breaks = fr.n, band = fr.band, cover = fr.cover, angle = fr.angle or -1,
              pre_peak = fr.pre_peak, jaw_first = fr.jaw_first, split = fr.split and 1 or 0,
              crush = fr.crush and 1 or 0, steps = b.steps, stop = b.stop, valid = b.valid, reason = b.reason,
@@ -91,8 +105,9 @@ print("seed balls porosity bonds D[mm]  sigma_t[MPa] breaks band  cover angle  j
 local nsplit = 0
 for _, r in ipairs(res) do
     nsplit = nsplit + r.split
-    print(string.format("%4d %5d %.4f %5d %6.2f %8.2f      %5d  %.2f  %.2f  %5.1f  %3d/%-3d       %d     %d   %6d  %-9s  %.0f/%.0f           %6.1f %6.1f",
-        r.seed, r.balls, r.porosity, r.bonds, r.D * 1e3, r.tensile / 1e6, r.breaks, r.band, r.cover, r.angle,
+    print(string.format("%4d %5d %.4f %5d %6.2f %10s    %5d  %.2f  %.2f  %5.1f  %3d/%-3d       %d     %d   %6d  %-9s  %.0f/%.0f           %6.1f %6.1f",
+        r.seed, r.balls, r.porosity, r.bonds, r.D * 1e3, r.tensile and string.format("%.2f", r.tensile / 1e6)
+        or string.format("(%.2f)*", r.peak / 1e6), r.breaks, r.band, r.cover, r.angle,
         r.jaw_first, r.pre_peak, r.split, r.crush, r.steps, r.stop, r.cpu_genesis, r.cpu_test,
         r.contact_top, r.contact_bottom))
 end
@@ -105,5 +120,5 @@ for _, r in ipairs(res) do
     if not r.valid then print(string.format("seed %d not valid: %s", r.seed, r.reason)) end
 end
 M.write_csv(string.format("%s/ldb_brazilian_%s_%s_%g.csv", outdir, disk, jaws, scale), res,
-    { "seed", "balls", "porosity", "bonds", "D", "tensile", "force", "breaks", "band", "cover", "angle", "pre_peak",
+    { "seed", "balls", "porosity", "bonds", "D", "tensile", "peak", "valid", "reason", "force", "breaks", "band", "cover", "angle", "pre_peak",
       "jaw_first", "split", "crush", "steps", "cpu_genesis", "cpu_test", "contact_top", "contact_bottom" })

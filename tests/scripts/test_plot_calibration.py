@@ -48,8 +48,11 @@ local rows = {{}}
 for i = 1, 6 do
     rows[i] = {{ index = i, batch = i <= 4 and 1 or i - 3, phase = i <= 4 and "design" or "step",
                  params = {{ fj_ten = 1e7 * i, fj_coh = 5e7 }},
-                 out = {{ E = 6e10 + 1e9 * i, E_sd = 1e9, ucs = 1.5e8 + 1e7 * i, ucs_sd = 5e6, tensile = 9e6 + 1e5 * i }},
-                 misfit = 1 / i, met = i == 6 }}
+                 out = {{ E = 6e10 + 1e9 * i, E_sd = 1e9, ucs = 1.5e8 + 1e7 * i, ucs_sd = 5e6,
+                          -- points 2 and 4: no disk split, no tensile strength, no misfit
+                          tensile = (i ~= 2 and i ~= 4) and 9e6 + 1e5 * i or nil,
+                          tensile_valid = (i ~= 2 and i ~= 4) and 2 or 0, disks = 2 }},
+                 misfit = (i ~= 2 and i ~= 4) and 1 / i or math.huge, met = i == 6 }}
 end
 local result = {{ rows = rows, best = rows[6] }}
 M.write_calibration({csv_path!r}, result, {{ {{ name = "fj_ten" }}, {{ name = "fj_coh" }} }},
@@ -66,6 +69,10 @@ check(targets == [("E", 6.9e10, 0.05), ("ucs", 2e8, 0.1), ("tensile", 9.3e6, 0.0
 check(float(rows[2]["E"]) == 6.3e10 and float(rows[2]["fj_ten"]) == 3e7, "row 3 values")
 check(rows[5]["best"] == "1" and rows[0]["best"] == "0", "best flag")
 check(rows[0]["phase"] == "design" and rows[5]["phase"] == "step", "phases")
+check(rows[1]["tensile"] == "" and rows[1]["tensile_valid"] == "0" and rows[1]["misfit"] == "",
+      f"a point without a split disk: no tensile value, tensile_valid 0, no misfit ({rows[1]})")
+check(plot_calibration.unmeasured(rows, "tensile") == [1, 3], "the points without sigma_t are found")
+check(plot_calibration.unmeasured(rows, "ucs") == [], "every point has a UCS")
 
 png = os.path.join(out, "calib_plot.png")
 r1 = subprocess.run([sys.executable, TOOL, csv_path, "-o", png, "--title", "test"], capture_output=True, text=True)

@@ -91,6 +91,35 @@ s = plot_history.load_series([csv_path, csv2], ["kinetic"])
 check([x.label for x in s] == ["plot_input.csv: kinetic", "plot_input2.csv: kinetic"],
       f"overlay legends: {[x.label for x in s]}")
 
+# ------------------------------------------------------------------ stresses in MPa
+# A material test's history (docs/material.md): stresses in Pa in the file, drawn in MPa with
+# --stress-unit MPa: values divided by 1e6 exactly where the unit is Pa, strains untouched.
+mat_path = os.path.join(out, "plot_material.csv")
+with open(mat_path, "w") as f:
+    f.write("step,time,strain_axial,stress_axial [Pa],strain_lateral,stress_lateral [Pa]\n")
+    f.write("0,0,0,0,0,0\n")
+    f.write("50,1e-6,1e-3,6.5e7,-2.5e-4,1e7\n")
+    f.write("100,2e-6,2e-3,1.3e8,-5e-4,nan\n")
+mpa = plot_history.load_series([mat_path], ["stress_axial [Pa]", "stress_lateral"], "strain_axial")
+plot_history.convert_stresses(mpa, "MPa")
+check([s.unit for s in mpa] == ["MPa", "MPa"], f"stress units after --stress-unit MPa: {[s.unit for s in mpa]}")
+check(same(mpa[0].y, [0.0, 65.0, 130.0]), f"axial stress in MPa: {mpa[0].y}")
+check(same(mpa[1].y, [0.0, 10.0, nan]), f"lateral stress in MPa, the gap kept: {mpa[1].y}")
+check(same(mpa[0].x, [0.0, 1e-3, 2e-3]), f"the strain axis is not scaled: {mpa[0].x}")
+check(plot_history.y_label(mpa) == "stress_axial, stress_lateral [MPa]",
+      f"y label in MPa: {plot_history.y_label(mpa)!r}")
+check("[MPa]" in mpa[0].label, f"legend in MPa: {mpa[0].label!r}")
+r = run(mat_path, "-o", os.path.join(out, "plot_material.png"), "--x", "strain_axial",
+        "--columns", "stress_axial [Pa]", "--stress-unit", "MPa")
+check(r.returncode == 0, f"--stress-unit MPa runs: {r.stderr}")
+r = run(mat_path, "-o", os.path.join(out, "plot_material.png"), "--columns", "stress_axial [Pa]",
+        "--stress-unit", "MPA")
+check(r.returncode == 2 and "MPA" in r.stderr, f"an unknown stress unit is an error: {r.stderr}")
+# the UCS example draws its stress-strain curve in MPa
+ucs_example = open(os.path.join(HERE, "..", "..", "scripts", "examples", "ucs.lua")).read()
+check("--stress-unit MPa" in ucs_example and "[MPa]" in ucs_example,
+      "scripts/examples/ucs.lua plots the axial stress in MPa")
+
 # ------------------------------------------------------------------ output files
 png, pdf = os.path.join(out, "plot_output.png"), os.path.join(out, "plot_output.pdf")
 for path in (png, pdf):

@@ -4,7 +4,7 @@
 // the PFC order (timestep -> law of motion -> contact detection -> force-displacement ->
 // bookkeeping; docs/architecture.md). It holds the world (core/src/world.hpp) and nothing else;
 // the methods are grouped by the thing they act on, as Box2D groups b2Body_*, b2Shape_*:
-//   model and running   balls   clumps   walls   contact models   contacts   bonds
+//   model and running   balls   clumps   walls   servos   contact models   contacts   bonds
 //   energy   measurement   trackers   callbacks   performance   save and restore
 // The plain data they take and return is in talus/model_types.hpp.
 #pragma once
@@ -18,6 +18,7 @@
 #include "talus/model_types.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/profile.hpp"
+#include "talus/servo.hpp"
 
 namespace talus {
 
@@ -177,6 +178,16 @@ public:
     void setWallServo(WallId id, const WallServoSettings& s);
     /// The servo of a wall; false when it has none.
     bool wallServo(WallId id, WallServoState& out) const;
+
+    // ------------------------------------------------------------------ servos
+    /// A servo over a set of walls (talus/servo.hpp): checked and resolved here, run every step.
+    ServoId addServo(const ServoSettings& s);
+    /// Replaces a servo's settings; its ramp starts again from the walls' speed now.
+    void setServo(ServoId id, const ServoSettings& s);
+    ServoState servo(ServoId id) const;
+    /// Removes a servo; its walls stop moving along their directions.
+    void removeServo(ServoId id);
+    std::size_t servoCount() const;
 
     // ------------------------------------------------------------------ contact models
     /// Sets the model new contacts get by default, with properties by name.

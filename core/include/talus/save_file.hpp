@@ -155,6 +155,10 @@ public:
     }
     /// The next section, which must have tag `tag`; returns a reader over its bytes.
     SaveReader section(const char* tag);
+    /// Whether the next section is `tag`: a section added later, absent from older files.
+    bool nextSection(const char* tag) const {
+        return left() >= 4 && std::memcmp(m_p + m_pos, tag, 4) == 0;
+    }
     /// Tag of the next section without consuming it ("" at the end).
     std::string peekTag() const;
 

@@ -12,6 +12,9 @@
 
 namespace talus {
 
+class SaveWriter;
+class SaveReader;
+
 /// The bit of a group name (Model::groupIndex); creates it when asked (api/model.cpp).
 int groupIndex(World& world, const std::string& name, bool create);
 
@@ -20,6 +23,18 @@ BallId createBallIn(World& world, const BallDef& def, uint32_t clump);  // kNoCl
 void removeBall(World& world, BallId id, bool book_energy);
 void updateMass(World& world, uint32_t slot);
 void refreshPairMasses(World& world, uint32_t slot);
+
+// --- servos (api/servo.cpp)
+/// The direction in which a servo moves wall `w` to press the material: `dir` normalised, or
+/// when it is NaN the normal of the chord from the wall's first to its last vertex, on the side
+/// of the balls' centroid (a closed wall needs `dir`). `who` starts the error messages.
+Vec2 servoDirection(const World& world, const WallData& w, Vec2 dir, const std::string& who);
+/// The length of a wall's chain (its segments summed) [m].
+double chainLength(const World& world, const WallData& w);
+/// The servos' section of a save file, "SRVG", written only when the model has servos (files
+/// without it restore as before; api/save_servos.cpp).
+void saveServos(const World& world, SaveWriter& w);
+void restoreServos(World& world, SaveReader& in);
 
 // --- contacts (api/contacts.cpp)
 /// A model's activity distance, refused unless finite and >= 0 (the force loop tests a pair

@@ -16,6 +16,7 @@
 #include <limits>
 #include <unordered_set>
 
+#include "api/operations.hpp"
 #include "force/kernels.hpp"
 #include "step/detection.hpp"
 #include "talus/errors.hpp"
@@ -365,6 +366,7 @@ void Model::saveState(SaveWriter& w) const {
         w.u64(ev.contact.value), w.i32(ev.mode), w.str(ev.model);
     }
     w.endSection();
+    saveServos(world, w);  // api/save_servos.cpp: only when the model has servos
 }
 
 // ------------------------------------------------------------------------ restore
@@ -823,6 +825,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         }
         r.expectEnd();
     }
+    if (in.nextSection("SRVG")) restoreServos(world, in);
     return mp;
 }
 

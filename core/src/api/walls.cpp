@@ -196,40 +196,10 @@ void Model::setWallServo(WallId id, const WallServoSettings& in) {
     if (!std::isnan(s.gain) && !(s.gain > 0.0 && std::isfinite(s.gain)))
         throw InputError(who + "gain must be > 0 (got " + messageNumber(s.gain) + ")");
     // Length of the stress form: the wall chain's length unless given.
-    if (std::isnan(s.length)) {
-        double len = 0.0;
-        for (uint32_t k = 0; k < w.segment_count; ++k) {
-            const Segment& sg = world.bodies.segments[w.first_segment + k];
-            len += (world.bodies.vertices[sg.b] - world.bodies.vertices[sg.a]).norm();
-        }
-        s.length = len;
-    }
+    if (std::isnan(s.length)) s.length = chainLength(world, w);
     if (!(s.length > 0.0) || !std::isfinite(s.length))
         throw InputError(who + "length must be > 0 [m] (got " + messageNumber(s.length) + ")");
-    // Direction: the normal of the chord from the first to the last vertex, pointing to the
-    // balls' centroid (the side of the material). A closed wall has no such side: give dir.
-    if (std::isnan(s.dir.x()) || std::isnan(s.dir.y())) {
-        if (w.closed)
-            throw InputError(who + "a closed wall has no default direction: give dir = {x, y}");
-        const Vec2 a = world.bodies.vertices[w.first_vertex];
-        const Vec2 b = world.bodies.vertices[w.first_vertex + w.vertex_count - 1];
-        Vec2 n = perp((b - a).normalized());
-        const auto& balls = world.bodies.balls;
-        if (balls.size() == 0)
-            throw InputError(who + "no balls to tell the material's side: give dir = {x, y}");
-        Vec2 c{0.0, 0.0};
-        for (std::size_t i = 0; i < balls.size(); ++i) c += balls.pos[i];
-        c /= static_cast<double>(balls.size());
-        const double side = (c - a).dot(n);
-        if (side == 0.0)
-            throw InputError(who +
-                             "the balls' centroid lies on the wall's line: give dir = {x, y}");
-        s.dir = side > 0.0 ? n : Vec2(-n);
-    }
-    const double dn = s.dir.norm();
-    if (!(dn > 0.0) || !std::isfinite(dn))
-        throw InputError(who + "dir must be a finite non-zero vector (got " + vecText(s.dir) + ")");
-    s.dir /= dn;
+    s.dir = servoDirection(world, w, s.dir, who);
     const bool was_on = w.has_servo && w.servo.settings.on;
     if (was_on && !s.on) {
         // Switched off: the wall stops moving along the servo direction (the rest of its

@@ -79,6 +79,7 @@ void runSteps(World& world, int64_t steps) {
         const StepContext step = beginStep(world);
         // Servo walls set their velocity from the last force loop and this step's dt.
         if (world.bodies.servos_on) servoWalls(world, step);
+        if (world.servos.on) runServos(world, step);
         lawOfMotion(world, step);
         moveWalls(world, step);
         if (prof)

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // One step of the PFC cycle, as a table of contents (step.cpp):
-//   computeTimestep -> [servoWalls] -> lawOfMotion -> moveWalls -> detectContacts ->
+//   computeTimestep -> [servoWalls, runServos] -> lawOfMotion -> moveWalls -> detectContacts ->
 //   forceDisplacement -> bookkeeping
 // each a free function over the world (world/world.hpp), in its own file. Not installed.
 #pragma once
@@ -40,6 +40,7 @@ inline bool reached(const World& world, double end) {
 // --- the phases, one file each
 void computeTimestep(World& world);                             // timestep.cpp
 void servoWalls(World& world, const StepContext& step);         // wall_servo.cpp
+void runServos(World& world, const StepContext& step);          // servo.cpp
 void lawOfMotion(World& world, const StepContext& step);        // law_of_motion.cpp
 void moveWalls(World& world, const StepContext& step);          // law_of_motion.cpp
 void detectContacts(World& world, const StepContext& step);     // detection.cpp
@@ -47,6 +48,9 @@ void forceDisplacement(World& world, const StepContext& step);  // force/loop.cp
 void bookkeeping(World& world, const StepContext& step);        // bookkeeping.cpp
 
 // --- parts of the phases that other files call
+/// The gap between two walls: the distance of `to`'s first vertex from the line of `from`'s
+/// first segment (servo.cpp; two parallel platens, a box's opposite walls).
+double wallGap(const World& world, WallId from, WallId to);
 /// The limits the force loop gathers, from the stored state (first step, scene changed;
 /// timestep.cpp).
 void surveyPairs(World& world);

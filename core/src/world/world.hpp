@@ -16,6 +16,7 @@
 //    |- guard_state the guard's aggregated findings (docs/physics/guard.md)
 //    |- callbacks   cycle hooks, events, warning and step observers
 //    |- trackers    per-body records taken every step                    (trackers.hpp)
+//    |- servos      walls moved to hold a target, set every step          (servo_store.hpp)
 //    `- profile     time per phase
 #pragma once
 
@@ -31,6 +32,7 @@
 #include "talus/profile.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
+#include "world/servo_store.hpp"
 #include "world/trackers.hpp"
 #include "world/types.hpp"
 
@@ -216,6 +218,7 @@ struct World {
     GuardState guard_state;
     Callbacks callbacks;
     Trackers trackers;
+    ServoStore servos;
     Profile profile;
 };
 

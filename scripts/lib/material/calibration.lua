@@ -107,8 +107,8 @@ local function run_test(cs, p, k, kind)
         local md = Br.with_jaw_friction(mat, tests.platen_fric or 0.5)
         local so = U.merged({ balls = Br.disk(cs.disks[k]) }, tests.disk)
         local b = Br.brazilian(S.specimen(cs.disks[k], md, so), U.merged(tests.brazilian))
-        return { seed = seed, kind = kind, tensile = b.tensile, valid = b.valid, steps = b.steps, stop = b.stop,
-                 cpu = U.clock() - c0 }
+        return { seed = seed, kind = kind, tensile = b.tensile, peak = b.peak, valid = b.valid, reason = b.reason,
+                 steps = b.steps, stop = b.stop, cpu = U.clock() - c0 }
     end
     local o = U.merged({ post_peak = 0.8 }, tests.ucs)
     if kind == "biaxial" then o.confinement = cs.confinement end
@@ -122,9 +122,10 @@ local function mean_sd(list)
     return m, s
 end
 
---- The outputs of a point from its tests.
+--- The outputs of a point from its tests (`cs.confinement` for phi): means and sds over the
+--- seeds; tensile and ratio only over the disks that split.
 local function outputs(cs, res)
-    local ucs, E, nu, ten_valid, ten_all, biax, cpu = {}, {}, {}, {}, {}, {}, 0
+    local ucs, E, nu, ten_valid, disks, biax, cpu = {}, {}, {}, {}, 0, {}, 0
     local E_el, nu_el = {}, {}
     for _, r in ipairs(res) do
         cpu = cpu + r.cpu
@@ -134,8 +135,9 @@ local function outputs(cs, res)
         elseif r.kind == "biaxial" then
             biax[r.seed] = r.peak
         else
-            ten_all[#ten_all + 1] = r.tensile
-            if r.valid then ten_valid[#ten_valid + 1] = r.tensile end
+            disks = disks + 1
+            -- a disk that did not split gives no tensile strength (M.brazilian: tensile nil)
+            if r.valid and r.tensile then ten_valid[#ten_valid + 1] = r.tensile end
         end
     end
     local o = { tests = res, cpu = cpu }
@@ -146,10 +148,11 @@ local function outputs(cs, res)
     o.nu, o.nu_sd = mean_sd(nu)
     o.E_elastic, o.E_elastic_sd = mean_sd(E_el)
     o.nu_elastic, o.nu_elastic_sd = mean_sd(nu_el)
-    if #ten_all > 0 then
-        -- the tests that split; all of them when none did (said by tensile_valid = 0)
-        o.tensile, o.tensile_sd = mean_sd(#ten_valid > 0 and ten_valid or ten_all)
-        o.tensile_valid = #ten_valid
+    if disks > 0 then
+        -- the disks that split, and only those: with none, the point has no tensile strength
+        -- and no ratio (its misfit is then infinite: calibrate.fit_targets never picks it)
+        o.tensile_valid, o.disks = #ten_valid, disks
+        if #ten_valid > 0 then o.tensile, o.tensile_sd = mean_sd(ten_valid) end
         if o.ucs and o.tensile then o.ratio = o.ucs / o.tensile end
     end
     local phis = {}
@@ -211,8 +214,13 @@ local function fmt_row(cs, row)
             outs[#outs + 1] = string.format("%s %.4g", n, o[n] * scale)
         end
     end
-    return string.format("point %d (%s): %s -> %s; misfit %.4g%s", row.index, row.phase, table.concat(parts, ", "),
-        table.concat(outs, ", "), row.misfit, row.met and " (targets met)" or "")
+    local flag = ""
+    if o.disks and (cs.need.tensile or cs.need.ratio) and o.tensile_valid < o.disks then
+        flag = string.format("; sigma_t from %d of %d disks%s", o.tensile_valid, o.disks,
+            o.tensile_valid == 0 and " (NOT MEASURED: no disk split)" or "")
+    end
+    return string.format("point %d (%s): %s -> %s; misfit %.4g%s%s", row.index, row.phase, table.concat(parts, ", "),
+        table.concat(outs, ", "), row.misfit, row.met and " (targets met)" or "", flag)
 end
 
 --- Runs a calibration. spec:
@@ -255,8 +263,43 @@ function M.calibrate(spec)
     }
     result.cpu, result.packings = cs.total_cpu, cs.cpu_pk
     result.tests_per_point = #cs.seeds * #cs.kinds
+    result.unmeasured = M.unmeasured(result, cs.targets)
+    for _, u in ipairs(result.unmeasured) do cs.say("calibrate: " .. u) end
     if spec.csv and talus.rank() == 0 then M.write_csv(spec.csv, result, cs.params, cs.targets) end
     return result
+end
+
+--- A point's outputs from its tests (M.calibrate's), for checks: tests = {{kind = "ucs" |
+--- "brazilian" | "biaxial", seed, peak, E, nu, ..., tensile, valid, cpu}, ...}.
+function M.point_outputs(tests, confinement)
+    return outputs({ confinement = confinement or 10e6 }, tests)
+end
+
+--- What a calibration could not measure: for each target, the points whose tests gave no
+--- value for it (a tensile strength or a ratio where no disk split), as sentences; and one more
+--- when no point had every target measured (then the best point is no fit at all).
+function M.unmeasured(result, targets)
+    local out, all = {}, 0
+    for _, t in ipairs(targets) do
+        local missing = {}
+        for _, r in ipairs(result.rows) do
+            local y = r.out and r.out[t.name]
+            if type(y) ~= "number" then missing[#missing + 1] = r.index end
+        end
+        if #missing > 0 then
+            out[#out + 1] = string.format("target '%s' not measured at %d of %d points (%s)%s", t.name, #missing,
+                #result.rows, table.concat(missing, ", "),
+                (t.name == "tensile" or t.name == "ratio") and ": no Brazilian disk split there" or "")
+        end
+    end
+    for _, r in ipairs(result.rows) do
+        if r.misfit < math.huge then all = all + 1 end
+    end
+    if #result.rows > 0 and all == 0 then
+        out[#out + 1] = "no point had every target measured: the calibration has no best point"
+        result.best = nil
+    end
+    return out
 end
 
 --- The rows of a calibration as CSV: index, batch, phase, the parameters, every output with its
@@ -266,7 +309,7 @@ function M.write_csv(file, result, params, targets)
     local cols = { "index", "batch", "phase" }
     for _, d in ipairs(params) do cols[#cols + 1] = d.name end
     for _, n in ipairs(M.outputs) do cols[#cols + 1] = n; cols[#cols + 1] = n .. "_sd" end
-    for _, n in ipairs({ "tensile_valid", "misfit", "met", "best", "cpu" }) do cols[#cols + 1] = n end
+    for _, n in ipairs({ "tensile_valid", "disks", "misfit", "met", "best", "cpu" }) do cols[#cols + 1] = n end
     local rows = {}
     for i, r in ipairs(result.rows) do
         local row = { index = r.index, batch = r.batch, phase = r.phase, misfit = r.misfit < math.huge and r.misfit or nil,

@@ -54,18 +54,19 @@ function C.compress(sp, opts)
     local lateral, sv
     if opts.confinement then
         if not sp.left then raise("material.compress: confinement needs a specimen with sides = true") end
-        local function hlen() return -Wl.pos(sp.top) - Wl.pos(sp.bottom) end
-        sp.left.len, sp.right.len = hlen, hlen
+        -- the side walls' stress over the platen gap, which the engine measures every step
+        sp.left.span, sp.right.span = { sp.bottom.wall, sp.top.wall }, { sp.bottom.wall, sp.top.wall }
         sp.left.target, sp.right.target = opts.confinement, opts.confinement
         local rmean = 0.5 * ((sp.packing.rmin or 1e-3) + (sp.packing.rmax or 1e-3))
         -- PFC's alpha 0.5 (the confinement is MPa, far from losing contact as at genesis)
-        sv = Wl.servo({ sp.left, sp.right }, { alpha = opts.alpha or 0.5, vmax = 1e-3 * rmean / m:dt() })
-        -- bring the sides to the confinement first (platens held)
+        sv = Wl.servo(m, { sp.left, sp.right }, { alpha = opts.alpha or 0.5, vmax = 1e-3 * rmean / m:dt() })
+        -- bring the sides to the confinement first (platens held), judged every 100 steps
+        local function hlen() return -Wl.pos(sp.top) - Wl.pos(sp.bottom) end
         for _ = 1, 200 do
-            m:cycle(100); sv.update()
+            m:cycle(100)
             local ok = true
             for _, rec in ipairs({ sp.left, sp.right }) do
-                if math.abs(Wl.push(rec) / rec.len() - opts.confinement) > 0.01 * opts.confinement then ok = false end
+                if math.abs(Wl.push(rec) / hlen() - opts.confinement) > 0.01 * opts.confinement then ok = false end
             end
             if ok then break end
         end
@@ -93,7 +94,6 @@ function C.compress(sp, opts)
         -- extension
         r.strain_volumetric = r.ea - r.el
         if sp.left then r.sl = 0.5 * (Wl.push(sp.left) + Wl.push(sp.right)) / h end
-        if sv then sv.update() end
         return r
     end)
     if sv then sv.stop() end

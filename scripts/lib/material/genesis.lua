@@ -272,7 +272,6 @@ local function servo_to_stress(st, phase, need_ratio)
     local why
     repeat
         stepper.cycle(200)
-        sv.update()
         why = servo_done(st, state, m:step() - s0, need_ratio)
     until why
     sv.stop()

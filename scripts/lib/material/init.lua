@@ -71,9 +71,10 @@ return {
     specimen = S.specimen, install_bonds = S.install_bonds,
     compress = C.compress,
     disk = Br.disk, brazilian = Br.brazilian, fracture = Br.fracture, brazilian_validity = Br.validity,
-    brazilian_peak_stiffness = Br.peak_stiffness,
+    brazilian_peak_stiffness = Br.peak_stiffness, brazilian_split = Br.split,
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
+    strain_per_crossing = L.strain_per_crossing, quasi_static = L.quasi_static,
     analyse = St.analyse, mean_sd = St.mean_sd, finished = St.finished, write_csv = U.write_csv,
     lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults, ldb_calibrated = Ldb.calibrated,
     run_seeds = Sd.run, print_seeds = Sd.print, seeds_stat = Sd.stat,
@@ -81,7 +82,8 @@ return {
     envelope = Env.run, envelope_fit = Env.fit, mohr_coulomb = Env.mohr_coulomb, hoek_brown = Env.hoek_brown,
     thresholds = Env.thresholds,
     -- calibration against several targets
-    calibrate = Cal.calibrate, write_calibration = Cal.write_csv,
+    calibrate = Cal.calibrate, write_calibration = Cal.write_csv, calibration_outputs = Cal.point_outputs,
+    calibration_unmeasured = Cal.unmeasured,
     -- tools the parts share
     new_model = E.new_model, solve_ratio = E.solve_ratio, unbalanced_ratio = E.unbalanced_ratio,
     drawer = U.drawer, servo = Wl.servo,

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- material/loading.lua: the platen loading loop shared by the UCS, biaxial and Brazilian tests,
--- and the columns of its history.
+-- the columns of its history, and how far from quasi-static a test ran.
 local U = require("material.util")
 local Wl = require("material.walls")
 local Cr = require("material.cracks")
@@ -12,30 +12,90 @@ local L = {}
 L.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_lateral",
     "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
     "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
-    "energy_boundary [J]", "energy_kinetic [J]", "cracks", "strain_volumetric" }
+    "energy_boundary [J]", "energy_kinetic [J]", "cracks", "strain_volumetric",
+    "platen_difference" }
 
--- Shared platen loading loop of the UCS, biaxial and Brazilian tests. Platens move toward
--- each other at +-v/2 each... (velocity of each platen = v), ramped linearly over ramp_steps
--- (P&C: ramp to the final velocity so the specimen is not hit), rows every `every` steps.
--- `measure(h0, h)` gives a row's ea, sa, el (sl, strain_volumetric) for the platen gap h. The
--- result has the rows, the peak, the break counts and the crack list (cracks.lua).
+--- The default loading rate: the axial strain applied per P-wave crossing of the specimen (c =
+--- sqrt(kn / rho), kn the material's contact modulus). docs/material.md, "Loading rate".
+L.strain_per_crossing = 5e-6
+
+--- The loading rate [1/s] of a test: opts.rate, or opts.strain_per_crossing (L's default) per
+--- P-wave crossing of the gauge length h0. Also returns the crossing time [s].
+function L.rate(sp, opts, h0)
+    local c = math.sqrt(sp.mat.kn / (sp.mat.density or 2600))
+    local crossing = h0 / c
+    if opts.velocity then return 2 * opts.velocity / h0, crossing end
+    return opts.rate or (opts.strain_per_crossing or L.strain_per_crossing) / crossing, crossing
+end
+
+--- How far from quasi-static a test ran, from its rows up to the peak (those above half of it)
+--- and at the peak: the platen stress difference |F_top - F_bottom| / their mean (the net force
+--- that accelerates the specimen as a body), the kinetic over the stored (strain + bond) energy
+--- (with energy tracing), and the bond breaks per P-wave crossing over the tenth of the test
+--- before the peak. Returns { difference_peak, difference_max, difference_mean,
+--- kinetic_peak, kinetic_max, cracks_per_crossing }.
+function L.quasi_static(rows, ipeak, crossing)
+    local q = { difference_max = 0, difference_mean = 0 }
+    local peak = rows[ipeak]
+    if not peak then return q end
+    local n, ksum = 0, 0
+    for i = 1, ipeak do
+        local r = rows[i]
+        if r.sa >= 0.5 * peak.sa then
+            local d = math.abs(r.platen_difference or 0)
+            q.difference_max = math.max(q.difference_max, d)
+            q.difference_mean = q.difference_mean + d
+            n = n + 1
+            local es = (r["energy_strain [J]"] or 0) + (r["energy_bond [J]"] or 0)
+            if r["energy_kinetic [J]"] and es > 0 then
+                local k = r["energy_kinetic [J]"] / es
+                q.kinetic_max = math.max(q.kinetic_max or 0, k)
+                ksum = ksum + k
+            end
+        end
+    end
+    q.difference_mean = n > 0 and q.difference_mean / n or 0
+    q.difference_peak = math.abs(peak.platen_difference or 0)
+    local es = (peak["energy_strain [J]"] or 0) + (peak["energy_bond [J]"] or 0)
+    if peak["energy_kinetic [J]"] and es > 0 then
+        q.kinetic_peak = peak["energy_kinetic [J]"] / es
+        q.kinetic_mean = ksum / n
+    end
+    local i0 = math.max(1, ipeak - math.max(1, math.floor(ipeak / 10)))
+    local dt = peak.time - rows[i0].time
+    if dt > 0 then
+        local breaks = (peak.breaks_tension + peak.breaks_shear) - (rows[i0].breaks_tension + rows[i0].breaks_shear)
+        q.cracks_per_crossing = breaks / (dt / crossing)
+    end
+    return q
+end
+
+-- Shared platen loading loop of the UCS, biaxial and Brazilian tests. The engine's servo moves
+-- the platens toward each other at the strain rate (each at rate h0 / 2), reached over a ramp
+-- of ramp_steps (P&C: ramp to the final velocity so the specimen is not hit); rows every `every`
+-- steps. `measure(h0, h)` gives a row's ea, sa, el (sl, strain_volumetric) for the platen gap
+-- h. `opts.stop(rows, ipeak, cracks)` may end the test (returns the reason). The result has the
+-- rows, the peak, the break counts, the crack list (cracks.lua) and how far from quasi-static
+-- the test ran (L.quasi_static).
 function L.load_platens(sp, opts, measure)
     local m = sp.model
     local t0 = U.clock()
     local every = opts.every or 50
     local post = opts.post_peak or 0.8
     local ramp = opts.ramp_steps or 2000
-    -- a cap against a specimen that never fails, not a stop rule: 30 000 (the old default) ended
-    -- the LdB and 5 000-ball tests before their peak (the result's `stop` says which rule ended it)
-    local max_steps = opts.max_steps or 200000
-    local v = opts.velocity
-    local h0 = -Wl.pos(sp.top) - Wl.pos(sp.bottom)
-    if not v then
-        -- default rate: the axial strain per P-wave crossing of the specimen is 2e-5
-        -- (c = sqrt(E/rho), E estimated by the 2D contact stiffness kn per unit thickness)
-        local c = math.sqrt(sp.mat.kn / (sp.mat.density or 2600))
-        local rate = opts.rate or 2e-5 * c / h0
-        v = 0.5 * rate * h0
+    local h0 = opts.gauge or (-Wl.pos(sp.top) - Wl.pos(sp.bottom))
+    local rate, crossing = L.rate(sp, opts, h0)
+    -- With opts.hold_step the step is held at the automatic step (E.hold_step), re-held every
+    -- `hold_every` (1 000) steps: a bonded specimen loaded quasi-statically keeps its contacts,
+    -- and the automatic rule's work per cycle is a fifth of a test step.
+    local stepper = E.held_stepper(m, opts.hold_step and (opts.hold_every or 1000) or nil)
+    -- a cap against a specimen that never fails, not a stop rule: the steps that strain the
+    -- specimen by cap_strain (2%) at the rate, after the ramp (the result's `stop` says which
+    -- rule ended the test)
+    local max_steps = opts.max_steps
+    if not max_steps then
+        -- the specimen's last step (its relaxation's), the test's to a few per cent
+        max_steps = ramp + math.ceil((opts.cap_strain or 0.02) / (rate * m:dt()))
     end
     local breaks = { tension = 0, shear = 0 }
     local cracks = {}
@@ -59,6 +119,9 @@ function L.load_platens(sp, opts, measure)
         r.time = m:time()
         r.breaks_tension, r.breaks_shear = breaks.tension, breaks.shear
         r.cracks = #cracks
+        local ft, fb = Wl.push(sp.top), Wl.push(sp.bottom)
+        local mean = 0.5 * (ft + fb)
+        r.platen_difference = mean > 0 and (ft - fb) / mean or 0
         if energy_on then
             local e = m:energies()
             r["energy_bond [J]"], r["energy_strain [J]"] = e.bond, e.strain
@@ -71,19 +134,11 @@ function L.load_platens(sp, opts, measure)
         rows[#rows + 1] = r
         return r
     end
-    -- With opts.hold_step the step is held at the automatic step (E.hold_step), re-held every
-    -- `hold_every` (1 000) steps: a bonded specimen loaded quasi-statically keeps its contacts,
-    -- and the automatic rule's work per cycle (its pass over the bodies and the limits the force
-    -- loop gathers per pair) was a fifth of a UCS test step (1 250 balls: 142 against 184 us per
-    -- step, the same UCS to 0.05%, E and nu to the digits shown). Without it, the automatic step
-    -- every cycle.
-    local stepper = E.held_stepper(m, opts.hold_step and (opts.hold_every or 1000) or nil)
     row()
+    -- the platens' servo: set once, run by the engine every step
+    local servo = m:servo{ walls = { sp.top.wall, sp.bottom.wall }, dirs = { sp.top.n, sp.bottom.n },
+                           rate = rate, gauge = h0, ramp = ramp }
     while true do
-        local k = m:step() - s0
-        local f = math.min(1, (k + 0.5 * every) / ramp)
-        sp.top.wall.vel = { 0, -v * f }
-        sp.bottom.wall.vel = { 0, v * f }
         stepper.cycle(every)
         local r = row()
         if r.sa > peak then peak, ipeak = r.sa, #rows end
@@ -92,24 +147,24 @@ function L.load_platens(sp, opts, measure)
         -- Brazilian disk whose platens start at the ball extent, not pressed)
         local failing = (breaks.tension + breaks.shear > 0) or (sp.bonds or 0) == 0
         -- `confirm`: the drop counts only once the strain is (1 + confirm) x the peak's, so a
-        -- load that comes back is not cut (Brazilian: one break under a platen halves the force
-        -- for a while; the split comes later)
+        -- load that comes back is not cut
         local confirmed = r.ea >= (1 + (opts.confirm or 0)) * rows[ipeak].ea
         if failing and #rows > ipeak and r.sa < post * peak and peak > 0 and confirmed then
             stop_reason = "post_peak"; break
         end
+        local why = opts.stop and opts.stop(rows, ipeak, cracks)
+        if why then stop_reason = why; break end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
         if m:step() - s0 >= max_steps then break end
     end
-    sp.top.wall.vel, sp.bottom.wall.vel = { 0, 0 }, { 0, 0 }
+    servo:remove()
     stepper.release()
     m:remove_on_event(handler)
     return {
-        rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = v,
-        rate = 2 * v / h0, stop = stop_reason, breaks = breaks, cracks = cracks, time = U.clock() - t0,
+        rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = 0.5 * rate * h0,
+        rate = rate, crossing = crossing, max_steps = max_steps, stop = stop_reason, breaks = breaks,
+        cracks = cracks, time = U.clock() - t0, quasi_static = L.quasi_static(rows, ipeak, crossing),
     }
 end
-
--- The balls whose outer edge lies within `band` of the specimen's left or right side, for the
 
 return L

@@ -66,16 +66,17 @@ end
 
 --- Mean and sample standard deviation of field `key` over a list of result tables (the
 --- scatter over seeds that the examples report); sd = 0 for a single result. A result with
---- `valid == false` (a Brazilian test that did not split, M.brazilian) is left out; the third
+--- `valid == false` (a Brazilian test that did not split, M.brazilian) or without the value is left
+--- out; the third
 --- value is the number of results used (mean and sd NaN when none).
 function St.mean_sd(results, key)
     local n, s, s2 = 0, 0, 0
     for _, r in ipairs(results) do
-        if r.valid ~= false then n = n + 1; s = s + r[key] end
+        if r.valid ~= false and r[key] ~= nil then n = n + 1; s = s + r[key] end
     end
     local mean = s / n
     for _, r in ipairs(results) do
-        if r.valid ~= false then s2 = s2 + (r[key] - mean) ^ 2 end
+        if r.valid ~= false and r[key] ~= nil then s2 = s2 + (r[key] - mean) ^ 2 end
     end
     return mean, n > 1 and math.sqrt(s2 / (n - 1)) or (n == 1 and 0 or 0 / 0), n
 end

@@ -58,6 +58,10 @@ function V.box(W, H)
         local function ylen() return Wl.pos(walls[4]) * -1 - Wl.pos(walls[3]) end
         walls[1].len, walls[2].len = ylen, ylen
         walls[3].len, walls[4].len = xlen, xlen
+        -- each wall's stress is over the gap between the two walls across it (the engine's
+        -- servo measures it every step)
+        walls[1].span, walls[2].span = { walls[3].wall, walls[4].wall }, { walls[3].wall, walls[4].wall }
+        walls[3].span, walls[4].span = { walls[1].wall, walls[2].wall }, { walls[1].wall, walls[2].wall }
     end
     function v.start() end
     function v.finish() end
@@ -88,7 +92,7 @@ function V.box(W, H)
     -- the four walls servoed to sigma0 each (PFC's gain G = alpha L / (k dt), velocity cap)
     function v.servo(m, sigma0, _, rmean)
         for _, rec in ipairs(walls) do rec.target = sigma0 end
-        return Wl.servo(walls, { vmax = servo_vmax(m, rmean), alpha = kServoAlpha })
+        return Wl.servo(m, walls, { vmax = servo_vmax(m, rmean), alpha = kServoAlpha })
     end
 
     -- the walls as floater sites relative to P (floaters.lua): all four
@@ -208,23 +212,20 @@ function V.circle(D0, N)
     function v.at_stress(sigma0, tol) return not (math.abs(pressure() - sigma0) > tol * sigma0) end
     function v.stress_text() return string.format("pressure %.4g Pa", pressure()) end
 
-    -- The radial servo: every 4 steps all segments get the inward speed v = G (sigma0 - p), p
-    -- the vessel pressure, G = alpha L / (k_sum dt every) (PFC's gain in stress form: k_sum =
-    -- kn per ball diameter of vessel perimeter L), alpha and the speed cap as the box's. One
-    -- speed for all keeps the polygon regular; a servo per segment would make it wander from
-    -- the circle.
-    function v.servo(m, sigma0, kn, rmean)
-        local every = 4
-        local vmax = servo_vmax(m, rmean)
-        local h = m:on_cycle(function()
-            local s = kServoAlpha * 2 * rmean * (sigma0 - pressure()) / (kn * m:dt() * every)
-            if s > vmax then s = vmax elseif s < -vmax then s = -vmax end
-            for _, rec in ipairs(walls) do rec.wall.vel = { s * rec.n[1], s * rec.n[2] } end
-        end, every)
+    -- The radial servo: one engine servo over all segments, each moving along its inward normal
+    -- at one common speed (a servo per segment would make the polygon wander from the circle),
+    -- driven by the vessel's pressure: the segments' summed push over the polygon's perimeter
+    -- 2 N a tan(pi / N), taken at the apothem a of the servo's start (the servo moves the walls
+    -- by a strain of ~1e-5 of the packing: the perimeter changes by as much). PFC's gain on the
+    -- segments' contact stiffness, alpha and the speed cap as the box's.
+    function v.servo(m, sigma0, _, rmean)
+        local list, dirs = {}, {}
+        for i, rec in ipairs(walls) do list[i], dirs[i] = rec.wall, rec.n end
+        local sv = m:servo{ walls = list, dirs = dirs, stress = sigma0, length = 2 * N * apothem() * math.tan(half),
+                            alpha = kServoAlpha, vmax = servo_vmax(m, rmean) }
         return {
-            update = function() end,
             stop = function()
-                m:remove_on_cycle(h)
+                sv:remove()
                 for _, rec in ipairs(walls) do rec.wall.vel = { 0, 0 } end
             end,
         }

@@ -27,27 +27,25 @@ function W.push(rec)
     return -(f[1] * rec.n[1] + f[2] * rec.n[2])
 end
 
---- PFC's wall servo (w:servo, docs/lua-api.md) on every record of `recs` that has a `target`
---- stress, over its loaded length rec.len(); opts = {alpha (0.5), vmax}. Returns {update =
---- re-arm with the lengths now, stop = servo off and the walls at rest}.
-function W.servo(recs, opts)
-    local function arm()
-        for _, rec in ipairs(recs) do
-            if rec.target then
-                rec.wall:servo{ stress = rec.target, length = rec.len(), alpha = opts.alpha or 0.5,
-                                vmax = opts.vmax, on = true }
-            end
+--- The engine's servo (m:servo, docs/lua-api.md "Servos") on every record of `recs` that has a
+--- `target` stress, one servo per wall (PFC's gain on the wall's own contacts): the stress over
+--- the gap between the two walls of rec.span (measured by the engine every step), or over
+--- rec.len() when the record has no span; opts = {alpha (0.5), vmax}. Set once; returns {stop =
+--- the servos removed, the walls at rest}.
+function W.servo(m, recs, opts)
+    local servos = {}
+    for _, rec in ipairs(recs) do
+        if rec.target then
+            servos[#servos + 1] = m:servo{ walls = { rec.wall }, dirs = { rec.n }, stress = rec.target,
+                                           span = rec.span, length = (not rec.span) and rec.len() or nil,
+                                           alpha = opts.alpha or 0.5, vmax = opts.vmax }
         end
     end
-    arm()
     return {
         stop = function()
-            for _, rec in ipairs(recs) do
-                if rec.target then rec.wall:servo{ on = false } end
-                rec.wall.vel = { 0, 0 }
-            end
+            for _, sv in ipairs(servos) do sv:remove() end
+            for _, rec in ipairs(recs) do rec.wall.vel = { 0, 0 } end
         end,
-        update = arm,
     }
 end
 

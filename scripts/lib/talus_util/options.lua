@@ -57,4 +57,27 @@ function O.merged(...)
     return o
 end
 
+--- A script's arguments (`arg`) split into its positional ones (a list) and its options
+--- --name=value (a table; a value that reads as a number is a number, a bare --name is true).
+--- `known` lists the option names; an unknown one is an error at the user's line naming the
+--- nearest known name.
+function O.command_line(args, known)
+    local positional, named = {}, {}
+    for _, a in ipairs(args or {}) do
+        local key, value = a:match("^%-%-([%w_%-]+)=(.*)$")
+        if not key then key = a:match("^%-%-([%w_%-]+)$") end
+        if key then
+            named[key] = value == nil and true or (tonumber(value) or value)
+        else
+            positional[#positional + 1] = a
+        end
+    end
+    local msg = O.unknown(named, known)
+    if msg then
+        local text = msg:gsub("option '", "option '--")
+        require("talus_util.errors").raise("command line: " .. text)
+    end
+    return positional, named
+end
+
 return O

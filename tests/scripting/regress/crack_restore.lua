@@ -12,7 +12,7 @@ local pk = M.genesis{ width = 0.01, height = 0.02, rmin = 0.5e-3, rmax = 0.83e-3
 local sp = M.specimen(pk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
                             bond = { cb_tenf = 4.6e4, cb_shearf = 3.5e4 } })
 local m = sp.model
-M.compress(sp, { post_peak = 0.3 })
+M.compress(sp, { post_peak = 0.3, strain_per_crossing = 2e-5 })
 local before = m:cracks()
 T.check(#before > 0, "cracks to save (" .. #before .. ")")
 m:vtk{ dir = out, name = "s", every = 100, cracks = true }

@@ -22,7 +22,7 @@ local nbond0 = 0
 for c in sp.model:contacts{ model = "fjoint" } do nbond0 = nbond0 + c:prop("fj_nbond") end
 T.check(nbond0 == 2 * sp.bonds, "every interface bonded with two elements")
 
-local r = M.compress(sp, { post_peak = 0.8 })
+local r = M.compress(sp, { post_peak = 0.8, strain_per_crossing = 2e-5 })
 local nbond, partial = 0, 0
 for c in sp.model:contacts{ model = "fjoint" } do
     local k = c:prop("fj_nbond")

@@ -16,9 +16,13 @@ local function with(t)
     return o
 end
 
--- 1. Disks made in a vessel between the curved jaws with friction (scripts/examples/
--- brazilian.lua): seed 1 splits, and the test is valid; seed 2's first breaks are under a jaw
--- and it does not split: a crushed contact, not valid.
+-- 1. Disks made in a vessel (scripts/examples/brazilian.lua): seed 1 between the curved jaws
+-- with friction splits, and the test is valid; seed 2 between flat platens with friction has
+-- its first breaks under a platen and does not split: a crushed contact, not valid; seed 2
+-- between the curved jaws breaks 5-6 bonds near the diameter that do not run through it and its
+-- load falls to half: no split, not valid. (With the platens' servo of the engine, a ramp set
+-- every step instead of every 50, seed 2 between the curved jaws no longer crushed; the same
+-- outcome at 5e-6 to 4e-5 strain per P-wave crossing.)
 -- The packings are files (regress/packings/), made by M.genesis_disk and M.genesis (the calls
 -- below, at commit 0ee5187): which disk splits, is crushed or slips is a property of one packing,
 -- and this test is about how M.brazilian classifies it, not about the genesis of the day.
@@ -27,31 +31,36 @@ local function vessel_disk(seed)
     -- M.genesis_disk{ diameter = 0.016, rmin = 0.5e-3, rmax = 0.83e-3, kn = 6.4e10, ks = 9.6e9, seed = seed }
     return M.load_packing(packings .. "brazilian_disk_seed" .. seed .. ".lua")
 end
+local loading = { post_peak = 0.5, strain_per_crossing = 2e-5 }
 local disk = vessel_disk(1)
 local sp = M.specimen(disk, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk) })
-local b = M.brazilian(sp, { post_peak = 0.5 })
-T.check(b.fracture.split and b.valid == true and b.reason == nil,
-    "a split disk: valid (" .. tostring(b.reason) .. ")")
+local b = M.brazilian(sp, loading)
+T.check(b.fracture.split and b.valid == true and b.reason == nil and b.stop == "split",
+    "a split disk: valid, stopped at the split (" .. tostring(b.reason) .. ")")
 local disk2 = vessel_disk(2)
-local crushed = M.brazilian(M.specimen(disk2, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk2) }),
-    { post_peak = 0.5 })
+local crushed = M.brazilian(M.specimen(disk2, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk2), jaws = "flat" }),
+    loading)
 T.check(crushed.fracture.crush and crushed.valid == false and crushed.reason:find("crushed at a jaw", 1, true),
-    "crushed under a jaw: not valid (" .. tostring(crushed.reason) .. ")")
+    "crushed under a platen: not valid (" .. tostring(crushed.reason) .. ")")
+T.check(crushed.tensile == nil and crushed.peak > 0, "no tensile strength; the peak kept apart")
+local nosplit = M.brazilian(M.specimen(disk2, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk2) }), loading)
+T.check(not nosplit.fracture.split and nosplit.valid == false and nosplit.reason:find("no split", 1, true),
+    "no split: not valid (" .. tostring(nosplit.reason) .. ")")
 
 -- 2. The same disk stopped before it failed: no strength measured.
 local sp2 = M.specimen(disk, with{ platen = { fric = 0.5 } }, { balls = M.disk(disk) })
-local short = M.brazilian(sp2, { post_peak = 0.5, max_steps = 1000 })
+local short = M.brazilian(sp2, { post_peak = 0.5, max_steps = 1000, strain_per_crossing = 2e-5 })
 T.check(short.stop == "max_steps" and short.valid == false and short.reason:find("did not fail", 1, true),
     "stopped before failure: not valid (" .. tostring(short.reason) .. ")")
 
--- 3. Disks cut from box packings between smooth flat platens (fric 0): seed 1's load fell
--- after its peak with no bond breaking (it slipped), seed 2 broke but did not split.
+-- 3. A disk cut from a box packing between smooth flat platens (fric 0): the load fell after
+-- its peak with no bond breaking (it slipped).
 local function cut(seed)
     -- M.genesis{ width = 0.014, height = 0.014, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
     --             kn = 6.4e10, ks = 9.6e9, seed = seed }
     local pk = M.load_packing(packings .. "brazilian_box14_seed" .. seed .. ".lua")
     local s = M.specimen(pk, with{ platen = { fric = 0 } }, { balls = M.disk(pk), jaws = "flat" })
-    return M.brazilian(s, { post_peak = 0.5 })
+    return M.brazilian(s, loading)
 end
 local slip = cut(1)
 local t_peak, after = slip.rows[slip.ipeak].time, 0
@@ -60,9 +69,6 @@ T.check(slip.stop == "post_peak" and after == 0 and slip.rows[#slip.rows].sa < 0
     string.format("seed 1: the load fell to half its peak with %d bonds breaking after the peak", after))
 T.check(slip.valid == false and slip.reason:find("no bond breaking", 1, true),
     "a slip: not valid (" .. tostring(slip.reason) .. ")")
-local nosplit = cut(2)
-T.check(not nosplit.fracture.split and nosplit.valid == false and nosplit.reason:find("no split", 1, true),
-    "no split: not valid (" .. tostring(nosplit.reason) .. ")")
 
 -- 4. The rules on their own
 local function fake(fr, cracks_after)
@@ -107,5 +113,5 @@ T.check(mean == 2 and sd == math.sqrt(2) and n == 2, string.format("mean_sd over
 local m0, s0, n0 = M.mean_sd({ { tensile = 5, valid = false } }, "tensile")
 T.check(n0 == 0 and m0 ~= m0 and s0 ~= s0, "no valid test: NaN, 0 used")
 print(string.format("material_brazilian_valid: split disk %.2f MPa (valid); crushed %.2f, slip %.2f, no split %.2f MPa "
-    .. "(not valid)", b.tensile / 1e6, crushed.tensile / 1e6, slip.tensile / 1e6, nosplit.tensile / 1e6))
+    .. "(not valid)", b.tensile / 1e6, crushed.peak / 1e6, slip.peak / 1e6, nosplit.peak / 1e6))
 T.done("material_brazilian_valid")

@@ -18,7 +18,7 @@ end
 -- the targets: what the known point gives on the same packing
 local truth = { kn = 5e10, cb_tenf = 4e4 }
 local sp = M.specimen(packing(1), material(truth, 1))
-local r0 = M.compress(sp, { post_peak = 0.8 })
+local r0 = M.compress(sp, { post_peak = 0.8, strain_per_crossing = 2e-5 })
 print(string.format("truth: UCS %.2f MPa, E %.2f GPa", r0.ucs / 1e6, r0.E / 1e9))
 
 local dir = outdir .. "/material_calibrate"
@@ -29,6 +29,7 @@ local spec = {
     targets = { { name = "E", value = r0.E, tol = 0.03 }, { name = "ucs", value = r0.ucs, tol = 0.05 } },
     design = { { 0, 0 }, { 1, 0 }, { 0, 1 } }, budget = 6,
     checkpoint = dir .. "/ckpt", key = "tiny cbond v1", csv = dir .. "/calib.csv",
+    tests = { ucs = { strain_per_crossing = 2e-5 } },
 }
 local r = M.calibrate(spec)
 for _, row in ipairs(r.rows) do

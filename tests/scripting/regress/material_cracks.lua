@@ -27,7 +27,7 @@ end)
 local s0 = sp.model:step()
 local h0 = sp.top.wall.points[1][2] - sp.bottom.wall.points[1][2]
 local csv = out .. "/cracks_ucs.csv"
-local r = M.compress(sp, { post_peak = 0.3, csv = csv })
+local r = M.compress(sp, { post_peak = 0.3, csv = csv, strain_per_crossing = 2e-5 })
 
 -- 1. one crack per break, in the order they happened
 local n = r.breaks.tension + r.breaks.shear
@@ -89,7 +89,9 @@ local function read_csv(file)
     return cols, rows
 end
 local hcols = read_csv(csv)
-T.check(hcols[#hcols - 1] == "cracks" and hcols[#hcols] == "strain_volumetric", "history columns")
+T.check(table.concat(hcols, ",") == table.concat(M.columns, ","), "history columns: M.columns")
+T.check(hcols[#hcols - 2] == "cracks" and hcols[#hcols - 1] == "strain_volumetric" and hcols[#hcols] == "platen_difference",
+    "history columns end with cracks, strain_volumetric, platen_difference")
 local ccols, crows = read_csv(out .. "/cracks_ucs_cracks.csv")
 T.check(table.concat(ccols, ",") == table.concat(M.crack_columns, ","), "crack CSV columns")
 T.check(#crows == n, "one CSV row per crack")
@@ -103,7 +105,7 @@ local disk = M.genesis_disk{ diameter = 0.012, rmin = 0.5e-3, rmax = 0.83e-3, kn
 local dsp = M.specimen(disk, { model = "cbond", kn = 6.4e10, ks = 9.6e9, fric = 0.5, density = 2600,
                                platen = { fric = 0.5 }, bond = { cb_tenf = 4.6e4, cb_shearf = 4.6e5 } },
                        { balls = M.disk(disk) })
-local b = M.brazilian(dsp, { post_peak = 0.5, cracks_csv = out .. "/cracks_brazilian.csv" })
+local b = M.brazilian(dsp, { post_peak = 0.5, strain_per_crossing = 2e-5, cracks_csv = out .. "/cracks_brazilian.csv" })
 T.check(#b.cracks == b.breaks.tension + b.breaks.shear and #b.cracks > 0, "Brazilian: a crack per break")
 for i, c in ipairs(b.cracks) do
     T.check(b.breaks_at[i][1] == c.x and b.breaks_at[i][2] == c.y and b.breaks_at[i][3] == c.time, "breaks_at")

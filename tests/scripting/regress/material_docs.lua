@@ -52,4 +52,52 @@ for _, file in ipairs(files) do
             at and text:sub(math.max(1, at - 30), at + 40):gsub("\n", " ") or ""))
     end
 end
+
+-- The page's parallel-bond and flat-joint materials are the library's calibrated Lac du Bonnet
+-- (M.lac_du_bonnet with M.ldb_calibrated: every property the page gives, to its rounding of 3-4
+-- digits), and they make specimens: on a small packing the page's code installs bonds that carry
+-- the moduli the page put in `bond`.
+local block
+for code in page:gmatch("```lua\n(.-)```") do
+    if code:find('model = "pbond"', 1, true) and code:find('model = "fjoint"', 1, true) then block = code end
+end
+T.check(block ~= nil, "the page defines a parallel-bond and a flat-joint material in one Lua block")
+if block then
+    local pk = M.genesis{ width = 0.006, height = 0.012, rmin = 0.5e-3, rmax = 0.83e-3, kn = 6.4e10, ks = 2.56e10,
+                          seed = 2 }
+    local env = setmetatable({ M = M, pk = pk }, { __index = _G })
+    local chunk = assert(load(block .. "\nreturn pbond, fjoint, sp", "=docs/material.md", "t", env))
+    local page_mat = { pbond = nil, fjoint = nil }
+    local sp
+    page_mat.pbond, page_mat.fjoint, sp = chunk()
+    -- every number of the page's table against the library's, recursively ({mean, sd} included)
+    local function compare(kind, a, b, path)
+        for k, v in pairs(a) do
+            local where = kind .. "." .. path .. k
+            if type(v) == "table" then
+                T.check(type(b[k]) == "table", where .. " is a table in the library's material")
+                if type(b[k]) == "table" then compare(kind, v, b[k], path .. k .. ".") end
+            elseif type(v) == "number" then
+                T.check(type(b[k]) == "number" and math.abs(v - b[k]) <= 2e-3 * math.abs(b[k]),
+                    string.format("%s: page %.6g, library %s", where, v, tostring(b[k])))
+            else
+                T.check(v == b[k], string.format("%s: page %s, library %s", where, tostring(v), tostring(b[k])))
+            end
+        end
+    end
+    for _, kind in ipairs { "pbond", "fjoint" } do
+        local lib = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
+        compare(kind, page_mat[kind], lib, "")
+    end
+    -- the flat-jointed specimen's interfaces carry the page's fj_emod and its elements
+    local bonded, right = 0, 0
+    for c in sp.model:contacts{ model = "fjoint" } do
+        if c:prop("fj_nbond") == 2 then
+            bonded = bonded + 1
+            if c:prop("fj_emod") == 107e9 and c:prop("fj_kratio") == 2 then right = right + 1 end
+        end
+    end
+    T.check(bonded > 10 and right == bonded,
+        string.format("the page's flat joints: %d of %d bonded interfaces with fj_emod 107 GPa, fj_kratio 2", right, bonded))
+end
 T.done("material_docs")

@@ -47,10 +47,10 @@ end
 T.check(table.concat(set, ",") == table.concat(set2, ","), "reproducible draw")
 
 -- all slit (no gap) against all bonded, in uniaxial compression
-local bonded_r = M.compress(M.specimen(pk, mat(nil)), { post_peak = 0.8 })
+local bonded_r = M.compress(M.specimen(pk, mat(nil)), { post_peak = 0.8, strain_per_crossing = 2e-5 })
 local slit_sp = M.specimen(pk, mat(1, 0))
 T.check(slit_sp.slits == slit_sp.bonds, "fraction 1: every interface slit")
-local slit_r = M.compress(slit_sp, { post_peak = 0.8, max_strain = 4 * bonded_r.peak_strain })
+local slit_r = M.compress(slit_sp, { post_peak = 0.8, max_strain = 4 * bonded_r.peak_strain, strain_per_crossing = 2e-5 })
 print(string.format("material_slit: UCS bonded %.1f MPa, all slit %.2f MPa (%s)", bonded_r.ucs / 1e6, slit_r.ucs / 1e6,
     slit_r.stop))
 T.check(slit_r.ucs < 0.2 * bonded_r.ucs, "no bonds, no strength")
