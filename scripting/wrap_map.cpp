@@ -76,6 +76,15 @@ public:
     DepthGuard& operator=(const DepthGuard&) = delete;
 };
 
+const Option kMapOptionRows[] = {
+    {"jobs", "integer", "worker processes (default: the usable cores, or TALUS_JOBS)"},
+    {"on_error", "\"record\"|\"raise\"",
+     "record: a failed item is nil and listed in results.failed (default); raise: stop"},
+    {"checkpoint", "string", "a directory where every finished value is kept for a rerun"},
+    {"key", "string", "names what the items are: an item stored with another key runs again"},
+};
+const OptionTable kMapOptions = {"talus.MapOptions", "talus.map(n, fn, {...})", kMapOptionRows};
+
 /// How a failed item is handled (the `on_error` option).
 enum class OnError {
     Record,  ///< the item's result is nil, the failure goes into results.failed; the rest runs
@@ -632,7 +641,7 @@ int w_map(lua_State* L) {
         if (n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(n) + ")");
         if (lua_type(L, 2) != LUA_TFUNCTION)
             throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
-        const Options opts(L, 3, "map", {"jobs", "on_error", "checkpoint", "key"}, true);
+        const Options opts(L, 3, "map", kMapOptions, true);
         int64_t jobs = opts.integer("jobs", 0);
         const bool jobs_given = opts.has("jobs");
         if (jobs_given && jobs < 1)
@@ -752,8 +761,7 @@ int w_map(lua_State* L) {
             lua_createtable(L, static_cast<int>(failures.size()), 0);
             for (std::size_t k = 0; k < failures.size(); ++k) {
                 lua_createtable(L, 0, 2);
-                lua_pushinteger(L, static_cast<lua_Integer>(failures[k].first));
-                lua_setfield(L, -2, "index");
+                setInteger(L, "index", static_cast<lua_Integer>(failures[k].first));
                 lua_pushlstring(L, failures[k].second.data(), failures[k].second.size());
                 lua_setfield(L, -2, "message");
                 lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
@@ -784,13 +792,17 @@ int w_ranks(lua_State* L) {
     return 1;
 }
 
+const Method kMapFunctions[] = {
+    {"map", w_map, "{fn(1), ..., fn(n)}, computed on all cores and across MPI ranks",
+     "n: integer, fn: fun(i: integer): any, options?: talus.MapOptions", "table"},
+    {"rank", w_rank, "this process's MPI rank (0-based); 0 without mpirun", "", "integer"},
+    {"ranks", w_ranks, "the number of MPI ranks; 1 without mpirun", "", "integer"},
+};
+
+const OptionTable* const kOptionTables[] = {&kMapOptions};
+
 }  // namespace
 
-extern const luaL_Reg kMapFunctions[] = {
-    {"map", w_map},
-    {"rank", w_rank},
-    {"ranks", w_ranks},
-    {nullptr, nullptr},
-};
+extern const Binding kMapBinding = {"independent runs", {}, kMapFunctions, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

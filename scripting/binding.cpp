@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+// The metatables made from the descriptors of binding.hpp, and the one generic __index,
+// __newindex, __eq and __tostring every userdata type shares.
+#include "binding.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "lua_bindings.hpp"
+#include "talus/suggest.hpp"
+
+namespace talus::lua {
+
+namespace {
+
+/// The descriptor of the running metamethod or method (its upvalue 1).
+const ObjectType& descriptor(lua_State* L) {
+    return *static_cast<const ObjectType*>(lua_touserdata(L, lua_upvalueindex(1)));
+}
+
+LuaModel* modelOf(void* self) { return *static_cast<LuaModel**>(self); }
+
+const Field* findField(const ObjectType& type, const std::string& name) {
+    for (const Field& f : type.fields)
+        if (name == f.name) return &f;
+    return nullptr;
+}
+
+bool hasWritable(const ObjectType& type) {
+    return std::any_of(type.fields.begin(), type.fields.end(),
+                       [](const Field& f) { return f.set != nullptr; });
+}
+
+std::string fieldKey(lua_State* L, int index, const ObjectType& type) {
+    if (lua_type(L, index) != LUA_TSTRING)
+        throw ScriptError(std::string(type.what) + ": field names are strings (got " +
+                          typeName(L, index) + ")");
+    return lua_tostring(L, index);
+}
+
+/// "(writable: pos, vel; model properties: ...)"
+std::string writableList(const ObjectType& type) {
+    std::string list = "(writable: " + knownNames(type, true);
+    if (type.writable_note) list += std::string("; ") + type.writable_note;
+    return list + ")";
+}
+
+/// Writes field `name` of `self` from the value at `value`: the body of __newindex and set{...}.
+void setField(lua_State* L, const ObjectType& type, void* self, const std::string& name,
+              int value) {
+    const std::string what = type.what;
+    if (!hasWritable(type))
+        throw ScriptError(what + ": its fields are read-only" +
+                          (type.writable_note ? std::string(" (") + type.writable_note + ")" : ""));
+    const Field* f = findField(type, name);
+    if (!f)
+        throw ScriptError(what + ": unknown field '" + name + "'" +
+                          didYouMeanIn(name, knownNames(type, true)) + " " + writableList(type));
+    if (!f->set)
+        throw ScriptError(what + ": field '" + name + "' is read-only " + writableList(type));
+    f->set(L, self, value, what + ": '" + name + "'");
+}
+
+int objectIndex(lua_State* L) {
+    const ObjectType& type = descriptor(L);
+    return catchexcept(L, [&] {
+        void* self = checkObject(L, 1, type, "index");
+        const std::string key = fieldKey(L, 2, type);
+        lua_pushvalue(L, 2);
+        if (lua_rawget(L, lua_upvalueindex(2)) != LUA_TNIL) return 1;  // a method
+        lua_pop(L, 1);
+        const Field* f = findField(type, key);
+        if (!f)
+            throw ScriptError(std::string(type.what) + ": unknown field '" + key + "'" +
+                              didYouMeanIn(key, knownNames(type, false)) +
+                              " (known: " + knownNames(type, false) + ")");
+        f->get(L, self);
+        return 1;
+    });
+}
+
+int objectNewIndex(lua_State* L) {
+    const ObjectType& type = descriptor(L);
+    return catchexcept(L, [&] {
+        void* self = checkObject(L, 1, type, "newindex");
+        setField(L, type, self, fieldKey(L, 2, type), 3);
+        return 0;
+    });
+}
+
+int objectEq(lua_State* L) {
+    const ObjectType& type = descriptor(L);
+    const void* a = luaL_testudata(L, 1, type.tname);
+    const void* b = luaL_testudata(L, 2, type.tname);
+    const std::size_t size = lua_rawlen(L, 1);
+    lua_pushboolean(L, a && b && size == lua_rawlen(L, 2) && std::memcmp(a, b, size) == 0);
+    return 1;
+}
+
+int objectToString(lua_State* L) {
+    const ObjectType& type = descriptor(L);
+    return catchexcept(L, [&] {
+        void* self = luaL_testudata(L, 1, type.tname);
+        if (self && type.describe)
+            type.describe(L, self);
+        else
+            lua_pushstring(L, type.tname);
+        return 1;
+    });
+}
+
+void setClosure(lua_State* L, const ObjectType& type, lua_CFunction fn, const char* name) {
+    lua_pushlightuserdata(L, const_cast<ObjectType*>(&type));
+    lua_pushcclosure(L, fn, 1);
+    lua_setfield(L, -2, name);
+}
+
+}  // namespace
+
+std::vector<std::string> OptionTable::names() const {
+    std::vector<std::string> out;
+    out.reserve(options.size());
+    for (const Option& o : options) out.emplace_back(o.name);
+    return out;
+}
+
+std::string knownNames(const ObjectType& type, bool writable) {
+    std::vector<std::string> names;
+    for (const Field& f : type.fields)
+        if (f.set || !writable) names.emplace_back(f.name);
+    if (!writable)
+        for (const Method& m : type.methods) names.push_back(std::string(m.name) + "()");
+    return joinNames(names);
+}
+
+std::vector<std::string> modelMethodNames() {
+    std::vector<std::string> names;
+    for (const Binding* b : bindings())
+        for (const Method& m : b->model_methods) names.emplace_back(m.name);
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+void registerObjectType(lua_State* L, const ObjectType& type) {
+    luaL_newmetatable(L, type.tname);
+    lua_pushlightuserdata(L, const_cast<ObjectType*>(&type));
+    lua_createtable(L, 0, static_cast<int>(type.methods.size()));
+    for (const Method& m : type.methods) setClosure(L, type, m.fn, m.name);
+    lua_pushcclosure(L, objectIndex, 2);  // upvalues: the descriptor, the methods
+    lua_setfield(L, -2, "__index");
+    setClosure(L, type, objectNewIndex, "__newindex");
+    setClosure(L, type, objectEq, "__eq");
+    setClosure(L, type, objectToString, "__tostring");
+    lua_pop(L, 1);
+}
+
+void* newObject(lua_State* L, int model_index, const ObjectType& type, std::size_t size) {
+    model_index = lua_absindex(L, model_index);
+    void* self = lua_newuserdatauv(L, size, 1);
+    std::memset(self, 0, size);  // __eq compares blocks: no stray padding bytes
+    luaL_setmetatable(L, type.tname);
+    lua_pushvalue(L, model_index);
+    lua_setiuservalue(L, -2, 1);
+    *static_cast<LuaModel**>(self) = static_cast<LuaModel*>(lua_touserdata(L, model_index));
+    return self;
+}
+
+void* checkObject(lua_State* L, int index, const ObjectType& type, const char* fn) {
+    void* self = luaL_testudata(L, index, type.tname);
+    if (!self)
+        throw ScriptError(std::string(type.what) + ": call it as a method, " + type.var + ":" + fn +
+                          "(...) (the first argument is a " + typeName(L, index) + ", not a " +
+                          type.what + ")");
+    if (!modelOf(self)->model) throw ScriptError(std::string(type.what) + ": its model was closed");
+    return self;
+}
+
+int objectSet(lua_State* L) {
+    const ObjectType& type = descriptor(L);
+    return catchexcept(L, [&] {
+        void* self = checkObject(L, 1, type, "set");
+        const std::string what = type.what;
+        applyFields(
+            L, 2, what + ": set{...}", what + ": set{...} takes named fields (name = value, ...)",
+            [&](const std::string& key, int value) { setField(L, type, self, key, value); });
+        return 0;
+    });
+}
+
+}  // namespace talus::lua
