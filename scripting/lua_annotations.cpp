@@ -108,7 +108,7 @@ private:
             "-- `talus --lua-annotations` (talus " TALUS_VERSION
             ") from the registration tables of the\n"
             "-- bindings; regenerate it rather than edit it (docs/getting-started.md, "
-            "\"Editor\").\n\n"
+            "\"Editor support\").\n\n"
             "---A vector {x, y}.\n"
             "---@alias talus.Vec number[]\n\n";
     }
