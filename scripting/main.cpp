@@ -254,6 +254,21 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
     return status;
 }
 
+/// talus --lua-annotations FILE: the API as LuaLS annotations (lua_annotations.hpp).
+int writeAnnotations(const std::vector<std::string>& a) {
+    if (a.size() != 2 || a[1].empty()) {
+        std::fprintf(stderr, "talus: --lua-annotations needs a file name\n\n%s", kUsage);
+        return 2;
+    }
+    try {
+        talus::lua::writeLuaAnnotations(a[1]);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "talus: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -270,19 +285,7 @@ int main(int argc, char** argv) {
         std::printf("talus %s (%s)\n", TALUS_VERSION, LUA_RELEASE);
         return 0;
     }
-    if (a[0] == "--lua-annotations") {
-        if (a.size() != 2 || a[1].empty()) {
-            std::fprintf(stderr, "talus: --lua-annotations needs a file name\n\n%s", kUsage);
-            return 2;
-        }
-        try {
-            talus::lua::writeLuaAnnotations(a[1]);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "talus: error: %s\n", e.what());
-            return 1;
-        }
-        return 0;
-    }
+    if (a[0] == "--lua-annotations") return writeAnnotations(a);
     if (a[0] != "run") {
         std::fprintf(stderr, "talus: unknown command '%s'\n\n%s", a[0].c_str(), kUsage);
         return 2;

@@ -635,149 +635,183 @@ Outcome unpack(const std::string& s, int64_t n, int64_t ranks, int64_t r) {
 
 // ------------------------------------------------------------------ Lua functions
 
+/// talus.map's arguments, checked.
+struct MapRequest {
+    long long n = 0;
+    int64_t jobs = 1;
+    OnError mode = OnError::Record;
+    Checkpoint ckpt;
+    bool nested = false;      ///< called from inside fn: runs in place
+    bool collective = false;  ///< the ranks of an mpirun share the items
+};
+
+MapRequest readRequest(lua_State* L) {
+    MapRequest r;
+    r.n = toInteger(L, 1, "map: n (the number of items)");
+    if (r.n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(r.n) + ")");
+    if (lua_type(L, 2) != LUA_TFUNCTION)
+        throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
+    const Options opts(L, 3, "map", kMapOptions, true);
+    int64_t jobs = opts.integer("jobs", 0);
+    const bool jobs_given = opts.has("jobs");
+    if (jobs_given && jobs < 1)
+        throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) + ")");
+    r.mode =
+        opts.choice("on_error", 0, {"record", "raise"}) == 0 ? OnError::Record : OnError::Raise;
+    r.ckpt.dir = opts.string("checkpoint", "");
+    r.ckpt.key = opts.string("key", "");
+    if (opts.has("checkpoint") && r.ckpt.dir.empty())
+        throw ScriptError(opts.field("checkpoint") + " must be a directory name");
+    if (opts.has("key") && !r.ckpt.on())
+        throw ScriptError(opts.field("key") + " goes with 'checkpoint' (a directory)");
+    r.nested = g_depth > 0;
+    // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a fork
+    // under MPI is fragile with some interconnects: one process per rank unless asked.
+    if (!jobs_given) jobs = mpi::size() > 1 ? 1 : defaultJobs();
+    r.jobs = r.nested ? 1 : jobs;
+    r.collective = !r.nested && mpi::size() > 1;
+    return r;
+}
+
+/// Runs this process's items [lo, hi] (fn at stack index 2): those the checkpoint holds are
+/// taken from it, the others run in place or in workers.
+Outcome runBlock(lua_State* L, const MapRequest& r, int64_t lo, int64_t hi) {
+    Outcome mine;
+    mine.values.assign(static_cast<std::size_t>(std::max<int64_t>(0, hi - lo + 1)), std::string());
+    DepthGuard depth;
+    if (r.ckpt.on()) {
+        std::error_code ec;
+        std::filesystem::create_directories(r.ckpt.dir, ec);
+        if (ec)
+            throw ScriptError("map: cannot create the checkpoint directory '" + r.ckpt.dir + "' (" +
+                              ec.message() + ")");
+    }
+    std::vector<int64_t> todo;
+    for (int64_t i = lo; i <= hi; ++i) {
+        bool other = false;
+        if (r.ckpt.on() && r.ckpt.load(i, mine.values[static_cast<std::size_t>(i - lo)], other))
+            ++mine.from_checkpoint;
+        else
+            todo.push_back(i);
+        mine.other_key += other;
+    }
+    const int fn = 2;
+    const int64_t workers = std::min<int64_t>(r.jobs, static_cast<int64_t>(todo.size()));
+    try {
+        if (workers <= 1)
+            runInPlace(L, fn, todo, lo, r.mode, r.ckpt, mine);
+        else
+            runForked(L, fn, todo, lo, workers, r.mode, r.ckpt, mine);
+    } catch (const std::exception& e) {
+        // A system failure (no pipe, no fork, corrupt frame) becomes this block's failure:
+        // under MPI it must still reach the exchange, or the other ranks would wait there for
+        // this one forever.
+        if (!r.collective) throw;
+        std::string text = e.what();
+        if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
+        mine.failed = true;
+        mine.index = lo;
+        mine.message = text;
+    }
+    return mine;
+}
+
+/// Every rank's outcome, in rank order (this one alone without MPI).
+std::vector<Outcome> gather(Outcome mine, const MapRequest& r) {
+    std::vector<Outcome> ranks;
+    if (!r.collective) {
+        ranks.push_back(std::move(mine));
+        return ranks;
+    }
+    const std::vector<std::string> all = mpi::allgather(pack(mine));
+    for (std::size_t k = 0; k < all.size(); ++k)
+        ranks.push_back(
+            unpack(all[k], r.n, static_cast<int64_t>(all.size()), static_cast<int64_t>(k)));
+    return ranks;
+}
+
+/// What the map says on stderr (rank 0, outermost map): the items taken from the checkpoint,
+/// and the failures.
+struct MapSummary {
+    std::vector<std::pair<int64_t, std::string>> failures;  // sorted by index
+    int64_t from_checkpoint = 0, other_key = 0;
+};
+
+/// Pushes the list of results (decoding every value) and sums up the ranks' outcomes.
+MapSummary pushResults(lua_State* L, const std::vector<Outcome>& ranks, long long n) {
+    MapSummary sum;
+    lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
+    lua_Integer i = 1;
+    for (const Outcome& o : ranks) {
+        for (const std::string& v : o.values) {
+            if (!v.empty()) {
+                decodeValue(L, v.data(), v.size());
+                lua_rawseti(L, -2, i);
+            }
+            ++i;
+        }
+        sum.failures.insert(sum.failures.end(), o.failures.begin(), o.failures.end());
+        sum.from_checkpoint += o.from_checkpoint;
+        sum.other_key += o.other_key;
+    }
+    std::sort(sum.failures.begin(), sum.failures.end());
+    return sum;
+}
+
+/// results.failed = {{index =, message =}, ...}, in index order, on the list on top.
+void pushFailures(lua_State* L, const MapSummary& sum) {
+    lua_createtable(L, static_cast<int>(sum.failures.size()), 0);
+    for (std::size_t k = 0; k < sum.failures.size(); ++k) {
+        lua_createtable(L, 0, 2);
+        setInteger(L, "index", static_cast<lua_Integer>(sum.failures[k].first));
+        setString(L, "message", sum.failures[k].second);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "failed");
+}
+
+void report(const MapSummary& sum, const MapRequest& r) {
+    if (sum.from_checkpoint > 0 || sum.other_key > 0) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
+                     static_cast<long long>(sum.from_checkpoint), r.n, r.ckpt.dir.c_str());
+        if (sum.other_key > 0)
+            std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
+                         static_cast<long long>(sum.other_key));
+        std::fprintf(stderr, "\n");
+    }
+    if (!sum.failures.empty()) {
+        clearProgressLine();
+        std::fflush(stdout);
+        std::fprintf(stderr,
+                     "talus: warning: map: %zu of %lld items failed (their results are nil; "
+                     "results.failed lists index and message)%s; the first: %s\n",
+                     sum.failures.size(), r.n,
+                     r.ckpt.on() ? "; a rerun with the same checkpoint runs only those" : "",
+                     sum.failures.front().second.c_str());
+    }
+}
+
 int w_map(lua_State* L) {
     return catchexcept(L, [&] {
-        const long long n = toInteger(L, 1, "map: n (the number of items)");
-        if (n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(n) + ")");
-        if (lua_type(L, 2) != LUA_TFUNCTION)
-            throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
-        const Options opts(L, 3, "map", kMapOptions, true);
-        int64_t jobs = opts.integer("jobs", 0);
-        const bool jobs_given = opts.has("jobs");
-        if (jobs_given && jobs < 1)
-            throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) +
-                              ")");
-        const OnError mode =
-            opts.choice("on_error", 0, {"record", "raise"}) == 0 ? OnError::Record : OnError::Raise;
-        Checkpoint ckpt;
-        ckpt.dir = opts.string("checkpoint", "");
-        ckpt.key = opts.string("key", "");
-        if (opts.has("checkpoint") && ckpt.dir.empty())
-            throw ScriptError(opts.field("checkpoint") + " must be a directory name");
-        if (opts.has("key") && !ckpt.on())
-            throw ScriptError(opts.field("key") + " goes with 'checkpoint' (a directory)");
-        const bool nested = g_depth > 0;
-        // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a
-        // fork under MPI is fragile with some interconnects: one process per rank unless asked.
-        if (!jobs_given) jobs = mpi::size() > 1 ? 1 : defaultJobs();
-        if (nested) jobs = 1;
-        const bool collective = !nested && mpi::size() > 1;
-
-        int64_t lo = 1, hi = n;
-        if (collective) {
+        const MapRequest r = readRequest(L);
+        int64_t lo = 1, hi = r.n;
+        if (r.collective) {
             int64_t first, size;
-            block(n, mpi::size(), mpi::rank(), first, size);
+            block(r.n, mpi::size(), mpi::rank(), first, size);
             lo = 1 + first;
             hi = lo + size - 1;
         }
         lua_settop(L, 3);
-        const int fn = 2;
-        Outcome mine;
-        mine.values.assign(static_cast<std::size_t>(std::max<int64_t>(0, hi - lo + 1)),
-                           std::string());
-        {
-            DepthGuard depth;
-            // The items to run: all of this rank's block but those the checkpoint holds.
-            std::vector<int64_t> todo;
-            if (ckpt.on()) {
-                std::error_code ec;
-                std::filesystem::create_directories(ckpt.dir, ec);
-                if (ec)
-                    throw ScriptError("map: cannot create the checkpoint directory '" + ckpt.dir +
-                                      "' (" + ec.message() + ")");
-            }
-            for (int64_t i = lo; i <= hi; ++i) {
-                bool other = false;
-                if (ckpt.on() && ckpt.load(i, mine.values[static_cast<std::size_t>(i - lo)], other))
-                    ++mine.from_checkpoint;
-                else
-                    todo.push_back(i);
-                mine.other_key += other;
-            }
-            const int64_t workers = std::min<int64_t>(jobs, static_cast<int64_t>(todo.size()));
-            try {
-                if (workers <= 1)
-                    runInPlace(L, fn, todo, lo, mode, ckpt, mine);
-                else
-                    runForked(L, fn, todo, lo, workers, mode, ckpt, mine);
-            } catch (const std::exception& e) {
-                // A system failure (no pipe, no fork, corrupt frame) becomes this block's
-                // failure: under MPI it must still reach the exchange, or the other ranks
-                // would wait there for this one forever.
-                if (!collective) throw;
-                std::string text = e.what();
-                if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
-                mine.failed = true;
-                mine.index = lo;
-                mine.message = text;
-            }
-        }
-
-        // Every rank's values, in rank order (one rank without MPI).
-        std::vector<Outcome> ranks;
-        if (collective) {
-            const std::vector<std::string> all = mpi::allgather(pack(mine));
-            for (std::size_t r = 0; r < all.size(); ++r)
-                ranks.push_back(
-                    unpack(all[r], n, static_cast<int64_t>(all.size()), static_cast<int64_t>(r)));
-        } else {
-            ranks.push_back(std::move(mine));
-        }
+        const std::vector<Outcome> ranks = gather(runBlock(L, r, lo, hi), r);
         // The failure with the lowest index, the same on every rank.
         const Outcome* failed = nullptr;
         for (const Outcome& o : ranks)
             if (o.failed && (!failed || o.index < failed->index)) failed = &o;
         if (failed) throw ScriptError("map: " + failed->message);
-
-        lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
-        lua_Integer i = 1;
-        std::vector<std::pair<int64_t, std::string>> failures;
-        int64_t from_checkpoint = 0, other_key = 0;
-        for (const Outcome& o : ranks) {
-            for (const std::string& v : o.values) {
-                if (!v.empty()) {
-                    decodeValue(L, v.data(), v.size());
-                    lua_rawseti(L, -2, i);
-                }
-                ++i;
-            }
-            failures.insert(failures.end(), o.failures.begin(), o.failures.end());
-            from_checkpoint += o.from_checkpoint;
-            other_key += o.other_key;
-        }
-        std::sort(failures.begin(), failures.end());
-        const bool speak = mpi::rank() == 0 && !nested;
-        if (speak && (from_checkpoint > 0 || other_key > 0)) {
-            std::fflush(stdout);
-            std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
-                         static_cast<long long>(from_checkpoint), n, ckpt.dir.c_str());
-            if (other_key > 0)
-                std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
-                             static_cast<long long>(other_key));
-            std::fprintf(stderr, "\n");
-        }
-        if (!failures.empty()) {
-            // results.failed = {{index =, message =}, ...}, in index order.
-            lua_createtable(L, static_cast<int>(failures.size()), 0);
-            for (std::size_t k = 0; k < failures.size(); ++k) {
-                lua_createtable(L, 0, 2);
-                setInteger(L, "index", static_cast<lua_Integer>(failures[k].first));
-                lua_pushlstring(L, failures[k].second.data(), failures[k].second.size());
-                lua_setfield(L, -2, "message");
-                lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-            }
-            lua_setfield(L, -2, "failed");
-            if (speak) {
-                clearProgressLine();
-                std::fflush(stdout);
-                std::fprintf(stderr,
-                             "talus: warning: map: %zu of %lld items failed (their results are "
-                             "nil; results.failed lists index and message)%s; the first: %s\n",
-                             failures.size(), n,
-                             ckpt.on() ? "; a rerun with the same checkpoint runs only those" : "",
-                             failures.front().second.c_str());
-            }
-        }
+        const MapSummary sum = pushResults(L, ranks, r.n);
+        if (!sum.failures.empty()) pushFailures(L, sum);
+        if (mpi::rank() == 0 && !r.nested) report(sum, r);
         return 1;
     });
 }
