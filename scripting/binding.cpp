@@ -45,35 +45,52 @@ std::string writableList(const ObjectType& type) {
     return list + ")";
 }
 
-/// Writes field `name` of `self` from the value at `value`: the body of __newindex and set{...}.
-void setField(lua_State* L, const ObjectType& type, void* self, const std::string& name,
-              int value) {
+/// The errors of a write to field `name` that is not a writable field of `type` (f: the field,
+/// when it is one).
+[[noreturn]] void refuseWrite(const ObjectType& type, const Field* f, const std::string& name) {
     const std::string what = type.what;
     if (!hasWritable(type))
         throw ScriptError(what + ": its fields are read-only" +
                           (type.writable_note ? std::string(" (") + type.writable_note + ")" : ""));
-    const Field* f = findField(type, name);
     if (!f)
         throw ScriptError(what + ": unknown field '" + name + "'" +
                           didYouMeanIn(name, knownNames(type, true)) + " " + writableList(type));
-    if (!f->set)
-        throw ScriptError(what + ": field '" + name + "' is read-only " + writableList(type));
-    f->set(L, self, value, what + ": '" + name + "'");
+    throw ScriptError(what + ": field '" + name + "' is read-only " + writableList(type));
+}
+
+/// Writes field `f` (null: not a field) of `self` from the value at `value`: the body of
+/// __newindex and set{...}.
+void setField(lua_State* L, const ObjectType& type, void* self, const Field* f,
+              const std::string& name, int value) {
+    if (!f || !f->set) refuseWrite(type, f, name);
+    f->set(L, self, value, std::string(type.what) + ": '" + name + "'");
+}
+
+/// The field named by the string at stack index `key`, through the type's table name -> row
+/// (upvalue `names`); null when there is none.
+const Field* fieldByName(lua_State* L, const ObjectType& type, int key, int names) {
+    lua_pushvalue(L, key);
+    const bool found = lua_rawget(L, names) == LUA_TNUMBER;
+    const lua_Integer row = lua_tointeger(L, -1);
+    lua_pop(L, 1);
+    return found ? &type.fields.first[row] : nullptr;
 }
 
 int objectIndex(lua_State* L) {
     const ObjectType& type = descriptor(L);
     return catchexcept(L, [&] {
         void* self = checkObject(L, 1, type, "index");
-        const std::string key = fieldKey(L, 2, type);
+        if (lua_type(L, 2) != LUA_TSTRING) fieldKey(L, 2, type);  // throws
         lua_pushvalue(L, 2);
         if (lua_rawget(L, lua_upvalueindex(2)) != LUA_TNIL) return 1;  // a method
         lua_pop(L, 1);
-        const Field* f = findField(type, key);
-        if (!f)
+        const Field* f = fieldByName(L, type, 2, lua_upvalueindex(3));
+        if (!f) {
+            const std::string key = lua_tostring(L, 2);
             throw ScriptError(std::string(type.what) + ": unknown field '" + key + "'" +
                               didYouMeanIn(key, knownNames(type, false)) +
                               " (known: " + knownNames(type, false) + ")");
+        }
         f->get(L, self);
         return 1;
     });
@@ -83,7 +100,8 @@ int objectNewIndex(lua_State* L) {
     const ObjectType& type = descriptor(L);
     return catchexcept(L, [&] {
         void* self = checkObject(L, 1, type, "newindex");
-        setField(L, type, self, fieldKey(L, 2, type), 3);
+        const std::string key = fieldKey(L, 2, type);
+        setField(L, type, self, fieldByName(L, type, 2, lua_upvalueindex(2)), key, 3);
         return 0;
     });
 }
@@ -143,12 +161,22 @@ std::vector<std::string> modelMethodNames() {
 
 void registerObjectType(lua_State* L, const ObjectType& type) {
     luaL_newmetatable(L, type.tname);
-    lua_pushlightuserdata(L, const_cast<ObjectType*>(&type));
+    void* desc = const_cast<ObjectType*>(&type);
+    // Upvalues of __index: the descriptor, the methods, the table field name -> row.
+    lua_pushlightuserdata(L, desc);
     lua_createtable(L, 0, static_cast<int>(type.methods.size()));
     for (const Method& m : type.methods) setClosure(L, type, m.fn, m.name);
-    lua_pushcclosure(L, objectIndex, 2);  // upvalues: the descriptor, the methods
+    lua_createtable(L, 0, static_cast<int>(type.fields.size()));
+    for (std::size_t row = 0; row < type.fields.size(); ++row) {
+        lua_pushinteger(L, static_cast<lua_Integer>(row));
+        lua_setfield(L, -2, type.fields.first[row].name);
+    }
+    lua_pushlightuserdata(L, desc);
+    lua_pushvalue(L, -2);
+    lua_pushcclosure(L, objectNewIndex, 2);  // the descriptor, the table of fields
+    lua_setfield(L, -5, "__newindex");
+    lua_pushcclosure(L, objectIndex, 3);
     lua_setfield(L, -2, "__index");
-    setClosure(L, type, objectNewIndex, "__newindex");
     setClosure(L, type, objectEq, "__eq");
     setClosure(L, type, objectToString, "__tostring");
     lua_pop(L, 1);
@@ -180,9 +208,11 @@ int objectSet(lua_State* L) {
     return catchexcept(L, [&] {
         void* self = checkObject(L, 1, type, "set");
         const std::string what = type.what;
-        applyFields(
-            L, 2, what + ": set{...}", what + ": set{...} takes named fields (name = value, ...)",
-            [&](const std::string& key, int value) { setField(L, type, self, key, value); });
+        applyFields(L, 2, what + ": set{...}",
+                    what + ": set{...} takes named fields (name = value, ...)",
+                    [&](const std::string& key, int value) {
+                        setField(L, type, self, findField(type, key), key, value);
+                    });
         return 0;
     });
 }

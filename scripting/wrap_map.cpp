@@ -15,7 +15,8 @@
 // the map does not change) for the rest of its block; the item it was running is the failure.
 // on_error = "raise": the first failure stops the map (the lowest index, as a serial loop).
 // With a checkpoint directory the caller writes each value it receives to its own file, and a
-// later map with the same key reads them back instead of running those items.
+// later map with the same key reads them back instead of running those items (map_checkpoint.hpp:
+// a damaged file is run again, with a note naming it).
 // Every result is encoded (map_codec.hpp) and sent through a pipe as one frame
 //     kind (1 byte: 'v' value, 'e' failure) | index (8 bytes) | length (8 bytes) | bytes
 // The caller reads every pipe with poll(), so a worker never blocks on a full pipe while the
@@ -55,6 +56,7 @@
 #include <vector>
 
 #include "lua_bindings.hpp"
+#include "map_checkpoint.hpp"
 #include "map_codec.hpp"
 #include "mpi_world.hpp"
 #include "talus/model.hpp"
@@ -91,71 +93,6 @@ enum class OnError {
     Raise,   ///< the map stops and raises the failure with the lowest index
 };
 
-/// Finished values kept on disk as they arrive (the `checkpoint` option), so that a rerun of
-/// the same map, after a failure or a killed job, runs only what is missing. One file per item,
-/// `<dir>/item_<i>.tmv`, written through a temporary file and a rename (a half-written file is
-/// never taken): "talus.map item\n", the key (8-byte length, bytes), the encoded value.
-struct Checkpoint {
-    std::string dir;  // "" = none
-    std::string key;
-
-    bool on() const { return !dir.empty(); }
-    std::string file(int64_t i) const { return dir + "/item_" + std::to_string(i) + ".tmv"; }
-
-    /// The stored value of item i, if there is one written with this key. `other` is set when
-    /// a file is there but was written with another key (another run: it is run again).
-    bool load(int64_t i, std::string& value, bool& other) const {
-        other = false;
-        std::FILE* f = std::fopen(file(i).c_str(), "rb");
-        if (!f) return false;
-        std::string bytes;
-        char buf[1 << 16];
-        std::size_t got;
-        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, got);
-        std::fclose(f);
-        static const std::string magic = "talus.map item\n";
-        uint64_t klen = 0;
-        if (bytes.size() < magic.size() + 8 || bytes.compare(0, magic.size(), magic) != 0)
-            return other = true, false;
-        std::memcpy(&klen, bytes.data() + magic.size(), 8);
-        const std::size_t at = magic.size() + 8;
-        if (bytes.size() - at < klen || bytes.compare(at, klen, key) != 0 || klen != key.size())
-            return other = true, false;
-        value = bytes.substr(at + klen);
-        return !value.empty();
-    }
-
-    /// Stores item i's value; a failure to write is reported once on stderr and the map goes
-    /// on (the results are still returned; only the rerun loses them).
-    void store(int64_t i, const std::string& value) const {
-        static const std::string magic = "talus.map item\n";
-        const std::string path = file(i), tmp = dir + "/.item_" + std::to_string(i) + ".tmp";
-        std::FILE* f = std::fopen(tmp.c_str(), "wb");
-        bool ok = f != nullptr;
-        if (ok) {
-            const uint64_t klen = key.size();
-            char len[8];
-            std::memcpy(len, &klen, 8);
-            ok = std::fwrite(magic.data(), 1, magic.size(), f) == magic.size() &&
-                 std::fwrite(len, 1, 8, f) == 8 &&
-                 std::fwrite(key.data(), 1, key.size(), f) == key.size() &&
-                 std::fwrite(value.data(), 1, value.size(), f) == value.size();
-            ok = (std::fclose(f) == 0) && ok;
-        }
-        if (ok && std::rename(tmp.c_str(), path.c_str()) == 0) return;
-        const int err = errno;
-        std::remove(tmp.c_str());
-        static bool said = false;
-        if (!said) {
-            said = true;
-            std::fprintf(stderr,
-                         "talus: warning: map: cannot write the checkpoint file '%s' (%s); the "
-                         "map goes on, but a rerun will run such items again\n",
-                         path.c_str(), std::strerror(err));
-        }
-    }
-};
-
 /// What running some items of [lo, hi] gave: one encoded value per index ("" for an item with
 /// no value: failed in record mode, or not run because the map stopped), the failures.
 struct Outcome {
@@ -168,6 +105,7 @@ struct Outcome {
     std::vector<std::pair<int64_t, std::string>> failures;
     int64_t from_checkpoint = 0;  // items taken from the checkpoint, not run
     int64_t other_key = 0;        // checkpoint files of another run (another key), run again
+    int64_t damaged = 0;          // damaged checkpoint files, their items run again
 };
 
 /// Block w of `count` items cut into `parts` contiguous blocks: first index (0-based) and size.
@@ -575,7 +513,7 @@ uint64_t get64(const std::string& s, std::size_t& pos) {
 
 /// This rank's outcome as bytes: 'F' index message (raise mode), or 'V' then per item its
 /// length and bytes (0: no value), the failures (count, then index, length, message each), the
-/// items taken from the checkpoint and those of another key.
+/// items taken from the checkpoint, those of another key and the damaged ones.
 std::string pack(const Outcome& o) {
     std::string s;
     if (o.failed) {
@@ -597,6 +535,7 @@ std::string pack(const Outcome& o) {
     }
     put64(s, static_cast<uint64_t>(o.from_checkpoint));
     put64(s, static_cast<uint64_t>(o.other_key));
+    put64(s, static_cast<uint64_t>(o.damaged));
     return s;
 }
 
@@ -630,6 +569,7 @@ Outcome unpack(const std::string& s, int64_t n, int64_t ranks, int64_t r) {
     }
     o.from_checkpoint = static_cast<int64_t>(get64(s, pos));
     o.other_key = static_cast<int64_t>(get64(s, pos));
+    o.damaged = static_cast<int64_t>(get64(s, pos));
     return o;
 }
 
@@ -673,6 +613,34 @@ MapRequest readRequest(lua_State* L) {
     return r;
 }
 
+/// Takes the items of [lo, hi] the checkpoint holds (whole, of this key) into `out`; returns the
+/// others, to be run. A damaged file is said, naming it, and its item runs again.
+std::vector<int64_t> fromCheckpoint(const Checkpoint& ckpt, int64_t lo, int64_t hi, Outcome& out) {
+    std::vector<int64_t> todo;
+    std::string why;
+    for (int64_t i = lo; i <= hi; ++i) {
+        const auto item = ckpt.on()
+                              ? ckpt.load(i, out.values[static_cast<std::size_t>(i - lo)], why)
+                              : Checkpoint::Item::Missing;
+        if (item == Checkpoint::Item::Taken) {
+            ++out.from_checkpoint;
+            continue;
+        }
+        out.values[static_cast<std::size_t>(i - lo)].clear();
+        todo.push_back(i);
+        out.other_key += item == Checkpoint::Item::OtherKey;
+        if (item == Checkpoint::Item::Damaged) {
+            ++out.damaged;
+            clearProgressLine();
+            std::fflush(stdout);
+            std::fprintf(stderr,
+                         "talus: map: the checkpoint file '%s' is damaged (%s); %s runs again\n",
+                         ckpt.file(i).c_str(), why.c_str(), itemName(i).c_str());
+        }
+    }
+    return todo;
+}
+
 /// Runs this process's items [lo, hi] (fn at stack index 2): those the checkpoint holds are
 /// taken from it, the others run in place or in workers.
 Outcome runBlock(lua_State* L, const MapRequest& r, int64_t lo, int64_t hi) {
@@ -686,15 +654,7 @@ Outcome runBlock(lua_State* L, const MapRequest& r, int64_t lo, int64_t hi) {
             throw ScriptError("map: cannot create the checkpoint directory '" + r.ckpt.dir + "' (" +
                               ec.message() + ")");
     }
-    std::vector<int64_t> todo;
-    for (int64_t i = lo; i <= hi; ++i) {
-        bool other = false;
-        if (r.ckpt.on() && r.ckpt.load(i, mine.values[static_cast<std::size_t>(i - lo)], other))
-            ++mine.from_checkpoint;
-        else
-            todo.push_back(i);
-        mine.other_key += other;
-    }
+    const std::vector<int64_t> todo = fromCheckpoint(r.ckpt, lo, hi, mine);
     const int fn = 2;
     const int64_t workers = std::min<int64_t>(r.jobs, static_cast<int64_t>(todo.size()));
     try {
@@ -734,7 +694,7 @@ std::vector<Outcome> gather(Outcome mine, const MapRequest& r) {
 /// and the failures.
 struct MapSummary {
     std::vector<std::pair<int64_t, std::string>> failures;  // sorted by index
-    int64_t from_checkpoint = 0, other_key = 0;
+    int64_t from_checkpoint = 0, other_key = 0, damaged = 0;
 };
 
 /// Pushes the list of results (decoding every value) and sums up the ranks' outcomes.
@@ -753,6 +713,7 @@ MapSummary pushResults(lua_State* L, const std::vector<Outcome>& ranks, long lon
         sum.failures.insert(sum.failures.end(), o.failures.begin(), o.failures.end());
         sum.from_checkpoint += o.from_checkpoint;
         sum.other_key += o.other_key;
+        sum.damaged += o.damaged;
     }
     std::sort(sum.failures.begin(), sum.failures.end());
     return sum;
@@ -771,13 +732,15 @@ void pushFailures(lua_State* L, const MapSummary& sum) {
 }
 
 void report(const MapSummary& sum, const MapRequest& r) {
-    if (sum.from_checkpoint > 0 || sum.other_key > 0) {
+    if (sum.from_checkpoint > 0 || sum.other_key > 0 || sum.damaged > 0) {
         std::fflush(stdout);
         std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
                      static_cast<long long>(sum.from_checkpoint), r.n, r.ckpt.dir.c_str());
         if (sum.other_key > 0)
             std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
                          static_cast<long long>(sum.other_key));
+        if (sum.damaged > 0)
+            std::fprintf(stderr, "; %lld damaged (run again)", static_cast<long long>(sum.damaged));
         std::fprintf(stderr, "\n");
     }
     if (!sum.failures.empty()) {
