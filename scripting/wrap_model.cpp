@@ -2,8 +2,8 @@
 // talus.model{...} and the model's methods that drive it: creation, damping, broadphase and
 // gravity settings, running, callbacks and profile; the shared helpers (model userdata, refs).
 // The other methods are one file per thing (wrap_bodies.cpp: ball, wall, iterators, counts;
-// wrap_history.cpp, wrap_vtk.cpp, ...), each with its table of methods; kModelMethodTables
-// below lists the tables.
+// wrap_history.cpp, wrap_vtk.cpp, ...), each in its file's Binding (binding.hpp); openModel
+// registers the methods of every Binding.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
