@@ -31,11 +31,11 @@ bool hasWritable(const ObjectType& type) {
                        [](const Field& f) { return f.set != nullptr; });
 }
 
-std::string fieldKey(lua_State* L, int index, const ObjectType& type) {
+/// Throws unless the key at `index` is a string (a field name).
+void checkKey(lua_State* L, int index, const ObjectType& type) {
     if (lua_type(L, index) != LUA_TSTRING)
         throw ScriptError(std::string(type.what) + ": field names are strings (got " +
                           typeName(L, index) + ")");
-    return lua_tostring(L, index);
 }
 
 /// "(writable: pos, vel; model properties: ...)"
@@ -80,7 +80,7 @@ int objectIndex(lua_State* L) {
     const ObjectType& type = descriptor(L);
     return catchexcept(L, [&] {
         void* self = checkObject(L, 1, type, "index");
-        if (lua_type(L, 2) != LUA_TSTRING) fieldKey(L, 2, type);  // throws
+        checkKey(L, 2, type);
         lua_pushvalue(L, 2);
         if (lua_rawget(L, lua_upvalueindex(2)) != LUA_TNIL) return 1;  // a method
         lua_pop(L, 1);
@@ -100,7 +100,8 @@ int objectNewIndex(lua_State* L) {
     const ObjectType& type = descriptor(L);
     return catchexcept(L, [&] {
         void* self = checkObject(L, 1, type, "newindex");
-        const std::string key = fieldKey(L, 2, type);
+        checkKey(L, 2, type);
+        const std::string key = lua_tostring(L, 2);
         setField(L, type, self, fieldByName(L, type, 2, lua_upvalueindex(2)), key, 3);
         return 0;
     });
