@@ -94,6 +94,27 @@ void getAlive(lua_State* L, void* self) {
     lua_pushboolean(L, model<Ref>(self).isAlive(id<Ref>(self)));
 }
 
+/// The body's handle number (b.id); reading it from a deleted body is an error as for any field
+/// (Check: a Model accessor of the body, which checks the id).
+template <class Ref, auto Check>
+void getIndex(lua_State* L, void* self) {
+    (void)(model<Ref>(self).*Check)(id<Ref>(self));
+    lua_pushinteger(L, id<Ref>(self).index);
+}
+
+/// A method without arguments that is the Model's Act(id): b:delete(), tr:stop(). Its upvalue 1
+/// is the type's descriptor, as registerObjectType gives every method.
+template <class Ref, auto Act, const char* Name>
+int actMethod(lua_State* L) {
+    const auto& type = *static_cast<const ObjectType*>(lua_touserdata(L, lua_upvalueindex(1)));
+    return catchexcept(L, [&] {
+        Ref& r = checkObject<Ref>(L, 1, type, Name);
+        ((*r.lm->model).*Act)(r.id);
+        return 0;
+    });
+}
+inline constexpr char kDelete[] = "delete";
+
 /// b:add_group(name): the Model's Add(id, name) for the body (a method; its upvalue 1 is the
 /// type's descriptor, as registerObjectType gives every method).
 template <class Ref, auto Add>

@@ -12,11 +12,7 @@ using namespace fields;
 using B = BallRef;
 
 const Field kBallFields[] = {
-    {"id", "integer", "the ball's handle number (1, 2, ...)",
-     [](lua_State* L, void* self) {
-         (void)model<B>(self).ballRadius(id<B>(self));  // a deleted ball's id is an error too
-         lua_pushinteger(L, id<B>(self).index);
-     }},
+    {"id", "integer", "the ball's handle number (1, 2, ...)", getIndex<B, &Model::ballRadius>},
     {"pos", "talus.Vec", "centre [m]", get<B, &Model::ballPos>, set<B, &Model::setBallPos>},
     {"vel", "talus.Vec", "velocity at the half step t - dt/2 [m/s]", get<B, &Model::ballVel>,
      set<B, &Model::setBallVel>},
@@ -49,14 +45,13 @@ const Field kBallFields[] = {
     {"alive", "boolean", "false once the ball was deleted (never an error)", getAlive<B>},
 };
 
-int w_delete(lua_State* L);
-
 constexpr char kWhat[] = "ball";
 
 const Method kBallMethods[] = {
     {"set", objectSet, "writes several fields at once, in sorted name order",
      "fields: talus.BallFields", ""},
-    {"delete", w_delete, "removes the ball and its contacts", "", ""},
+    {"delete", actMethod<B, &Model::deleteBall, kDelete>, "removes the ball and its contacts", "",
+     ""},
     {"add_group", addGroup<B, &Model::addBallGroup>, "adds the ball to a group", "name: string",
      ""},
 };
@@ -70,14 +65,6 @@ const ObjectType kBallObject = {
     kBallMethods,
     describeBody<B, &Model::ballPos, kWhat>,
 };
-
-int w_delete(lua_State* L) {
-    return catchexcept(L, [&] {
-        BallRef& b = checkObject<BallRef>(L, 1, kBallObject, "delete");
-        b.lm->model->deleteBall(b.id);
-        return 0;
-    });
-}
 
 const ObjectType* const kTypes[] = {&kBallObject};
 

@@ -63,11 +63,7 @@ using namespace fields;
 using C = ClumpRef;
 
 const Field kClumpFields[] = {
-    {"id", "integer", "the clump's handle number",
-     [](lua_State* L, void* self) {
-         (void)model<C>(self).clumpMass(id<C>(self));  // a deleted clump's id is an error too
-         lua_pushinteger(L, id<C>(self).index);
-     }},
+    {"id", "integer", "the clump's handle number", getIndex<C, &Model::clumpMass>},
     {"pos", "talus.Vec", "centroid [m]; writing moves the pebbles with it",
      get<C, &Model::clumpPos>, set<C, &Model::setClumpPos>},
     {"vel", "talus.Vec", "velocity of the centroid at the half step [m/s]",
@@ -100,7 +96,6 @@ const Field kClumpFields[] = {
 };
 
 int w_pebbles(lua_State* L);
-int w_delete(lua_State* L);
 int w_release(lua_State* L);
 
 constexpr char kWhat[] = "clump";
@@ -110,7 +105,8 @@ const Method kClumpObjectMethods[] = {
      "fields: talus.ClumpFields", ""},
     {"pebbles", w_pebbles, "the pebbles in world coordinates, {{pos =, radius =}, ...}", "",
      "table[]"},
-    {"delete", w_delete, "removes the clump, its pebbles and their contacts", "", ""},
+    {"delete", actMethod<C, &Model::deleteClump, kDelete>,
+     "removes the clump, its pebbles and their contacts", "", ""},
     {"release", w_release, "turns the pebbles into free balls (PFC clump release)", "",
      "talus.Ball[]"},
     {"add_group", addGroup<C, &Model::addClumpGroup>, "adds the clump to a group", "name: string",
@@ -356,14 +352,6 @@ int w_pebbles(lua_State* L) {
             lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
         }
         return 1;
-    });
-}
-
-int w_delete(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "delete");
-        c.lm->model->deleteClump(c.id);
-        return 0;
     });
 }
 

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "field_accessors.hpp"
 #include "lua_bindings.hpp"
 #include "talus/errors.hpp"
 
@@ -406,7 +407,7 @@ int w_impacts(lua_State* L);
 int w_crossings(lua_State* L);
 int w_envelope(lua_State* L);
 int w_path(lua_State* L);
-int w_stop(lua_State* L);
+constexpr char kStop[] = "stop";
 
 const Method kTrackerObjectMethods[] = {
     {"status", w_status, "the last sample: {state, samples, t, pos, vel, spin, rest_since}", "",
@@ -418,7 +419,8 @@ const Method kTrackerObjectMethods[] = {
     {"envelope", w_envelope, "{height = {[k] = m}, energy = {[k] = J}}: the bins the centre was in",
      "", "table"},
     {"path", w_path, "the centre's path, {{t, x, y}, ...}", "", "number[][]"},
-    {"stop", w_stop, "ends the tracker (\"stopped\")", "", ""},
+    {"stop", fields::actMethod<TrackerRef, &Model::stopTracker, kStop>,
+     "ends the tracker (\"stopped\")", "", ""},
 };
 
 void describe(lua_State* L, void* self) {
@@ -528,14 +530,6 @@ int w_path(lua_State* L) {
             lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
         }
         return 1;
-    });
-}
-
-int w_stop(lua_State* L) {
-    return catchexcept(L, [&] {
-        TrackerRef& t = checkTracker(L, 1, "stop");
-        t.lm->model->stopTracker(t.id);
-        return 0;
     });
 }
 

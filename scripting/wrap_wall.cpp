@@ -34,11 +34,7 @@ void setCenter(lua_State* L, void* self, int value, const std::string& what) {
 }
 
 const Field kWallFields[] = {
-    {"id", "integer", "the wall's handle number",
-     [](lua_State* L, void* self) {
-         (void)model<W>(self).wallVel(id<W>(self));  // checks the id
-         lua_pushinteger(L, id<W>(self).index);
-     }},
+    {"id", "integer", "the wall's handle number", getIndex<W, &Model::wallVel>},
     {"points", "talus.Vec[]", "the chain's current vertices [m]", pushPoints},
     {"vel", "talus.Vec", "translational velocity [m/s]", get<W, &Model::wallVel>,
      set<W, &Model::setWallVel>},
