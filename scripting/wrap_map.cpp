@@ -60,6 +60,7 @@
 #include "map_codec.hpp"
 #include "mpi_world.hpp"
 #include "talus/model.hpp"
+#include "talus/run_control.hpp"
 
 namespace talus::lua {
 
@@ -690,6 +691,23 @@ std::vector<Outcome> gather(Outcome mine, const MapRequest& r) {
     return ranks;
 }
 
+/// Ctrl-C reaches the workers with the caller (one process group): the items it stopped failed
+/// as "interrupted", and the values left would look like a whole map. Raises, as an interrupted
+/// run call does; the finished items are in the checkpoint for a rerun. When every item had
+/// finished, the map returns them.
+void raiseIfInterrupted(const std::vector<Outcome>& ranks, const MapRequest& r) {
+    if (!talus::stopRequested()) return;
+    int64_t done = 0;
+    for (const Outcome& o : ranks)
+        for (const std::string& v : o.values) done += v.empty() ? 0 : 1;
+    if (done >= r.n) return;
+    throw ScriptError("map: interrupted (Ctrl-C) with " + std::to_string(done) + " of " +
+                      std::to_string(r.n) + " items done" +
+                      (r.ckpt.on() ? "; they are kept in the checkpoint '" + r.ckpt.dir +
+                                         "': a rerun with it runs only the others"
+                                   : ""));
+}
+
 /// What the map says on stderr (rank 0, outermost map): the items taken from the checkpoint,
 /// and the failures.
 struct MapSummary {
@@ -772,6 +790,7 @@ int w_map(lua_State* L) {
         for (const Outcome& o : ranks)
             if (o.failed && (!failed || o.index < failed->index)) failed = &o;
         if (failed) throw ScriptError("map: " + failed->message);
+        raiseIfInterrupted(ranks, r);
         const MapSummary sum = pushResults(L, ranks, r.n);
         if (!sum.failures.empty()) pushFailures(L, sum);
         if (mpi::rank() == 0 && !r.nested) report(sum, r);
