@@ -89,6 +89,10 @@ struct Output {
     int hook = 0;  // Model cycle-hook handle, 0 when none or closed
     bool open = true;
     int every = 0;  // steps between frames (0: on request only)
+    /// Simulated time between frames (0: by steps or on request): a frame at the end of the step
+    /// nearest each multiple k * every_time (within half a step of it), at most one per step.
+    double every_time = 0.0;
+    int64_t next_time_index = 0;  // k of the next multiple of every_time due
     int64_t written = 0;
     std::vector<std::pair<std::string, int>> functions;  // name, ref (model user-value table)
 };

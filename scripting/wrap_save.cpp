@@ -132,9 +132,11 @@ void readSeries(SaveReader& r, uint32_t version, const LuaModel& lm,
                             "\", append = true, fields = {...}}");
         } else if (s.every == 0) {
             notes.push_back(what +
-                            " was written on request (no 'every'); go on with it with "
+                            " was written on request or by simulated time ('every_time'), "
+                            "which a restore does not continue; go on with it with "
                             "m:vtk{dir = \"" +
-                            s.dir + "\", name = \"" + s.name + "\", append = true}");
+                            s.dir + "\", name = \"" + s.name +
+                            "\", append = true} (and its every_time)");
         } else {
             vtk_out.push_back(std::move(s));
         }

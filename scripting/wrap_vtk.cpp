@@ -16,6 +16,8 @@ namespace {
 const Option kVtkOptionRows[] = {
     {"dir", "string", "the output directory", true},
     {"every", "integer", "steps between frames (default: only m:vtk's frame and out:write())"},
+    {"every_time", "number",
+     "simulated time between frames [s]: a frame at the step nearest each multiple"},
     {"name", "string", "the series' file name, without '/' (default \"talus\")"},
     {"fields", "table",
      "extra ball fields: names ({\"force\", \"mass\"}) and name = function(ball) ... end"},
@@ -82,6 +84,13 @@ int w_vtk(lua_State* L) {
         if (o.has("every") && every < 1)
             throw ScriptError("vtk: 'every' must be >= 1 (got " + std::to_string(every) + ")");
         st.every = every;
+        const double every_time = o.number("every_time", 0.0);
+        if (o.has("every_time") && !(every_time > 0 && std::isfinite(every_time)))
+            throw ScriptError("vtk: 'every_time' must be a time > 0 [s] (got " +
+                              numberText(every_time) + ")");
+        if (every > 0 && every_time > 0)
+            throw ScriptError(
+                "vtk: give 'every' (steps) or 'every_time' (simulated seconds), not both");
         st.walls = o.boolean("walls", true);
         st.contacts = o.boolean("contacts", true);
         st.cracks = o.boolean("cracks", false);
@@ -95,6 +104,7 @@ int w_vtk(lua_State* L) {
         }
         auto out = std::make_unique<VtkOutput>(st);
         out->every = static_cast<int>(every);
+        out->every_time = every_time;
         out->functions = std::move(functions);
         // The first frame is the state now, as a history's first row; not again when the
         // series we go on with already ends at this time (a restored run).
@@ -319,6 +329,23 @@ int registerOutput(lua_State* L, LuaModel& lm, std::unique_ptr<Output> out, bool
         op->hook = lm.model->addCycleHook(op->every, [lmp, op](Model&) {
             if (op->open) op->write(*lmp);
         });
+    if (op->every_time > 0) {
+        // The frame now (or the series' last one) stands for the multiple it is at: the next
+        // is due at the following multiple of every_time.
+        op->next_time_index =
+            static_cast<int64_t>(std::floor(lm.model->time() / op->every_time + 1e-9)) + 1;
+        op->hook = lm.model->addCycleHook(1, [lmp, op](Model& m) {
+            // The end of this step is the nearest to the due time when the due time is less
+            // than half a step ahead: frames land within dt/2 of k * every_time.
+            const double reach = m.time() + 0.5 * m.lastTimestep();
+            if (!op->open || reach < static_cast<double>(op->next_time_index) * op->every_time)
+                return;
+            op->write(*lmp);
+            op->next_time_index =
+                std::max(op->next_time_index + 1,
+                         static_cast<int64_t>(std::floor(reach / op->every_time)) + 1);
+        });
+    }
     pushModel(L, lm);
     const int model_index = lua_gettop(L);
     newObject<OutputRef>(L, model_index, kOutputObject)->out = op;
