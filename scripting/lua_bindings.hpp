@@ -315,6 +315,9 @@ extern const Binding kPictureBinding;       // wrap_picture.cpp: picture
 extern const Binding kSaveBinding;          // wrap_save.cpp: save, talus.restore
 extern const Binding kCrackBinding;         // wrap_cracks.cpp: cracks
 extern const Binding kTrackerBinding;       // wrap_tracker.cpp: track and the tracker userdata
+/// The id of the tracker userdata at `index`, or 0 when the value is not a tracker; `what`
+/// names the caller in the error raised for a tracker of another model (wrap_tracker.cpp).
+int trackerIdAt(lua_State* L, int index, const LuaModel& lm, const std::string& what);
 extern const Binding kImpactBinding;        // wrap_impact.cpp: talus.impact, talus.drive
 extern const Binding kMapBinding;           // wrap_map.cpp: talus.map, rank, ranks
 

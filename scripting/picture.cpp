@@ -31,12 +31,18 @@ std::string frameName(const std::string& file, int64_t n) {
     return has_ext ? file.substr(0, dot) + num + file.substr(dot) : file + num;
 }
 
+// Paths: ColorBrewer's Dark2, dark enough to read on the light ball colours and on white.
+const unsigned kPathColours[] = {0x1B9E77, 0xD95F02, 0x7570B3, 0xE7298A,
+                                 0x66A61E, 0xE6AB02, 0xA6761D, 0x666666};
+
+unsigned pathColour(std::size_t k) { return kPathColours[k % 8]; }
+
 #ifndef TALUS_HAVE_CAIRO
 
 bool available() { return false; }
 
 Transform draw(const Model&, const Settings&, const std::vector<double>&, const std::string&,
-               const std::vector<Crack>&) {
+               const std::vector<Crack>&, const std::vector<Path>&) {
     throw Error(
         "picture: talus was built without cairo (apt-get install libcairo2-dev, then rebuild: "
         "scripts/build.sh)");
@@ -343,6 +349,32 @@ void drawCracks(cairo_t* cr, const std::vector<Crack>& cracks, const Transform& 
     }
 }
 
+/// Paths: a polyline each (round joins, so a sharp bounce keeps its corner), 3 px wide, and a
+/// dot at the first point, where the body started.
+void drawPaths(cairo_t* cr, const std::vector<Path>& paths, const Transform& tr) {
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+        const Path& p = paths[k];
+        if (p.empty()) continue;
+        setColor(cr, hex(pathColour(k)));
+        cairo_set_line_width(cr, 3.0);
+        cairo_new_path(cr);
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const auto q = tr.toPixel(p[i].x(), p[i].y());
+            if (i == 0)
+                cairo_move_to(cr, q[0], q[1]);
+            else
+                cairo_line_to(cr, q[0], q[1]);
+        }
+        cairo_stroke(cr);
+        const auto start = tr.toPixel(p[0].x(), p[0].y());
+        cairo_new_path(cr);
+        cairo_arc(cr, start[0], start[1], 4.0, 0, 2 * M_PI);
+        cairo_fill(cr);
+    }
+}
+
 /// The scale bar at the left of the bottom band (its top at `by`); returns where the legend
 /// starts.
 double drawScaleBar(cairo_t* cr, const Layout& l, double x, double by) {
@@ -465,7 +497,8 @@ void finishSurface(cairo_surface_t* surface, Format fmt, const std::string& file
 }  // namespace
 
 Transform draw(const Model& m, const Settings& s, const std::vector<double>& values,
-               const std::string& file, const std::vector<Crack>& cracks) {
+               const std::string& file, const std::vector<Crack>& cracks,
+               const std::vector<Path>& paths) {
     const Format fmt = formatOf(file);
     const std::vector<BallId> ids = vtk::particleIds(m);
     const std::vector<WallId> walls = m.wallIds();
@@ -486,6 +519,7 @@ Transform draw(const Model& m, const Settings& s, const std::vector<double>& val
     const double mean_r = drawBalls(cr, m, ids, l.tr, colours);
     drawWalls(cr, m, walls, l.tr);
     if (s.force_chains) drawForceChains(cr, m, s, l.tr, mean_r);
+    drawPaths(cr, paths, l.tr);
     if (s.cracks) drawCracks(cr, cracks, l.tr);
     cairo_restore(cr);
 

@@ -21,6 +21,29 @@ struct PictureOutput : Output {
     bool speed = false;     // color = "speed"
     std::vector<std::string> written_files;
     picture::Transform transform;
+    /// path =, paths =: a tracker's path (re-read at every picture, so a series shows it grow)
+    /// or points given once.
+    struct PathSource {
+        int tracker = 0;  // 0: `points`
+        picture::Path points;
+    };
+    std::vector<PathSource> paths;
+
+    std::vector<picture::Path> currentPaths(const Model& m) const {
+        std::vector<picture::Path> out;
+        out.reserve(paths.size());
+        for (const PathSource& p : paths) {
+            if (p.tracker == 0) {
+                out.push_back(p.points);
+                continue;
+            }
+            picture::Path q;  // none once m:clear_trackers() has forgotten the tracker
+            if (static_cast<std::size_t>(p.tracker) <= m.trackerCount())
+                for (const TrackedPoint& t : m.trackerPath(p.tracker)) q.push_back(t.pos);
+            out.push_back(std::move(q));
+        }
+        return out;
+    }
 
     void write(LuaModel& lm) override {
         std::vector<double> values;
@@ -46,7 +69,8 @@ struct PictureOutput : Output {
         // to a folder of their own.
         const auto slash = name.find_last_of('/');
         if (slash != std::string::npos && slash > 0) ::mkdir(name.substr(0, slash).c_str(), 0777);
-        transform = picture::draw(*lm.model, settings, values, name, lm.cracks);
+        transform =
+            picture::draw(*lm.model, settings, values, name, lm.cracks, currentPaths(*lm.model));
         written_files.push_back(name);
         ++written;
     }
@@ -78,6 +102,9 @@ const Option kPictureOptionRows[] = {
     {"title", "string", "a title above the picture"},
     {"chain_width", "number", "width of the strongest force chain [m] (0: 0.6 mean radius)"},
     {"label", "string", "the colour scale's label (color = \"speed\" or a function)"},
+    {"path", "talus.Tracker|number[][]",
+     "a path drawn over the model: a tracker's (m:track{path =}) or points {{x, y}, ...}"},
+    {"paths", "(talus.Tracker|number[][])[]", "several paths, each as `path`"},
 };
 const OptionTable kPictureOptions = {"talus.PictureOptions", "m:picture{...}: quick-look pictures",
                                      kPictureOptionRows};
@@ -182,6 +209,67 @@ void readContent(const Options& o, LuaModel& lm, picture::Settings& s) {
         throw ScriptError("picture: 'chain_width' must be >= 0 [m] (0: 0.6 of the mean radius)");
 }
 
+/// One path at the top of the stack: a tracker (its path read at each picture) or a list of
+/// points, {x, y} or {t, x, y} (tr:path()'s rows).
+PictureOutput::PathSource readPath(lua_State* L, LuaModel& lm, const std::string& what) {
+    PictureOutput::PathSource p;
+    p.tracker = trackerIdAt(L, -1, lm, "picture: " + what);
+    if (p.tracker > 0) {
+        if (lm.model->trackerPath(p.tracker).empty())
+            throw ScriptError("picture: " + what + ": tracker " + std::to_string(p.tracker) +
+                              " keeps no path (make it with m:track{path = 1, ...})");
+        return p;
+    }
+    if (!lua_istable(L, -1))
+        throw ScriptError("picture: " + what +
+                          " must be a tracker or a list of points {{x, y}, ...} (got " +
+                          typeName(L, -1) + ")");
+    const lua_Integer n = luaL_len(L, -1);
+    for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, -1, i);
+        const lua_Integer k = lua_istable(L, -1) ? luaL_len(L, -1) : 0;
+        double xy[3] = {0, 0, 0};
+        bool ok = k == 2 || k == 3;
+        for (lua_Integer j = 1; ok && j <= k; ++j) {
+            lua_rawgeti(L, -1, j);
+            ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
+            xy[j - 1] = lua_tonumber(L, -1);
+            lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+        if (!ok)
+            throw ScriptError("picture: " + what + ", point " + std::to_string(i) +
+                              ": expected {x, y} or {t, x, y} with finite numbers");
+        p.points.emplace_back(k == 3 ? xy[1] : xy[0], k == 3 ? xy[2] : xy[1]);
+    }
+    if (p.points.empty()) throw ScriptError("picture: " + what + " has no points");
+    return p;
+}
+
+/// path = one path, paths = a list of them (path first).
+void readPaths(const Options& o, LuaModel& lm, PictureOutput& out) {
+    lua_State* L = o.state();
+    if (o.has("path")) {
+        o.push("path");
+        out.paths.push_back(readPath(L, lm, "'path'"));
+        lua_pop(L, 1);
+    }
+    if (o.has("paths")) {
+        if (o.push("paths") != LUA_TTABLE) {
+            const std::string got = typeName(L, -1);
+            lua_pop(L, 1);
+            throw ScriptError("picture: 'paths' must be a list of paths (got " + got + ")");
+        }
+        const lua_Integer n = luaL_len(L, -1);
+        for (lua_Integer i = 1; i <= n; ++i) {
+            lua_rawgeti(L, -1, i);
+            out.paths.push_back(readPath(L, lm, "'paths' entry " + std::to_string(i)));
+            lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+    }
+}
+
 int w_picture(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "picture");
@@ -195,6 +283,7 @@ int w_picture(lua_State* L) {
         readColor(o, lm, *out);
         readGeometry(o, out->settings);
         readContent(o, lm, out->settings);
+        readPaths(o, lm, *out);
         return registerOutput(L, lm, std::move(out), true);
     });
 }
@@ -212,7 +301,7 @@ std::vector<SavedPictureSeries> pictureSeriesStates(const LuaModel& lm) {
     std::vector<SavedPictureSeries> out;
     for (const auto& o : lm.outputs)
         if (const auto* p = dynamic_cast<const PictureOutput*>(o.get());
-            p && p->open && p->numbered) {
+            p && p->open && p->numbered && p->paths.empty()) {
             SavedPictureSeries s;
             s.file = p->file;
             s.every = p->every;

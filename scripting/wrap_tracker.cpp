@@ -549,4 +549,12 @@ const OptionTable* const kOptionTables[] = {&kTrackOptions, &kTrackImpacts, &kTr
 
 extern const Binding kTrackerBinding = {"trackers", kTrackerMethods, {}, kTypes, kOptionTables, {}};
 
+int trackerIdAt(lua_State* L, int index, const LuaModel& lm, const std::string& what) {
+    if (!luaL_testudata(L, index, kTrackerType)) return 0;
+    const TrackerRef& t = checkTracker(L, index, "path");
+    if (t.lm != &lm) throw ScriptError(what + ": tracker " + std::to_string(t.id) +
+                                       " belongs to another model");
+    return t.id;
+}
+
 }  // namespace talus::lua
