@@ -552,8 +552,8 @@ extern const Binding kTrackerBinding = {"trackers", kTrackerMethods, {}, kTypes,
 int trackerIdAt(lua_State* L, int index, const LuaModel& lm, const std::string& what) {
     if (!luaL_testudata(L, index, kTrackerType)) return 0;
     const TrackerRef& t = checkTracker(L, index, "path");
-    if (t.lm != &lm) throw ScriptError(what + ": tracker " + std::to_string(t.id) +
-                                       " belongs to another model");
+    if (t.lm != &lm)
+        throw ScriptError(what + ": tracker " + std::to_string(t.id) + " belongs to another model");
     return t.id;
 }
 
