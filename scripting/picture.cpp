@@ -277,20 +277,24 @@ double drawBalls(cairo_t* cr, const Model& m, const std::vector<BallId>& ids, co
     return ids.empty() ? 0.0 : mean_r / static_cast<double>(ids.size());
 }
 
+/// A new cairo path through the model points `pts` (a wall's, a body's path), not stroked.
+void tracePolyline(cairo_t* cr, const std::vector<Vec2>& pts, const Transform& tr) {
+    cairo_new_path(cr);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+        const auto q = tr.toPixel(pts[k].x(), pts[k].y());
+        if (k == 0)
+            cairo_move_to(cr, q[0], q[1]);
+        else
+            cairo_line_to(cr, q[0], q[1]);
+    }
+}
+
 void drawWalls(cairo_t* cr, const Model& m, const std::vector<WallId>& walls, const Transform& tr) {
     setColor(cr, hex(kWall));
     cairo_set_line_width(cr, 2.0);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     for (const WallId w : walls) {
-        const std::vector<Vec2> pts = m.wallPoints(w);
-        cairo_new_path(cr);
-        for (std::size_t k = 0; k < pts.size(); ++k) {
-            const auto q = tr.toPixel(pts[k].x(), pts[k].y());
-            if (k == 0)
-                cairo_move_to(cr, q[0], q[1]);
-            else
-                cairo_line_to(cr, q[0], q[1]);
-        }
+        tracePolyline(cr, m.wallPoints(w), tr);
         if (m.wallClosed(w)) cairo_close_path(cr);
         cairo_stroke(cr);
     }
@@ -359,14 +363,7 @@ void drawPaths(cairo_t* cr, const std::vector<Path>& paths, const Transform& tr)
         if (p.empty()) continue;
         setColor(cr, hex(pathColour(k)));
         cairo_set_line_width(cr, 3.0);
-        cairo_new_path(cr);
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            const auto q = tr.toPixel(p[i].x(), p[i].y());
-            if (i == 0)
-                cairo_move_to(cr, q[0], q[1]);
-            else
-                cairo_line_to(cr, q[0], q[1]);
-        }
+        tracePolyline(cr, p, tr);
         cairo_stroke(cr);
         const auto start = tr.toPixel(p[0].x(), p[0].y());
         cairo_new_path(cr);

@@ -10,33 +10,16 @@ usage: picture_path_test.py TALUS OUTDIR
 """
 import os
 import re
-import shutil
-import subprocess
 import sys
 
 from PIL import Image  # python3-pil, a dependency of python3-matplotlib (scripts/setup.sh)
 
-talus, out = sys.argv[1], sys.argv[2]
-here = os.path.dirname(os.path.abspath(__file__))
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
-r = subprocess.run([talus, "run", os.path.join(here, "picture_path_scene.lua"), out],
-                   capture_output=True, text=True)
-sys.stdout.write(r.stdout)
-sys.stderr.write(r.stderr)
-if r.returncode != 0:
-    sys.exit("FAIL: picture_path_scene.lua failed")
-pix = {m.group(1): (float(m.group(2)), float(m.group(3)))
-       for m in re.finditer(r"PIXEL (\S+) (\S+) (\S+)", r.stdout)}
-frames = int(re.search(r"FRAMES (\d+)", r.stdout).group(1))
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+from picture_check import PictureCheck  # noqa: E402 (beside this file)
 
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("check failed:", what)
+t = PictureCheck(sys.argv[1], sys.argv[2], "picture_path_scene.lua")
+out, pix, check, at = sys.argv[2], t.pix, t.check, t.at
+frames = int(re.search(r"FRAMES (\d+)", t.stdout).group(1))
 
 
 DARK2 = [(0x1B, 0x9E, 0x77), (0xD9, 0x5F, 0x02), (0x75, 0x70, 0xB3)]
@@ -47,11 +30,6 @@ def near(c, want, tol=12):
     """A 3 px line: its centre pixel is the colour itself, up to cairo's antialiasing of a
     centre that falls between pixels (a few units)."""
     return all(abs(a - b) <= tol for a, b in zip(c, want))
-
-
-def at(img, name):
-    x, y = pix[name]
-    return img.getpixel((int(x), int(y)))[:3]
 
 
 paths = Image.open(os.path.join(out, "paths.png")).convert("RGB")
@@ -76,6 +54,4 @@ check(at(first, "mid") == WHITE, f"frame 0: the flight is still ahead ({at(first
 check(near(at(first, "start"), DARK2[0]), f"frame 0: the start dot ({at(first, 'start')})")
 check(near(at(last, "mid"), DARK2[0]), f"last frame: the path at x = 2 m ({at(last, 'mid')})")
 
-if failures:
-    sys.exit(f"FAIL: {len(failures)} check(s)")
-print("picture paths: all checks passed")
+t.finish("picture paths")
