@@ -319,10 +319,12 @@ def assign_styles(series: Sequence[Series], layout: Sequence[tuple]) -> List[int
     return styles
 
 
-def _panel_label(s: Series, name: str, files: int) -> str:
+def _panel_label(s: Series, name: str) -> str:
     """A series' legend entry: the item alone in a group's panel (the title names the group)."""
-    text = s.item if (name not in ("", ALL_PANEL, BALANCE_PANEL) and s.group) else s.column
-    return text if files == 1 else f"{os.path.basename(s.file)}: {text}"
+    if name in ("", ALL_PANEL, BALANCE_PANEL) or not s.group:
+        return s.label
+    # "a.csv: kinetic@rock" -> "a.csv: kinetic"
+    return s.label[:len(s.label) - len(s.column)] + s.item
 
 
 def _draw_series(ax, s: Series, label: str, style: dict) -> None:
@@ -377,13 +379,11 @@ def plot(series: Sequence[Series], output: str, title: Optional[str] = None,
     fig, axes = plt.subplots(n, 1, figsize=size, sharex=True, squeeze=False)
     axes = list(axes[:, 0])
     styles = assign_styles(series, layout)
-    files = len(dict.fromkeys(s.file for s in series))
     notes = []
     for ax, (name, idx) in zip(axes, layout):
         members = [series[k] for k in idx]
         for k in idx:
-            _draw_series(ax, series[k], _panel_label(series[k], name, files),
-                         line_style(styles[k]))
+            _draw_series(ax, series[k], _panel_label(series[k], name), line_style(styles[k]))
         if logy:
             kind = _set_log(ax, "y", [v for s in members for v in s.y], linthresh)
             if kind == "symlog" and "symlog y" not in notes:
