@@ -44,13 +44,21 @@ struct Transform {
     }
 };
 
+/// A path drawn over the model (a tracked body's centre, or points given): a polyline [m].
+using Path = std::vector<Vec2>;
+
+/// The colour of path k (ColorBrewer's Dark2, cycled), 0xRRGGBB.
+unsigned pathColour(std::size_t k);
+
 /// Draws the model into `file` (format by its extension: .png, .svg, .pdf). `values`: one per
 /// particle (free balls and pebbles) in vtk::particleIds() order for ColorBy::Value (NaN: drawn
 /// grey). Returns the transform used. Throws talus::Error naming the file on failure.
 /// `cracks`: drawn when s.cracks, as segments across the broken bonds, tension red (#E41A1C),
-/// shear blue (#377EB8).
+/// shear blue (#377EB8). `paths`: polylines over the balls and walls, 3 px wide, path k in
+/// pathColour(k), a dot at its first point.
 Transform draw(const Model& m, const Settings& s, const std::vector<double>& values,
-               const std::string& file, const std::vector<Crack>& cracks = {});
+               const std::string& file, const std::vector<Crack>& cracks = {},
+               const std::vector<Path>& paths = {});
 
 /// The numbered name of frame `n` of a series: "out/frame.png" -> "out/frame_000012.png".
 std::string frameName(const std::string& file, int64_t n);

@@ -15,7 +15,8 @@
 // the map does not change) for the rest of its block; the item it was running is the failure.
 // on_error = "raise": the first failure stops the map (the lowest index, as a serial loop).
 // With a checkpoint directory the caller writes each value it receives to its own file, and a
-// later map with the same key reads them back instead of running those items.
+// later map with the same key reads them back instead of running those items (map_checkpoint.hpp:
+// a damaged file is run again, with a note naming it).
 // Every result is encoded (map_codec.hpp) and sent through a pipe as one frame
 //     kind (1 byte: 'v' value, 'e' failure) | index (8 bytes) | length (8 bytes) | bytes
 // The caller reads every pipe with poll(), so a worker never blocks on a full pipe while the
@@ -55,6 +56,7 @@
 #include <vector>
 
 #include "lua_bindings.hpp"
+#include "map_checkpoint.hpp"
 #include "map_codec.hpp"
 #include "mpi_world.hpp"
 #include "talus/model.hpp"
@@ -77,75 +79,19 @@ public:
     DepthGuard& operator=(const DepthGuard&) = delete;
 };
 
+const Option kMapOptionRows[] = {
+    {"jobs", "integer", "worker processes (default: the usable cores, or TALUS_JOBS)"},
+    {"on_error", "\"record\"|\"raise\"",
+     "record: a failed item is nil and listed in results.failed (default); raise: stop"},
+    {"checkpoint", "string", "a directory where every finished value is kept for a rerun"},
+    {"key", "string", "names what the items are: an item stored with another key runs again"},
+};
+const OptionTable kMapOptions = {"talus.MapOptions", "talus.map(n, fn, {...})", kMapOptionRows};
+
 /// How a failed item is handled (the `on_error` option).
 enum class OnError {
     Record,  ///< the item's result is nil, the failure goes into results.failed; the rest runs
     Raise,   ///< the map stops and raises the failure with the lowest index
-};
-
-/// Finished values kept on disk as they arrive (the `checkpoint` option), so that a rerun of
-/// the same map, after a failure or a killed job, runs only what is missing. One file per item,
-/// `<dir>/item_<i>.tmv`, written through a temporary file and a rename (a half-written file is
-/// never taken): "talus.map item\n", the key (8-byte length, bytes), the encoded value.
-struct Checkpoint {
-    std::string dir;  // "" = none
-    std::string key;
-
-    bool on() const { return !dir.empty(); }
-    std::string file(int64_t i) const { return dir + "/item_" + std::to_string(i) + ".tmv"; }
-
-    /// The stored value of item i, if there is one written with this key. `other` is set when
-    /// a file is there but was written with another key (another run: it is run again).
-    bool load(int64_t i, std::string& value, bool& other) const {
-        other = false;
-        std::FILE* f = std::fopen(file(i).c_str(), "rb");
-        if (!f) return false;
-        std::string bytes;
-        char buf[1 << 16];
-        std::size_t got;
-        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, got);
-        std::fclose(f);
-        static const std::string magic = "talus.map item\n";
-        uint64_t klen = 0;
-        if (bytes.size() < magic.size() + 8 || bytes.compare(0, magic.size(), magic) != 0)
-            return other = true, false;
-        std::memcpy(&klen, bytes.data() + magic.size(), 8);
-        const std::size_t at = magic.size() + 8;
-        if (bytes.size() - at < klen || bytes.compare(at, klen, key) != 0 || klen != key.size())
-            return other = true, false;
-        value = bytes.substr(at + klen);
-        return !value.empty();
-    }
-
-    /// Stores item i's value; a failure to write is reported once on stderr and the map goes
-    /// on (the results are still returned; only the rerun loses them).
-    void store(int64_t i, const std::string& value) const {
-        static const std::string magic = "talus.map item\n";
-        const std::string path = file(i), tmp = dir + "/.item_" + std::to_string(i) + ".tmp";
-        std::FILE* f = std::fopen(tmp.c_str(), "wb");
-        bool ok = f != nullptr;
-        if (ok) {
-            const uint64_t klen = key.size();
-            char len[8];
-            std::memcpy(len, &klen, 8);
-            ok = std::fwrite(magic.data(), 1, magic.size(), f) == magic.size() &&
-                 std::fwrite(len, 1, 8, f) == 8 &&
-                 std::fwrite(key.data(), 1, key.size(), f) == key.size() &&
-                 std::fwrite(value.data(), 1, value.size(), f) == value.size();
-            ok = (std::fclose(f) == 0) && ok;
-        }
-        if (ok && std::rename(tmp.c_str(), path.c_str()) == 0) return;
-        const int err = errno;
-        std::remove(tmp.c_str());
-        static bool said = false;
-        if (!said) {
-            said = true;
-            std::fprintf(stderr,
-                         "talus: warning: map: cannot write the checkpoint file '%s' (%s); the "
-                         "map goes on, but a rerun will run such items again\n",
-                         path.c_str(), std::strerror(err));
-        }
-    }
 };
 
 /// What running some items of [lo, hi] gave: one encoded value per index ("" for an item with
@@ -160,6 +106,7 @@ struct Outcome {
     std::vector<std::pair<int64_t, std::string>> failures;
     int64_t from_checkpoint = 0;  // items taken from the checkpoint, not run
     int64_t other_key = 0;        // checkpoint files of another run (another key), run again
+    int64_t damaged = 0;          // damaged checkpoint files, their items run again
 };
 
 /// Block w of `count` items cut into `parts` contiguous blocks: first index (0-based) and size.
@@ -567,7 +514,7 @@ uint64_t get64(const std::string& s, std::size_t& pos) {
 
 /// This rank's outcome as bytes: 'F' index message (raise mode), or 'V' then per item its
 /// length and bytes (0: no value), the failures (count, then index, length, message each), the
-/// items taken from the checkpoint and those of another key.
+/// items taken from the checkpoint, those of another key and the damaged ones.
 std::string pack(const Outcome& o) {
     std::string s;
     if (o.failed) {
@@ -589,6 +536,7 @@ std::string pack(const Outcome& o) {
     }
     put64(s, static_cast<uint64_t>(o.from_checkpoint));
     put64(s, static_cast<uint64_t>(o.other_key));
+    put64(s, static_cast<uint64_t>(o.damaged));
     return s;
 }
 
@@ -622,169 +570,230 @@ Outcome unpack(const std::string& s, int64_t n, int64_t ranks, int64_t r) {
     }
     o.from_checkpoint = static_cast<int64_t>(get64(s, pos));
     o.other_key = static_cast<int64_t>(get64(s, pos));
+    o.damaged = static_cast<int64_t>(get64(s, pos));
     return o;
 }
 
 // ------------------------------------------------------------------ Lua functions
 
+/// talus.map's arguments, checked.
+struct MapRequest {
+    long long n = 0;
+    int64_t jobs = 1;
+    OnError mode = OnError::Record;
+    Checkpoint ckpt;
+    bool nested = false;      ///< called from inside fn: runs in place
+    bool collective = false;  ///< the ranks of an mpirun share the items
+};
+
+MapRequest readRequest(lua_State* L) {
+    MapRequest r;
+    r.n = toInteger(L, 1, "map: n (the number of items)");
+    if (r.n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(r.n) + ")");
+    if (lua_type(L, 2) != LUA_TFUNCTION)
+        throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
+    const Options opts(L, 3, "map", kMapOptions, true);
+    int64_t jobs = opts.integer("jobs", 0);
+    const bool jobs_given = opts.has("jobs");
+    if (jobs_given && jobs < 1)
+        throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) + ")");
+    r.mode =
+        opts.choice("on_error", 0, {"record", "raise"}) == 0 ? OnError::Record : OnError::Raise;
+    r.ckpt.dir = opts.string("checkpoint", "");
+    r.ckpt.key = opts.string("key", "");
+    if (opts.has("checkpoint") && r.ckpt.dir.empty())
+        throw ScriptError(opts.field("checkpoint") + " must be a directory name");
+    if (opts.has("key") && !r.ckpt.on())
+        throw ScriptError(opts.field("key") + " goes with 'checkpoint' (a directory)");
+    r.nested = g_depth > 0;
+    // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a fork
+    // under MPI is fragile with some interconnects: one process per rank unless asked.
+    if (!jobs_given) jobs = mpi::size() > 1 ? 1 : defaultJobs();
+    r.jobs = r.nested ? 1 : jobs;
+    r.collective = !r.nested && mpi::size() > 1;
+    return r;
+}
+
+/// Takes the items of [lo, hi] the checkpoint holds (whole, of this key) into `out`; returns the
+/// others, to be run. A damaged file is said, naming it, and its item runs again.
+std::vector<int64_t> fromCheckpoint(const Checkpoint& ckpt, int64_t lo, int64_t hi, Outcome& out) {
+    std::vector<int64_t> todo;
+    std::string why;
+    for (int64_t i = lo; i <= hi; ++i) {
+        const auto item = ckpt.on()
+                              ? ckpt.load(i, out.values[static_cast<std::size_t>(i - lo)], why)
+                              : Checkpoint::Item::Missing;
+        if (item == Checkpoint::Item::Taken) {
+            ++out.from_checkpoint;
+            continue;
+        }
+        out.values[static_cast<std::size_t>(i - lo)].clear();
+        todo.push_back(i);
+        out.other_key += item == Checkpoint::Item::OtherKey;
+        if (item == Checkpoint::Item::Damaged) {
+            ++out.damaged;
+            clearProgressLine();
+            std::fflush(stdout);
+            std::fprintf(stderr,
+                         "talus: map: the checkpoint file '%s' is damaged (%s); %s runs again\n",
+                         ckpt.file(i).c_str(), why.c_str(), itemName(i).c_str());
+        }
+    }
+    return todo;
+}
+
+/// Runs this process's items [lo, hi] (fn at stack index 2): those the checkpoint holds are
+/// taken from it, the others run in place or in workers.
+Outcome runBlock(lua_State* L, const MapRequest& r, int64_t lo, int64_t hi) {
+    Outcome mine;
+    mine.values.assign(static_cast<std::size_t>(std::max<int64_t>(0, hi - lo + 1)), std::string());
+    DepthGuard depth;
+    if (r.ckpt.on()) {
+        std::error_code ec;
+        std::filesystem::create_directories(r.ckpt.dir, ec);
+        if (ec)
+            throw ScriptError("map: cannot create the checkpoint directory '" + r.ckpt.dir + "' (" +
+                              ec.message() + ")");
+    }
+    const std::vector<int64_t> todo = fromCheckpoint(r.ckpt, lo, hi, mine);
+    const int fn = 2;
+    const int64_t workers = std::min<int64_t>(r.jobs, static_cast<int64_t>(todo.size()));
+    try {
+        if (workers <= 1)
+            runInPlace(L, fn, todo, lo, r.mode, r.ckpt, mine);
+        else
+            runForked(L, fn, todo, lo, workers, r.mode, r.ckpt, mine);
+    } catch (const std::exception& e) {
+        // A system failure (no pipe, no fork, corrupt frame) becomes this block's failure:
+        // under MPI it must still reach the exchange, or the other ranks would wait there for
+        // this one forever.
+        if (!r.collective) throw;
+        std::string text = e.what();
+        if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
+        mine.failed = true;
+        mine.index = lo;
+        mine.message = text;
+    }
+    return mine;
+}
+
+/// Every rank's outcome, in rank order (this one alone without MPI).
+std::vector<Outcome> gather(Outcome mine, const MapRequest& r) {
+    std::vector<Outcome> ranks;
+    if (!r.collective) {
+        ranks.push_back(std::move(mine));
+        return ranks;
+    }
+    const std::vector<std::string> all = mpi::allgather(pack(mine));
+    for (std::size_t k = 0; k < all.size(); ++k)
+        ranks.push_back(
+            unpack(all[k], r.n, static_cast<int64_t>(all.size()), static_cast<int64_t>(k)));
+    return ranks;
+}
+
+/// Ctrl-C reaches the workers with the caller (one process group): the items it stopped failed
+/// as "interrupted", and the values left would look like a whole map. Raises, as an interrupted
+/// run call does; the finished items are in the checkpoint for a rerun. When every item had
+/// finished, the map returns them.
+void raiseIfInterrupted(const std::vector<Outcome>& ranks, const MapRequest& r) {
+    if (!talus::stopRequested()) return;
+    int64_t done = 0;
+    for (const Outcome& o : ranks)
+        for (const std::string& v : o.values) done += v.empty() ? 0 : 1;
+    if (done >= r.n) return;
+    throw ScriptError("map: interrupted (Ctrl-C) with " + std::to_string(done) + " of " +
+                      std::to_string(r.n) + " items done" +
+                      (r.ckpt.on() ? "; they are kept in the checkpoint '" + r.ckpt.dir +
+                                         "': a rerun with it runs only the others"
+                                   : ""));
+}
+
+/// What the map says on stderr (rank 0, outermost map): the items taken from the checkpoint,
+/// and the failures.
+struct MapSummary {
+    std::vector<std::pair<int64_t, std::string>> failures;  // sorted by index
+    int64_t from_checkpoint = 0, other_key = 0, damaged = 0;
+};
+
+/// Pushes the list of results (decoding every value) and sums up the ranks' outcomes.
+MapSummary pushResults(lua_State* L, const std::vector<Outcome>& ranks, long long n) {
+    MapSummary sum;
+    lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
+    lua_Integer i = 1;
+    for (const Outcome& o : ranks) {
+        for (const std::string& v : o.values) {
+            if (!v.empty()) {
+                decodeValue(L, v.data(), v.size());
+                lua_rawseti(L, -2, i);
+            }
+            ++i;
+        }
+        sum.failures.insert(sum.failures.end(), o.failures.begin(), o.failures.end());
+        sum.from_checkpoint += o.from_checkpoint;
+        sum.other_key += o.other_key;
+        sum.damaged += o.damaged;
+    }
+    std::sort(sum.failures.begin(), sum.failures.end());
+    return sum;
+}
+
+/// results.failed = {{index =, message =}, ...}, in index order, on the list on top.
+void pushFailures(lua_State* L, const MapSummary& sum) {
+    lua_createtable(L, static_cast<int>(sum.failures.size()), 0);
+    for (std::size_t k = 0; k < sum.failures.size(); ++k) {
+        lua_createtable(L, 0, 2);
+        setInteger(L, "index", static_cast<lua_Integer>(sum.failures[k].first));
+        setString(L, "message", sum.failures[k].second);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "failed");
+}
+
+void report(const MapSummary& sum, const MapRequest& r) {
+    if (sum.from_checkpoint > 0 || sum.other_key > 0 || sum.damaged > 0) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
+                     static_cast<long long>(sum.from_checkpoint), r.n, r.ckpt.dir.c_str());
+        if (sum.other_key > 0)
+            std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
+                         static_cast<long long>(sum.other_key));
+        if (sum.damaged > 0)
+            std::fprintf(stderr, "; %lld damaged (run again)", static_cast<long long>(sum.damaged));
+        std::fprintf(stderr, "\n");
+    }
+    if (!sum.failures.empty()) {
+        clearProgressLine();
+        std::fflush(stdout);
+        std::fprintf(stderr,
+                     "talus: warning: map: %zu of %lld items failed (their results are nil; "
+                     "results.failed lists index and message)%s; the first: %s\n",
+                     sum.failures.size(), r.n,
+                     r.ckpt.on() ? "; a rerun with the same checkpoint runs only those" : "",
+                     sum.failures.front().second.c_str());
+    }
+}
+
 int w_map(lua_State* L) {
     return catchexcept(L, [&] {
-        const long long n = toInteger(L, 1, "map: n (the number of items)");
-        if (n < 0) throw ScriptError("map: n must be >= 0 (got " + std::to_string(n) + ")");
-        if (lua_type(L, 2) != LUA_TFUNCTION)
-            throw ScriptError("map: fn must be a function (got " + typeName(L, 2) + ")");
-        const Options opts(L, 3, "map", {"jobs", "on_error", "checkpoint", "key"}, true);
-        int64_t jobs = opts.integer("jobs", 0);
-        const bool jobs_given = opts.has("jobs");
-        if (jobs_given && jobs < 1)
-            throw ScriptError(opts.field("jobs") + " must be >= 1 (got " + std::to_string(jobs) +
-                              ")");
-        const OnError mode =
-            opts.choice("on_error", 0, {"record", "raise"}) == 0 ? OnError::Record : OnError::Raise;
-        Checkpoint ckpt;
-        ckpt.dir = opts.string("checkpoint", "");
-        ckpt.key = opts.string("key", "");
-        if (opts.has("checkpoint") && ckpt.dir.empty())
-            throw ScriptError(opts.field("checkpoint") + " must be a directory name");
-        if (opts.has("key") && !ckpt.on())
-            throw ScriptError(opts.field("key") + " goes with 'checkpoint' (a directory)");
-        const bool nested = g_depth > 0;
-        // Under MPI the ranks already use the cores (mpirun -n <cores per machine>), and a
-        // fork under MPI is fragile with some interconnects: one process per rank unless asked.
-        if (!jobs_given) jobs = mpi::size() > 1 ? 1 : defaultJobs();
-        if (nested) jobs = 1;
-        const bool collective = !nested && mpi::size() > 1;
-
-        int64_t lo = 1, hi = n;
-        if (collective) {
+        const MapRequest r = readRequest(L);
+        int64_t lo = 1, hi = r.n;
+        if (r.collective) {
             int64_t first, size;
-            block(n, mpi::size(), mpi::rank(), first, size);
+            block(r.n, mpi::size(), mpi::rank(), first, size);
             lo = 1 + first;
             hi = lo + size - 1;
         }
         lua_settop(L, 3);
-        const int fn = 2;
-        Outcome mine;
-        mine.values.assign(static_cast<std::size_t>(std::max<int64_t>(0, hi - lo + 1)),
-                           std::string());
-        {
-            DepthGuard depth;
-            // The items to run: all of this rank's block but those the checkpoint holds.
-            std::vector<int64_t> todo;
-            if (ckpt.on()) {
-                std::error_code ec;
-                std::filesystem::create_directories(ckpt.dir, ec);
-                if (ec)
-                    throw ScriptError("map: cannot create the checkpoint directory '" + ckpt.dir +
-                                      "' (" + ec.message() + ")");
-            }
-            for (int64_t i = lo; i <= hi; ++i) {
-                bool other = false;
-                if (ckpt.on() && ckpt.load(i, mine.values[static_cast<std::size_t>(i - lo)], other))
-                    ++mine.from_checkpoint;
-                else
-                    todo.push_back(i);
-                mine.other_key += other;
-            }
-            const int64_t workers = std::min<int64_t>(jobs, static_cast<int64_t>(todo.size()));
-            try {
-                if (workers <= 1)
-                    runInPlace(L, fn, todo, lo, mode, ckpt, mine);
-                else
-                    runForked(L, fn, todo, lo, workers, mode, ckpt, mine);
-            } catch (const std::exception& e) {
-                // A system failure (no pipe, no fork, corrupt frame) becomes this block's
-                // failure: under MPI it must still reach the exchange, or the other ranks
-                // would wait there for this one forever.
-                if (!collective) throw;
-                std::string text = e.what();
-                if (text.rfind("map: ", 0) == 0) text.erase(0, 5);
-                mine.failed = true;
-                mine.index = lo;
-                mine.message = text;
-            }
-        }
-
-        // Every rank's values, in rank order (one rank without MPI).
-        std::vector<Outcome> ranks;
-        if (collective) {
-            const std::vector<std::string> all = mpi::allgather(pack(mine));
-            for (std::size_t r = 0; r < all.size(); ++r)
-                ranks.push_back(
-                    unpack(all[r], n, static_cast<int64_t>(all.size()), static_cast<int64_t>(r)));
-        } else {
-            ranks.push_back(std::move(mine));
-        }
+        const std::vector<Outcome> ranks = gather(runBlock(L, r, lo, hi), r);
         // The failure with the lowest index, the same on every rank.
         const Outcome* failed = nullptr;
         for (const Outcome& o : ranks)
             if (o.failed && (!failed || o.index < failed->index)) failed = &o;
         if (failed) throw ScriptError("map: " + failed->message);
-        // Ctrl-C reaches the workers with the caller (one process group): the items it stopped
-        // failed as "interrupted", and the values left would look like a whole map. Raise, as
-        // an interrupted run call does; the finished items are in the checkpoint for a rerun.
-        if (talus::stopRequested()) {
-            int64_t done = 0;
-            for (const Outcome& o : ranks)
-                for (const std::string& v : o.values) done += v.empty() ? 0 : 1;
-            if (done < n)
-                throw ScriptError("map: interrupted (Ctrl-C) with " + std::to_string(done) +
-                                  " of " + std::to_string(n) + " items done" +
-                                  (ckpt.on() ? "; they are kept in the checkpoint '" + ckpt.dir +
-                                                   "': a rerun with it runs only the others"
-                                             : ""));
-        }
-
-        lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
-        lua_Integer i = 1;
-        std::vector<std::pair<int64_t, std::string>> failures;
-        int64_t from_checkpoint = 0, other_key = 0;
-        for (const Outcome& o : ranks) {
-            for (const std::string& v : o.values) {
-                if (!v.empty()) {
-                    decodeValue(L, v.data(), v.size());
-                    lua_rawseti(L, -2, i);
-                }
-                ++i;
-            }
-            failures.insert(failures.end(), o.failures.begin(), o.failures.end());
-            from_checkpoint += o.from_checkpoint;
-            other_key += o.other_key;
-        }
-        std::sort(failures.begin(), failures.end());
-        const bool speak = mpi::rank() == 0 && !nested;
-        if (speak && (from_checkpoint > 0 || other_key > 0)) {
-            std::fflush(stdout);
-            std::fprintf(stderr, "talus: map: %lld of %lld items taken from the checkpoint '%s'",
-                         static_cast<long long>(from_checkpoint), n, ckpt.dir.c_str());
-            if (other_key > 0)
-                std::fprintf(stderr, "; %lld stored by another run (another key) were run again",
-                             static_cast<long long>(other_key));
-            std::fprintf(stderr, "\n");
-        }
-        if (!failures.empty()) {
-            // results.failed = {{index =, message =}, ...}, in index order.
-            lua_createtable(L, static_cast<int>(failures.size()), 0);
-            for (std::size_t k = 0; k < failures.size(); ++k) {
-                lua_createtable(L, 0, 2);
-                lua_pushinteger(L, static_cast<lua_Integer>(failures[k].first));
-                lua_setfield(L, -2, "index");
-                lua_pushlstring(L, failures[k].second.data(), failures[k].second.size());
-                lua_setfield(L, -2, "message");
-                lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-            }
-            lua_setfield(L, -2, "failed");
-            if (speak) {
-                clearProgressLine();
-                std::fflush(stdout);
-                std::fprintf(stderr,
-                             "talus: warning: map: %zu of %lld items failed (their results are "
-                             "nil; results.failed lists index and message)%s; the first: %s\n",
-                             failures.size(), n,
-                             ckpt.on() ? "; a rerun with the same checkpoint runs only those" : "",
-                             failures.front().second.c_str());
-            }
-        }
+        raiseIfInterrupted(ranks, r);
+        const MapSummary sum = pushResults(L, ranks, r.n);
+        if (!sum.failures.empty()) pushFailures(L, sum);
+        if (mpi::rank() == 0 && !r.nested) report(sum, r);
         return 1;
     });
 }
@@ -799,13 +808,17 @@ int w_ranks(lua_State* L) {
     return 1;
 }
 
+const Method kMapFunctions[] = {
+    {"map", w_map, "{fn(1), ..., fn(n)}, computed on all cores and across MPI ranks",
+     "n: integer, fn: fun(i: integer): any, options?: talus.MapOptions", "table"},
+    {"rank", w_rank, "this process's MPI rank (0-based); 0 without mpirun", "", "integer"},
+    {"ranks", w_ranks, "the number of MPI ranks; 1 without mpirun", "", "integer"},
+};
+
+const OptionTable* const kOptionTables[] = {&kMapOptions};
+
 }  // namespace
 
-extern const luaL_Reg kMapFunctions[] = {
-    {"map", w_map},
-    {"rank", w_rank},
-    {"ranks", w_ranks},
-    {nullptr, nullptr},
-};
+extern const Binding kMapBinding = {"independent runs", {}, kMapFunctions, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

@@ -132,9 +132,11 @@ void readSeries(SaveReader& r, uint32_t version, const LuaModel& lm,
                             "\", append = true, fields = {...}}");
         } else if (s.every == 0) {
             notes.push_back(what +
-                            " was written on request (no 'every'); go on with it with "
+                            " was written on request or by simulated time ('every_time'), "
+                            "which a restore does not continue; go on with it with "
                             "m:vtk{dir = \"" +
-                            s.dir + "\", name = \"" + s.name + "\", append = true}");
+                            s.dir + "\", name = \"" + s.name +
+                            "\", append = true} (and its every_time)");
         } else {
             vtk_out.push_back(std::move(s));
         }
@@ -321,6 +323,12 @@ void applyHostSection(lua_State* L, LuaModel& lm, const std::vector<uint8_t>& by
                         joinNames(callbacks));
 }
 
+const Option kRestoreOptionRows[] = {
+    {"quiet", "boolean", "do not print the notes to stderr"},
+};
+const OptionTable kRestoreOptions = {"talus.RestoreOptions", "talus.restore(file, {...})",
+                                     kRestoreOptionRows};
+
 int w_save(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "save");
@@ -341,7 +349,7 @@ int w_restore(lua_State* L) {
             throw ScriptError("restore: the file name must be a string (got " + typeName(L, 1) +
                               ")");
         const std::string path = lua_tostring(L, 1);
-        const Options o(L, 2, "restore", {"quiet"}, true);
+        const Options o(L, 2, "restore", kRestoreOptions, true);
         const bool quiet = o.boolean("quiet", false);
         RestoredModel r = restoreModelFile(path, PluginRegistry::global());
         pushNewModel(L, std::move(r.model));
@@ -355,22 +363,28 @@ int w_restore(lua_State* L) {
     });
 }
 
+const Method kSaveMethods[] = {
+    {"save", w_save, "saves the model (with its histories and output series) to a file",
+     "file: string", ""},
+};
+
+const Method kSaveFunctions[] = {
+    {"restore", w_restore,
+     "a model from a save file, and notes on what was not restored (Lua callbacks, ...)",
+     "file: string, options?: talus.RestoreOptions", "talus.Model, string[]"},
+};
+
+const OptionTable* const kOptionTables[] = {&kRestoreOptions};
+
 }  // namespace
+
+extern const Binding kSaveBinding = {
+    "save and restore", kSaveMethods, kSaveFunctions, {}, kOptionTables, {}};
 
 void saveLuaModel(LuaModel& lm, const std::string& path) {
     // Rows written so far go to the file first: the save and the CSV agree on the step.
     lm.flushHistories();
     saveModelFile(*lm.model, path, hostSection(lm));
 }
-
-extern const luaL_Reg kSaveMethods[] = {
-    {"save", w_save},
-    {nullptr, nullptr},
-};
-
-extern const luaL_Reg kSaveFunctions[] = {
-    {"restore", w_restore},
-    {nullptr, nullptr},
-};
 
 }  // namespace talus::lua

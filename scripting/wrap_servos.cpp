@@ -12,19 +12,31 @@ namespace talus::lua {
 
 namespace {
 
-constexpr const char* kServoType = "talus.Servo";
-
 struct ServoRef {
     LuaModel* lm;
     ServoId id;
 };
 
-const std::vector<std::string>& optionNames() {
-    static const std::vector<std::string> names = {"walls",    "dirs",   "stress", "force", "rate",
-                                                   "velocity", "length", "span",   "gauge", "ramp",
-                                                   "alpha",    "vmax",   "on"};
-    return names;
-}
+const Option kServoSetOptionRows[] = {
+    {"walls", "talus.Wall[]", "the walls the servo moves (one target for all of them)"},
+    {"dirs", "talus.Vec[]", "each wall's direction into the material (default: its normal)"},
+    {"stress", "number", "target stress [Pa], compression positive"},
+    {"force", "number", "target force [N] over the walls, compression positive"},
+    {"rate", "number", "target strain rate [1/s] over the gauge length"},
+    {"velocity", "number", "target wall speed [m/s] into the material"},
+    {"length", "number", "[m] the length that turns force into stress"},
+    {"span", "talus.Wall[]", "{wall_a, wall_b}: the length is their distance, every step"},
+    {"gauge", "number", "[m] the gauge length of the strain rate"},
+    {"ramp", "integer", "steps over which the target grows from zero"},
+    {"alpha", "number", "PFC's relaxation factor in (0, 2)"},
+    {"vmax", "number", "speed cap [m/s] (default set by the control)"},
+    {"on", "boolean", "false stops the walls along their directions"},
+};
+
+const OptionTable kServoSetOptions = {
+    "talus.ServoSetOptions",
+    "m:servo{...} / sv:set{...}: a new servo needs walls and one target; set changes what it gives",
+    kServoSetOptionRows};
 
 const char* const kControls[] = {"stress", "force", "rate", "velocity"};
 
@@ -63,7 +75,7 @@ std::vector<WallId> toWalls(lua_State* L, int index, const LuaModel& lm, const s
 void readOptions(lua_State* L, const LuaModel& lm, ServoSettings& s, bool create,
                  const std::string& what) {
     const ServoControl before = s.control;
-    const Options o(L, 2, what, optionNames());
+    const Options o(L, 2, what, kServoSetOptions);
     int targets = 0;
     for (int c = 0; c < 4; ++c)
         if (o.has(kControls[c])) {
@@ -175,14 +187,10 @@ void pushState(lua_State* L, int model_index, const ServoState& st) {
     lua_setfield(L, -2, "steps");
 }
 
+const ObjectType& servoObject();
+
 ServoRef& checkServo(lua_State* L, int index, const char* fn) {
-    auto* s = static_cast<ServoRef*>(testUserdata(L, index, kServoType));
-    if (!s)
-        throw ScriptError(std::string("servo: call it as a method, sv:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) +
-                          ", not a servo)");
-    if (!s->lm->model) throw ScriptError("servo: its model was closed");
-    return *s;
+    return checkObject<ServoRef>(L, index, servoObject(), fn);
 }
 
 /// The model userdata of a servo userdata at `index`, pushed.
@@ -218,49 +226,32 @@ int s_remove(lua_State* L) {
     });
 }
 
-const luaL_Reg kServoObjectMethods[] = {
-    {"set", s_set},
-    {"state", s_state},
-    {"remove", s_remove},
-    {nullptr, nullptr},
+const Field kServoFields[] = {
+    {"id", "integer", "the servo's number",
+     [](lua_State* L, void* self) { lua_pushinteger(L, static_cast<ServoRef*>(self)->id.index); }},
 };
 
-int s_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        const ServoRef& r = checkServo(L, 1, "index");
-        if (lua_type(L, 2) == LUA_TSTRING) {
-            const std::string key = lua_tostring(L, 2);
-            if (key == "id") {
-                lua_pushinteger(L, r.id.index);
-                return 1;
-            }
-            lua_getfield(L, lua_upvalueindex(1), key.c_str());
-            if (!lua_isnil(L, -1)) return 1;
-            lua_pop(L, 1);
-        }
-        throw ScriptError("servo: no field '" + std::string(luaL_tolstring(L, 2, nullptr)) +
-                          "' (known: id, set(), state(), remove())");
-    });
+const Method kServoObjectMethods[] = {
+    {"set", s_set, "changes the options given; returns the state", "options: talus.ServoSetOptions",
+     "table"},
+    {"state", s_state,
+     "{control, target, on, walls, dirs, forces, stress, force, speed, strain, steps, ...}", "",
+     "table"},
+    {"remove", s_remove, "removes the servo (its walls keep their last velocity)", "", ""},
+};
+
+void describe(lua_State* L, void* self) {
+    lua_pushfstring(L, "servo %d", static_cast<int>(static_cast<ServoRef*>(self)->id.index));
 }
 
-int s_newindex(lua_State* L) {
-    return catchexcept(L, [&]() -> int {
-        throw ScriptError("servo: fields are read-only; change it with sv:set{...}");
-    });
-}
+const ObjectType kServoObject = {
+    "talus.Servo", "servo",
+    "sv",          "drives a set of walls to a stress, force, strain rate or velocity",
+    kServoFields,  kServoObjectMethods,
+    describe,      "change it with sv:set{...}",
+};
 
-int s_eq(lua_State* L) {
-    const auto* a = static_cast<ServoRef*>(testUserdata(L, 1, kServoType));
-    const auto* b = static_cast<ServoRef*>(testUserdata(L, 2, kServoType));
-    lua_pushboolean(L, a && b && a->lm == b->lm && a->id.index == b->id.index);
-    return 1;
-}
-
-int s_tostring(lua_State* L) {
-    const auto* s = static_cast<ServoRef*>(testUserdata(L, 1, kServoType));
-    lua_pushfstring(L, "servo %d", s ? static_cast<int>(s->id.index) : 0);
-    return 1;
-}
+const ObjectType& servoObject() { return kServoObject; }
 
 int w_servo_new(lua_State* L) {
     return catchexcept(L, [&] {
@@ -269,22 +260,21 @@ int w_servo_new(lua_State* L) {
         s.vmax = kNotSet;  // resolved by the control (Model::addServo)
         readOptions(L, lm, s, true, "servo");
         const ServoId id = lm.model->addServo(s);
-        if (luaL_getmetatable(L, kServoType) == LUA_TNIL)
-            registerRefType(L, kServoType, kServoObjectMethods, s_index, s_newindex, s_eq,
-                            s_tostring);
-        lua_pop(L, 1);
-        auto* r = newRef<ServoRef>(L, 1, kServoType);
-        r->lm = &lm;
-        r->id = id;
+        newObject<ServoRef>(L, 1, kServoObject)->id = id;
         return 1;
     });
 }
 
+const Method kServosModelMethods[] = {
+    {"servo", w_servo_new, "a servo over a set of walls, run every step",
+     "options: talus.ServoSetOptions", "talus.Servo"},
+};
+const ObjectType* const kServosTypes[] = {&kServoObject};
+const OptionTable* const kServosOptionTables[] = {&kServoSetOptions};
+
 }  // namespace
 
-const luaL_Reg kServoMethods[] = {
-    {"servo", w_servo_new},
-    {nullptr, nullptr},
-};
+extern const Binding kServosBinding = {"servos",     kServosModelMethods, {},
+                                       kServosTypes, kServosOptionTables, {}};
 
 }  // namespace talus::lua

@@ -17,6 +17,16 @@ Columns (docs/plotting.md):
     "name [unit]" may also be named by "name" alone;
   - --x time | step | <column> picks the abscissa.
 
+Panels (--panels, default "group"): one panel per group, all sharing the time axis: the
+model's own columns (kinetic, body, ...) in the panel "all bodies", each group's columns
+(kinetic@rock, ...) in a panel named after the group, and every balance_error column in a panel
+of its own below (its size is a check of the run, not one more energy, and on the energies' axis
+it would be a flat line at 0). Columns that belong to no group and are not energies (x, y, ...)
+share the first panel. --panels one draws every series on one axis. Within a figure each
+series has its own look: colour and dash pattern cycle together (10 colours x 4 dashes, then
+markers), and the same column of the same file keeps its look from panel to panel. --describe
+prints the panels drawn (JSON: title, axis labels, and each line's label, colour and dashes).
+
 Units: talus's history header holds column names only; the units of talus's own quantities
 follow from the name (time and dt in s, energies in J, step a count), and a user column whose
 header reads "name [unit]" carries its own unit. Both go into the axis labels.
@@ -55,7 +65,7 @@ BUILTIN_UNITS = {"time": "s", "dt": "s", "step": ""}
 # "name [unit]" (a space before the bracket): a unit given in the header itself.
 _UNIT_RE = re.compile(r"^(?P<name>.*\S)\s+\[(?P<unit>[^\[\]]*)\]$")
 # Group-wise forms of an energy item: kinetic@rock, kinetic[rock], kinetic:rock.
-_GROUP_RE = re.compile(r"^(?P<item>[A-Za-z_]+)(?:@.+|\[[^\]]*\]|:.+)$")
+_GROUP_RE = re.compile(r"^(?P<item>[A-Za-z_]+)(?:@(?P<at>.+)|\[(?P<br>[^\]]*)\]|:(?P<co>.+))$")
 
 OUTPUT_TYPES = (".png", ".pdf", ".svg")
 
@@ -70,6 +80,8 @@ class Column:
     name: str    # without a " [unit]" suffix
     unit: str    # "" when unknown or dimensionless
     energy: bool
+    group: str = ""  # kinetic@rock, kinetic[rock], kinetic:rock -> "rock"
+    item: str = ""   # kinetic@rock -> "kinetic"; the name for other columns
 
 
 @dataclass
@@ -84,6 +96,8 @@ class Series:
     x: List[float] = field(default_factory=list)
     y: List[float] = field(default_factory=list)
     name: str = ""     # the y column's name without its " [unit]" (the axis label adds the unit)
+    group: str = ""    # the group of a group-wise energy column (kinetic@rock -> rock), else ""
+    item: str = ""     # the energy item (kinetic@rock -> kinetic), else the name
 
 
 def describe_column(header: str) -> Column:
@@ -92,14 +106,15 @@ def describe_column(header: str) -> Column:
     m = _UNIT_RE.match(header)
     if m:
         name, unit = m.group("name"), m.group("unit")
-    item = name
+    item, group = name, ""
     g = _GROUP_RE.match(name)
     if g and g.group("item") in ENERGY_ITEMS:
         item = g.group("item")
+        group = g.group("at") or g.group("br") or g.group("co") or ""
     energy = item in ENERGY_ITEMS
     if unit is None:
         unit = "J" if energy else BUILTIN_UNITS.get(name, "")
-    return Column(header=header, name=name, unit=unit, energy=energy)
+    return Column(header=header, name=name, unit=unit, energy=energy, group=group, item=item)
 
 
 def _number(cell: str) -> float:
@@ -196,7 +211,8 @@ def load_series(paths: Sequence[str], columns: Optional[Sequence[str]] = None,
             label = c.header if len(paths) == 1 else f"{fname}: {c.header}"
             series.append(Series(file=path, column=c.header, label=label, x_column=xcol.name,
                                  x_unit=xcol.unit, unit=c.unit, energy=c.energy,
-                                 x=list(data[xi]), y=list(data[k]), name=c.name))
+                                 x=list(data[xi]), y=list(data[k]), name=c.name,
+                                 group=c.group, item=c.item))
     return series
 
 
@@ -243,15 +259,113 @@ def _set_log(ax, which: str, values: Sequence[float], linthresh: Optional[float]
     return "symlog"
 
 
+ALL_PANEL = "all bodies"
+BALANCE_PANEL = "energy balance error"
+_COLOURS = 10
+_DASHES = ("-", "--", "-.", ":")
+_MARKERS = ("o", "s", "^", "v", "D", "x", "+")
+
+
+def panels(series: Sequence[Series], mode: str = "group") -> List[tuple]:
+    """The panels to draw: a list of (name, [series index, ...]).
+
+    mode "one": a single panel with every series. mode "group": the model's columns first
+    ("all bodies", with every column that names no group), then one panel per group in the order
+    the groups first appear, then every balance_error column in a panel of its own."""
+    if mode == "one":
+        return [("", list(range(len(series))))]
+    if mode != "group":
+        raise PlotError(f"--panels must be 'group' or 'one' (got '{mode}')")
+    members: dict = {}
+    for k, s in enumerate(series):
+        key = BALANCE_PANEL if s.item == "balance_error" else (s.group or ALL_PANEL)
+        members.setdefault(key, []).append(k)
+    order = ([ALL_PANEL] if ALL_PANEL in members else []) + \
+        [g for g in members if g not in (ALL_PANEL, BALANCE_PANEL)] + \
+        ([BALANCE_PANEL] if BALANCE_PANEL in members else [])
+    return [(name, members[name]) for name in order]
+
+
+def line_style(k: int) -> dict:
+    """Style number k: colour and dash pattern cycle together (10 x 4 looks), then a marker."""
+    style = {"color": f"C{k % _COLOURS}",
+             "linestyle": _DASHES[(k // _COLOURS) % len(_DASHES)]}
+    rounds = k // (_COLOURS * len(_DASHES))
+    if rounds:
+        style.update(marker=_MARKERS[(rounds - 1) % len(_MARKERS)], markevery=0.1,
+                     markersize=4)
+    return style
+
+
+def assign_styles(series: Sequence[Series], layout: Sequence[tuple]) -> List[int]:
+    """A style number per series: the same file and item keep one look in every panel (kinetic
+    of the model and kinetic@rock alike), and no two series of one panel share a look."""
+    by_key: dict = {}
+    styles = [0] * len(series)
+    fresh = 0
+    for _, idx in layout:
+        used = set()
+        for k in idx:
+            s = series[k]
+            key = (s.file, s.item or s.column)
+            n = by_key.get(key)
+            if n is None or n in used:
+                while fresh in used or fresh in by_key.values():
+                    fresh += 1
+                n = fresh
+                by_key.setdefault(key, n)
+            used.add(n)
+            styles[k] = n
+    return styles
+
+
+def _panel_label(s: Series, name: str) -> str:
+    """A series' legend entry: the item alone in a group's panel (the title names the group)."""
+    if name in ("", ALL_PANEL, BALANCE_PANEL) or not s.group:
+        return s.label
+    # "a.csv: kinetic@rock" -> "a.csv: kinetic"
+    return s.label[:len(s.label) - len(s.column)] + s.item
+
+
+def _draw_series(ax, s: Series, label: str, style: dict) -> None:
+    ax.plot(s.x, s.y, linewidth=1.4, label=label, **style)
+    # A point with gaps on both sides draws no line segment: mark it.
+    lone = [i for i in range(len(s.y))
+            if math.isfinite(s.x[i]) and math.isfinite(s.y[i])
+            and (i == 0 or not (math.isfinite(s.y[i - 1]) and math.isfinite(s.x[i - 1])))
+            and (i + 1 == len(s.y)
+                 or not (math.isfinite(s.y[i + 1]) and math.isfinite(s.x[i + 1])))]
+    if lone:
+        ax.plot([s.x[i] for i in lone], [s.y[i] for i in lone], linestyle="none",
+                marker="o", markersize=3, color=style["color"])
+
+
+def describe_figure(fig) -> List[dict]:
+    """What the figure shows, panel by panel: title, axis labels and each labelled line's label,
+    colour (hex) and dash pattern (--describe prints it as JSON)."""
+    from matplotlib.colors import to_hex
+    out = []
+    for ax in fig.axes:
+        lines = [{"label": ln.get_label(), "color": to_hex(ln.get_color()),
+                  "linestyle": ln.get_linestyle(), "marker": str(ln.get_marker())}
+                 for ln in ax.get_lines() if not ln.get_label().startswith("_")]
+        out.append({"title": ax.get_title(), "xlabel": ax.get_xlabel(),
+                    "ylabel": ax.get_ylabel(), "lines": lines})
+    return out
+
+
 def plot(series: Sequence[Series], output: str, title: Optional[str] = None,
          logx: bool = False, logy: bool = False, linthresh: Optional[float] = None,
          equal: bool = False, xlabel: Optional[str] = None, ylabel: Optional[str] = None,
-         size=(8.0, 5.0), dpi: int = 120) -> str:
-    """Draws the series into `output` (.png, .pdf or .svg); returns the path."""
+         size=None, dpi: int = 120, panel_mode: str = "group",
+         describe: Optional[list] = None) -> str:
+    """Draws the series into `output` (.png, .pdf or .svg), one panel per group (panels());
+    returns the path. `describe`: a list that receives describe_figure() of the figure."""
     ext = os.path.splitext(output)[1].lower()
     if ext not in OUTPUT_TYPES:
         raise PlotError(f"output '{output}': unknown type '{ext or '(none)'}' "
                         f"(use {', '.join(OUTPUT_TYPES)})")
+    layout = panels(series, panel_mode)
     import matplotlib
     matplotlib.use("Agg")  # no display: files only
     import matplotlib.pyplot as plt
@@ -259,38 +373,46 @@ def plot(series: Sequence[Series], output: str, title: Optional[str] = None,
     matplotlib.rcParams["svg.hashsalt"] = "talus"
     matplotlib.rcParams["path.simplify"] = True
 
-    fig, ax = plt.subplots(figsize=size)
-    for k, s in enumerate(series):
-        color = f"C{k % 10}"
-        ax.plot(s.x, s.y, color=color, linewidth=1.4, label=s.label)
-        # A point with gaps on both sides draws no line segment: mark it.
-        lone = [i for i in range(len(s.y))
-                if math.isfinite(s.x[i]) and math.isfinite(s.y[i])
-                and (i == 0 or not (math.isfinite(s.y[i - 1]) and math.isfinite(s.x[i - 1])))
-                and (i + 1 == len(s.y)
-                     or not (math.isfinite(s.y[i + 1]) and math.isfinite(s.x[i + 1])))]
-        if lone:
-            ax.plot([s.x[i] for i in lone], [s.y[i] for i in lone], linestyle="none",
-                    marker="o", markersize=3, color=color)
+    n = len(layout)
+    if size is None:
+        size = (8.0, 5.0) if n == 1 else (8.0, 1.2 + 2.6 * n)
+    fig, axes = plt.subplots(n, 1, figsize=size, sharex=True, squeeze=False)
+    axes = list(axes[:, 0])
+    styles = assign_styles(series, layout)
     notes = []
-    if logy:
-        kind = _set_log(ax, "y", [v for s in series for v in s.y], linthresh)
-        if kind == "symlog":
-            notes.append("symlog y")
+    for ax, (name, idx) in zip(axes, layout):
+        members = [series[k] for k in idx]
+        for k in idx:
+            _draw_series(ax, series[k], _panel_label(series[k], name), line_style(styles[k]))
+        if logy:
+            kind = _set_log(ax, "y", [v for s in members for v in s.y], linthresh)
+            if kind == "symlog" and "symlog y" not in notes:
+                notes.append("symlog y")
+        if equal:
+            ax.set_aspect("equal", adjustable="datalim")
+        if name == BALANCE_PANEL:
+            ax.set_ylabel("balance error [J]")
+        else:
+            ax.set_ylabel(ylabel or y_label(members))
+        if n > 1:
+            ax.set_title(name if name in (ALL_PANEL, BALANCE_PANEL) else f"group {name}",
+                         fontsize="medium")
+        ax.grid(True, color="#e5e5e5", linewidth=0.8)
+        if len(members) > 1:
+            ax.legend(loc="best", fontsize="small", ncol=1 if len(members) <= 6 else 2)
     if logx:
-        kind = _set_log(ax, "x", [v for s in series for v in s.x], linthresh)
+        kind = _set_log(axes[-1], "x", [v for s in series for v in s.x], linthresh)
         if kind == "symlog":
             notes.append("symlog x")
-    if equal:
-        ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(xlabel or x_label(series))
-    ax.set_ylabel(ylabel or y_label(series))
+    axes[-1].set_xlabel(xlabel or x_label(series))
     if title:
-        ax.set_title(title)
-    ax.grid(True, color="#e5e5e5", linewidth=0.8)
-    if len(series) > 1:
-        ax.legend(loc="best", fontsize="small")
+        if n == 1:
+            axes[0].set_title(title)
+        else:
+            fig.suptitle(title)
     fig.tight_layout()
+    if describe is not None:
+        describe.extend(describe_figure(fig))
     meta = {"png": {"Software": None},
             "pdf": {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
             "svg": {"Date": None, "Creator": None}}[ext[1:]]
@@ -379,15 +501,23 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                    help="unit of the stress columns (those in Pa) on the axes (default Pa)")
     p.add_argument("--equal", action="store_true",
                    help="same scale on both axes (trajectories)")
-    p.add_argument("--size", type=_size, default=(8.0, 5.0), help="figure size W,H in inches")
+    p.add_argument("--size", type=_size, help="figure size W,H in inches (default 8,5 for one "
+                   "panel, taller with more)")
+    p.add_argument("--panels", choices=("group", "one"), default="group",
+                   help="group (default): one panel per group and the balance error in its own; "
+                   "one: every series on one axis")
+    p.add_argument("--describe", action="store_true",
+                   help="also print the panels drawn as JSON (titles, labels, line styles)")
     p.add_argument("--dpi", type=int, default=120, help="PNG resolution (default 120)")
     args = p.parse_args(argv)
+    described: list = []
     try:
         series = load_series(args.files, _split_columns(args.columns), args.x)
         convert_stresses(series, args.stress_unit)
         out = plot(series, args.output, title=args.title, logx=args.logx, logy=args.logy,
                    linthresh=args.linthresh, equal=args.equal, xlabel=args.xlabel,
-                   ylabel=args.ylabel, size=args.size, dpi=args.dpi)
+                   ylabel=args.ylabel, size=args.size, dpi=args.dpi,
+                   panel_mode=args.panels, describe=described)
     except PlotError as e:
         print(f"plot_history: error: {e}", file=sys.stderr)
         return 2
@@ -395,6 +525,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"plot_history: error: matplotlib is missing ({e}); run scripts/setup.sh "
               "(Debian package python3-matplotlib)", file=sys.stderr)
         return 2
+    if args.describe:
+        import json
+        print(json.dumps(described, indent=1))
     print(f"plot_history: wrote {out} ({len(series)} series)")
     return 0
 

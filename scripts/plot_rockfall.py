@@ -16,13 +16,18 @@ four panels sharing the x axis, and a fifth with its own:
      (endpoint_percentiles.csv);
   3. the bounce-height envelope: mean, median and 95 % quantile per bin, each quantile with its
      order-statistic confidence band (envelopes.csv);
-  4. the total kinetic-energy envelope, the same way;
+  4. the total kinetic-energy envelope, the same way, in kJ (the CSV holds joules);
   5. catchment retention: the percentage of the rocks retained within a distance of the toe
      (Pierson et al. 2001's cumulative curve) with its Wilson band (retention.csv), named
      catchments shaded with their retention (catchments.csv).
+Labels placed along a line (collector and barrier names, the percentiles, the catchments) that
+would overlap are moved down a row each until none does.
 Missing optional files (profile, trajectories, envelopes, collectors, barriers, retention)
 leave their part out. Cells written `nan` (no rock in a bin, an interval side out of reach) leave gaps; a
 band is shaded only where both sides exist, and a lone lower bound is drawn as a dotted line.
+
+--describe also prints what each panel shows as JSON (axis labels, each labelled line's name
+and largest value, each text label with its box in pixels), for checks without looking.
 
 Errors (missing directory or required file, unknown output type) are printed on stderr as
 "plot_rockfall: error: ..." with exit status 2. As a module, load_results(DIR) returns the
@@ -116,6 +121,45 @@ def _band(ax, x, mid, lo, hi, colour, label):
                 label=f"{label} lower bound (no upper)")
 
 
+def _unclash(ax, labels, step: float = 11.0) -> None:
+    """Moves labels that would overlap a row (`step` points) down each, the leftmost staying
+    put: names of a collector and a barrier 2 m apart stay readable. Call after a draw, so the
+    boxes are measured in the final layout."""
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    placed = []
+    for a in sorted(labels, key=lambda t: t.xy[0]):
+        x0, y0 = a.xyann
+        row = 0
+        while True:
+            a.xyann = (x0, y0 - row * step)
+            box = a.get_window_extent(renderer).expanded(1.0, 1.0).padded(1.5)
+            if not any(box.overlaps(b) for b in placed) or row > 20:
+                break
+            row += 1
+        placed.append(box)
+
+
+def describe_figure(fig) -> List[dict]:
+    """Per panel: axis labels, each labelled line's name and largest finite value, and each text
+    label with its box [x0, y0, x1, y1] in pixels (--describe prints it as JSON)."""
+    renderer = fig.canvas.get_renderer()
+    out = []
+    for ax in fig.axes:
+        lines = []
+        for ln in ax.get_lines():
+            if ln.get_label().startswith("_"):
+                continue
+            ys = [float(v) for v in ln.get_ydata() if _finite(float(v))]
+            lines.append({"label": ln.get_label(), "max": max(ys) if ys else None})
+        texts = [{"text": t.get_text(),
+                  "box": [round(v, 1) for v in t.get_window_extent(renderer).extents]}
+                 for t in ax.texts]
+        out.append({"ylabel": ax.get_ylabel(), "xlabel": ax.get_xlabel(), "lines": lines,
+                    "texts": texts})
+    return out
+
+
 def _retention_panel(ax, ret, catchments):
     """Retained [%] against the distance from the toe, with its band; named catchments shaded."""
     dist = _col(ret, "distance", "retention")
@@ -124,6 +168,7 @@ def _retention_panel(ax, ret, catchments):
     hi = [100 * v if _finite(v) else math.nan for v in _col(ret, "ci_hi", "retention")]
     _band(ax, dist, pct, lo, hi, "C2", "retained")
     toe = _col(ret, "x", "retention")[0] if dist else math.nan
+    labels = []
     if catchments:
         for k, (name, a, b, f) in enumerate(zip(_col(catchments, "catchment", "catchments"),
                                                  _col(catchments, "x_from", "catchments"),
@@ -133,9 +178,10 @@ def _retention_panel(ax, ret, catchments):
                 continue
             d0, d1 = sorted((abs(a - toe), abs(b - toe)))
             ax.axvspan(d0, d1, color=f"C{(k + 4) % 10}", alpha=0.15, linewidth=0)
-            ax.annotate(f"{name}: {100 * f:.1f} %" if _finite(f) else str(name),
-                        (0.5 * (d0 + d1), 0.03), xycoords=("data", "axes fraction"),
-                        ha="center", fontsize=7)
+            labels.append(ax.annotate(f"{name}: {100 * f:.1f} %" if _finite(f) else str(name),
+                                      (0.5 * (d0 + d1), 0.03),
+                                      xycoords=("data", "axes fraction"), xytext=(0, 18),
+                                      textcoords="offset points", ha="center", fontsize=7))
     low = [v for v in lo + pct if _finite(v)]
     ax.set_ylim(max(0.0, min(low) - 5) if low else 0.0, 101)
     # The curve up to where it levels off (every rock retained, or the most there are), and a
@@ -149,10 +195,14 @@ def _retention_panel(ax, ret, catchments):
     ax.set_ylabel("retained [%]")
     ax.grid(True, linewidth=0.3)
     ax.legend(fontsize=7, loc="lower right")
+    return labels
 
 
 def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] = None,
-         trajectories: int = 10, logy_energy: bool = False, dpi: int = 120) -> str:
+         trajectories: int = 10, logy_energy: bool = False, dpi: int = 120,
+         describe: Optional[list] = None) -> str:
+    """Draws the figure into `output`; returns the path. `describe`: a list that receives
+    describe_figure() of the figure."""
     ext = os.path.splitext(output)[1].lower()
     if ext not in OUTPUT_TYPES:
         raise PlotError(f"output '{output}': unknown type '{ext or '(none)'}' "
@@ -195,6 +245,7 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
             ys = [y for r, y in zip(rocks, ty) if r == rock]
             ax.plot(xs, ys, linewidth=0.8, color=f"C{k % 10}", alpha=0.8,
                     label="trajectories" if k == 0 else None)
+    top_labels, pct_labels, ret_labels = [], [], []
     stops = _col(ep, "stop", "endpoints")
     ex, ey = _col(ep, "end_x", "endpoints"), _col(ep, "end_y", "endpoints")
     for rule in sorted(set(s for s in stops if isinstance(s, str))):
@@ -214,8 +265,9 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
                 continue
             seen.add(name)
             ax.axvline(x, color=colour, linestyle=style, linewidth=1.0)
-            ax.annotate(str(name), (x, 1.0), xycoords=("data", "axes fraction"),
-                        xytext=(2, -10), textcoords="offset points", fontsize=7, color=colour)
+            top_labels.append(ax.annotate(str(name), (x, 1.0), xycoords=("data", "axes fraction"),
+                                          xytext=(2, -10), textcoords="offset points",
+                                          fontsize=7, color=colour))
     ax.set_ylabel("y [m]")
     ax.set_title(title or f"Rockfall: {n} rocks")
     ax.legend(fontsize=7, loc="upper right")
@@ -235,9 +287,9 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
                         _col(pc, "end_x", "endpoint_percentiles")):
             if p in (0.5, 0.95, 0.99) and _finite(x):
                 ax.axvline(x, color="k", linestyle=":", linewidth=0.9)
-                ax.annotate(f"p{int(round(p * 100))}", (x, 0.95),
-                            xycoords=("data", "axes fraction"), fontsize=7,
-                            xytext=(2, 0), textcoords="offset points")
+                pct_labels.append(ax.annotate(f"p{int(round(p * 100))}", (x, 0.95),
+                                              xycoords=("data", "axes fraction"), fontsize=7,
+                                              xytext=(2, 0), textcoords="offset points"))
     r = results["reach"]
     ax2 = ax.twinx()
     rx = _col(r, "x", "reach")
@@ -252,16 +304,15 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
     # 3, 4. envelopes
     if env:
         x = _col(env, "x_mid", "envelopes")
-        for ax, q, unit, name in ((axes[2], "height", "m", "bounce height"),
-                                  (axes[3], "ke", "J", "kinetic energy")):
-            ax.plot(x, _col(env, f"{q}_mean", "envelopes"), color="0.4", linestyle="--",
-                    linewidth=1.0, label="mean")
-            _band(ax, x, _col(env, f"{q}_median", "envelopes"),
-                  _col(env, f"{q}_median_lo", "envelopes"),
-                  _col(env, f"{q}_median_hi", "envelopes"), "C0", "median")
-            _band(ax, x, _col(env, f"{q}_q95", "envelopes"),
-                  _col(env, f"{q}_q95_lo", "envelopes"), _col(env, f"{q}_q95_hi", "envelopes"),
-                  "C3", "95 %")
+        # Energies in kJ: a rock of a tonne at 20 m/s carries 200 kJ, and barriers are rated
+        # in kJ.
+        for ax, q, unit, scale, name in ((axes[2], "height", "m", 1.0, "bounce height"),
+                                         (axes[3], "ke", "kJ", 1e-3, "kinetic energy")):
+            def col(c, q=q, scale=scale):
+                return [v * scale if _finite(v) else v for v in _col(env, f"{q}_{c}", "envelopes")]
+            ax.plot(x, col("mean"), color="0.4", linestyle="--", linewidth=1.0, label="mean")
+            _band(ax, x, col("median"), col("median_lo"), col("median_hi"), "C0", "median")
+            _band(ax, x, col("q95"), col("q95_lo"), col("q95_hi"), "C3", "95 %")
             ax.set_ylabel(f"{name} [{unit}]")
             if q == "ke" and logy_energy:
                 vals = [v for v in _col(env, "ke_q95", "envelopes") if _finite(v) and v > 0]
@@ -272,7 +323,12 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
     for ax in axes[:-1]:
         ax.tick_params(labelbottom=False)
     if ret:
-        _retention_panel(all_axes[-1], ret, results.get("catchments"))
+        ret_labels = _retention_panel(all_axes[-1], ret, results.get("catchments"))
+    fig.canvas.draw()  # the final layout, so that the labels' boxes are measured in it
+    for ax, labels in ((axes[0], top_labels), (axes[1], pct_labels), (all_axes[-1], ret_labels)):
+        _unclash(ax, labels)
+    if describe is not None:
+        describe.extend(describe_figure(fig))
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
     fig.savefig(output, dpi=dpi, metadata={"Software": None} if ext == ".png" else None)
     plt.close(fig)
@@ -291,16 +347,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                    help="draw at most N trajectories from trajectories.csv (default 10)")
     p.add_argument("--logy-energy", action="store_true", help="log scale for the energy panel")
     p.add_argument("--dpi", type=int, default=120)
+    p.add_argument("--describe", action="store_true",
+                   help="also print what each panel shows as JSON (labels, lines, text boxes)")
     a = p.parse_args(argv)
     if argv is None:
         ensure_matplotlib(__file__)
     try:
         results = load_results(a.dir)
+        described: list = []
         out = plot(results, a.output or os.path.join(a.dir, "rockfall.png"), a.title,
-                   a.trajectories, a.logy_energy, a.dpi)
+                   a.trajectories, a.logy_energy, a.dpi, described)
     except (PlotError, OSError) as e:
         print(f"plot_rockfall: error: {e}", file=sys.stderr)
         return 2
+    if a.describe:
+        import json
+        print(json.dumps(described, indent=1))
     print(f"plot_rockfall: wrote {out}")
     return 0
 

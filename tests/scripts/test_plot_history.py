@@ -146,6 +146,63 @@ r = run(csv_path, "-o", pdf, "--columns", "kinetic,balance_error", "--logy")
 with open(pdf, "rb") as f:
     check(f.read() == pdf_bytes, "the same PDF bytes on a second run")
 
+# ------------------------------------------------------------------ panels and line styles
+# A history of a rockfall-like scene: 7 model energies, 6 of each of two groups and three balance
+# errors, 22 series. By default: the model's panel, one per group, the balance errors below.
+import json  # noqa: E402
+
+items = ["kinetic", "body", "boundary", "strain", "slip", "dashpot", "damping"]
+heads = items + [f"{i}@{g}" for g in ("rock", "slope") for i in items[:6]] + \
+    ["balance_error", "balance_error@rock", "balance_error@slope"]
+grouped = os.path.join(out, "plot_groups.csv")
+with open(grouped, "w") as f:
+    f.write("time," + ",".join(heads) + "\n")
+    for row in range(4):
+        f.write(",".join([str(0.1 * row)] + [str(row * (k + 1)) for k in range(len(heads))])
+                + "\n")
+r = run(grouped, "-o", os.path.join(out, "plot_groups.png"), "--describe")
+check(r.returncode == 0, f"grouped history plotted: {r.stderr}")
+try:
+    panels = json.loads(r.stdout[:r.stdout.rindex("]") + 1])
+except ValueError:
+    panels = []
+check([p["title"] for p in panels] == ["all bodies", "group rock", "group slope",
+                                       "energy balance error"],
+      f"one panel per group, the balance error last: {[p['title'] for p in panels]}")
+if len(panels) == 4:
+    check([ln["label"] for ln in panels[0]["lines"]] == items, "model panel: its 7 items")
+    check([ln["label"] for ln in panels[1]["lines"]] == items[:6],
+          f"group panel: the items without '@rock': {[ln['label'] for ln in panels[1]['lines']]}")
+    check([ln["label"] for ln in panels[3]["lines"]] ==
+          ["balance_error", "balance_error@rock", "balance_error@slope"],
+          "the balance errors alone in the last panel")
+    check(panels[3]["ylabel"] == "balance error [J]" and panels[0]["ylabel"] == "energy [J]",
+          "axis labels of the panels")
+    check(panels[3]["xlabel"] == "time [s]", "the shared x label under the last panel")
+    for p in panels:
+        looks = [(ln["color"], ln["linestyle"], ln["marker"]) for ln in p["lines"]]
+        check(len(set(looks)) == len(looks), f"panel '{p['title']}': every line its own look")
+    look = {ln["label"]: (ln["color"], ln["linestyle"]) for ln in panels[0]["lines"]}
+    check(all(look[ln["label"]] == (ln["color"], ln["linestyle"]) for ln in panels[2]["lines"]),
+          "an item keeps its look from panel to panel")
+r = run(grouped, "-o", os.path.join(out, "plot_groups_one.png"), "--describe", "--panels", "one")
+try:
+    one = json.loads(r.stdout[:r.stdout.rindex("]") + 1])
+except ValueError:
+    one = []
+check(len(one) == 1 and len(one[0]["lines"]) == len(heads),
+      f"--panels one: all {len(heads)} series on one axis")
+if one:
+    looks = [(ln["color"], ln["linestyle"], ln["marker"]) for ln in one[0]["lines"]]
+    check(len(set(looks)) == len(looks),
+          f"22 series on one axis: 22 looks ({len(set(looks))} distinct)")
+# The style cycle: colour and dashes together give 40 looks, markers then 280 more.
+looks = [tuple(sorted(plot_history.line_style(k).items())) for k in range(120)]
+check(len(set(looks)) == 120, "120 style numbers, 120 looks")
+# A path plot (no energies, no groups) stays one panel.
+r = run(csv_path, "-o", os.path.join(out, "plot_path.png"), "--columns", "height", "--describe")
+check(r.returncode == 0 and r.stdout.count('"title"') == 1, f"one column, one panel: {r.stdout}")
+
 # ------------------------------------------------------------------ errors
 r = run(csv_path, "-o", png, "--columns", "kinetic,nope")
 check(r.returncode == 2 and "'nope'" in r.stderr and "plot_input.csv" in r.stderr,

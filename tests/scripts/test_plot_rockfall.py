@@ -104,6 +104,58 @@ r = run(os.path.join(data, "empty"))
 check(r.returncode == 0 and os.path.exists(os.path.join(data, "empty", "rockfall.png")),
       f"0 rocks: plotted without data: {r.stderr}")
 
+# ------------------------------------------------------------------ energies in kJ, labels apart
+import json  # noqa: E402
+
+
+def describe(directory):
+    r = run(directory, "-o", os.path.join(out, "rockfall_described.png"), "--describe")
+    check(r.returncode == 0, f"--describe ran: {r.stderr}")
+    try:
+        return json.loads(r.stdout[:r.stdout.rindex("]") + 1])
+    except ValueError:
+        return []
+
+
+def overlapping(texts):
+    """Pairs of text labels whose boxes (pixels) overlap."""
+    out = []
+    for i, a in enumerate(texts):
+        for b in texts[i + 1:]:
+            (a0, a1, a2, a3), (b0, b1, b2, b3) = a["box"], b["box"]
+            if a0 < b2 and b0 < a2 and a1 < b3 and b1 < a3:
+                out.append((a["text"], b["text"]))
+    return out
+
+
+panels = describe(data)
+check(len(panels) >= 5, f"--describe: {len(panels)} panels")
+if len(panels) >= 5:
+    energy = [p for p in panels if p["ylabel"].startswith("kinetic energy")]
+    check(len(energy) == 1 and energy[0]["ylabel"] == "kinetic energy [kJ]",
+          f"the energy axis in kJ: {[p['ylabel'] for p in panels]}")
+    # The hand values of the regression in J, the line in kJ: a factor 1000 exactly.
+    q95 = max(v for v in e["ke_q95"] if math.isfinite(v))
+    line = [ln for ln in energy[0]["lines"] if ln["label"] == "95 %"] if energy else []
+    check(line and math.isclose(line[0]["max"], q95 / 1000, rel_tol=1e-12),
+          f"95 % energy line peaks at {q95:g} J / 1000: {line}")
+    for p in panels:
+        check(not overlapping(p["texts"]), f"labels apart: {overlapping(p['texts'])}")
+# A barrier 0.5 m from a collector (as a fence near the toe): both names stay readable.
+clash = os.path.join(out, "clash")
+shutil.rmtree(clash, ignore_errors=True)
+shutil.copytree(data, clash, ignore=shutil.ignore_patterns("empty"))
+with open(os.path.join(clash, "barriers.csv")) as f:
+    rows = f.read().splitlines()
+with open(os.path.join(clash, "barriers.csv"), "w") as f:
+    f.write("\n".join([rows[0]] + [r.replace("fence,40,", "fence,50.5,", 1) for r in rows[1:]])
+            + "\n")
+panels = describe(clash)
+top = panels[0]["texts"] if panels else []
+check(sorted(t["text"] for t in top) == ["c15", "c35", "c50", "fence"],
+      f"the line names on the first panel: {[t['text'] for t in top]}")
+check(top and not overlapping(top), f"c50 and a fence 0.5 m on: apart ({overlapping(top)})")
+
 # ------------------------------------------------------------------ errors
 r = run(os.path.join(out, "no_such_dir"))
 check(r.returncode == 2 and "no_such_dir" in r.stderr and "plot_rockfall: error:" in r.stderr,

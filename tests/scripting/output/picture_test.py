@@ -7,42 +7,22 @@ background), SVG and PDF signatures, numbered frames.
 usage: picture_test.py TALUS OUTDIR
 """
 import os
-import re
-import shutil
-import subprocess
 import sys
 
 from PIL import Image  # python3-pil, a dependency of python3-matplotlib (scripts/setup.sh)
 
-talus, out = sys.argv[1], sys.argv[2]
-here = os.path.dirname(os.path.abspath(__file__))
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
-r = subprocess.run([talus, "run", os.path.join(here, "picture_scene.lua"), out],
-                   capture_output=True, text=True)
-sys.stdout.write(r.stdout)
-sys.stderr.write(r.stderr)
-if r.returncode != 0:
-    sys.exit("FAIL: picture_scene.lua failed")
-pix = {m.group(1): (float(m.group(2)), float(m.group(3)))
-       for m in re.finditer(r"PIXEL (\S+) (\S+) (\S+)", r.stdout)}
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+from picture_check import PictureCheck  # noqa: E402 (beside this file)
 
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("check failed:", what)
+t = PictureCheck(sys.argv[1], sys.argv[2], "picture_scene.lua")
+out, pix, check = sys.argv[2], t.pix, t.check
 
 
 def hexrgb(h):
     return ((h >> 16) & 255, (h >> 8) & 255, h & 255)
 
 
-def at(img, name):
-    x, y = pix[name]
-    return img.getpixel((int(x), int(y)))[:3]
+at = t.at
 
 
 # The colours docs/output.md promises: Tableau 10's first two for the first two groups, light
@@ -74,7 +54,4 @@ frames = sorted(os.listdir(os.path.join(out, "frames")))
 check(frames == [f"frame_{i:06d}.png" for i in range(5)], f"numbered frames: {frames}")
 check(Image.open(os.path.join(out, "frames", frames[-1])).size == (160, 120), "frame size")
 
-if failures:
-    print(f"{len(failures)} checks failed")
-    sys.exit(1)
-print("picture: all checks passed")
+t.finish("picture")
