@@ -33,14 +33,27 @@ float up(double v) {
 // for. An explicit instantiation may name private members (C++17 [temp.explicit]/14), so a
 // template instantiated with pointers to them hands those pointers out through a friend.
 //
-// This is a risk (docs/save-format.md, "Box2D's tree"): it depends on the private layout of
-// Box2D 2.4's b2DynamicTree (Debian's libbox2d-dev 2.4.1). The tree cannot simply be rebuilt on
-// restore instead, because its shape decides the order in which new pairs are found, and with
-// it the order of the force sums: a rebuilt tree continues a run, but not bit for bit. So a
-// Box2D whose tree differs must fail here: the member pointers below must have exactly these
-// types (a renamed or retyped member does not compile), the node must have the fields and the
-// size saved below, and at run time the library must say it is 2.4 (Broadphase::save/restore
-// refuse otherwise; test core.save_restore "Box2D's tree").
+// Why not save only what defines the tree (each proxy's fat box and body) and rebuild it on
+// restore through the public API? Because the tree is not defined by its leaves: its shape is
+// the history of its insertions, removals and rotations (InsertLeaf's cost heuristic, Balance),
+// and the public API (CreateProxy, DestroyProxy, MoveProxy, RebuildBottomUp, ShiftOrigin) can
+// make a tree of the same leaves but not that one. The shape decides the order of a query's
+// hits, hence the order in which new pairs are made, hence the order of every force sum and the
+// last bits of every result: a rebuilt tree continues a run correctly, but not bit for bit. The
+// two ways to make the shape not matter cost more than this trick (docs/results/
+// broadphase-save.md has the measurements):
+//  - hits sorted by body before pairs are made (then a rebuilt tree gives the same pairs):
+//    every result's last bits change once, everywhere (the stress digest; 6 of the 7 scenes of
+//    tests/scripting/save_restore/ end in other states), and every query pays a sort;
+//  - a log of the tree's operations since its last rebuild, replayed on restore: the tree is a
+//    function of that log, but the log grows with every proxy move for as long as the run
+//    lasts (a rockfall moves proxies at every step), in every run, saved or not.
+// So the trick stays, confined to this file and checked. It ties save files to Box2D 2.4's tree
+// (Debian's libbox2d-dev 2.4.1; docs/save-format.md, "Box2D's tree"), the only
+// broadphase Talus uses: the member pointers below must have exactly these types (a renamed or
+// retyped member does not compile), the node must have the fields and the size saved below,
+// and at run time the library must say it is 2.4 (Broadphase::save/restore refuse otherwise;
+// test core.save_restore "Box2D's tree").
 static_assert(sizeof(b2TreeNode) == 48 && offsetof(b2TreeNode, aabb) == 0 &&
                   offsetof(b2TreeNode, userData) == 16 && offsetof(b2TreeNode, parent) == 24 &&
                   offsetof(b2TreeNode, child1) == 28 && offsetof(b2TreeNode, child2) == 32 &&
