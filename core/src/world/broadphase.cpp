@@ -211,35 +211,14 @@ void Broadphase::save(SaveWriter& w) const {
     }
 }
 
-void Broadphase::restore(SaveReader& r) {
-    if (const std::string why = treeLayoutProblem(); !why.empty()) r.fail(why);
-    const double margin = r.f64();
-    const double scale = r.f64();
-    if (!(margin > 0.0) || !std::isfinite(margin) || !(scale > 0.0) || !std::isfinite(scale))
-        r.fail("broadphase: invalid margin or scale");
-    const int32 root = r.i32(), count = r.i32(), capacity = r.i32(), free_list = r.i32(),
-                inserted = r.i32();
-    constexpr std::size_t kNodeBytes = 4 * 4 + 4 + 4 * 4 + 1;
-    if (capacity < 1 || static_cast<std::size_t>(capacity) > r.left() / kNodeBytes)
-        r.fail("broadphase: node capacity " + std::to_string(capacity) +
-               " does not fit in the section");
-    if (count < 0 || count > capacity || root < -1 || root >= capacity || free_list < -1 ||
-        free_list >= capacity)
-        r.fail("broadphase: invalid tree header");
-    std::vector<b2TreeNode> nodes(static_cast<std::size_t>(capacity));
-    for (b2TreeNode& n : nodes) {
-        n.aabb.lowerBound.x = r.pod<float>(), n.aabb.lowerBound.y = r.pod<float>();
-        n.aabb.upperBound.x = r.pod<float>(), n.aabb.upperBound.y = r.pod<float>();
-        n.userData = reinterpret_cast<void*>(static_cast<uintptr_t>(r.u32()));
-        n.parent = r.i32();
-        n.child1 = r.i32();
-        n.child2 = r.i32();
-        n.height = r.i32();
-        n.moved = r.boolean();
-    }
-    // The structure: every node reached once from the root or the free list, children and
-    // parents in range and consistent, leaves of height 0, inner nodes one above their highest
-    // child (Box2D's balancing relies on the heights to find grandchildren).
+namespace {
+
+/// The structure of a restored tree: every node reached once from the root or the free list,
+/// children and parents in range and consistent, leaves of height 0, inner nodes one above
+/// their highest child (Box2D's balancing relies on the heights to find grandchildren).
+void checkTree(const std::vector<b2TreeNode>& nodes, int32 root, int32 count, int32 free_list,
+               SaveReader& r) {
+    const auto capacity = static_cast<int32>(nodes.size());
     auto in = [&](int32 i) { return i >= 0 && i < capacity; };
     std::vector<uint8_t> seen(nodes.size(), 0);
     std::vector<int32> order, stack;
@@ -284,6 +263,37 @@ void Broadphase::restore(SaveReader& r) {
         ++free_count;
     }
     if (count + free_count != capacity) r.fail("broadphase: nodes lost from the tree");
+}
+
+}  // namespace
+
+void Broadphase::restore(SaveReader& r) {
+    if (const std::string why = treeLayoutProblem(); !why.empty()) r.fail(why);
+    const double margin = r.f64();
+    const double scale = r.f64();
+    if (!(margin > 0.0) || !std::isfinite(margin) || !(scale > 0.0) || !std::isfinite(scale))
+        r.fail("broadphase: invalid margin or scale");
+    const int32 root = r.i32(), count = r.i32(), capacity = r.i32(), free_list = r.i32(),
+                inserted = r.i32();
+    constexpr std::size_t kNodeBytes = 4 * 4 + 4 + 4 * 4 + 1;
+    if (capacity < 1 || static_cast<std::size_t>(capacity) > r.left() / kNodeBytes)
+        r.fail("broadphase: node capacity " + std::to_string(capacity) +
+               " does not fit in the section");
+    if (count < 0 || count > capacity || root < -1 || root >= capacity || free_list < -1 ||
+        free_list >= capacity)
+        r.fail("broadphase: invalid tree header");
+    std::vector<b2TreeNode> nodes(static_cast<std::size_t>(capacity));
+    for (b2TreeNode& n : nodes) {
+        n.aabb.lowerBound.x = r.pod<float>(), n.aabb.lowerBound.y = r.pod<float>();
+        n.aabb.upperBound.x = r.pod<float>(), n.aabb.upperBound.y = r.pod<float>();
+        n.userData = reinterpret_cast<void*>(static_cast<uintptr_t>(r.u32()));
+        n.parent = r.i32();
+        n.child1 = r.i32();
+        n.child2 = r.i32();
+        n.height = r.i32();
+        n.moved = r.boolean();
+    }
+    checkTree(nodes, root, count, free_list, r);
 
     reset(margin);
     m_impl->scale = scale;
