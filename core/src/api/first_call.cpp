@@ -15,7 +15,9 @@
 
 #include "api/operations.hpp"
 #include "force/force.hpp"
+#include "step/detection.hpp"
 #include "step/group_energy.hpp"
+#include "talus/errors.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -120,19 +122,23 @@ double unpaidWork(const World& world, const Pair& p, const FirstCallGeometry& g,
 }
 
 /// The books: what the old contact stored against what the new one stores, less the unpaid
-/// work, to `released`; the current stored energies (the next snapshot may come before the
-/// next force loop sums them again), for the model and its groups.
+/// work, to `released` (for a placed contact: what it stores, to `placement`); the current
+/// stored energies (the next snapshot may come before the next force loop sums them again),
+/// for the model and its groups.
 void bookFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, const FdBlock& fd,
-                   const FirstCallEntry& before) {
+                   const FirstCallEntry& before, bool placed) {
     const Pair& p = world.contacts.pairs[i];
     PairStored& stored = world.contacts.stored[i];
     const double held = before.was_active ? stored.total() : 0.0;
     const double after = fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain];
+    const double placement = placed ? after : 0.0;
     const double change =
-        held - after - unpaidWork(world, p, g, fd, before) + fd.energy[kEnergyReleased];
+        placed ? fd.energy[kEnergyReleased]
+               : held - after - unpaidWork(world, p, g, fd, before) + fd.energy[kEnergyReleased];
     const double ds = fd.energy[kEnergyStrain] - (before.was_active ? stored.strain : 0.0);
     const double db = fd.energy[kEnergyBondStrain] - (before.was_active ? stored.bond : 0.0);
     world.books.acc.released += change;
+    world.books.acc.placement += placement;
     world.books.acc.strain += ds;
     world.books.acc.bond += db;
     if (world.books.groups.on) {
@@ -148,6 +154,7 @@ void bookFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
             auto& gr = books.g[__builtin_ctzll(mk)];
             gr.acc.strain += w * ds;
             gr.acc.bond += w * db;
+            gr.acc.placement += w * placement;
         }
     }
     stored.strain = fd.energy[kEnergyStrain];
@@ -157,7 +164,7 @@ void bookFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
 }  // namespace
 
 void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, const FdBlock& fd,
-                   const FirstCallEntry& before) {
+                   const FirstCallEntry& before, bool placed) {
     Pair& p = world.contacts.pairs[i];
     PairCold& c = world.contacts.cold[i];
     if (!before.was_active) ++world.profile.contacts_created;
@@ -166,7 +173,7 @@ void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
     const Vec2 df =
         (fd.n_force - before.n_force) * g.normal + (fd.s_force - before.s_force) * perp(g.normal);
     correctEndForces(world, p, g, df, fd.moment - before.moment);
-    if (world.books.on) bookFirstCall(world, i, g, fd, before);
+    if (world.books.on) bookFirstCall(world, i, g, fd, before, placed);
     p.n_force = fd.n_force;
     p.s_force = fd.s_force;
     p.moment = fd.moment;
@@ -183,6 +190,81 @@ void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
     if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
     c.born_overlapped = true;
     if (fd.flags & kFdBroken) queueBreak(world, i, g.point, fd);
+}
+
+// ------------------------------------------------------------------------ at placement
+
+namespace {
+
+/// True when the ball of wall pair p has a contact with another segment of the same wall: that
+/// contact moves along the chain in the force loop (step/detection.cpp, "wall vertices"); a
+/// second one is not started here.
+bool wallContactHeld(const World& world, const Pair& p) {
+    const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
+    const uint64_t hi = uint64_t(world.bodies.balls.handle[p.end1]) << 32;
+    for (uint32_t k = 0; k < w.segment_count; ++k) {
+        const uint32_t seg = w.first_segment + k;
+        if (seg == p.end2) continue;
+        const auto it = world.contacts.key_index.find(hi | kWallBit | seg);
+        if (it != world.contacts.key_index.end() && world.contacts.pairs[it->second].active)
+            return true;
+    }
+    return false;
+}
+
+/// Pair i, a bond model's pair within reach where the script built it: its first call there,
+/// with the entry forces zero and the host's memory of a broken bond (kFdNoAutoBond), then what
+/// the force loop does at a contact's first touch (the count, the guard's note of a placed
+/// overlap, the contact-created event).
+void placeContact(World& world, std::size_t i, const FirstCallGeometry& g) {
+    Pair& p = world.contacts.pairs[i];
+    PairCold& c = world.contacts.cold[i];
+    const uint32_t flags = world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
+    FdBlock fd;
+    const std::string why = firstCall(world, p, *p.model, g, 0.0, 0.0, flags, fd);
+    if (!why.empty())
+        throw PluginError("contact model '" + world.contacts.ruleOf(p).model_name + "' on " +
+                          describePair(world, p) + ": the first FDlaw, where the bodies were " +
+                          "placed, " + why);
+    c.closure = c.approach_rate = 0.0;  // nothing moved: what it holds was placed
+    takeFirstCall(world, i, g, fd, FirstCallEntry{}, true);
+    notePlacement(world, p, c, g.overlap, fd, world.books.on);
+    if (world.callbacks.contact_events) {
+        Event ev;
+        ev.kind = EventKind::ContactCreated;
+        ev.time = world.clock.time;
+        ev.pos = g.point;
+        ev.contact = ContactKey{c.key};
+        ev.model = world.contacts.ruleOf(p).model_name;
+        world.callbacks.events.push_back(std::move(ev));
+    }
+}
+
+}  // namespace
+
+void firstCallsAtPlacement(World& world) {
+    // Nothing the script did since the last step: every pair within reach is a contact already.
+    if (!world.stepping.limits_stale && !world.clock.first_cycle) return;
+    ContactStore& cs = world.contacts;
+    bool bond_rules = false;
+    for (const auto& r : cs.rules)
+        bond_rules |= r->prototype && !r->installed && (r->prototype->Traits() & kTraitBond);
+    if (!bond_rules) return;
+    bool placed = false;
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
+        Pair& p = cs.pairs[i];
+        if (p.active || !p.model) continue;
+        FirstCallGeometry g;
+        if (!pairGeometry(world, p, g.normal, g.overlap, g.point) ||
+            !(g.overlap > -cs.max_activity))
+            continue;
+        if (cs.cold[i].rules_version != cs.rules_version) refreshRule(world, p);
+        if (!(p.model->Traits() & kTraitBond) || !(g.overlap > -cs.cold[i].activity)) continue;
+        if (p.wall && wallContactHeld(world, p)) continue;
+        placeContact(world, i, g);
+        placed = true;
+    }
+    if (placed) world.stepping.limits_stale = true;
 }
 
 }  // namespace talus

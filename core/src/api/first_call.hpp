@@ -2,7 +2,8 @@
 //
 // A contact's first FDlaw outside the force loop, at the pair's current geometry, with zero
 // increments and rates (the bond contract's first call, docs/plugin-abi.md "Bonds"): m:bond
-// installing a bond (api/bonds.cpp). Not installed.
+// installing a bond (api/bonds.cpp), and a bond model's contacts where the script built them
+// (firstCallsAtPlacement). Not installed.
 #pragma once
 
 #include <cstddef>
@@ -40,8 +41,19 @@ std::string firstCall(const World& world, const Pair& p, ContactModel& model,
 /// After the first call of pair `i`'s object (now the pair's, its activity set): the pair
 /// becomes a contact with the call's forces and estimates, the ball forces the next law of
 /// motion applies are corrected by the change of its force, and, with tracing on, the books
-/// take the change of what it stores (api/bonds.cpp says how). A break in the call is queued.
+/// take the change of what it stores: to `released` (an install, first_call.cpp says how), or,
+/// for a contact the script `placed`, what it stores as placement energy. A break in the call
+/// is queued.
 void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, const FdBlock& fd,
-                   const FirstCallEntry& before);
+                   const FirstCallEntry& before, bool placed = false);
+
+/// The contacts of a bond model (kTraitBond) that the script made since the last step (bodies
+/// placed, moved or given a velocity, between run calls) get their first call where the script
+/// built them, before anything moves: a bond that forms on its first call (cbond's cb_bond, a
+/// rule with pbond's `bonded` = 1) forms from the state the script built, as PFC's `bond` does,
+/// whatever the velocities move in the first step. Every inactive pair of such a model within
+/// its activity distance; nothing for a model without bond rules. Called at the start of every
+/// run call (Model::cycle, Model::solve).
+void firstCallsAtPlacement(World& world);
 
 }  // namespace talus

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "api/first_call.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "world/messages.hpp"
@@ -126,6 +127,7 @@ SolveStop Model::solve(const SolveSpec& s) {
     run.end = given(s.time) ? world.clock.time + s.time : 0.0;
     std::optional<SolveStop> stop;
     try {
+        firstCallsAtPlacement(world);
         while (!(stop = reachedStop(*this, world, s, run))) {
             if (given(s.time)) world.stepping.cap = run.end - world.clock.time;
             runSteps(world, 1);
