@@ -40,14 +40,16 @@ float up(double v) {
 // make a tree of the same leaves but not that one. The shape decides the order of a query's
 // hits, hence the order in which new pairs are made, hence the order of every force sum and the
 // last bits of every result: a rebuilt tree continues a run correctly, but not bit for bit. The
-// two ways to make the shape not matter cost more than this trick (docs/results/
-// broadphase-save.md has the measurements):
+// other ways cost more than this trick (docs/results/broadphase-save.md has the measurements):
 //  - hits sorted by body before pairs are made (then a rebuilt tree gives the same pairs):
 //    every result's last bits change once, everywhere (the stress digest; 6 of the 7 scenes of
 //    tests/scripting/save_restore/ end in other states), and every query pays a sort;
 //  - a log of the tree's operations since its last rebuild, replayed on restore: the tree is a
 //    function of that log, but the log grows with every proxy move for as long as the run
-//    lasts (a rockfall moves proxies at every step), in every run, saved or not.
+//    lasts (a rockfall moves proxies at every step), in every run, saved or not;
+//  - a tree of our own: its shape rules are not Box2D's, so the hit order and the results' last
+//    bits change once as with the sort, and the save files written so far need a converter
+//    (docs/architecture.md, "Box2D's tree in a save file": the moment for it is a new Box2D).
 // So the trick stays, confined to this file and checked. It ties save files to Box2D 2.4's tree
 // (Debian's libbox2d-dev 2.4.1; docs/save-format.md, "Box2D's tree"), the only
 // broadphase Talus uses: the member pointers below must have exactly these types (a renamed or
