@@ -196,18 +196,11 @@ void PluginRegistry::addSearchDirectory(const std::string& dir) {
         m_dirs.insert(m_dirs.begin(), dir);
 }
 
-std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
-    if (!fileExists(path_in)) {
-        struct stat st {};
-        if (::stat(path_in.c_str(), &st) == 0)
-            throw PluginError("load_plugin: '" + path_in + "' is not a regular file");
-        throw PluginError("load_plugin: no such file '" + path_in + "'");
-    }
-    const std::string path = canonical(path_in);
-    for (const auto& lib : m_libraries)
-        if (lib->path == path) return {};  // already loaded
+namespace {
 
-    // A damaged file must be refused before dlopen maps it (see elfProblem).
+// The library at `path` mapped, refused before dlopen maps it if its file is damaged (see
+// elfProblem).
+void* openPlugin(const std::string& path) {
     const std::string elf = elfProblem(path);
     if (!elf.empty()) throw PluginError("load_plugin: cannot load '" + path + "': " + elf);
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
@@ -216,6 +209,13 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         throw PluginError("load_plugin: cannot load '" + path + "': " + (why ? why : "unknown"));
     }
     ::dlerror();
+    return handle;
+}
+
+// The library's PluginInfo, checked against this Talus: the ABI version, the sizes of the
+// blocks the host and the plugin share, the dimension, the build key, and the entries every
+// plugin must give.
+const PluginInfo* checkedInfo(void* handle, const std::string& path) {
     auto entry = reinterpret_cast<TalusPluginInfoFn>(::dlsym(handle, TALUS_PLUGIN_ENTRY));
     if (!entry)
         throw PluginError("load_plugin: '" + path +
@@ -257,22 +257,56 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         throw PluginError("load_plugin: '" + path + "': PluginInfo::" +
                           (info->create_prototype ? "destroy_prototype" : "create_prototype") +
                           " is null");
+    return info;
+}
 
-    // Optional (ABI 1.1): batched laws. A library without the entry has none.
-    auto batch_entry =
-        reinterpret_cast<TalusPluginBatchFn>(::dlsym(handle, TALUS_PLUGIN_BATCH_ENTRY));
-    // Optional (ABI 1.2): lane laws (docs/plugin-abi.md, "Lanes").
-    auto lanes_entry =
-        info->abi_minor >= 2
-            ? reinterpret_cast<TalusPluginLanesFn>(::dlsym(handle, TALUS_PLUGIN_LANES_ENTRY))
-            : nullptr;
+// The entries a library may leave out, by the ABI minor version that added them.
+struct OptionalEntries {
+    TalusPluginBatchFn batch = nullptr;    // ABI 1.1: batched laws
+    TalusPluginLanesFn lanes = nullptr;    // ABI 1.2: lane laws (docs/plugin-abi.md, "Lanes")
+    TalusPluginKernelFn kernel = nullptr;  // ABI 1.3: the SDK law a model runs on its lane
+                                           // rows (docs/plugin-abi.md, "Kernels")
+};
 
-    // Optional (ABI 1.3): the SDK law a model runs on its lane rows (docs/plugin-abi.md,
-    // "Kernels").
-    auto kernel_entry =
-        info->abi_minor >= 3
-            ? reinterpret_cast<TalusPluginKernelFn>(::dlsym(handle, TALUS_PLUGIN_KERNEL_ENTRY))
-            : nullptr;
+OptionalEntries optionalEntries(void* handle, const PluginInfo& info) {
+    OptionalEntries e;
+    e.batch = reinterpret_cast<TalusPluginBatchFn>(::dlsym(handle, TALUS_PLUGIN_BATCH_ENTRY));
+    if (info.abi_minor >= 2)
+        e.lanes = reinterpret_cast<TalusPluginLanesFn>(::dlsym(handle, TALUS_PLUGIN_LANES_ENTRY));
+    if (info.abi_minor >= 3)
+        e.kernel =
+            reinterpret_cast<TalusPluginKernelFn>(::dlsym(handle, TALUS_PLUGIN_KERNEL_ENTRY));
+    return e;
+}
+
+// What is wrong with a model's LaneLaw, or "".
+std::string laneLawProblem(const LaneLaw& l) {
+    if (l.size != sizeof(LaneLaw))
+        return "sizeof(LaneLaw) = " + std::to_string(l.size) + " but this Talus has " +
+               std::to_string(sizeof(LaneLaw)) + "; rebuild the plugin against this Talus";
+    if (l.state_size < 1 || l.state_size > kMaxLaneStateSize)
+        return "state_size = " + std::to_string(l.state_size) + " (must be 1 to " +
+               std::to_string(kMaxLaneStateSize) + ")";
+    if (!l.pack || !l.unpack || !l.law) return "pack, unpack and law must all be given";
+    return {};
+}
+
+}  // namespace
+
+std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
+    if (!fileExists(path_in)) {
+        struct stat st {};
+        if (::stat(path_in.c_str(), &st) == 0)
+            throw PluginError("load_plugin: '" + path_in + "' is not a regular file");
+        throw PluginError("load_plugin: no such file '" + path_in + "'");
+    }
+    const std::string path = canonical(path_in);
+    for (const auto& lib : m_libraries)
+        if (lib->path == path) return {};  // already loaded
+
+    void* handle = openPlugin(path);
+    const PluginInfo* info = checkedInfo(handle, path);
+    const OptionalEntries entries = optionalEntries(handle, *info);
 
     auto lib = std::make_unique<Library>();
     lib->path = path;
@@ -305,25 +339,16 @@ std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
         f.index = i;
         f.info = info;
         f.reference = proto;
-        f.batch = batch_entry ? batch_entry(i) : nullptr;
-        f.lanes = lanes_entry ? lanes_entry(i) : nullptr;
+        f.batch = entries.batch ? entries.batch(i) : nullptr;
+        f.lanes = entries.lanes ? entries.lanes(i) : nullptr;
         if (f.lanes) {
-            const LaneLaw& l = *f.lanes;
-            std::string why;
-            if (l.size != sizeof(LaneLaw))
-                why = "sizeof(LaneLaw) = " + std::to_string(l.size) + " but this Talus has " +
-                      std::to_string(sizeof(LaneLaw)) + "; rebuild the plugin against this Talus";
-            else if (l.state_size < 1 || l.state_size > kMaxLaneStateSize)
-                why = "state_size = " + std::to_string(l.state_size) + " (must be 1 to " +
-                      std::to_string(kMaxLaneStateSize) + ")";
-            else if (!l.pack || !l.unpack || !l.law)
-                why = "pack, unpack and law must all be given";
+            const std::string why = laneLawProblem(*f.lanes);
             if (!why.empty())
                 throw PluginError("load_plugin: '" + path + "': model '" + name +
                                   "': talus_plugin_lanes returned a bad LaneLaw: " + why);
         }
-        if (kernel_entry)
-            if (const char* id = kernel_entry(i)) f.kernel = id;
+        if (entries.kernel)
+            if (const char* id = entries.kernel(i)) f.kernel = id;
         added.push_back(f);
     }
     std::vector<std::string> names;
