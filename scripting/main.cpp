@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <climits>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +24,8 @@
 #include "lua_bindings.hpp"
 #include "mpi_world.hpp"
 #include "progress.hpp"
+#include "search_paths.hpp"
+#include "talus/plugin_registry.hpp"
 #include "talus/run_control.hpp"
 
 #ifndef TALUS_VERSION
@@ -53,8 +56,9 @@ const char* const kUsage =
     "ends the script with exit status 130; a second Ctrl-C kills at once.\n"
     "\n"
     "Modules are searched in the script's directory, in TALUS_LUA_PATH (directories separated\n"
-    "by ':'), and in the Talus scripts directory. Contact-model plugins are searched\n"
-    "in TALUS_PLUGIN_PATH, then in the build and install plugin directories.\n"
+    "by ':'), then in the Lua libraries shipped with talus. Contact-model plugins are searched\n"
+    "in TALUS_PLUGIN_PATH, then in the plugin directory shipped with talus (both shipped\n"
+    "directories are found relative to the talus executable).\n"
     "Documentation: docs/getting-started.md and docs/lua-api.md.\n";
 
 bool g_stderr_tty = false;
@@ -150,30 +154,11 @@ std::string directoryOf(const std::string& path) {
     return path.substr(0, slash);
 }
 
-/// Puts the script's directory, TALUS_LUA_PATH and the Talus script directories (scripts/lib and
-/// scripts/, source tree then install) in front of package.path, so `require` finds modules
-/// shipped in scripts/lib from any directory.
-void setPackagePath(lua_State* L, const std::string& script) {
-    std::string prefix = directoryOf(script) + "/?.lua;";
-    if (const char* env = std::getenv("TALUS_LUA_PATH")) {
-        std::string dirs = env;
-        std::size_t start = 0;
-        while (start <= dirs.size()) {
-            const std::size_t end = dirs.find(':', start);
-            const std::string dir =
-                dirs.substr(start, end == std::string::npos ? end : end - start);
-            if (!dir.empty()) prefix += dir + "/?.lua;";
-            if (end == std::string::npos) break;
-            start = end + 1;
-        }
-    }
-    // scripts/lib holds the shipped library modules (rockfall, ...); scripts/ itself stays for
-    // older scripts that keep modules next to the examples.
-    // A module of several files is a folder with an init.lua (require("material")).
-    prefix += std::string(TALUS_SOURCE_LUA_DIR) + "/lib/?.lua;" + TALUS_SOURCE_LUA_DIR +
-              "/lib/?/init.lua;" + TALUS_SOURCE_LUA_DIR + "/?.lua;" + TALUS_INSTALL_LUA_DIR +
-              "/lib/?.lua;" + TALUS_INSTALL_LUA_DIR + "/lib/?/init.lua;" + TALUS_INSTALL_LUA_DIR +
-              "/?.lua;";
+/// Puts the script's directory, TALUS_LUA_PATH and the shipped Lua directories (found beside the
+/// executable, search_paths.hpp) in front of package.path, so `require` finds the library
+/// modules shipped in scripts/lib from any directory.
+void setPackagePath(lua_State* L, const std::string& script, const std::string& exe_dir) {
+    const std::string prefix = talus::lua::packagePathPrefix(directoryOf(script), exe_dir);
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "path");
     const char* old = lua_tostring(L, -1);
@@ -195,7 +180,7 @@ void preloadTalus(lua_State* L) {
 }
 
 int runScript(const std::string& script, const std::vector<std::string>& args, bool traceback,
-              const char* argv0) {
+              const char* argv0, const std::string& exe_dir) {
     lua_State* L = luaL_newstate();
     if (!L) {
         std::fprintf(stderr, "talus: cannot create a Lua state (out of memory)\n");
@@ -204,7 +189,7 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
     luaL_openlibs(L);
     wrapPrint(L);
     preloadTalus(L);
-    setPackagePath(L, script);
+    setPackagePath(L, script, exe_dir);
 
     lua_createtable(L, static_cast<int>(args.size()), 3);
     lua_pushstring(L, argv0);
@@ -225,6 +210,11 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
     if (luaL_loadfile(L, script.c_str()) != LUA_OK) {
         // "cannot open x.lua: No such file or directory", or "x.lua:3: syntax error near ..."
         std::fprintf(stderr, "talus: error: %s\n", talus::lua::errorText(L, -1).c_str());
+        status = 1;
+    } else if (!lua_checkstack(L, static_cast<int>(std::min<std::size_t>(args.size(), INT_MAX)))) {
+        // The chunk's `...` holds every argument: the stack must grow for them (a C function
+        // may use only LUA_MINSTACK = 20 slots unchecked; beyond, pushing corrupts the heap).
+        std::fprintf(stderr, "talus: error: too many script arguments (%zu)\n", args.size());
         status = 1;
     } else {
         for (const std::string& a : args) lua_pushstring(L, a.c_str());
@@ -321,7 +311,11 @@ int main(int argc, char** argv) {
     if (!save_on_interrupt.empty()) installSaveOnInterrupt(save_on_interrupt);
     int status = 1;
     try {
-        status = runScript(script, args, traceback, argv[0]);
+        // Plugins: TALUS_PLUGIN_PATH (read by the registry), then those shipped with talus.
+        const std::string exe_dir = talus::lua::executableDirectory(argv[0]);
+        for (const std::string& dir : talus::lua::shippedPluginDirectories(exe_dir))
+            talus::PluginRegistry::global().appendSearchDirectory(dir);
+        status = runScript(script, args, traceback, argv[0], exe_dir);
     } catch (const std::exception& e) {
         // Not expected: the bindings turn exceptions into Lua errors. Report rather than abort.
         std::fprintf(stderr, "talus: internal error: %s\n", e.what());

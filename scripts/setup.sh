@@ -11,9 +11,11 @@ set -euo pipefail
 # and check picture pixels (docs/output.md).
 # clang, libclang-rt-dev: the save-file fuzz target (tests/fuzz, libFuzzer; -DTALUS_FUZZ=ON).
 # ffmpeg: scripts/frames_to_mp4.sh (picture frames to a video) and its test, lua.output.mp4.
+# dpkg-dev, file: the Debian package (cpack -G DEB reads its Depends off the binaries with
+# dpkg-shlibdeps) and its test, install.deb_contents.
 packages=(build-essential cmake pkg-config libeigen3-dev libbox2d-dev liblua5.4-dev catch2
           python3 python3-matplotlib libopenmpi-dev openmpi-bin libcairo2-dev python3-vtk9
-          python3-pil clang libclang-rt-dev ffmpeg)
+          python3-pil clang libclang-rt-dev ffmpeg dpkg-dev file)
 if [[ "${TALUS_WITH_LAMMPS:-0}" == 1 ]]; then packages+=(lammps); fi
 
 missing=()

@@ -23,13 +23,6 @@
 #include "talus/errors.hpp"
 #include "talus/suggest.hpp"
 
-#ifndef TALUS_BUILD_PLUGIN_DIR
-#define TALUS_BUILD_PLUGIN_DIR ""
-#endif
-#ifndef TALUS_INSTALL_PLUGIN_DIR
-#define TALUS_INSTALL_PLUGIN_DIR ""
-#endif
-
 namespace talus {
 
 namespace {
@@ -157,50 +150,23 @@ std::string elfProblem(const std::string& path) {
     return {};
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------- load stages
+// PluginRegistry::load runs these in order; each throws a PluginError naming the file at the
+// first refusal (docs/plugin-abi.md, "What the host refuses", lists them in this order).
 
-struct PluginRegistry::Library {
-    std::string path;
-    void* handle = nullptr;
-    const PluginInfo* info = nullptr;
-    std::vector<ContactModel*> references;
-    ~Library() {
-        // Prototypes go back to the library that made them. The library itself stays mapped:
-        // unloading code that static destructors of other libraries may still reference at exit
-        // is not worth the risk, and nothing is gained in a process that is ending.
-        for (ContactModel* p : references)
-            if (info && info->destroy_prototype) info->destroy_prototype(p);
+/// The file as given -> its canonical path (symbolic links and `..` resolved).
+std::string checkedPath(const std::string& path_in) {
+    if (!fileExists(path_in)) {
+        struct stat st {};
+        if (::stat(path_in.c_str(), &st) == 0)
+            throw PluginError("load_plugin: '" + path_in + "' is not a regular file");
+        throw PluginError("load_plugin: no such file '" + path_in + "'");
     }
-};
-
-PluginRegistry::PluginRegistry() {
-    if (const char* env = std::getenv("TALUS_PLUGIN_PATH")) {
-        std::stringstream ss(env);
-        std::string dir;
-        while (std::getline(ss, dir, ':'))
-            if (!dir.empty()) m_dirs.push_back(dir);
-    }
-    if (std::strlen(TALUS_BUILD_PLUGIN_DIR)) m_dirs.push_back(TALUS_BUILD_PLUGIN_DIR);
-    if (std::strlen(TALUS_INSTALL_PLUGIN_DIR)) m_dirs.push_back(TALUS_INSTALL_PLUGIN_DIR);
+    return canonical(path_in);
 }
 
-PluginRegistry::~PluginRegistry() = default;
-
-PluginRegistry& PluginRegistry::global() {
-    static PluginRegistry registry;
-    return registry;
-}
-
-void PluginRegistry::addSearchDirectory(const std::string& dir) {
-    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end())
-        m_dirs.insert(m_dirs.begin(), dir);
-}
-
-namespace {
-
-// The library at `path` mapped, refused before dlopen maps it if its file is damaged (see
-// elfProblem).
-void* openPlugin(const std::string& path) {
+/// Maps the library, after refusing a damaged file before dlopen sees it (see elfProblem).
+void* openLibrary(const std::string& path) {
     const std::string elf = elfProblem(path);
     if (!elf.empty()) throw PluginError("load_plugin: cannot load '" + path + "': " + elf);
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
@@ -208,14 +174,13 @@ void* openPlugin(const std::string& path) {
         const char* why = ::dlerror();
         throw PluginError("load_plugin: cannot load '" + path + "': " + (why ? why : "unknown"));
     }
-    ::dlerror();
     return handle;
 }
 
-// The library's PluginInfo, checked against this Talus: the ABI version, the sizes of the
-// blocks the host and the plugin share, the dimension, the build key, and the entries every
-// plugin must give.
-const PluginInfo* checkedInfo(void* handle, const std::string& path) {
+/// The library's PluginInfo, refused when it was built for another host (ABI version, struct
+/// sizes, dimension, build key) or offers no models.
+const PluginInfo* checkedInfo(const std::string& path, void* handle) {
+    ::dlerror();
     auto entry = reinterpret_cast<TalusPluginInfoFn>(::dlsym(handle, TALUS_PLUGIN_ENTRY));
     if (!entry)
         throw PluginError("load_plugin: '" + path +
@@ -228,15 +193,13 @@ const PluginInfo* checkedInfo(void* handle, const std::string& path) {
                           "; rebuild the plugin against this Talus");
     };
     if (!info) throw PluginError("load_plugin: '" + path + "': talus_plugin_info() returned null");
-    if (info->abi_major != TALUS_ABI_MAJOR)
-        refuse("plugin ABI",
-               std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
-               std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR));
+    const std::string plugin_abi =
+        std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor);
+    const std::string host_abi =
+        std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR);
+    if (info->abi_major != TALUS_ABI_MAJOR) refuse("plugin ABI", plugin_abi, host_abi);
     if (info->abi_minor > TALUS_ABI_MINOR)
-        refuse("plugin ABI",
-               std::to_string(info->abi_major) + "." + std::to_string(info->abi_minor),
-               std::to_string(TALUS_ABI_MAJOR) + "." + std::to_string(TALUS_ABI_MINOR) +
-                   " (older minor version)");
+        refuse("plugin ABI", plugin_abi, host_abi + " (older minor version)");
     if (info->sizeof_plugininfo != sizeof(PluginInfo))
         refuse("sizeof(PluginInfo) =", std::to_string(info->sizeof_plugininfo),
                std::to_string(sizeof(PluginInfo)));
@@ -260,12 +223,11 @@ const PluginInfo* checkedInfo(void* handle, const std::string& path) {
     return info;
 }
 
-// The entries a library may leave out, by the ABI minor version that added them.
+/// The optional per-model entries of later minor versions; null where the library has none.
 struct OptionalEntries {
-    TalusPluginBatchFn batch = nullptr;    // ABI 1.1: batched laws
-    TalusPluginLanesFn lanes = nullptr;    // ABI 1.2: lane laws (docs/plugin-abi.md, "Lanes")
-    TalusPluginKernelFn kernel = nullptr;  // ABI 1.3: the SDK law a model runs on its lane
-                                           // rows (docs/plugin-abi.md, "Kernels")
+    TalusPluginBatchFn batch = nullptr;    ///< ABI 1.1: batched laws ("Batched FDlaw")
+    TalusPluginLanesFn lanes = nullptr;    ///< ABI 1.2: lane laws ("Lanes")
+    TalusPluginKernelFn kernel = nullptr;  ///< ABI 1.3: the SDK law of the lane rows ("Kernels")
 };
 
 OptionalEntries optionalEntries(void* handle, const PluginInfo& info) {
@@ -279,77 +241,129 @@ OptionalEntries optionalEntries(void* handle, const PluginInfo& info) {
     return e;
 }
 
-// What is wrong with a model's LaneLaw, or "".
-std::string laneLawProblem(const LaneLaw& l) {
+/// Model `index`'s prototype, refused when the library makes none.
+ContactModel* makePrototype(const std::string& path, const PluginInfo& info, int32_t index) {
+    ContactModel* proto = info.create_prototype(index);
+    if (!proto)
+        throw PluginError("load_plugin: '" + path + "': create_prototype(" + std::to_string(index) +
+                          ") returned null");
+    return proto;
+}
+
+/// Refuses a lane law whose layout or state size this host cannot use.
+void checkLaneLaw(const std::string& path, const std::string& name, const LaneLaw& l) {
+    std::string why;
     if (l.size != sizeof(LaneLaw))
-        return "sizeof(LaneLaw) = " + std::to_string(l.size) + " but this Talus has " +
-               std::to_string(sizeof(LaneLaw)) + "; rebuild the plugin against this Talus";
-    if (l.state_size < 1 || l.state_size > kMaxLaneStateSize)
-        return "state_size = " + std::to_string(l.state_size) + " (must be 1 to " +
-               std::to_string(kMaxLaneStateSize) + ")";
-    if (!l.pack || !l.unpack || !l.law) return "pack, unpack and law must all be given";
-    return {};
+        why = "sizeof(LaneLaw) = " + std::to_string(l.size) + " but this Talus has " +
+              std::to_string(sizeof(LaneLaw)) + "; rebuild the plugin against this Talus";
+    else if (l.state_size < 1 || l.state_size > kMaxLaneStateSize)
+        why = "state_size = " + std::to_string(l.state_size) + " (must be 1 to " +
+              std::to_string(kMaxLaneStateSize) + ")";
+    else if (!l.pack || !l.unpack || !l.law)
+        why = "pack, unpack and law must all be given";
+    if (!why.empty())
+        throw PluginError("load_plugin: '" + path + "': model '" + name +
+                          "': talus_plugin_lanes returned a bad LaneLaw: " + why);
+}
+
+/// The factory of model `index`, whose prototype the library has made.
+ModelFactory describeModel(const std::string& path, const PluginInfo& info, int32_t index,
+                           ContactModel* proto, const OptionalEntries& entries) {
+    ModelFactory f;
+    f.name = proto->Name() ? proto->Name() : "";
+    if (f.name.empty())
+        throw PluginError("load_plugin: '" + path + "': model " + std::to_string(index) +
+                          " has no name");
+    f.library = path;
+    f.plugin_version = info.plugin_version ? info.plugin_version : "";
+    f.index = index;
+    f.info = &info;
+    f.reference = proto;
+    f.batch = entries.batch ? entries.batch(index) : nullptr;
+    f.lanes = entries.lanes ? entries.lanes(index) : nullptr;
+    if (f.lanes) checkLaneLaw(path, f.name, *f.lanes);
+    if (entries.kernel)
+        if (const char* id = entries.kernel(index)) f.kernel = id;
+    return f;
+}
+
+/// Refuses a model name (case-insensitive) that a loaded library or this one already uses.
+void refuseNameClash(const std::string& path, const std::string& name,
+                     const std::deque<ModelFactory>& loaded,
+                     const std::vector<ModelFactory>& added) {
+    auto clash = [&](const ModelFactory& f) { return lower(f.name) == lower(name); };
+    auto it = std::find_if(loaded.begin(), loaded.end(), clash);
+    if (it != loaded.end())
+        throw PluginError("load_plugin: '" + path + "' defines model '" + name +
+                          "', which is already defined by '" + it->library + "' (plugin version " +
+                          it->plugin_version + "); model names must be unique");
+    if (std::find_if(added.begin(), added.end(), clash) != added.end())
+        throw PluginError("load_plugin: '" + path + "' defines model '" + name + "' twice");
+}
+
+/// TALUS_PLUGIN_PATH's directories, in order (empty entries skipped).
+std::vector<std::string> pluginPathFromEnvironment() {
+    std::vector<std::string> dirs;
+    if (const char* env = std::getenv("TALUS_PLUGIN_PATH")) {
+        std::stringstream ss(env);
+        std::string dir;
+        while (std::getline(ss, dir, ':'))
+            if (!dir.empty()) dirs.push_back(dir);
+    }
+    return dirs;
 }
 
 }  // namespace
 
-std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
-    if (!fileExists(path_in)) {
-        struct stat st {};
-        if (::stat(path_in.c_str(), &st) == 0)
-            throw PluginError("load_plugin: '" + path_in + "' is not a regular file");
-        throw PluginError("load_plugin: no such file '" + path_in + "'");
+struct PluginRegistry::Library {
+    std::string path;
+    void* handle = nullptr;
+    const PluginInfo* info = nullptr;
+    std::vector<ContactModel*> references;
+    ~Library() {
+        // Prototypes go back to the library that made them (also those of a library refused
+        // half way). The library itself stays mapped: unloading code that static destructors of
+        // other libraries may still reference at exit is not worth the risk, and nothing is
+        // gained in a process that is ending.
+        for (ContactModel* p : references)
+            if (info && info->destroy_prototype) info->destroy_prototype(p);
     }
-    const std::string path = canonical(path_in);
+};
+
+PluginRegistry::PluginRegistry() : m_dirs(pluginPathFromEnvironment()) {}
+
+PluginRegistry::~PluginRegistry() = default;
+
+PluginRegistry& PluginRegistry::global() {
+    static PluginRegistry registry;
+    return registry;
+}
+
+void PluginRegistry::addSearchDirectory(const std::string& dir) {
+    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end())
+        m_dirs.insert(m_dirs.begin(), dir);
+}
+
+void PluginRegistry::appendSearchDirectory(const std::string& dir) {
+    if (std::find(m_dirs.begin(), m_dirs.end(), dir) == m_dirs.end()) m_dirs.push_back(dir);
+}
+
+std::vector<std::string> PluginRegistry::load(const std::string& path_in) {
+    const std::string path = checkedPath(path_in);
     for (const auto& lib : m_libraries)
         if (lib->path == path) return {};  // already loaded
-
-    void* handle = openPlugin(path);
-    const PluginInfo* info = checkedInfo(handle, path);
-    const OptionalEntries entries = optionalEntries(handle, *info);
-
     auto lib = std::make_unique<Library>();
     lib->path = path;
-    lib->handle = handle;
-    lib->info = info;
+    lib->handle = openLibrary(path);
+    lib->info = checkedInfo(path, lib->handle);
+    const OptionalEntries entries = optionalEntries(lib->handle, *lib->info);
     std::vector<ModelFactory> added;
-    for (int32_t i = 0; i < info->model_count; ++i) {
-        ContactModel* proto = info->create_prototype(i);
-        if (!proto)
-            throw PluginError("load_plugin: '" + path + "': create_prototype(" + std::to_string(i) +
-                              ") returned null");
-        lib->references.push_back(proto);
-        const std::string name = proto->Name() ? proto->Name() : "";
-        if (name.empty())
-            throw PluginError("load_plugin: '" + path + "': model " + std::to_string(i) +
-                              " has no name");
-        auto clash = [&](const ModelFactory& f) { return lower(f.name) == lower(name); };
-        auto it = std::find_if(m_models.begin(), m_models.end(), clash);
-        if (it != m_models.end())
-            throw PluginError("load_plugin: '" + path + "' defines model '" + name +
-                              "', which is already defined by '" + it->library +
-                              "' (plugin version " + it->plugin_version +
-                              "); model names must be unique");
-        if (std::find_if(added.begin(), added.end(), clash) != added.end())
-            throw PluginError("load_plugin: '" + path + "' defines model '" + name + "' twice");
-        ModelFactory f;
-        f.name = name;
-        f.library = path;
-        f.plugin_version = info->plugin_version ? info->plugin_version : "";
-        f.index = i;
-        f.info = info;
-        f.reference = proto;
-        f.batch = entries.batch ? entries.batch(i) : nullptr;
-        f.lanes = entries.lanes ? entries.lanes(i) : nullptr;
-        if (f.lanes) {
-            const std::string why = laneLawProblem(*f.lanes);
-            if (!why.empty())
-                throw PluginError("load_plugin: '" + path + "': model '" + name +
-                                  "': talus_plugin_lanes returned a bad LaneLaw: " + why);
-        }
-        if (entries.kernel)
-            if (const char* id = entries.kernel(i)) f.kernel = id;
-        added.push_back(f);
+    for (int32_t i = 0; i < lib->info->model_count; ++i) {
+        ContactModel* proto = makePrototype(path, *lib->info, i);
+        lib->references.push_back(proto);  // handed back by ~Library if a later check refuses
+        ModelFactory f = describeModel(path, *lib->info, i, proto, entries);
+        refuseNameClash(path, f.name, m_models, added);
+        added.push_back(std::move(f));
     }
     std::vector<std::string> names;
     for (auto& f : added) {

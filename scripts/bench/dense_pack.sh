@@ -43,6 +43,8 @@ steps_of() {
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DTALUS_NATIVE="$native" >/dev/null
 cmake --build "$build" --target talus_bench_dense_pack talus_linear -j "$(nproc)" >/dev/null
 bench="$root/$build/tests/bench/talus_bench_dense_pack"
+# A program other than build/talus finds the models through TALUS_PLUGIN_PATH.
+export TALUS_PLUGIN_PATH="$root/$build/plugins${TALUS_PLUGIN_PATH:+:$TALUS_PLUGIN_PATH}"
 cache="$root/$build/bench-cache"
 mkdir -p "$cache" scripts/bench/results
 

@@ -6,4 +6,5 @@ set -eu
 here=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$here/build}
 cmake --build "$build" --target talus_guard_table >/dev/null
-TALUS_PLUGIN_PATH="$build/plugins" exec "$build/tests/bench/talus_guard_table"
+# liar is a test-only model: it lives in the test plugin directory.
+TALUS_PLUGIN_PATH="$build/plugins:$build/test_plugins" exec "$build/tests/bench/talus_guard_table"

@@ -89,6 +89,8 @@ if [[ ${TALUS_BENCH_NO_BUILD:-0} != 1 ]]; then
 fi
 build=$(cd "$build" && pwd)
 bench="$build/tests/bench/talus_bench_dense_pack"
+# A program other than build/talus finds the models through TALUS_PLUGIN_PATH.
+export TALUS_PLUGIN_PATH="$build/plugins${TALUS_PLUGIN_PATH:+:$TALUS_PLUGIN_PATH}"
 [[ -x $bench ]] || { echo "scaling: no $bench (build it, or unset TALUS_BENCH_NO_BUILD)" >&2; exit 1; }
 cache=${TALUS_BENCH_CACHE:-$build/bench-cache}
 mkdir -p "$cache" scripts/bench/results

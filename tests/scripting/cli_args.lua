@@ -9,4 +9,7 @@ T.check(a == arg[1] and b == arg[2], "... holds the arguments")
 T.check(require("talus") == talus, "require('talus') returns the preloaded module")
 T.check(talus.version == expected_version, "talus.version = project version")
 T.check(type(talus.models()) == "table", "talus.models()")
+-- Every argument arrives in `...`, however many (lua.cli_many_args passes 300 more).
+T.check(select("#", ...) == #arg, "... holds all " .. #arg .. " arguments")
+T.check(select(#arg, ...) == arg[#arg], "the last argument")
 T.done("cli_args")

@@ -40,7 +40,7 @@ public:
     PluginRegistry(const PluginRegistry&) = delete;
     PluginRegistry& operator=(const PluginRegistry&) = delete;
 
-    /// The process-wide registry, searching the built-in plugin directories.
+    /// The process-wide registry (searching TALUS_PLUGIN_PATH until the host appends more).
     static PluginRegistry& global();
 
     /// Loads a library; returns the names of the models it added. Loading the same file twice
@@ -52,9 +52,12 @@ public:
     const ModelFactory& find(const std::string& name);
     const ModelFactory* tryFind(const std::string& name) const;
 
-    /// Directories searched by find(): TALUS_PLUGIN_PATH (colon-separated), then the build and
-    /// install plugin directories.
+    /// Directories searched by find(), in order: those added with addSearchDirectory, then
+    /// TALUS_PLUGIN_PATH's (colon-separated, read when the registry is created), then those
+    /// appended by the host program (the talus command appends its shipped plugin directory,
+    /// found beside its executable), so that a user's directory overrides a shipped model.
     void addSearchDirectory(const std::string& dir);
+    void appendSearchDirectory(const std::string& dir);
     const std::vector<std::string>& searchDirectories() const { return m_dirs; }
     std::vector<std::string> modelNames() const;
 
