@@ -4,7 +4,7 @@
 // data in one raw binary appended block per file (little- or big-endian as the host, UInt64
 // block headers). Debian's VTK 9 C++ library would pull in ~40 packages for what is a few
 // hundred lines of file format; the files are checked by reading them back with VTK's own
-// readers (python3-vtk9, tests/scripting/vtk_readback.py).
+// readers (python3-vtk9, tests/scripting/output/vtk_readback.py).
 //
 // One frame = three PolyData files (balls as vertices with per-point arrays, walls as
 // polylines, contacts as two-point lines with per-cell arrays; a fourth of the cracks, segments

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// m:bond{...} and m:unbond{...} (docs/lua-api.md, "Bonds"; core/src/model_bonds.cpp).
+// m:bond{...} and m:unbond{...} (docs/lua-api.md, "Bonds"; core/src/api/bonds.cpp).
 #include <string>
 #include <vector>
 

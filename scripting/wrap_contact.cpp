@@ -15,8 +15,8 @@ struct ContactRef {
     ContactKey key;
 };
 
-// Key layout (core ids.hpp / model_internal.hpp): end 1's ball handle in the high word; the low
-// word is end 2's ball handle, or a wall segment with the top bit set.
+// Key layout (talus/ids.hpp; kWallBit in core/src/world/types.hpp): end 1's ball handle in the high
+// word; the low word is end 2's ball handle, or a wall segment with the top bit set.
 constexpr uint64_t kWallBit = 0x80000000u;
 
 std::string describeKey(ContactKey key) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // m:measure{circle = {x, y, r} | box = {xmin, ymin, xmax, ymax}} and m:unbalanced()
-// (core/src/measure.cpp; docs/lua-api.md "Measurement").
+// (core/src/api/measure.cpp; docs/lua-api.md "Measurement").
 #include <cmath>
 #include <string>
 

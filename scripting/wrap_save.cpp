@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // m:save(file) and talus.restore(file): the whole model in a save file (docs/save-format.md).
-// The engine saves its own state (core/src/model_save.cpp); this file adds the Lua layer's part
+// The engine saves its own state (core/src/api/save.cpp); this file adds the Lua layer's part
 // in the file's host section: the histories (file, every, columns, rows), which a restore
 // re-opens in append mode, the ParaView series (m:vtk) and picture series (m:picture{every =}),
 // which a restore continues (same .pvd, next frame numbers), and which callbacks were

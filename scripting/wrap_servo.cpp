@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// w:servo{...}: the wall servo (PFC "wall servo"; core/src/wall_servo.cpp, docs/lua-api.md
+// w:servo{...}: the wall servo (PFC "wall servo"; core/src/step/wall_servo.cpp, docs/lua-api.md
 // "Servo walls"). The wall userdata's method table (wrap_wall.cpp) routes w:servo here.
 #include <cmath>
 #include <string>

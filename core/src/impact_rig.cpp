@@ -18,102 +18,115 @@ namespace talus {
 
 namespace {
 
+/// The bodies' state the rig reads after each step.
 struct Probe {
     double overlap = 0.0;
     Vec2 v1{0.0, 0.0}, v2{0.0, 0.0};
     double w1 = 0.0, w2 = 0.0;
 };
 
-}  // namespace
-
-ImpactResult runImpact(const ImpactSetup& s, PluginRegistry& registry) {
+void checkSetup(const ImpactSetup& s) {
     if (!(s.radius > 0.0) || !(s.density > 0.0))
         throw InputError("impact: radius and density must be > 0");
     if (s.ball_target && (!(s.target_radius > 0.0) || !(s.target_density > 0.0)))
         throw InputError("impact: target radius and density must be > 0");
     if (!(s.normal_speed > 0.0) && !(s.target_speed > 0.0))
         throw InputError("impact: the bodies must approach (normal_speed > 0)");
+}
 
-    ModelDef def;
-    def.gravity = Vec2::Zero();
-    def.mass_mode = s.mass_mode;
-    Model m(def, registry);
-    m.profile().enabled = false;
-    m.setDefaultContactModel(s.model, s.props);
-    m.timestep() = s.timestep;
-    m.guard() = s.guard;
-    const double gap = s.gap >= 0.0 ? s.gap : 1e-3 * s.radius;
-
-    BallId target;
-    double top = 0.0;  // y of the target's upper surface
-    if (s.ball_target) {
-        BallDef t;
-        t.pos = Vec2::Zero();
-        t.radius = s.target_radius;
-        t.density = s.target_density;
-        t.vel = Vec2(0.0, s.target_speed);
-        t.spin = s.target_spin;
-        target = m.createBall(t);
-        top = s.target_radius;
-    } else {
-        const double half = 1e3 * s.radius;
-        WallDef floor;
-        floor.points = {Vec2(-half, 0.0), Vec2(half, 0.0)};
-        m.createWall(floor);
-    }
-    BallDef imp;
-    imp.pos = Vec2(0.0, top + s.radius + gap);
-    imp.radius = s.radius;
-    imp.density = s.density;
-    imp.vel = Vec2(s.tangential_speed, -s.normal_speed);
-    imp.spin = s.spin;
-    const BallId ball = m.createBall(imp);
-    m.setEnergyTracing(true);
-
-    auto probe = [&]() {
-        Probe p;
-        const Vec2 x1 = m.ballPos(ball);
-        p.v1 = m.ballVel(ball);
-        p.w1 = m.ballSpin(ball);
+/// The two-body model without gravity (an impactor above a horizontal wall or above a target
+/// ball, normal = y) and how it is read.
+struct Rig {
+    Rig(const ImpactSetup& s, PluginRegistry& registry) : m_s(s), m(modelDef(s), registry) {
+        m.profile().enabled = false;
+        m.setDefaultContactModel(s.model, s.props);
+        m.timestep() = s.timestep;
+        m.guard() = s.guard;
+        const double gap = s.gap >= 0.0 ? s.gap : 1e-3 * s.radius;
+        double top = 0.0;  // y of the target's upper surface
         if (s.ball_target) {
-            const Vec2 x2 = m.ballPos(target);
-            p.v2 = m.ballVel(target);
-            p.w2 = m.ballSpin(target);
-            p.overlap = s.radius + s.target_radius - (x1 - x2).norm();
+            BallDef t;
+            t.pos = Vec2::Zero();
+            t.radius = s.target_radius;
+            t.density = s.target_density;
+            t.vel = Vec2(0.0, s.target_speed);
+            t.spin = s.target_spin;
+            m_target = m.createBall(t);
+            top = s.target_radius;
         } else {
-            p.overlap = s.radius - x1.y();
+            const double half = 1e3 * s.radius;
+            WallDef floor;
+            floor.points = {Vec2(-half, 0.0), Vec2(half, 0.0)};
+            m.createWall(floor);
+        }
+        BallDef imp;
+        imp.pos = Vec2(0.0, top + s.radius + gap);
+        imp.radius = s.radius;
+        imp.density = s.density;
+        imp.vel = Vec2(s.tangential_speed, -s.normal_speed);
+        imp.spin = s.spin;
+        m_ball = m.createBall(imp);
+        m.setEnergyTracing(true);
+    }
+
+    Probe probe() const {
+        Probe p;
+        const Vec2 x1 = m.ballPos(m_ball);
+        p.v1 = m.ballVel(m_ball);
+        p.w1 = m.ballSpin(m_ball);
+        if (m_s.ball_target) {
+            const Vec2 x2 = m.ballPos(m_target);
+            p.v2 = m.ballVel(m_target);
+            p.w2 = m.ballSpin(m_target);
+            p.overlap = m_s.radius + m_s.target_radius - (x1 - x2).norm();
+        } else {
+            p.overlap = m_s.radius - x1.y();
         }
         return p;
-    };
-    // Relative normal (+ approach) and contact-point slip velocities, for the y-normal geometry.
-    auto normalOf = [&](const Probe& p) { return -(p.v1.y() - p.v2.y()); };
-    auto slipOf = [&](const Probe& p) {
-        const double r2 = s.ball_target ? s.target_radius : 0.0;
-        return (p.v1.x() + p.w1 * s.radius) - (p.v2.x() - p.w2 * r2);
-    };
-
-    ImpactResult r;
-    {
-        Probe p0 = probe();
-        r.vn_in = normalOf(p0);
-        r.vt_in = p0.v1.x() - p0.v2.x();
-        r.slip_in = slipOf(p0);
     }
-    const EnergyTotals e0 = m.energies();
-    r.energy_in = e0.initial_kinetic;
+    /// Relative normal (+ approach) and contact-point slip velocities, for the y-normal geometry.
+    double normalOf(const Probe& p) const { return -(p.v1.y() - p.v2.y()); }
+    double slipOf(const Probe& p) const {
+        const double r2 = m_s.ball_target ? m_s.target_radius : 0.0;
+        return (p.v1.x() + p.w1 * m_s.radius) - (p.v2.x() - p.w2 * r2);
+    }
+    ContactKey key() const {
+        return ContactKey{m_s.ball_target
+                              ? ((uint64_t(std::min(m_ball.index, m_target.index)) << 32) |
+                                 std::max(m_ball.index, m_target.index))
+                              : ((uint64_t(m_ball.index) << 32) | 0x80000000u)};
+    }
 
-    const ContactKey key{s.ball_target ? ((uint64_t(std::min(ball.index, target.index)) << 32) |
-                                          std::max(ball.index, target.index))
-                                       : ((uint64_t(ball.index) << 32) | 0x80000000u)};
-    Probe prev = probe();
+    static ModelDef modelDef(const ImpactSetup& s) {
+        ModelDef def;
+        def.gravity = Vec2::Zero();
+        def.mass_mode = s.mass_mode;
+        return def;
+    }
+
+    const ImpactSetup& m_s;
+    Model m;
+    BallId m_ball, m_target;
+};
+
+/// The contact's times, interpolated between steps (Chung & Ooi advise it: step counting
+/// quantises the duration to dt): onset, end of overlap, end of force.
+struct Times {
+    double on = 0.0, off = 0.0, force_off = 0.0;
+};
+
+/// Steps until the contact has ended (or max_steps): the steps in contact, the largest overlap
+/// and force, the trace, the times. Returns true when the bodies separated.
+bool runContact(Rig& rig, const ImpactSetup& s, ImpactResult& r, Times& times) {
+    Model& m = rig.m;
+    const ContactKey key = rig.key();
+    Probe prev = rig.probe();
     double t_prev = m.time();
     double f_prev = 0.0;
-    bool touched = false, ended = false, force_on = false;
-    double t_on = 0.0, t_off = 0.0, t_force_off = 0.0;
-    int64_t step = 0;
-    for (; step < s.max_steps; ++step) {
+    bool touched = false, force_on = false;
+    for (int64_t step = 0; step < s.max_steps; ++step) {
         m.cycle(1);
-        const Probe now = probe();
+        const Probe now = rig.probe();
         const double t = m.time();
         ContactInfo c;
         const bool active = m.findContact(key, c) && c.active;
@@ -121,7 +134,7 @@ ImpactResult runImpact(const ImpactSetup& s, PluginRegistry& registry) {
         if (!touched && now.overlap > 0.0) {
             touched = true;
             const double f = -prev.overlap / (now.overlap - prev.overlap);
-            t_on = t_prev + f * (t - t_prev);
+            times.on = t_prev + f * (t - t_prev);
             r.timestep = m.lastTimestep();
             r.step_rule = m.lastStepReason();
         }
@@ -134,37 +147,54 @@ ImpactResult runImpact(const ImpactSetup& s, PluginRegistry& registry) {
                                              active ? c.moment : 0.0});
             if (fn > 0.0) force_on = true;
             if (force_on && f_prev > 0.0 && fn <= 0.0)
-                t_force_off = t_prev + (t - t_prev) * f_prev / (f_prev - fn);
+                times.force_off = t_prev + (t - t_prev) * f_prev / (f_prev - fn);
             if (prev.overlap > 0.0 && now.overlap <= 0.0)
-                t_off = t_prev + (t - t_prev) * prev.overlap / (prev.overlap - now.overlap);
-            if (now.overlap <= 0.0 && !active && normalOf(now) < 0.0) {
-                ended = true;
-                break;
-            }
+                times.off = t_prev + (t - t_prev) * prev.overlap / (prev.overlap - now.overlap);
+            if (now.overlap <= 0.0 && !active && rig.normalOf(now) < 0.0) return true;
         }
         prev = now;
         t_prev = t;
         f_prev = fn;
     }
-    // One step applies what the model owed at separation (closing impulses), one more brings the
-    // energy snapshot (one step behind, docs/physics/energy.md) past the contact.
-    if (ended) m.cycle(2);
-    r.separated = ended;
-    const Probe end = probe();
-    r.vn_out = normalOf(end);
+    return false;
+}
+
+/// The outcome after the contact: velocities, restitutions, angles, durations, energies.
+void readOutcome(const Rig& rig, Times times, ImpactResult& r) {
+    const Probe end = rig.probe();
+    r.vn_out = rig.normalOf(end);
     r.vt_out = end.v1.x() - end.v2.x();
-    r.slip_out = slipOf(end);
+    r.slip_out = rig.slipOf(end);
     r.spin_out = end.w1;
     r.target_spin_out = end.w2;
     r.restitution = r.vn_in != 0.0 ? -r.vn_out / r.vn_in : 0.0;
     r.tangential_restitution = r.vt_in != 0.0 ? r.vt_out / r.vt_in : 0.0;
     r.rebound_angle = std::atan2(std::fabs(end.v1.x()), std::fabs(end.v1.y()));
     r.contact_point_angle = r.vn_out != 0.0 ? std::atan(r.slip_out / -r.vn_out) : 0.0;
-    if (t_force_off <= t_on) t_force_off = t_off;
-    r.duration = (t_off > t_on ? t_off : t_force_off) - t_on;
-    r.force_duration = t_force_off - t_on;
-    r.energy = m.energies();
+    if (times.force_off <= times.on) times.force_off = times.off;
+    r.duration = (times.off > times.on ? times.off : times.force_off) - times.on;
+    r.force_duration = times.force_off - times.on;
+    r.energy = rig.m.energies();
     r.energy_out = r.energy.kinetic;
+}
+
+}  // namespace
+
+ImpactResult runImpact(const ImpactSetup& s, PluginRegistry& registry) {
+    checkSetup(s);
+    Rig rig(s, registry);
+    ImpactResult r;
+    const Probe p0 = rig.probe();
+    r.vn_in = rig.normalOf(p0);
+    r.vt_in = p0.v1.x() - p0.v2.x();
+    r.slip_in = rig.slipOf(p0);
+    r.energy_in = rig.m.energies().initial_kinetic;
+    Times times;
+    r.separated = runContact(rig, s, r, times);
+    // One step applies what the model owed at separation (closing impulses), one more brings the
+    // energy snapshot (one step behind, docs/physics/energy.md) past the contact.
+    if (r.separated) rig.m.cycle(2);
+    readOutcome(rig, times, r);
     return r;
 }
 

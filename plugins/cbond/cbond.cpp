@@ -283,8 +283,8 @@ public:
             // step, less the work its force still did on the bodies after that step (F_old for
             // the half step left of its window, then the corner impulse, over this step's
             // du_s; the bodies gain F_s du_s). Booking all of F_old^2/2ks as slip counted that
-            // work twice: a contact unloading in shear as it separates created energy (issue
-            // 6: 1% of a sliding impact, cbond-energy.lua).
+            // work twice: a contact unloading in shear as it separates created energy (1% of
+            // a sliding impact's energy).
             slip_work =
                 std::max(0.0, springEnergy(cb_fs, ks) - (0.5 * cb_fs + corner.shear) * du_s);
             cb_fs = 0.0;

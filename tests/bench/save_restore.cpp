@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Size and time of m:save / talus.restore for a dense pack (docs/save-format.md, "Cost").
 // Usage: talus_bench_save_restore [N=50000] [steps=1500] [file=/tmp/talus_bench.talus]
-// Builds the dense-pack scene of the speed benchmark (core/src/scenes.cpp) with the disks
+// Builds the dense-pack scene of the speed benchmark (core/testing/scenes.cpp) with the disks
 // starting almost in touch (lattice gap 1e-3), cycles `steps` fixed steps so that the pack loads
 // its contacts under gravity, then saves to `file` and restores it three times each and prints the
 // smallest times, the file size and the contacts. A restored model must save to the same bytes

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// The stability guard (GuardSettings; core/src/force_displacement.cpp endContact, law_of_motion
+// The stability guard (GuardSettings; core/src/force/contact_life.cpp endContact, law_of_motion
 // non-finite check): a run that becomes non-finite stops with NumericalError naming the ball or
 // contact and the step; an impact resolved in fewer than min_steps steps is reported (warning or
 // error) naming the contact and its number of steps; a contact that gave back more energy than

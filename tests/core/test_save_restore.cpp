@@ -13,12 +13,13 @@
 #include <cstring>
 #include <string>
 
+#include "save/sections.hpp"
 #include "talus/errors.hpp"
-#include "world/broadphase.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/save_file.hpp"
 #include "talus/splitmix.hpp"
 #include "test_support.hpp"
+#include "world/broadphase.hpp"
 
 using namespace talus;
 using namespace talus::test;
@@ -101,6 +102,39 @@ TEST_CASE("a restored model saves to the same bytes and continues identically") 
     m->cycle(200);
     r.model->cycle(200);
     CHECK(saveModelBytes(*r.model) == saveModelBytes(*m));
+}
+
+TEST_CASE("the file holds the table's sections in the table's order") {
+    // save/sections.cpp: the engine's sections, each written by its store, between the engine's
+    // version (HEAD) and the host's bytes (HOST). Walk the payload tag by tag.
+    auto m = smallModel();
+    const std::vector<uint8_t> bytes = saveModelBytes(*m, {1, 2, 3});
+    std::vector<std::string> want{"HEAD"};
+    for (const SaveSection& s : engineSections()) {
+        want.push_back(s.tag);
+        CHECK(s.since >= 1);
+        CHECK(s.since <= kSaveFormatVersion);
+    }
+    want.push_back("HOST");
+    std::vector<std::string> got;
+    std::size_t at = kSaveHeaderSize;
+    while (at + 12 <= bytes.size()) {
+        got.emplace_back(bytes.begin() + long(at), bytes.begin() + long(at) + 4);
+        uint64_t len;
+        std::memcpy(&len, bytes.data() + at + 4, 8);
+        at += 12 + len;
+    }
+    CHECK(got == want);
+    REQUIRE(at + 4 == bytes.size());
+    CHECK(std::string(bytes.end() - 4, bytes.end()) == "END.");
+    // A reader refuses a newer format version, and version 0, naming its own.
+    std::vector<uint8_t> newer(bytes), zero(bytes);
+    const uint32_t next = kSaveFormatVersion + 1, none = 0;
+    std::memcpy(newer.data() + 8, &next, 4);
+    std::memcpy(zero.data() + 8, &none, 4);
+    CHECK(refusal(newer).find("save format version " + std::to_string(next) + "; this build") !=
+          std::string::npos);
+    CHECK(refusal(zero).find("save format version 0; this build") != std::string::npos);
 }
 
 TEST_CASE("Box2D's tree: the library this build runs with has the layout the save mirrors") {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// The automatic time step (core/src/timestep.cpp): which rule governs in simple scenes, the
+// The automatic time step (core/src/step/timestep.cpp): which rule governs in simple scenes, the
 // stability rule's formula, and what the resolution and approach rules promise:
 //  - free flight far from anything: kinematic (stay inside the broadphase fat box) or growth;
 //  - an isolated impact: resolution, dt = duration / 30 with duration = pi sqrt(m*/knest);
@@ -203,7 +203,7 @@ TEST_CASE("a ball released at rest on or near a floor does not start with a deep
     // sqrt(2 g g0). And an undamped ball released at rest must never rise above its release
     // height by more than the O(dt^2) energy error of a few bounces (bound: 1% of the radius).
     // The approach rule bounds the closing distance with the relative acceleration
-    // (core/src/timestep.cpp, Model::noteApproach), so it covers a body at rest on the very
+    // (core/src/step/timestep.cpp, Model::noteApproach), so it covers a body at rest on the very
     // first step too; an earlier version used |v_rel| + accel * m_dt with m_dt = 0 there and let
     // the kinematic rule alone set that step (measured: 2.5 mm sinking, then a 5.6 m launch).
     const double g = 9.81;

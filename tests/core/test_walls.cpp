@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// Walls (PFC2D's documentation, core/src/narrowphase.hpp): end-point regions, shared vertices
+// Walls (PFC2D's documentation, core/src/step/narrowphase.hpp): end-point regions, shared vertices
 // of a chain (convex: one contact, concave: two), crossing a vertex, and moving and rotating
 // walls with energy tracing. All with the linear model and the default automatic step unless
 // said otherwise.
@@ -329,8 +329,8 @@ TEST_CASE("a rotating wall: exact kinematics and boundary work", "[core][walls]"
 //
 // Pairs are keyed per (ball, segment); a contact whose point runs over a convex vertex of a
 // chain moves to the next segment's pair with its model object and host state
-// (contact_detection.cpp, "wall vertices"). Had it ended and restarted, every shipped model lost
-// 3-6% of the impact energy per crossing (power jumped from its unloading curve to the virgin
+// (core/src/step/detection.cpp, "wall vertices"). Had it ended and restarted, every shipped model
+// lost 3-6% of the impact energy per crossing (power jumped from its unloading curve to the virgin
 // line, the shear spring restarted at zero, hysdamp forgot its history).
 
 namespace {

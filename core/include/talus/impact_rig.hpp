@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 //
-// The single-contact rig (docs/physics/impact-rig.md). Two modes:
+// The single-contact rig (docs/plugin-guide.md, "Test it with the rig"). Two modes:
 //  - runImpact: one impact, ball on a wall or ball on a ball, any model and properties, normal or
 //    oblique, with spin, run to separation with the full engine; returns rebound velocities,
 //    restitution, duration, peak force, maximum overlap, steps in contact and the energies.

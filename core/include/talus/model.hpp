@@ -2,8 +2,8 @@
 //
 // Model: the facade of the engine, a 2D DEM model of balls, clumps, walls and contacts cycled in
 // the PFC order (timestep -> law of motion -> contact detection -> force-displacement ->
-// bookkeeping; docs/architecture.md). It holds the world (core/src/world.hpp) and nothing else;
-// the methods are grouped by the thing they act on, as Box2D groups b2Body_*, b2Shape_*:
+// bookkeeping; docs/architecture.md). It holds the world (core/src/world/world.hpp) and nothing
+// else; the methods are grouped by the thing they act on, as Box2D groups b2Body_*, b2Shape_*:
 //   model and running   balls   clumps   walls   servos   contact models   contacts   bonds
 //   energy   measurement   trackers   callbacks   performance   save and restore
 // The plain data they take and return is in talus/model_types.hpp.
@@ -24,7 +24,7 @@ namespace talus {
 
 class SaveWriter;  // talus/save_file.hpp
 class SaveReader;
-struct World;  // core/src/world.hpp
+struct World;  // core/src/world/world.hpp
 
 class Model {
 public:

@@ -96,7 +96,7 @@ struct WallDef {
     double kn = kNotSet, ks = kNotSet, fric = kNotSet;
 };
 
-/// Wall servo (PFC "wall servo"; core/src/wall_servo.cpp, docs/lua-api.md "Servo walls").
+/// Wall servo (PFC "wall servo"; core/src/step/wall_servo.cpp, docs/lua-api.md "Servo walls").
 /// Each step, before the walls move, the wall's velocity along `dir` is set to
 /// v = G (target - measured), capped at |v| <= vmax, where `measured` is the compressive force
 /// the balls exert on the wall along -dir (or that force over `length`), and the gain is PFC's
@@ -122,7 +122,7 @@ struct WallServoState {
     double knest = 0.0;   ///< sum of knest over the wall's contacts [N/m]
 };
 
-/// A measurement region (PFC measurement circle; core/src/measure.cpp).
+/// A measurement region (PFC measurement circle; core/src/api/measure.cpp).
 struct MeasureRegion {
     bool circle = true;
     Vec2 center{0.0, 0.0};  ///< circle
@@ -143,7 +143,7 @@ struct MeasureResult {
     int64_t contacts = 0;    ///< touching contacts whose contact point is inside
 };
 
-/// Unbalanced force (PFC's mechanical ratio; core/src/measure.cpp).
+/// Unbalanced force (PFC's mechanical ratio; core/src/api/measure.cpp).
 struct UnbalancedForce {
     double mean_unbalanced = 0.0;  ///< mean |net force| over the free bodies [N]
     double max_unbalanced = 0.0;
@@ -152,7 +152,7 @@ struct UnbalancedForce {
     int64_t bodies = 0, contacts = 0;
 };
 
-/// m:solve's criteria (Model::solve, core/src/solve.cpp). Unset ones (NaN, -1, empty) are off;
+/// m:solve's criteria (Model::solve, core/src/api/solve.cpp). Unset ones (NaN, -1, empty) are off;
 /// after each step the first criterion reached ends the run, targets before caps.
 struct SolveSpec {
     double time = kNotSet;  ///< [s] simulated, landed on exactly as solveTime does
@@ -172,7 +172,7 @@ struct PropValue {
     double value = 0.0;
 };
 
-/// m:bond{...} (core/src/model_bonds.cpp; docs/lua-api.md, "Bonds"): one property of the bond
+/// m:bond{...} (core/src/api/bonds.cpp; docs/lua-api.md, "Bonds"): one property of the bond
 /// model, a fixed value or drawn per contact from a distribution (truncated at zero).
 struct BondProp {
     enum Dist { Fixed, Normal, Uniform };

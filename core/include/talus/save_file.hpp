@@ -25,7 +25,8 @@ class PluginRegistry;
 
 /// "TALUSSAV": the first 8 bytes of every save file.
 inline constexpr char kSaveMagic[8] = {'T', 'A', 'L', 'U', 'S', 'S', 'A', 'V'};
-/// Raise when the layout of any section changes; a reader refuses other versions.
+/// Raise when a section is added or a section's layout grows (docs/save-format.md, "Sections");
+/// a reader reads every version up to its own and refuses newer ones.
 inline constexpr uint32_t kSaveFormatVersion = 1;
 /// Written in the saving machine's byte order; read back as another value on a machine of the
 /// other order.
@@ -85,15 +86,20 @@ private:
 /// Reads what SaveWriter wrote, checking every length against what is left.
 class SaveReader {
 public:
-    /// `where` names the file (and section) in messages.
-    SaveReader(const uint8_t* p, std::size_t n, std::string where)
-        : m_p(p), m_n(n), m_where(std::move(where)) {}
+    /// `where` names the file (and section) in messages; `version` is the file's format
+    /// version (what a section reads may depend on it).
+    SaveReader(const uint8_t* p, std::size_t n, std::string where,
+               uint32_t version = kSaveFormatVersion)
+        : m_p(p), m_n(n), m_where(std::move(where)), m_version(version) {}
 
     [[noreturn]] void fail(const std::string& why) const;
     std::size_t left() const { return m_n - m_pos; }
     bool atEnd() const { return m_pos == m_n; }
     void expectEnd() const;
     const std::string& where() const { return m_where; }
+    /// The format version of the file being read.
+    uint32_t version() const { return m_version; }
+    void setVersion(uint32_t version) { m_version = version; }
 
     void bytes(void* out, std::size_t n) {
         if (n > left())
@@ -167,6 +173,7 @@ private:
     std::size_t m_n;
     std::size_t m_pos = 0;
     std::string m_where;
+    uint32_t m_version;
 };
 
 /// What a restore hands back besides the model.

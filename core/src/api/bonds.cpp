@@ -11,15 +11,13 @@
 // The host then calls the new object's FDlaw once, at once, with kFdFirstCall, the pair's
 // current geometry, zero increments and zero rates, and the old contact's forces on entry (zero
 // with `reset`). The model adopts the entry forces as its linear part's force and reports its
-// forces, stiffnesses (knest/ksest/krest, the bond included) and stored energy. So:
-//  - the next step's stability limit already holds the bond's stiffness (the limits are surveyed
-//    again before it, from the stiffnesses stored here);
-//  - the ball forces the next law of motion applies are corrected by the change of the
-//    contact's force (zero without `reset` when the model adopts the entry forces);
-//  - with tracing on, the change of the stored energy (old model's last report against the new
-//    model's) is booked to `released` (a positive increment with `reset`: the strain energy
-//    the specimen lets go; in principle negative when the bond model stores more at the same
-//    forces, e.g. a larger kn given explicitly), so the balance stays closed.
+// forces, stiffnesses (knest/ksest/krest, the bond included) and stored energy; the host takes
+// the call as first_call.cpp says: the next step's stability limit holds the bond's stiffness,
+// the ball forces the next law of motion applies are corrected by the change of the contact's
+// force (zero without `reset` when the model adopts the entry forces), and with tracing on the
+// change of the stored energy goes to `released` (a positive increment with `reset`: the strain
+// energy the specimen lets go; in principle negative when the bond model stores more at the
+// same forces, e.g. a larger kn given explicitly), so the balance stays closed.
 // Nothing here runs per step: a model without bonds pays nothing (the force loop reads one
 // member at a contact's first call).
 #include <algorithm>
@@ -27,12 +25,11 @@
 #include <string>
 #include <vector>
 
+#include "api/first_call.hpp"
 #include "api/operations.hpp"
-#include "force/force.hpp"
 #include "force/kernels.hpp"
 #include "props.hpp"
 #include "step/detection.hpp"
-#include "step/group_energy.hpp"
 #include "step/narrowphase.hpp"
 #include "talus/errors.hpp"
 #include "talus/splitmix.hpp"
@@ -155,84 +152,97 @@ void selectionGroups(const std::vector<std::string>& groups, const std::string& 
 
 }  // namespace
 
-std::size_t Model::bond(const BondSettings& s) {
-    World& world = *m_world;
-    // ---- validation: everything before anything changes
-    const ModelFactory& factory = world.registry.find(s.model);
-    PluginRegistry::PrototypePtr proto = world.registry.createPrototype(factory);
-    if (!(proto->Traits() & kTraitBond))
-        throw InputError("bond: model '" + factory.name +
+namespace {
+
+/// What m:bond checked before anything changes: the bond model, its prototype with the given
+/// means, the index of its `bonded` property and of each given property, the groups.
+struct BondPlan {
+    const ModelFactory* factory = nullptr;
+    PluginRegistry::PrototypePtr proto;
+    int32_t bonded_idx = -1;
+    std::vector<int32_t> idx;
+    int ga = -1, gb = -1;
+};
+
+/// A given property (its index `k` in the model): settable, not `bonded`, given once, a valid
+/// distribution, and a value (or a uniform range's ends) the model accepts.
+void checkBondProp(const BondPlan& plan, const BondProp& bp, std::size_t k) {
+    ContactModel& proto = *plan.proto;
+    const std::string& model = plan.factory->name;
+    const std::string where = "bond: property '" + bp.name + "' of model '" + model + "'";
+    const int32_t index = plan.idx[k];
+    if (index < 0)
+        throw InputError("bond: unknown property '" + bp.name + "' for model '" + model +
+                         "' (known: " + knownProps(proto) + ")");
+    const PropInfo* info = proto.PropInfoAt(index);
+    if (info->flags & kPropReadOnly) throw InputError(where + " is read-only");
+    if (index == plan.bonded_idx)
+        throw InputError("bond: 'bonded' is set by bond itself (use m:unbond to remove bonds)");
+    for (std::size_t j = 0; j < k; ++j)
+        if (plan.idx[j] == index) throw InputError(where + " is given twice");
+    if (bp.dist != BondProp::Fixed) {
+        const std::string d = std::string(" (dist \"") + distName(bp.dist) + "\")";
+        if (!std::isfinite(bp.mean) || !std::isfinite(bp.sd) || !(bp.sd >= 0.0))
+            throw InputError(where + ": 'mean' and 'sd' must be finite and sd >= 0 (got mean " +
+                             num(bp.mean) + ", sd " + num(bp.sd) + ")" + d);
+        if (info->flags & kPropInteger)
+            throw InputError(where + " is an integer mode: give a number, not a distribution");
+        if (bp.dist == BondProp::Normal && !(bp.mean > 0.0))
+            throw InputError(where +
+                             ": the normal distribution is truncated at zero and "
+                             "needs mean > 0 (got " +
+                             num(bp.mean) + ")");
+        if (bp.dist == BondProp::Uniform && bp.mean - bp.sd * std::sqrt(3.0) < 0.0)
+            throw InputError(where + ": the uniform range mean +- sd*sqrt(3) = [" +
+                             num(bp.mean - bp.sd * std::sqrt(3.0)) + ", " +
+                             num(bp.mean + bp.sd * std::sqrt(3.0)) + "] goes below zero");
+    }
+    // The model's own range check, with the mean (and a uniform range's ends).
+    std::vector<double> probes{bp.mean};
+    if (bp.dist == BondProp::Uniform)
+        probes = {bp.mean - bp.sd * std::sqrt(3.0), bp.mean + bp.sd * std::sqrt(3.0)};
+    for (double v : probes) {
+        if (const std::string why = propValueProblem(proto, index, v); !why.empty())
+            throw InputError(where + " " + why);
+        if (proto.AcceptProp(index, v) != 0)
+            throw InputError(std::string("bond: ") + proto.LastError());
+    }
+}
+
+/// Everything m:bond checks before anything changes.
+BondPlan planBond(World& world, const BondSettings& s) {
+    BondPlan plan;
+    plan.factory = &world.registry.find(s.model);
+    const std::string& model = plan.factory->name;
+    plan.proto = world.registry.createPrototype(*plan.factory);
+    if (!(plan.proto->Traits() & kTraitBond))
+        throw InputError("bond: model '" + model +
                          "' is not a bond model (its Traits() lack kTraitBond); use a bond "
                          "model such as cbond or pbond");
-    const int32_t bonded_idx = propIndex(*proto, "bonded");
-    if (bonded_idx < 0 || (proto->PropInfoAt(bonded_idx)->flags & kPropReadOnly))
-        throw InputError("bond: model '" + factory.name +
+    plan.bonded_idx = propIndex(*plan.proto, "bonded");
+    if (plan.bonded_idx < 0 || (plan.proto->PropInfoAt(plan.bonded_idx)->flags & kPropReadOnly))
+        throw InputError("bond: model '" + model +
                          "' declares kTraitBond but has no settable property 'bonded' "
                          "(docs/plugin-abi.md, bond contract)");
     if (!(s.gap >= 0.0) || !std::isfinite(s.gap))
         throw InputError("bond: 'gap' must be a finite length >= 0 m (got " + num(s.gap) + ")");
-    int ga, gb;
-    selectionGroups(s.groups, "bond", world.bodies.group_names, ga, gb);
-    std::vector<int32_t> idx(s.props.size());
-    std::vector<PropValue> fixed;
+    selectionGroups(s.groups, "bond", world.bodies.group_names, plan.ga, plan.gb);
+    plan.idx.resize(s.props.size());
     for (std::size_t k = 0; k < s.props.size(); ++k) {
-        const BondProp& bp = s.props[k];
-        const std::string where =
-            "bond: property '" + bp.name + "' of model '" + factory.name + "'";
-        idx[k] = propIndex(*proto, bp.name);
-        if (idx[k] < 0)
-            throw InputError("bond: unknown property '" + bp.name + "' for model '" + factory.name +
-                             "' (known: " + knownProps(*proto) + ")");
-        const PropInfo* info = proto->PropInfoAt(idx[k]);
-        if (info->flags & kPropReadOnly) throw InputError(where + " is read-only");
-        if (idx[k] == bonded_idx)
-            throw InputError("bond: 'bonded' is set by bond itself (use m:unbond to remove bonds)");
-        for (std::size_t j = 0; j < k; ++j)
-            if (idx[j] == idx[k]) throw InputError(where + " is given twice");
-        if (bp.dist != BondProp::Fixed) {
-            const std::string d = std::string(" (dist \"") + distName(bp.dist) + "\")";
-            if (!std::isfinite(bp.mean) || !std::isfinite(bp.sd) || !(bp.sd >= 0.0))
-                throw InputError(where + ": 'mean' and 'sd' must be finite and sd >= 0 (got mean " +
-                                 num(bp.mean) + ", sd " + num(bp.sd) + ")" + d);
-            if (info->flags & kPropInteger)
-                throw InputError(where + " is an integer mode: give a number, not a distribution");
-            if (bp.dist == BondProp::Normal && !(bp.mean > 0.0))
-                throw InputError(where +
-                                 ": the normal distribution is truncated at zero and "
-                                 "needs mean > 0 (got " +
-                                 num(bp.mean) + ")");
-            if (bp.dist == BondProp::Uniform && bp.mean - bp.sd * std::sqrt(3.0) < 0.0)
-                throw InputError(where + ": the uniform range mean +- sd*sqrt(3) = [" +
-                                 num(bp.mean - bp.sd * std::sqrt(3.0)) + ", " +
-                                 num(bp.mean + bp.sd * std::sqrt(3.0)) + "] goes below zero");
-        }
-        // The model's own range check, with the mean (and a uniform range's ends).
-        std::vector<double> probes{bp.mean};
-        if (bp.dist == BondProp::Uniform)
-            probes = {bp.mean - bp.sd * std::sqrt(3.0), bp.mean + bp.sd * std::sqrt(3.0)};
-        for (double v : probes) {
-            if (const std::string why = propValueProblem(*proto, idx[k], v); !why.empty())
-                throw InputError(where + " " + why);
-            if (proto->AcceptProp(idx[k], v) != 0)
-                throw InputError(std::string("bond: ") + proto->LastError());
-        }
+        plan.idx[k] = propIndex(*plan.proto, s.props[k].name);
+        checkBondProp(plan, s.props[k], k);
     }
     // The prototype keeps the defaults plus the given means: a pair that goes back to it (an
     // ended contact with no ordinary rule) is a plain, unbonded copy.
-    if (const char* err = proto->PreCycle(emptyPropBlock()))
-        throw InputError("bond: model '" + factory.name + "': " + err);
+    if (const char* err = plan.proto->PreCycle(emptyPropBlock()))
+        throw InputError("bond: model '" + model + "': " + err);
+    return plan;
+}
 
-    if (!world.contacts.broadphase_ready) initBroadphase(world);
+/// The pairs of near-contacts the broadphase has not made yet (a gap wider than the fat boxes'
+/// margin).
+void makeNearPairs(World& world, const BondSettings& s, int ga, int gb) {
     auto& b = world.bodies.balls;
-
-    // ---- candidates: existing pairs that are contacts or within the gap, and near pairs the
-    // broadphase has not made yet (gap wider than the fat boxes' margin)
-    const auto withinGap = [&](const Pair& p) {
-        if (p.active) return true;
-        Vec2 n, point;
-        double overlap;
-        return pairGeometry(world, p, n, overlap, point) && overlap >= -s.gap;
-    };
     const auto ballIn = [&](uint32_t slot) {
         if (ga < 0) return true;
         const uint64_t g = b.groups[slot];
@@ -264,244 +274,145 @@ std::size_t Model::bond(const BondSettings& s) {
                 makePair(world, s1, seg, true);
         }
     }
+}
+
+/// The pairs to bond: contacts and pairs within the gap that the selection takes, in key order
+/// (the ends' handles), so the drawn values do not depend on the pairs' memory order.
+std::vector<uint32_t> bondCandidates(const World& world, const BondSettings& s, int ga, int gb) {
+    const auto withinGap = [&](const Pair& p) {
+        if (p.active) return true;
+        Vec2 n, point;
+        double overlap;
+        return pairGeometry(world, p, n, overlap, point) && overlap >= -s.gap;
+    };
     std::vector<uint32_t> cand;
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
         const Pair& p = world.contacts.pairs[i];
         if (p.model && bondSelects(world, p, s, ga, gb) && withinGap(p))
             cand.push_back(static_cast<uint32_t>(i));
     }
-    // Contact order: by key (the ends' handles), so the drawn values do not depend on the pairs'
-    // memory order.
     std::sort(cand.begin(), cand.end(), [&](uint32_t x, uint32_t y) {
         return world.contacts.cold[x].key < world.contacts.cold[y].key;
     });
+    return cand;
+}
 
-    // ---- the rule that owns the installed objects
+/// The rule that owns the installed objects: never matched by ruleFor (specificity 0 after the
+/// first rule), so contacts formed later get the ordinary rules.
+Rule& addBondRule(World& world, BondPlan& plan) {
     auto rule = std::make_unique<Rule>();
-    rule->factory = &factory;
-    rule->batch = factory.batch;
-    rule->kernel = kernelOf(factory);
-    rule->model_name = factory.name;
-    rule->prototype = std::move(proto);
-    rule->specificity = 0;  // never matched (ruleFor skips specificity-0 rules after the first)
+    rule->factory = plan.factory;
+    rule->batch = plan.factory->batch;
+    rule->kernel = kernelOf(*plan.factory);
+    rule->model_name = plan.factory->name;
+    rule->prototype = std::move(plan.proto);
+    rule->specificity = 0;
     rule->order = static_cast<int>(world.contacts.rules.size());
     rule->activity = 0.0;
     rule->pool = std::make_unique<ObjectPool>(rule->prototype->ObjectSize());
     rule->installed = true;
-    Rule* bond_rule = rule.get();
     world.contacts.rules.push_back(std::move(rule));
-    const ContactModel& bproto = *bond_rule->prototype;
-    const int32_t lin_mode_idx = propIndex(bproto, "lin_mode");
-    bool lin_mode_given = false;
-    for (int32_t k : idx) lin_mode_given |= k == lin_mode_idx;
+    return *world.contacts.rules.back();
+}
 
+/// The bond object being installed at one pair, until the pair owns it.
+struct NewBond {
+    Rule& rule;
+    void* mem = nullptr;
+    ContactModel* model = nullptr;
+    /// Refuses the install at this pair: the new object goes, the pair keeps its old one.
+    [[noreturn]] void fail(const World& world, const Pair& p, const std::string& why) {
+        model->Destroy();
+        rule.pool->release(mem);
+        throw InputError("bond: " + describePair(world, p) + ": " + why);
+    }
+};
+
+/// A fresh clone of the bond model for pair p, with the old object's same-named settable
+/// properties, the given (or drawn) ones, lin_mode = 1 with `reset`, bonded = 1, PreCycle.
+void cloneBond(World& world, Pair& p, const BondSettings& s, const BondPlan& plan,
+               std::vector<SplitMix64>& streams, NewBond& nb) {
+    const ContactModel& bproto = *nb.rule.prototype;
+    const std::string& model = plan.factory->name;
+    nb.mem = nb.rule.pool->allocate();
+    const PropBlock pb = propBlockFor(world, p, world.contacts.coldOf(p).mass_eff);
+    nb.model = bproto.Clone(pb, nb.mem);
+    if (!nb.model) {
+        const std::string why = bproto.LastError();
+        nb.rule.pool->release(nb.mem);
+        throw PluginError("bond: model '" + model + "' cannot create the model for " +
+                          describePair(world, p) + ": " + why);
+    }
+    ContactModel& nm = *nb.model;
+    leaveLane(world.contacts, p);
+    const ContactModel& old = *p.model;
+    for (int32_t k = 0; k < nm.PropCount(); ++k) {
+        const PropInfo* info = nm.PropInfoAt(k);
+        if (!info || (info->flags & (kPropReadOnly | kPropState)) || k == plan.bonded_idx) continue;
+        if (std::find(plan.idx.begin(), plan.idx.end(), k) != plan.idx.end()) continue;
+        const int32_t j = propIndex(old, info->name);
+        if (j < 0) continue;
+        const PropInfo* oi = old.PropInfoAt(j);
+        if (!oi || (oi->flags & (kPropReadOnly | kPropState))) continue;
+        // A value the bond model refuses (another range, another meaning of a mode) is not
+        // carried: the bond model's own value stays.
+        nm.AcceptProp(k, old.ReturnProp(j));
+    }
+    for (std::size_t k = 0; k < s.props.size(); ++k) {
+        const double v = drawValue(streams[k], s.props[k]);
+        if (nm.AcceptProp(plan.idx[k], v) != 0) nb.fail(world, p, nm.LastError());
+    }
+    const int32_t lin_mode_idx = propIndex(bproto, "lin_mode");
+    const bool lin_mode_given =
+        std::find(plan.idx.begin(), plan.idx.end(), lin_mode_idx) != plan.idx.end();
+    if (s.reset && lin_mode_idx >= 0 && !lin_mode_given && nm.AcceptProp(lin_mode_idx, 1.0))
+        nb.fail(world, p, nm.LastError());
+    if (nm.AcceptProp(plan.bonded_idx, 1.0) != 0) nb.fail(world, p, nm.LastError());
+    if (const char* err = nm.PreCycle(pb)) nb.fail(world, p, err);
+}
+
+/// Installs the bond at pair i: the clone, its first call now (current geometry, no increment,
+/// the entry forces per the contract), the objects swapped, then what the host does with the
+/// call (first_call.cpp). False when the pair has no geometry (nothing to bond).
+bool installBond(World& world, uint32_t i, const BondSettings& s, const BondPlan& plan,
+                 Rule& bond_rule, std::vector<SplitMix64>& streams) {
+    Pair& p = world.contacts.pairs[i];
+    FirstCallGeometry g;
+    if (!pairGeometry(world, p, g.normal, g.overlap, g.point)) return false;
+    NewBond nb{bond_rule};
+    cloneBond(world, p, s, plan, streams, nb);
+    FirstCallEntry before;
+    before.was_active = p.active;
+    if (p.active) before.n_force = p.n_force, before.s_force = p.s_force, before.moment = p.moment;
+    FdBlock fd;
+    const std::string why = firstCall(world, p, *nb.model, g, s.reset ? 0.0 : before.n_force,
+                                      s.reset ? 0.0 : before.s_force, 0u, fd);
+    if (!why.empty())
+        nb.fail(world, p, "the first FDlaw of model '" + plan.factory->name + "' " + why);
+    p.model->Destroy();
+    world.contacts.ruleOf(p).pool->release(p.model);
+    p.model = nb.model;
+    p.rule = world.contacts.ruleIndex(&bond_rule);
+    world.contacts.cold[i].activity =
+        checkedActivity(nb.model->ActivityDistance(), plan.factory->name);
+    takeFirstCall(world, i, g, fd, before);
+    return true;
+}
+
+}  // namespace
+
+std::size_t Model::bond(const BondSettings& s) {
+    World& world = *m_world;
+    BondPlan plan = planBond(world, s);
+    if (!world.contacts.broadphase_ready) initBroadphase(world);
+    makeNearPairs(world, s, plan.ga, plan.gb);
+    const std::vector<uint32_t> cand = bondCandidates(world, s, plan.ga, plan.gb);
+    Rule& bond_rule = addBondRule(world, plan);
     std::vector<SplitMix64> streams;
     for (const BondProp& bp : s.props)
         streams.emplace_back((s.seed * 0x9E3779B97F4A7C15ull) ^ nameHash(bp.name));
-
-    const double tdel = world.clock.dt > 0.0                  ? world.clock.dt
-                        : world.settings.timestep.fixed > 0.0 ? world.settings.timestep.fixed
-                        : world.settings.timestep.max < 1e300 ? world.settings.timestep.max
-                                                              : 1e-6;
-    const bool energy = world.books.on;
     std::size_t count = 0;
-    for (uint32_t i : cand) {
-        Pair& p = world.contacts.pairs[i];
-        PairCold& c = world.contacts.cold[i];
-        PairStored& stored = world.contacts.stored[i];
-        Vec2 normal, point;
-        double overlap;
-        if (!pairGeometry(world, p, normal, overlap, point)) continue;
-        // The new object, with the old one's same-named settable properties, then the given ones.
-        void* mem = bond_rule->pool->allocate();
-        const PropBlock pb = propBlockFor(world, p, c.mass_eff);
-        ContactModel* nm = bproto.Clone(pb, mem);
-        if (!nm) {
-            const std::string why = bproto.LastError();
-            bond_rule->pool->release(mem);
-            throw PluginError("bond: model '" + factory.name + "' cannot create the model for " +
-                              describePair(world, p) + ": " + why);
-        }
-        const auto fail = [&](const std::string& why) {
-            nm->Destroy();
-            bond_rule->pool->release(mem);
-            throw InputError("bond: " + describePair(world, p) + ": " + why);
-        };
-        leaveLane(world.contacts, p);
-        const ContactModel& old = *p.model;
-        for (int32_t k = 0; k < nm->PropCount(); ++k) {
-            const PropInfo* info = nm->PropInfoAt(k);
-            if (!info || (info->flags & (kPropReadOnly | kPropState)) || k == bonded_idx) continue;
-            if (std::find(idx.begin(), idx.end(), k) != idx.end()) continue;
-            const int32_t j = propIndex(old, info->name);
-            if (j < 0) continue;
-            const PropInfo* oi = old.PropInfoAt(j);
-            if (!oi || (oi->flags & (kPropReadOnly | kPropState))) continue;
-            // A value the bond model refuses (another range, another meaning of a mode) is not
-            // carried: the bond model's own value stays.
-            nm->AcceptProp(k, old.ReturnProp(j));
-        }
-        for (std::size_t k = 0; k < s.props.size(); ++k) {
-            const double v = drawValue(streams[k], s.props[k]);
-            if (nm->AcceptProp(idx[k], v) != 0) fail(nm->LastError());
-        }
-        if (s.reset && lin_mode_idx >= 0 && !lin_mode_given && nm->AcceptProp(lin_mode_idx, 1.0))
-            fail(nm->LastError());
-        if (nm->AcceptProp(bonded_idx, 1.0) != 0) fail(nm->LastError());
-        if (const char* err = nm->PreCycle(pb)) fail(err);
-
-        // The first call, now: current geometry, no increment, entry forces per the contract.
-        FdBlock fd = world.contacts.fd_template;
-        fd.flags = kFdFirstCall | (energy ? kFdEnergyOn : 0u);
-        fd.status = 0;
-        fd.u_n = overlap;
-        fd.u_dot_n = fd.u_dot_s = fd.t_dot_rel = 0.0;
-        fd.du_n = fd.du_s = fd.dtheta = 0.0;
-        fd.tdel = tdel;
-        fd.mass_eff = world.contacts.coldOf(p).mass_eff;
-        fd.inv_mass_eff_s = world.contacts.coldOf(p).inv_mass_eff_s;
-        fd.time = world.clock.time;
-        const bool was_active = p.active;
-        const double fn_old = was_active ? p.n_force : 0.0;
-        const double fs_old = was_active ? p.s_force : 0.0;
-        const double m_old = was_active ? p.moment : 0.0;
-        fd.n_force = s.reset ? 0.0 : fn_old;
-        fd.s_force = s.reset ? 0.0 : fs_old;
-        fd.moment = 0.0;
-        fd.knest = fd.ksest = fd.krest = 0.0;
-        for (double& e : fd.energy) e = 0.0;
-        try {
-            nm->FDlaw(fd);
-        } catch (...) {
-            fd.status = 1;
-            fd.error = "exception in FDlaw";
-        }
-        if (fd.status != 0) {
-            const std::string why = fd.error ? fd.error : "(no message)";
-            fail("the first FDlaw of model '" + factory.name + "' failed: " + why);
-        }
-        if (!std::isfinite(fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest + fd.krest))
-            fail("the first FDlaw of model '" + factory.name + "' returned a non-finite value");
-
-        // Swap the objects.
-        p.model->Destroy();
-        world.contacts.ruleOf(p).pool->release(p.model);
-        p.model = nm;
-        p.rule = world.contacts.ruleIndex(bond_rule);
-        c.activity = checkedActivity(nm->ActivityDistance(), factory.name);
-        if (!was_active) ++world.profile.contacts_created;
-        p.active = true;
-        p.watched = c.steps <= kGuardWatch;
-
-        // The force the next law of motion applies: the last force loop's, corrected by the
-        // change of this contact's force (same geometry: nothing moved since).
-        const Vec2 t = perp(normal);
-        const Vec2 df = (fd.n_force - fn_old) * normal + (fd.s_force - fs_old) * t;
-        const double dm = fd.moment - m_old;
-        const Vec2& x1 = b.pos[p.end1];
-        b.force[p.end1] -= df;
-        b.moment[p.end1] -= cross(point - x1, df) + dm;
-        if (!p.wall) {
-            b.force[p.end2] += df;
-            b.moment[p.end2] += cross(point - b.pos[p.end2], df) + dm;
-        } else {
-            WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
-            w.force += df;
-            w.moment += cross(point - w.center, df) + dm;
-        }
-
-        // Per-group books: the exchange record the last force loop left for this contact (ends
-        // in different groups) carries its force to the next law of motion; correct it too.
-        if (world.books.groups.on && (df.squaredNorm() > 0.0 || dm != 0.0)) {
-            const uint32_t e2 = p.wall ? world.bodies.segments[p.end2].wall : p.end2;
-            for (auto& x : world.books.groups.exchange) {
-                if (x.end1 != p.end1 || x.end2 != e2 || x.wall != p.wall) continue;
-                x.f1 -= df;
-                x.m1 -= cross(point - endCentre(world, p.end1), df) + dm;
-                x.m2 += cross(point - (p.wall ? world.bodies.walls[e2].center
-                                              : endCentre(world, p.end2)),
-                              df) +
-                        dm;
-                break;
-            }
-        }
-
-        // Energy: what the old contact stored against what the new one stores, less the part
-        // of the old stored energy the bodies never paid for. The old model's report at the last
-        // step includes the work of that step's force over the first half of its window (the
-        // trapezoid (F_prev + F) du / 2), but the bodies will now feel the new force at this
-        // time level instead: that half-step work, (F - F_new) du / 2, was never done (for a
-        // linear spring zeroed by a reset this gives F_prev F / 2k, the energy cbond releases
-        // when a bond breaks: docs/models/cbond.md, Energies). du from the velocities the last
-        // force loop used, which are the current ones (the law of motion has not run since).
-        if (energy) {
-            const double before = was_active ? stored.total() : 0.0;
-            const double after = fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain];
-            double unpaid = 0.0;
-            if (was_active && world.clock.dt > 0.0) {
-                Vec2 v2c;
-                double spin2;
-                if (p.wall) {
-                    const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
-                    v2c = w.vel + spinCross(w.spin, point - w.center);
-                    spin2 = w.spin;
-                } else {
-                    v2c = b.vel[p.end2] + spinCross(b.spin[p.end2], point - b.pos[p.end2]);
-                    spin2 = b.spin[p.end2];
-                }
-                const Vec2 vrel = v2c - (b.vel[p.end1] + spinCross(b.spin[p.end1], point - x1));
-                const double du_n = -vrel.dot(normal) * world.clock.dt,
-                             du_s = vrel.dot(t) * world.clock.dt;
-                const double dth = (spin2 - b.spin[p.end1]) * world.clock.dt;
-                unpaid = 0.5 * ((fn_old - fd.n_force) * du_n - (fs_old - fd.s_force) * du_s -
-                                (m_old - fd.moment) * dth);
-            }
-            const double change = before - after - unpaid + fd.energy[kEnergyReleased];
-            world.books.acc.released += change;
-            // The current stored energies as well (the next snapshot may come before the next
-            // force loop sums them again).
-            world.books.acc.strain += fd.energy[kEnergyStrain] - (was_active ? stored.strain : 0.0);
-            world.books.acc.bond += fd.energy[kEnergyBondStrain] - (was_active ? stored.bond : 0.0);
-            if (world.books.groups.on) {
-                bookReleasedToGroups(world, p, change);
-                // The groups' current stored energies, shared as the force loop shares them
-                // (group_energy.cpp: half to each ball's groups, all to the ball's for a wall).
-                const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
-                const double ds = fd.energy[kEnergyStrain] - (was_active ? stored.strain : 0.0);
-                const double db = fd.energy[kEnergyBondStrain] - (was_active ? stored.bond : 0.0);
-                auto& books = world.books.groups;
-                for (uint64_t mk = (g1 | (p.wall ? 0 : g2)) & books.traced; mk; mk &= mk - 1) {
-                    const uint64_t bit = mk & (~mk + 1);
-                    const double w =
-                        p.wall ? ((g1 & bit) ? 1.0 : 0.0)
-                               : 0.5 * (((g1 & bit) ? 1.0 : 0.0) + ((g2 & bit) ? 1.0 : 0.0));
-                    auto& gr = books.g[__builtin_ctzll(mk)];
-                    gr.acc.strain += w * ds;
-                    gr.acc.bond += w * db;
-                }
-            }
-            stored.strain = fd.energy[kEnergyStrain];
-            stored.bond = fd.energy[kEnergyBondStrain];
-        }
-
-        p.n_force = fd.n_force;
-        p.s_force = fd.s_force;
-        p.moment = fd.moment;
-        world.contacts.coldOf(p).overlap = overlap;
-        world.contacts.coldOf(p).knest = fd.knest;
-        world.contacts.coldOf(p).ksest = fd.ksest;
-        c.krest = fd.krest;
-        p.sliding = (fd.flags & kFdSliding) != 0;
-        p.bonded = (fd.flags & kFdBonded) != 0;
-        // The impact rules' duration for this contact, and the guard: the installed contact
-        // holds energy no traced approach put in (like a placed contact, its energy check is
-        // skipped) and is a persistent contact, not an impact.
-        c.duration = nm->ContactDuration(world.contacts.coldOf(p).mass_eff, 0.0);
-        if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
-        c.born_overlapped = true;
-        if (fd.flags & kFdBroken) queueBreak(world, i, point, fd);
-        ++count;
-    }
+    for (uint32_t i : cand) count += installBond(world, i, s, plan, bond_rule, streams);
     world.stepping.limits_stale = true;
     return count;
 }

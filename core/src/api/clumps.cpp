@@ -144,19 +144,19 @@ const ClumpTemplate& Model::clumpTemplate(int id) const {
 
 // ------------------------------------------------------------------------ create
 
-ClumpId Model::createClump(const ClumpDef& d) {
-    World& world = *m_world;
-    // --- pebbles and the geometric mass properties per unit density, in the pebbles' frame
-    std::vector<Pebble> peb;
-    MassProps props;
-    ClumpMassMode mode = d.mass_mode;
-    const bool from_template = d.template_id != 0;
+namespace {
+
+/// The pebbles of a new clump, scaled, and the template's scaled mass properties per unit
+/// density (a template's mass mode, unless direct, into `mode`).
+std::vector<Pebble> scaledPebbles(const Model& model, const ClumpDef& d, ClumpMassMode& mode,
+                                  MassProps& props) {
     if (!(d.scale > 0.0) || !std::isfinite(d.scale))
         throw InputError("clump: scale must be > 0 (got " + messageNumber(d.scale) + ")");
     const double sc = d.scale;
-    if (from_template) {
+    std::vector<Pebble> peb;
+    if (d.template_id != 0) {
         if (!d.pebbles.empty()) throw InputError("clump: give pebbles or a template, not both");
-        const ClumpTemplate& t = clumpTemplate(d.template_id);
+        const ClumpTemplate& t = model.clumpTemplate(d.template_id);
         peb = t.pebbles;
         if (mode == ClumpMassMode::Union) mode = t.mass_mode;  // the template's unless direct
         for (Pebble& p : peb) p.pos *= sc, p.radius *= sc;
@@ -177,13 +177,11 @@ ClumpId Model::createClump(const ClumpDef& d) {
         }
     }
     requirePebbles(peb, "clump", sc);
-    double mass, inertia, density;
-    Vec2 centroid;
-    resolveMass(peb, d, sc, from_template, props, world.settings.mass_mode, mode, mass, inertia,
-                density, centroid);
+    return peb;
+}
 
-    // --- state
-    const bool placed = !std::isnan(d.pos.x()) || !std::isnan(d.pos.y());
+/// The clump's motion and properties as given: finite, a finite kinetic energy, kn/ks/fric >= 0.
+void checkClumpState(const ClumpDef& d, bool placed, double mass, double inertia) {
     if (placed && !finite2(d.pos)) throw InputError("clump: pos must be finite");
     if (!std::isfinite(d.angle)) throw InputError("clump: angle must be finite");
     if (!finite2(d.vel) || !std::isfinite(d.spin))
@@ -193,12 +191,68 @@ ClumpId Model::createClump(const ClumpDef& d) {
     for (double v : {d.kn, d.ks, d.fric})
         if (!std::isnan(v) && !(v >= 0.0 && std::isfinite(v)))
             throw InputError("clump: kn, ks and fric must be >= 0 (got " + messageNumber(v) + ")");
+}
 
+/// A clump record with its mass properties.
+ClumpData clumpWithMass(ClumpMassMode mode, double mass, double inertia, double density) {
     ClumpData c;
     c.mode = mode;
     c.mass = mass, c.inv_mass = 1.0 / mass;
     c.inertia = inertia, c.inv_inertia = 1.0 / inertia;
     c.density = density;
+    return c;
+}
+
+/// A ball per pebble of clump `index`, at its place in the clump with the clump's motion. A
+/// pebble the ball checks refuse (radius or position out of range) undoes the clump.
+void addPebbleBalls(World& world, uint32_t index, const std::vector<Pebble>& peb) {
+    try {
+        for (std::size_t k = 0; k < peb.size(); ++k) {
+            ClumpData& cl = world.bodies.clumps[index];
+            BallDef bd;
+            const Vec2 r = rotate(cl.offset[k], cl.angle);
+            bd.pos = cl.pos + r;
+            bd.radius = peb[k].radius;
+            bd.mass = cl.mass;
+            bd.inertia = cl.inertia;
+            bd.vel = cl.vel + spinCross(cl.spin, r);
+            bd.spin = cl.spin;
+            bd.angle = cl.angle;
+            bd.kn = cl.kn, bd.ks = cl.ks, bd.fric = cl.fric;
+            const BallId id = createBallIn(world, bd, index);
+            const uint32_t s = world.bodies.slotOf(id);
+            world.bodies.balls.groups[s] = cl.groups;
+            world.bodies.balls.density[s] = cl.density;
+            world.bodies.clumps[index].pebbles.push_back(id.index);
+        }
+    } catch (const InputError& e) {
+        ClumpData& cl = world.bodies.clumps[index];
+        for (uint32_t h : cl.pebbles)
+            removeBall(world, BallId{h, world.bodies.generation[h - 1]}, false);
+        cl.pebbles.clear();
+        cl.alive = false;
+        --world.bodies.live_clumps;
+        throw InputError(std::string("clump: ") + e.what());
+    }
+}
+
+}  // namespace
+
+ClumpId Model::createClump(const ClumpDef& d) {
+    World& world = *m_world;
+    // --- pebbles and the geometric mass properties per unit density, in the pebbles' frame
+    MassProps props;
+    ClumpMassMode mode = d.mass_mode;
+    const std::vector<Pebble> peb = scaledPebbles(*this, d, mode, props);
+    double mass, inertia, density;
+    Vec2 centroid;
+    resolveMass(peb, d, d.scale, d.template_id != 0, props, world.settings.mass_mode, mode, mass,
+                inertia, density, centroid);
+    const bool placed = !std::isnan(d.pos.x()) || !std::isnan(d.pos.y());
+    checkClumpState(d, placed, mass, inertia);
+
+    // --- state
+    ClumpData c = clumpWithMass(mode, mass, inertia, density);
     c.angle = d.angle;
     // With `pos` the pebbles are in the clump frame at angle 0 and the clump is turned by
     // `angle`; without it they are where they are, and `angle` only names the orientation.
@@ -213,53 +267,24 @@ ClumpId Model::createClump(const ClumpDef& d) {
         c.offset.push_back(placed ? o : rotate(o, -d.angle));
         c.angle_offset.push_back(0.0);
     }
-
     const uint32_t index = static_cast<uint32_t>(world.bodies.clumps.size());
     world.bodies.clumps.push_back(c);
     ++world.bodies.live_clumps;
-    try {
-        for (std::size_t k = 0; k < peb.size(); ++k) {
-            ClumpData& cl = world.bodies.clumps[index];
-            BallDef bd;
-            const Vec2 r = rotate(cl.offset[k], cl.angle);
-            bd.pos = cl.pos + r;
-            bd.radius = peb[k].radius;
-            bd.mass = mass;
-            bd.inertia = inertia;
-            bd.vel = cl.vel + spinCross(cl.spin, r);
-            bd.spin = cl.spin;
-            bd.angle = cl.angle;
-            bd.kn = cl.kn, bd.ks = cl.ks, bd.fric = cl.fric;
-            const BallId id = createBallIn(world, bd, index);
-            const uint32_t s = world.bodies.slotOf(id);
-            world.bodies.balls.groups[s] = cl.groups;
-            world.bodies.balls.density[s] = density;
-            world.bodies.clumps[index].pebbles.push_back(id.index);
-        }
-    } catch (const InputError& e) {
-        // A pebble the ball checks refuse (radius or position out of range): undo.
-        ClumpData& cl = world.bodies.clumps[index];
-        for (uint32_t h : cl.pebbles)
-            removeBall(world, BallId{h, world.bodies.generation[h - 1]}, false);
-        cl.pebbles.clear();
-        cl.alive = false;
-        --world.bodies.live_clumps;
-        throw InputError(std::string("clump: ") + e.what());
-    }
+    addPebbleBalls(world, index, peb);
     placePebbles(world, world.bodies.clumps[index]);
     world.stepping.limits_stale = true;
     return world.bodies.clumpId(index);
 }
 
-ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpDef& opts) {
-    World& world = *m_world;
-    if (ids.empty()) throw InputError("clump: 'balls' is empty: a clump needs at least one ball");
-    if (!opts.pebbles.empty() || opts.template_id)
-        throw InputError("clump: give balls, pebbles or a template, not two of them");
-    auto& b = world.bodies.balls;
+namespace {
+
+/// The balls' slots (each free, listed once) and the pebbles at their places; their total mass
+/// and area.
+std::vector<uint32_t> ballSlots(const World& world, const std::vector<BallId>& ids,
+                                std::vector<Pebble>& peb, double& mass, double& area) {
+    const auto& b = world.bodies.balls;
     std::vector<uint32_t> slots;
-    std::vector<Pebble> peb;
-    double ball_mass = 0.0, ball_area = 0.0;
+    mass = area = 0.0;
     for (std::size_t i = 0; i < ids.size(); ++i) {
         const uint32_t s = world.bodies.slotOf(ids[i]);
         if (b.clump[s] != kNoClump)
@@ -271,9 +296,78 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
                                  " is listed twice");
         slots.push_back(s);
         peb.push_back(Pebble{b.pos[s], b.radius[s]});
-        ball_mass += b.mass[s];
-        ball_area += M_PI * b.radius[s] * b.radius[s];
+        mass += b.mass[s];
+        area += M_PI * b.radius[s] * b.radius[s];
     }
+    return slots;
+}
+
+/// The balls' momentum and angular momentum about the centroid, given to the rigid body
+/// (v = P / sum m, w = L / sum (I + m d^2), the balls' own masses): the rigid motion that
+/// conserves both when the clump's mass equals the balls' (no overlaps).
+void rigidMotion(const World& world, const std::vector<uint32_t>& slots, double ball_mass,
+                 ClumpData& c) {
+    const auto& b = world.bodies.balls;
+    Vec2 p = Vec2::Zero();
+    for (uint32_t s : slots) p += b.mass[s] * b.vel[s];
+    const Vec2 v = p / ball_mass;
+    double l = 0.0, i_sum = 0.0;
+    for (uint32_t s : slots) {
+        const Vec2 r = b.pos[s] - c.pos;
+        l += b.inertia[s] * b.spin[s] + b.mass[s] * cross(r, b.vel[s] - v);
+        i_sum += b.inertia[s] + b.mass[s] * r.squaredNorm();
+    }
+    c.vel = v;
+    c.spin = l / i_sum;
+}
+
+/// The pairs between the balls go (pebbles of one clump never touch); their stored energy is
+/// released (removePair). Contacts with other bodies are kept, with the clump's mass.
+void removeInnerPairs(World& world, const std::vector<uint32_t>& slots) {
+    for (std::size_t i = world.contacts.pairs.size(); i-- > 0;) {
+        const Pair& pr = world.contacts.pairs[i];
+        if (pr.wall) continue;
+        bool in1 = false, in2 = false;
+        for (uint32_t s : slots) in1 |= pr.end1 == s, in2 |= pr.end2 == s;
+        if (in1 && in2) removePair(world, i);
+    }
+}
+
+/// The balls become the pebbles of clump `c` (to be clump `index`): the clump's mass, groups
+/// and unset properties, no fixity or applied load of their own.
+void makePebbles(World& world, const std::vector<uint32_t>& slots, ClumpData& c, uint32_t index) {
+    auto& b = world.bodies.balls;
+    for (uint32_t s : slots) {
+        c.pebbles.push_back(b.handle[s]);
+        c.offset.push_back(b.pos[s] - c.pos);
+        c.angle_offset.push_back(b.angle[s]);
+        b.clump[s] = index;
+        ++world.bodies.pebble_count;
+        if (b.fixity[s]) --world.bodies.fixed_balls;
+        b.fixity[s] = 0;
+        b.fapp[s] = Vec2::Zero(), b.mapp[s] = 0.0;
+        b.mass[s] = c.mass, b.inv_mass[s] = c.inv_mass;
+        b.inertia[s] = c.inertia, b.inv_inertia[s] = c.inv_inertia;
+        b.density[s] = c.density;
+        b.groups[s] = c.groups;
+        // A ball's own kn/ks/fric stay its own (a pebble may set its own); unset ones take the
+        // clump's.
+        if (std::isnan(b.kn[s])) b.kn[s] = c.kn;
+        if (std::isnan(b.ks[s])) b.ks[s] = c.ks;
+        if (std::isnan(b.fric[s])) b.fric[s] = c.fric;
+    }
+}
+
+}  // namespace
+
+ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpDef& opts) {
+    World& world = *m_world;
+    if (ids.empty()) throw InputError("clump: 'balls' is empty: a clump needs at least one ball");
+    if (!opts.pebbles.empty() || opts.template_id)
+        throw InputError("clump: give balls, pebbles or a template, not two of them");
+    std::vector<Pebble> peb;
+    double ball_mass, ball_area;
+    const std::vector<uint32_t> slots = ballSlots(world, ids, peb, ball_mass, ball_area);
     // Density: the given one, else the balls' mass over their area (their common density when
     // they share one).
     ClumpDef d = opts;
@@ -284,61 +378,18 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
     Vec2 centroid;
     resolveMass(peb, d, 1.0, false, MassProps{}, world.settings.mass_mode, mode, mass, inertia,
                 density, centroid);
-    // Velocity: the balls' momentum and angular momentum about the centroid, given to the rigid
-    // body (v = P / sum m, w = L / sum (I + m d^2), the balls' own masses): the rigid motion that
-    // conserves both when the clump's mass equals the balls' (no overlaps).
-    Vec2 p = Vec2::Zero();
-    for (uint32_t s : slots) p += b.mass[s] * b.vel[s];
-    const Vec2 v = p / ball_mass;
-    double l = 0.0, i_sum = 0.0;
-    for (uint32_t s : slots) {
-        const Vec2 r = b.pos[s] - centroid;
-        l += b.inertia[s] * b.spin[s] + b.mass[s] * cross(r, b.vel[s] - v);
-        i_sum += b.inertia[s] + b.mass[s] * r.squaredNorm();
-    }
-    ClumpData c;
-    c.mode = mode;
-    c.mass = mass, c.inv_mass = 1.0 / mass;
-    c.inertia = inertia, c.inv_inertia = 1.0 / inertia;
-    c.density = density;
+    ClumpData c = clumpWithMass(mode, mass, inertia, density);
     c.pos = centroid;
     c.angle = 0.0;
-    c.vel = v;
-    c.spin = l / i_sum;
+    rigidMotion(world, slots, ball_mass, c);
     c.fixity = opts.fixity;
     for (const auto& g : opts.groups) c.groups |= uint64_t(1) << talus::groupIndex(world, g, true);
     if (opts.groups.empty())
-        for (uint32_t s : slots) c.groups |= b.groups[s];
+        for (uint32_t s : slots) c.groups |= world.bodies.balls.groups[s];
     c.kn = opts.kn, c.ks = opts.ks, c.fric = opts.fric;
     const uint32_t index = static_cast<uint32_t>(world.bodies.clumps.size());
-    // The pairs between the balls go (pebbles of one clump never touch); their stored energy
-    // is released (removePair). Contacts with other bodies are kept, with the clump's mass.
-    for (std::size_t i = world.contacts.pairs.size(); i-- > 0;) {
-        const Pair& pr = world.contacts.pairs[i];
-        if (pr.wall) continue;
-        bool in1 = false, in2 = false;
-        for (uint32_t s : slots) in1 |= pr.end1 == s, in2 |= pr.end2 == s;
-        if (in1 && in2) removePair(world, i);
-    }
-    for (uint32_t s : slots) {
-        c.pebbles.push_back(b.handle[s]);
-        c.offset.push_back(b.pos[s] - centroid);
-        c.angle_offset.push_back(b.angle[s]);
-        b.clump[s] = index;
-        ++world.bodies.pebble_count;
-        if (b.fixity[s]) --world.bodies.fixed_balls;
-        b.fixity[s] = 0;
-        b.fapp[s] = Vec2::Zero(), b.mapp[s] = 0.0;
-        b.mass[s] = mass, b.inv_mass[s] = c.inv_mass;
-        b.inertia[s] = inertia, b.inv_inertia[s] = c.inv_inertia;
-        b.density[s] = density;
-        b.groups[s] = c.groups;
-        // A ball's own kn/ks/fric stay its own (a pebble may set its own); unset ones take the
-        // clump's.
-        if (std::isnan(b.kn[s])) b.kn[s] = c.kn;
-        if (std::isnan(b.ks[s])) b.ks[s] = c.ks;
-        if (std::isnan(b.fric[s])) b.fric[s] = c.fric;
-    }
+    removeInnerPairs(world, slots);
+    makePebbles(world, slots, c, index);
     world.bodies.clumps.push_back(c);
     ++world.bodies.live_clumps;
     placePebbles(world, world.bodies.clumps[index]);

@@ -76,8 +76,9 @@ double diskBoxArea(const Vec2& p, double r, const Vec2& lo, const Vec2& hi) {
 
 }  // namespace
 
-MeasureResult Model::measure(const MeasureRegion& rg) const {
-    const World& world = *m_world;
+namespace {
+
+void checkRegion(const MeasureRegion& rg) {
     if (rg.circle) {
         if (!(rg.radius > 0.0) || !std::isfinite(rg.radius) || !std::isfinite(rg.center.x()) ||
             !std::isfinite(rg.center.y()))
@@ -88,52 +89,61 @@ MeasureResult Model::measure(const MeasureRegion& rg) const {
         throw InputError("measure: box needs finite xmin < xmax and ymin < ymax (got " +
                          vecText(rg.lo) + " to " + vecText(rg.hi) + ")");
     }
-    const auto inside = [&](const Vec2& x) {
-        if (rg.circle) return (x - rg.center).squaredNorm() <= rg.radius * rg.radius;
-        return x.x() >= rg.lo.x() && x.x() <= rg.hi.x() && x.y() >= rg.lo.y() && x.y() <= rg.hi.y();
-    };
-    MeasureResult r;
-    r.area =
-        rg.circle ? kPi * rg.radius * rg.radius : (rg.hi.x() - rg.lo.x()) * (rg.hi.y() - rg.lo.y());
-    const auto& b = world.bodies.balls;
-    const std::size_t n = b.size();
+}
 
-    // Balls: solid area inside (exact intersections), and the balls whose centre is inside.
-    std::vector<char> in(n, 0);
-    double ball_area = 0.0;  // full areas of the balls whose centre is inside
+bool inside(const MeasureRegion& rg, const Vec2& x) {
+    if (rg.circle) return (x - rg.center).squaredNorm() <= rg.radius * rg.radius;
+    return x.x() >= rg.lo.x() && x.x() <= rg.hi.x() && x.y() >= rg.lo.y() && x.y() <= rg.hi.y();
+}
+
+/// The balls whose centre is inside (their flags, full areas, mean position and velocity).
+struct BallsInside {
+    std::vector<char> in;
+    double area = 0.0;
     Vec2 mean_x{0.0, 0.0}, mean_v{0.0, 0.0};
-    for (std::size_t s = 0; s < n; ++s) {
+};
+
+/// Balls: the solid area inside (exact intersections), the porosity, and the balls whose centre
+/// is inside.
+BallsInside measureBalls(const World& world, const MeasureRegion& rg, MeasureResult& r) {
+    const auto& b = world.bodies.balls;
+    BallsInside in;
+    in.in.assign(b.size(), 0);
+    for (std::size_t s = 0; s < b.size(); ++s) {
         const Vec2& x = b.pos[s];
         const double rad = b.radius[s];
         r.solid += rg.circle ? diskDiskArea(rg.radius, rad, (x - rg.center).norm())
                              : diskBoxArea(x, rad, rg.lo, rg.hi);
-        if (inside(x)) {
-            in[s] = 1;
+        if (inside(rg, x)) {
+            in.in[s] = 1;
             ++r.balls;
-            ball_area += kPi * rad * rad;
-            mean_x += x;
-            mean_v += b.vel[s];
+            in.area += kPi * rad * rad;
+            in.mean_x += x;
+            in.mean_v += b.vel[s];
         }
     }
     r.porosity = 1.0 - r.solid / r.area;
+    return in;
+}
 
-    // Contacts: touching ones (overlap > 0, or bonded). Each end whose centre is inside counts
-    // the contact for the coordination number and adds its share of the stress, the moment of
-    // the contact force about the end's centre (a pebble: its clump's centroid):
-    //   sum_p sum_c (x_c - x_p) (x) F_cp,
-    // which for bodies in equilibrium is the integral of the Cauchy stress over them (tension
-    // positive). Divided by the balls' area and multiplied by the solid fraction (PFC 3's
-    // correction for balls that straddle the boundary), it is 1/A of it when every ball is inside.
+/// Contacts: touching ones (overlap > 0, or bonded). Each end whose centre is inside counts the
+/// contact for the coordination number and adds its share of the stress, the moment of the
+/// contact force about the end's centre (a pebble: its clump's centroid):
+///   sum_p sum_c (x_c - x_p) (x) F_cp,
+/// which for bodies in equilibrium is the integral of the Cauchy stress over them (tension
+/// positive). Divided by the balls' area and multiplied by the solid fraction (PFC 3's
+/// correction for balls that straddle the boundary), it is 1/A of it when every ball is inside.
+void measureContacts(const World& world, const MeasureRegion& rg, const BallsInside& in,
+                     MeasureResult& r) {
     double sxx = 0.0, syy = 0.0, sxy = 0.0, syx = 0.0;
     int64_t ends_in = 0;
-    const auto& pairs = world.contacts.pairs;
-    for (const Pair& p : pairs) {
+    for (const Pair& p : world.contacts.pairs) {
         if (!p.active) continue;
         Vec2 normal, point;
         double overlap;
         if (!pairGeometry(world, p, normal, overlap, point)) continue;
         if (!(overlap > 0.0 || p.bonded)) continue;
-        if (inside(point)) ++r.contacts;
+        if (inside(rg, point)) ++r.contacts;
         const Vec2 f = p.n_force * normal + p.s_force * perp(normal);  // on end 2
         const auto add = [&](uint32_t slot, const Vec2& force) {
             const Vec2 arm = point - endCentre(world, slot);
@@ -143,51 +153,65 @@ MeasureResult Model::measure(const MeasureRegion& rg) const {
             syx += arm.y() * force.x();
             ++ends_in;
         };
-        if (in[p.end1]) add(p.end1, -f);
-        if (!p.wall && in[p.end2]) add(p.end2, f);
+        if (in.in[p.end1]) add(p.end1, -f);
+        if (!p.wall && in.in[p.end2]) add(p.end2, f);
     }
     r.coordination =
         r.balls > 0 ? static_cast<double>(ends_in) / static_cast<double>(r.balls) : 0.0;
-    if (ball_area > 0.0) {
-        const double k = (1.0 - r.porosity) / ball_area;
+    if (in.area > 0.0) {
+        const double k = (1.0 - r.porosity) / in.area;
         r.stress_xx = k * sxx;
         r.stress_yy = k * syy;
         r.stress_xy = 0.5 * k * (sxy + syx);  // equal in equilibrium (moment balance per ball)
     }
+}
 
-    // Strain rate: the velocity gradient L of the least-squares fit v = v0 + L (x - x_mean) over
-    // the balls whose centre is inside; centred, the fit decouples: L = B M^-1 with
-    // M = sum dx dx^T, B = sum dv dx^T. Needs three balls not on one line (NaN otherwise).
+/// Strain rate: the velocity gradient L of the least-squares fit v = v0 + L (x - x_mean) over
+/// the balls whose centre is inside; centred, the fit decouples: L = B M^-1 with
+/// M = sum dx dx^T, B = sum dv dx^T. Needs three balls not on one line (NaN otherwise).
+void measureStrainRate(const World& world, BallsInside& in, MeasureResult& r) {
+    const auto& b = world.bodies.balls;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     r.rate_xx = r.rate_yy = r.rate_xy = r.rate_spin = nan;
-    if (r.balls >= 3) {
-        mean_x /= static_cast<double>(r.balls);
-        mean_v /= static_cast<double>(r.balls);
-        double mxx = 0.0, mxy = 0.0, myy = 0.0, bxx = 0.0, bxy = 0.0, byx = 0.0, byy = 0.0;
-        for (std::size_t s = 0; s < n; ++s) {
-            if (!in[s]) continue;
-            const Vec2 dx = b.pos[s] - mean_x, dv = b.vel[s] - mean_v;
-            mxx += dx.x() * dx.x();
-            mxy += dx.x() * dx.y();
-            myy += dx.y() * dx.y();
-            bxx += dv.x() * dx.x();
-            bxy += dv.x() * dx.y();
-            byx += dv.y() * dx.x();
-            byy += dv.y() * dx.y();
-        }
-        const double det = mxx * myy - mxy * mxy;
-        if (det > 1e-12 * (mxx + myy) * (mxx + myy)) {
-            // M^-1 = [myy, -mxy; -mxy, mxx] / det
-            const double lxx = (bxx * myy - bxy * mxy) / det;
-            const double lxy = (-bxx * mxy + bxy * mxx) / det;
-            const double lyx = (byx * myy - byy * mxy) / det;
-            const double lyy = (-byx * mxy + byy * mxx) / det;
-            r.rate_xx = lxx;
-            r.rate_yy = lyy;
-            r.rate_xy = 0.5 * (lxy + lyx);
-            r.rate_spin = 0.5 * (lyx - lxy);
-        }
+    if (r.balls < 3) return;
+    in.mean_x /= static_cast<double>(r.balls);
+    in.mean_v /= static_cast<double>(r.balls);
+    double mxx = 0.0, mxy = 0.0, myy = 0.0, bxx = 0.0, bxy = 0.0, byx = 0.0, byy = 0.0;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        if (!in.in[s]) continue;
+        const Vec2 dx = b.pos[s] - in.mean_x, dv = b.vel[s] - in.mean_v;
+        mxx += dx.x() * dx.x();
+        mxy += dx.x() * dx.y();
+        myy += dx.y() * dx.y();
+        bxx += dv.x() * dx.x();
+        bxy += dv.x() * dx.y();
+        byx += dv.y() * dx.x();
+        byy += dv.y() * dx.y();
     }
+    const double det = mxx * myy - mxy * mxy;
+    if (!(det > 1e-12 * (mxx + myy) * (mxx + myy))) return;
+    // M^-1 = [myy, -mxy; -mxy, mxx] / det
+    const double lxx = (bxx * myy - bxy * mxy) / det;
+    const double lxy = (-bxx * mxy + bxy * mxx) / det;
+    const double lyx = (byx * myy - byy * mxy) / det;
+    const double lyy = (-byx * mxy + byy * mxx) / det;
+    r.rate_xx = lxx;
+    r.rate_yy = lyy;
+    r.rate_xy = 0.5 * (lxy + lyx);
+    r.rate_spin = 0.5 * (lyx - lxy);
+}
+
+}  // namespace
+
+MeasureResult Model::measure(const MeasureRegion& rg) const {
+    const World& world = *m_world;
+    checkRegion(rg);
+    MeasureResult r;
+    r.area =
+        rg.circle ? kPi * rg.radius * rg.radius : (rg.hi.x() - rg.lo.x()) * (rg.hi.y() - rg.lo.y());
+    BallsInside in = measureBalls(world, rg, r);
+    measureContacts(world, rg, in, r);
+    measureStrainRate(world, in, r);
     return r;
 }
 

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "api/first_call.hpp"
 #include "api/operations.hpp"
 #include "force/force.hpp"
 #include "props.hpp"
@@ -156,6 +157,7 @@ void Model::cycle(int64_t steps) {
     if (steps < 0) throw InputError("cycle: number of steps must be >= 0");
     prepareRun(world);
     try {
+        firstCallsAtPlacement(world);
         runSteps(world, steps);
     } catch (...) {
         flushWarnings(world);

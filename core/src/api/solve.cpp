@@ -9,8 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
+#include "api/first_call.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "world/messages.hpp"
@@ -38,72 +40,96 @@ const char* solveStopName(SolveStop s) {
     return "?";
 }
 
-SolveStop Model::solve(const SolveSpec& s) {
-    World& world = *m_world;
-    const bool has_time = !std::isnan(s.time);
-    const bool has_ratio = !std::isnan(s.ratio);
-    const bool has_max_time = !std::isnan(s.max_time);
-    if (!has_time && s.steps < 0 && !has_ratio && !s.until && s.max_steps < 0 && !has_max_time)
+namespace {
+
+bool given(double v) { return !std::isnan(v); }
+
+void checkSpec(const World& world, const SolveSpec& s) {
+    if (!given(s.time) && s.steps < 0 && !given(s.ratio) && !s.until && s.max_steps < 0 &&
+        !given(s.max_time))
         throw InputError(
             "solve: give at least one of time, steps, ratio, until, max_steps, max_time");
-    if (has_time) requireReachableTime(world, s.time);
+    if (given(s.time)) requireReachableTime(world, s.time);
     // A ratio below the rounding of the force sums (about 1e-16 of a contact force per body)
     // may never be reached, and a wall-clock cap beyond any run is none: refused, as a time no
     // run can reach is (solveTime), rather than cycled for ever.
-    if (has_ratio && !(s.ratio >= 1e-15 && std::isfinite(s.ratio)))
+    if (given(s.ratio) && !(s.ratio >= 1e-15 && std::isfinite(s.ratio)))
         throw InputError(
             "solve: ratio must be >= 1e-15 and finite (mean unbalanced over mean contact force; "
             "rounding leaves about 1e-16; got " +
             messageNumber(s.ratio) + ")");
-    if (has_max_time && !(s.max_time > 0.0 && s.max_time <= 1e9))
+    if (given(s.max_time) && !(s.max_time > 0.0 && s.max_time <= 1e9))
         throw InputError(
             "solve: max_time must be > 0 and at most 1e9 [s of wall-clock time] (got " +
             messageNumber(s.max_time) + ")");
-    prepareRun(world);
-    const auto clock_start = std::chrono::steady_clock::now();
-    const int64_t first = world.clock.step;
-    const double end = has_time ? world.clock.time + s.time : 0.0;
+}
+
+/// A run of Model::solve: where it started and what it has seen.
+struct SolveRun {
+    std::chrono::steady_clock::time_point clock_start = std::chrono::steady_clock::now();
+    int64_t first = 0;  // the step it started at
+    double end = 0.0;   // the time it ends at (with a time)
     double last_ratio = std::numeric_limits<double>::quiet_NaN();
-    SolveStop stop = SolveStop::Time;
+};
+
+/// The first criterion reached, in the fixed order (targets, then caps), or none. Ratio and
+/// until are judged on a state this run produced (a step taken).
+std::optional<SolveStop> reachedStop(Model& model, const World& world, const SolveSpec& s,
+                                     SolveRun& run) {
+    const int64_t taken = world.clock.step - run.first;
+    if (given(s.time) && reached(world, run.end)) return SolveStop::Time;
+    if (s.steps >= 0 && taken >= s.steps) return SolveStop::Steps;
+    if (taken > 0 && given(s.ratio)) {
+        run.last_ratio = model.unbalanced().ratio;
+        if (run.last_ratio <= s.ratio) return SolveStop::Ratio;
+    }
+    if (taken > 0 && s.until && s.until(model)) return SolveStop::Until;
+    if (s.interrupted && s.interrupted()) return SolveStop::Interrupted;
+    if (s.max_steps >= 0 && taken >= s.max_steps) return SolveStop::MaxSteps;
+    if (given(s.max_time) &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - run.clock_start).count() >=
+            s.max_time)
+        return SolveStop::MaxTime;
+    return std::nullopt;
+}
+
+/// A cap ends the run before its target: says so, with where the run got to.
+void warnCap(World& world, Model& model, const SolveSpec& s, const SolveRun& run, SolveStop stop) {
+    std::string text = "solve: stopped by the cap " +
+                       (stop == SolveStop::MaxSteps
+                            ? "max_steps = " + std::to_string(s.max_steps)
+                            : "max_time = " + messageNumber(s.max_time) + " s (wall clock)") +
+                       " after " + std::to_string(world.clock.step - run.first) +
+                       " steps (t = " + messageNumber(world.clock.time) + " s)";
+    std::string missed;
+    if (given(s.ratio))
+        missed +=
+            " ratio " + messageNumber(s.ratio) + " (now " +
+            messageNumber(std::isnan(run.last_ratio) ? model.unbalanced().ratio : run.last_ratio) +
+            ")";
+    if (given(s.time))
+        missed += std::string(missed.empty() ? "" : ",") + " time " + messageNumber(s.time) + " s";
+    if (s.steps >= 0)
+        missed += std::string(missed.empty() ? "" : ",") + " steps " + std::to_string(s.steps);
+    if (s.until) missed += std::string(missed.empty() ? "" : ",") + " the until function";
+    if (!missed.empty()) text += " before reaching" + missed;
+    talus::warn(world, text);
+}
+
+}  // namespace
+
+SolveStop Model::solve(const SolveSpec& s) {
+    World& world = *m_world;
+    checkSpec(world, s);
+    prepareRun(world);
+    SolveRun run;
+    run.first = world.clock.step;
+    run.end = given(s.time) ? world.clock.time + s.time : 0.0;
+    std::optional<SolveStop> stop;
     try {
-        for (;;) {
-            const int64_t taken = world.clock.step - first;
-            // Targets. Ratio and until are judged on a state this run produced (a step taken).
-            if (has_time && reached(world, end)) {
-                stop = SolveStop::Time;
-                break;
-            }
-            if (s.steps >= 0 && taken >= s.steps) {
-                stop = SolveStop::Steps;
-                break;
-            }
-            if (taken > 0 && has_ratio) {
-                last_ratio = unbalanced().ratio;
-                if (last_ratio <= s.ratio) {
-                    stop = SolveStop::Ratio;
-                    break;
-                }
-            }
-            if (taken > 0 && s.until && s.until(*this)) {
-                stop = SolveStop::Until;
-                break;
-            }
-            if (s.interrupted && s.interrupted()) {
-                stop = SolveStop::Interrupted;
-                break;
-            }
-            // Caps.
-            if (s.max_steps >= 0 && taken >= s.max_steps) {
-                stop = SolveStop::MaxSteps;
-                break;
-            }
-            if (has_max_time &&
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start)
-                        .count() >= s.max_time) {
-                stop = SolveStop::MaxTime;
-                break;
-            }
-            if (has_time) world.stepping.cap = end - world.clock.time;
+        firstCallsAtPlacement(world);
+        while (!(stop = reachedStop(*this, world, s, run))) {
+            if (given(s.time)) world.stepping.cap = run.end - world.clock.time;
             runSteps(world, 1);
         }
     } catch (...) {
@@ -112,29 +138,10 @@ SolveStop Model::solve(const SolveSpec& s) {
         throw;
     }
     world.stepping.cap = 0.0;
-    if (stop == SolveStop::MaxSteps || stop == SolveStop::MaxTime) {
-        // A cap ends the run before its target: say so, with where the run got to.
-        std::string text = "solve: stopped by the cap " +
-                           (stop == SolveStop::MaxSteps
-                                ? "max_steps = " + std::to_string(s.max_steps)
-                                : "max_time = " + messageNumber(s.max_time) + " s (wall clock)") +
-                           " after " + std::to_string(world.clock.step - first) +
-                           " steps (t = " + messageNumber(world.clock.time) + " s)";
-        std::string missed;
-        if (has_ratio)
-            missed += " ratio " + messageNumber(s.ratio) + " (now " +
-                      messageNumber(std::isnan(last_ratio) ? unbalanced().ratio : last_ratio) + ")";
-        if (has_time)
-            missed +=
-                std::string(missed.empty() ? "" : ",") + " time " + messageNumber(s.time) + " s";
-        if (s.steps >= 0)
-            missed += std::string(missed.empty() ? "" : ",") + " steps " + std::to_string(s.steps);
-        if (s.until) missed += std::string(missed.empty() ? "" : ",") + " the until function";
-        if (!missed.empty()) text += " before reaching" + missed;
-        talus::warn(world, text);
-    }
+    if (*stop == SolveStop::MaxSteps || *stop == SolveStop::MaxTime)
+        warnCap(world, *this, s, run, *stop);
     flushWarnings(world);
-    return stop;
+    return *stop;
 }
 
 }  // namespace talus

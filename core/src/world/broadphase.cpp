@@ -33,14 +33,29 @@ float up(double v) {
 // for. An explicit instantiation may name private members (C++17 [temp.explicit]/14), so a
 // template instantiated with pointers to them hands those pointers out through a friend.
 //
-// This is a risk (docs/save-format.md, "Box2D's tree"): it depends on the private layout of
-// Box2D 2.4's b2DynamicTree (Debian's libbox2d-dev 2.4.1). The tree cannot simply be rebuilt on
-// restore instead, because its shape decides the order in which new pairs are found, and with
-// it the order of the force sums: a rebuilt tree continues a run, but not bit for bit. So a
-// Box2D whose tree differs must fail here: the member pointers below must have exactly these
-// types (a renamed or retyped member does not compile), the node must have the fields and the
-// size saved below, and at run time the library must say it is 2.4 (Broadphase::save/restore
-// refuse otherwise; test core.save_restore "Box2D's tree").
+// Why not save only what defines the tree (each proxy's fat box and body) and rebuild it on
+// restore through the public API? Because the tree is not defined by its leaves: its shape is
+// the history of its insertions, removals and rotations (InsertLeaf's cost heuristic, Balance),
+// and the public API (CreateProxy, DestroyProxy, MoveProxy, RebuildBottomUp, ShiftOrigin) can
+// make a tree of the same leaves but not that one. The shape decides the order of a query's
+// hits, hence the order in which new pairs are made, hence the order of every force sum and the
+// last bits of every result: a rebuilt tree continues a run correctly, but not bit for bit. The
+// other ways cost more than this trick (docs/results/broadphase-save.md has the measurements):
+//  - hits sorted by body before pairs are made (then a rebuilt tree gives the same pairs):
+//    every result's last bits change once, everywhere (the stress digest; 6 of the 7 scenes of
+//    tests/scripting/save_restore/ end in other states), and every query pays a sort;
+//  - a log of the tree's operations since its last rebuild, replayed on restore: the tree is a
+//    function of that log, but the log grows with every proxy move for as long as the run
+//    lasts (a rockfall moves proxies at every step), in every run, saved or not;
+//  - a tree of our own: its shape rules are not Box2D's, so the hit order and the results' last
+//    bits change once as with the sort, and the save files written so far need a converter
+//    (docs/architecture.md, "Box2D's tree in a save file": the moment for it is a new Box2D).
+// So the trick stays, confined to this file and checked. It ties save files to Box2D 2.4's tree
+// (Debian's libbox2d-dev 2.4.1; docs/save-format.md, "Box2D's tree"), the only
+// broadphase Talus uses: the member pointers below must have exactly these types (a renamed or
+// retyped member does not compile), the node must have the fields and the size saved below,
+// and at run time the library must say it is 2.4 (Broadphase::save/restore refuse otherwise;
+// test core.save_restore "Box2D's tree").
 static_assert(sizeof(b2TreeNode) == 48 && offsetof(b2TreeNode, aabb) == 0 &&
                   offsetof(b2TreeNode, userData) == 16 && offsetof(b2TreeNode, parent) == 24 &&
                   offsetof(b2TreeNode, child1) == 28 && offsetof(b2TreeNode, child2) == 32 &&
@@ -198,35 +213,14 @@ void Broadphase::save(SaveWriter& w) const {
     }
 }
 
-void Broadphase::restore(SaveReader& r) {
-    if (const std::string why = treeLayoutProblem(); !why.empty()) r.fail(why);
-    const double margin = r.f64();
-    const double scale = r.f64();
-    if (!(margin > 0.0) || !std::isfinite(margin) || !(scale > 0.0) || !std::isfinite(scale))
-        r.fail("broadphase: invalid margin or scale");
-    const int32 root = r.i32(), count = r.i32(), capacity = r.i32(), free_list = r.i32(),
-                inserted = r.i32();
-    constexpr std::size_t kNodeBytes = 4 * 4 + 4 + 4 * 4 + 1;
-    if (capacity < 1 || static_cast<std::size_t>(capacity) > r.left() / kNodeBytes)
-        r.fail("broadphase: node capacity " + std::to_string(capacity) +
-               " does not fit in the section");
-    if (count < 0 || count > capacity || root < -1 || root >= capacity || free_list < -1 ||
-        free_list >= capacity)
-        r.fail("broadphase: invalid tree header");
-    std::vector<b2TreeNode> nodes(static_cast<std::size_t>(capacity));
-    for (b2TreeNode& n : nodes) {
-        n.aabb.lowerBound.x = r.pod<float>(), n.aabb.lowerBound.y = r.pod<float>();
-        n.aabb.upperBound.x = r.pod<float>(), n.aabb.upperBound.y = r.pod<float>();
-        n.userData = reinterpret_cast<void*>(static_cast<uintptr_t>(r.u32()));
-        n.parent = r.i32();
-        n.child1 = r.i32();
-        n.child2 = r.i32();
-        n.height = r.i32();
-        n.moved = r.boolean();
-    }
-    // The structure: every node reached once from the root or the free list, children and
-    // parents in range and consistent, leaves of height 0, inner nodes one above their highest
-    // child (Box2D's balancing relies on the heights to find grandchildren).
+namespace {
+
+/// The structure of a restored tree: every node reached once from the root or the free list,
+/// children and parents in range and consistent, leaves of height 0, inner nodes one above
+/// their highest child (Box2D's balancing relies on the heights to find grandchildren).
+void checkTree(const std::vector<b2TreeNode>& nodes, int32 root, int32 count, int32 free_list,
+               SaveReader& r) {
+    const auto capacity = static_cast<int32>(nodes.size());
     auto in = [&](int32 i) { return i >= 0 && i < capacity; };
     std::vector<uint8_t> seen(nodes.size(), 0);
     std::vector<int32> order, stack;
@@ -271,6 +265,37 @@ void Broadphase::restore(SaveReader& r) {
         ++free_count;
     }
     if (count + free_count != capacity) r.fail("broadphase: nodes lost from the tree");
+}
+
+}  // namespace
+
+void Broadphase::restore(SaveReader& r) {
+    if (const std::string why = treeLayoutProblem(); !why.empty()) r.fail(why);
+    const double margin = r.f64();
+    const double scale = r.f64();
+    if (!(margin > 0.0) || !std::isfinite(margin) || !(scale > 0.0) || !std::isfinite(scale))
+        r.fail("broadphase: invalid margin or scale");
+    const int32 root = r.i32(), count = r.i32(), capacity = r.i32(), free_list = r.i32(),
+                inserted = r.i32();
+    constexpr std::size_t kNodeBytes = 4 * 4 + 4 + 4 * 4 + 1;
+    if (capacity < 1 || static_cast<std::size_t>(capacity) > r.left() / kNodeBytes)
+        r.fail("broadphase: node capacity " + std::to_string(capacity) +
+               " does not fit in the section");
+    if (count < 0 || count > capacity || root < -1 || root >= capacity || free_list < -1 ||
+        free_list >= capacity)
+        r.fail("broadphase: invalid tree header");
+    std::vector<b2TreeNode> nodes(static_cast<std::size_t>(capacity));
+    for (b2TreeNode& n : nodes) {
+        n.aabb.lowerBound.x = r.pod<float>(), n.aabb.lowerBound.y = r.pod<float>();
+        n.aabb.upperBound.x = r.pod<float>(), n.aabb.upperBound.y = r.pod<float>();
+        n.userData = reinterpret_cast<void*>(static_cast<uintptr_t>(r.u32()));
+        n.parent = r.i32();
+        n.child1 = r.i32();
+        n.child2 = r.i32();
+        n.height = r.i32();
+        n.moved = r.boolean();
+    }
+    checkTree(nodes, root, count, free_list, r);
 
     reset(margin);
     m_impl->scale = scale;

@@ -7,8 +7,9 @@
 -- different rates in one bonded cluster, turn and strain it, and their work was not booked
 -- (booked now). Without the fixed spins the energy stays put. Now that work goes into `boundary`
 -- and the balance closes. (Checking this also found a real O(dt) energy pump in rotating
--- bonded clusters, fixed in force_displacement.cpp and tested in tests/plugins/test_cbond.cpp,
--- "a bonded ring spinning as a rigid body keeps its energy".)
+-- bonded clusters, fixed in the force loop's geometry pass (core/src/force/pass_geometry.hpp)
+-- and tested in tests/plugins/test_cbond.cpp, "a bonded ring spinning as a rigid body keeps its
+-- energy".)
 -- The step: the stability rule alone (resolution = 0), as bonded contacts had when this was
 -- reported and as docs/models/cbond.md advises for bonded specimens.
 local T = require("testlib")

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- A small flat-jointed specimen crushed in a UCS test (material.lua's genesis, specimen and
+-- A small flat-jointed specimen crushed in a UCS test (the material library's genesis, specimen and
 -- compress): it loads elastically, its interfaces crack element by element, and it fails with a
 -- post-peak drop, at a modulus and a strength of the order its micro-properties give.
 -- M.specimen installs `mat.model` with m:bond and the bond's properties (the material's kn, ks and

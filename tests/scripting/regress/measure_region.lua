@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Measurement regions (core/src/measure.cpp) against closed forms: exact disk-region areas,
+-- Measurement regions (core/src/api/measure.cpp) against closed forms: exact disk-region areas,
 -- porosity, coordination number and stress of regular lattices, strain rate of prescribed
 -- velocity fields.
 local T = require("testlib")

@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- Work of a moving wall booked at the right time level (it
 -- created -217 J, 2.5% of the boundary work, with no warning).
--- Cause (core/src/law_of_motion.cpp, moveWalls): the wall force of the last force loop was
+-- Cause (core/src/step/law_of_motion.cpp, moveWalls): the wall force of the last force loop was
 -- booked as F v dt over the coming step, after the energy snapshot. Its impulse, though, was
 -- applied by the law of motion over the window w = (dt_prev + dt)/2 around the snapshot's time,
 -- so the work is F v w, and its first part, F v dt_prev/2, belongs in that snapshot. While the

@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- A ball grown by the script between cycles past its broadphase box (b.radius, as a radius
 -- expansion does) must not stop the run: the kinematic rule used to see a room of zero and
--- end with "automatic step became 0 (kinematic rule)" (material.lua's genesis). The
+-- end with "automatic step became 0 (kinematic rule)" (the material library's genesis). The
 -- grown ball's new contact must form in the next cycle, and at rest the floor must carry the
 -- weights exactly (equilibrium: wall reaction = total weight).
 local T = require("testlib")

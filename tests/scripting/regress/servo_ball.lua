@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- Wall servo (core/src/wall_servo.cpp) on the smallest scene with a closed form: one ball
+-- Wall servo (core/src/step/wall_servo.cpp) on the smallest scene with a closed form: one ball
 -- between a fixed floor and a servo wall above it, no gravity. At equilibrium the servo wall
 -- carries the target force F, so does the floor, and each contact overlaps F / kn (linear).
 local T = require("testlib")

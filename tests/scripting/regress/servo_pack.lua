@@ -1,7 +1,7 @@
 -- SPDX-License-Identifier: MIT
--- A servo wall compresses a pack of 100 balls in a box to a target stress (core/src/wall_servo.cpp),
+-- A servo wall compresses a pack of 100 balls in a box to a target stress (core/src/step/wall_servo.cpp),
 -- and a measurement region over the whole box reads the same stress from the contact forces
--- (core/src/measure.cpp). No gravity and no friction, so that the walls carry only normal
+-- (core/src/api/measure.cpp). No gravity and no friction, so that the walls carry only normal
 -- forces and the box's stress is fixed by them (below).
 local T = require("testlib")
 

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- m:solve's criteria (core/src/solve.cpp) and m:unbalanced() (core/src/measure.cpp).
+-- m:solve's criteria (core/src/api/solve.cpp) and m:unbalanced() (core/src/api/measure.cpp).
 local T = require("testlib")
 
 local KN, R = 1e7, 0.1

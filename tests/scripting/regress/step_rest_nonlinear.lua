@@ -3,7 +3,7 @@
 -- infinite contact duration at zero approach speed, so neither the approach nor the resolution
 -- rule limited the first step: 0.032 s, the ball sank 4-5 mm into the floor and left at up to
 -- 21 m/s (hertz) or 10.6 m/s (ng). The approach rule now takes the duration at the speed the
--- ball will have in the contact (core/src/timestep.cpp, approachDuration).
+-- ball will have in the contact (core/src/step/timestep.cpp, approachDuration).
 local T = require("testlib")
 
 local g, R, rho = 9.81, 0.1, 1000

@@ -18,8 +18,8 @@
 // Use: a model derives from ModelBase<Model> and from LinearLaw, puts linearSettableProps<Model>()
 // and linearStateProps<Model>() into its property table, and calls the linear* members from its
 // own inherit, onPropChanged, fdlaw and saveRestoreState. The data members keep the order the
-// `linear` model had (its hot values in the first cache lines; force_displacement.cpp prefetches
-// three).
+// `linear` model had (its hot values in the first cache lines; the force loop prefetches
+// three: core/src/force/pair.hpp, prefetchModel).
 #pragma once
 
 #include <algorithm>
@@ -62,7 +62,7 @@ public:
     double last_overlap_ = 0.0;
     DashpotHistory history_;  // the rest of the model's push on the dashpots' rates
     // Dashpot properties last: FDlaw reads only what setMass derives from them, and the force
-    // loop prefetches an object's first three cache lines (force_displacement.cpp).
+    // loop prefetches an object's first three cache lines (core/src/force/pair.hpp, prefetchModel).
     double dp_nratio = 0.0;  // [-]
     double dp_sratio = 0.0;  // [-]
     double dp_mode = 0.0;    // 0..3

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // SplitMix64 (Steele, Lea & Flood 2014): a tiny fixed-seed generator that gives the same stream
 // on every platform, so that scenes, tests and benchmarks never depend on the standard library's
-// distributions.
+// distributions. Internal (core/internal/ is not installed): the engine (m:bond's drawn
+// properties), the scene builders and the tests share it.
 #pragma once
 
 #include <cstdint>

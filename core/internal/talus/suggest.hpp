@@ -3,6 +3,7 @@
 // "Did you mean": the known names closest to a name that is not known, for every "unknown
 // name" error (contact models, properties, options, fields, methods; the Lua libraries reach it
 // through talus.did_you_mean). Header-only: the engine and the scripting layer share it.
+// Internal (core/internal/ is not installed).
 //
 // Closeness is the optimal-string-alignment distance (Damerau 1964; Levenshtein 1966): the
 // fewest insertions, deletions, substitutions and swaps of two neighbouring characters that

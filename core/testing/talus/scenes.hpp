@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
-// Scene builders shared by tests, benchmarks and examples (one place, like Box2D's shared/).
+// Scene builders shared by tests and benchmarks (one place, like Box2D's shared/): the library
+// talus_testing (core/testing/, not installed).
 //
 // Dense pack: N polydisperse disks in a box of four walls under gravity, with the linear
 // contact model and a normal dashpot. Built on a jittered hexagonal lattice (no overlaps by

@@ -1,0 +1,25 @@
+# SPDX-License-Identifier: MIT
+# The installed headers (core/include/talus, what a plugin author or an embedding program gets)
+# stand on their own: every "talus/..." header they include is installed too, so none reaches
+# the engine's internal headers (core/internal) or the tests' scene builders (core/testing).
+# Variables: SRC (the source tree).
+file(GLOB_RECURSE _headers RELATIVE ${SRC}/core/include ${SRC}/core/include/talus/*.hpp)
+set(_bad "")
+foreach(h ${_headers})
+  file(STRINGS ${SRC}/core/include/${h} _lines REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<]talus/")
+  foreach(line ${_lines})
+    string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*[\"<]([^\">]+)[\">].*$" "\\1" inc "${line}")
+    if(NOT EXISTS ${SRC}/core/include/${inc})
+      list(APPEND _bad "${h} includes ${inc}, which is not installed")
+    endif()
+  endforeach()
+endforeach()
+list(LENGTH _headers _n)
+if(_n LESS 10)
+  message(FATAL_ERROR "only ${_n} installed headers found under ${SRC}/core/include/talus")
+endif()
+if(_bad)
+  string(REPLACE ";" "\n  " _bad "${_bad}")
+  message(FATAL_ERROR "installed headers reach headers that are not installed:\n  ${_bad}")
+endif()
+message("${_n} installed headers include only installed headers")
