@@ -21,9 +21,8 @@
 //   --groups N            assign the balls round-robin to N groups (0-64) before the timed run
 //                         (with --energy on: energy traced per group)
 //   --no-profile          time without the per-phase clock reads
-//   --classic-law         FDlaw per contact instead of the batched law (Model::setBatchedLaw)
-//   --lanes               contacts through the models' lane laws (Model::setLanes)
-//   --no-kernels          the shipped models' FDlaw instead of the host's kernels (setKernels)
+//   --no-kernels          the shipped models' FDlaw instead of the host's kernels
+//                         (testing::setKernels)
 //   --settle-only         stop after settling (and exporting)
 //   --tiles K             for large N (scripts/bench/scaling.sh): instead of settling N disks
 //                         from the lattice, settle N/K disks (aspect A) and lay K copies side by
@@ -43,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "force_switches.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
 #include "talus/scenes.hpp"
@@ -68,8 +68,6 @@ struct Options {
     std::string balance = "on";  // the run-level balance check (while tracing)
     int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
     bool profile = true;
-    bool classic_law = false;
-    bool lanes = false;
     bool kernels = true;
     bool settle_only = false;
     int tiles = 1;                // > 1: the state is made from K copies of an N/K pack
@@ -77,15 +75,14 @@ struct Options {
 };
 
 [[noreturn]] void usage(const char* why) {
-    std::fprintf(
-        stderr,
-        "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
-        "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
-        "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
-        "[--balance on|off] "
-        "[--no-profile] [--classic-law] [--lanes] [--no-kernels] [--settle-only] [--tiles K] "
-        "[--tile-state FILE]\n",
-        why);
+    std::fprintf(stderr,
+                 "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
+                 "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
+                 "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
+                 "[--balance on|off] "
+                 "[--no-profile] [--no-kernels] [--settle-only] [--tiles K] "
+                 "[--tile-state FILE]\n",
+                 why);
     std::exit(2);
 }
 
@@ -122,12 +119,8 @@ Options parse(int argc, char** argv) {
             o.balance = value();
         else if (a == "--no-profile")
             o.profile = false;
-        else if (a == "--classic-law")
-            o.classic_law = true;
         else if (a == "--no-kernels")
             o.kernels = false;
-        else if (a == "--lanes")
-            o.lanes = true;
         else if (a == "--settle-only")
             o.settle_only = true;
         else if (a == "--tiles")
@@ -303,9 +296,7 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     if (o.auto_step) model.timestep().automatic = true;
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
-    model.setBatchedLaw(!o.classic_law);
-    model.setLanes(o.lanes);
-    model.setKernels(o.kernels);
+    talus::testing::setKernels(model, o.kernels);
     if (o.warmup > 0) model.cycle(o.warmup);
     if (o.groups > 0) {
         int k = 0;

@@ -32,11 +32,16 @@
 // does, and a contact touching for the first time runs the textbook law from zero shear force.
 // Costs, not physics: the rungs' trajectories part after a few steps.
 //
-// Usage: talus_bench_ladder N STEPS --state FILE [--warmup W] [--rung NAME]... [--list]
+// Usage: talus_bench_ladder N STEPS --state FILE [--warmup W] [--rung NAME]... [--memory]
+// --memory prints, after the first rung's warm-up, the bytes per disk each store of the world
+// holds (its vectors' capacity) and the process's peak resident memory over what it held before
+// the model was made.
 // Each rung prints one line "RESULT rung=NAME ..." (ns per particle-step, pairs, contacts). The
 // timed steps run between callgrind's collection toggles (valgrind/callgrind.h, when the build
 // has it): `valgrind --tool=callgrind --collect-atstart=no [--cache-sim=yes]` counts them alone
 // (scripts/bench/ladder.sh).
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -79,12 +84,13 @@ struct Options {
     int64_t warmup = 300;
     std::string state_path;
     std::vector<std::string> rungs;
+    bool memory = false;
 };
 
 [[noreturn]] void usage(const char* why) {
     std::fprintf(stderr,
                  "error: %s\nusage: talus_bench_ladder N STEPS --state FILE [--warmup W] "
-                 "[--rung NAME]... (rungs:",
+                 "[--rung NAME]... [--memory] (rungs:",
                  why);
     for (const char* r : kRungs) std::fprintf(stderr, " %s", r);
     std::fprintf(stderr, ")\n");
@@ -106,6 +112,8 @@ Options parse(int argc, char** argv) {
             o.warmup = std::atoll(value().c_str());
         else if (a == "--rung")
             o.rungs.push_back(value());
+        else if (a == "--memory")
+            o.memory = true;
         else if (a.rfind("--", 0) == 0)
             usage(("unknown option " + a).c_str());
         else
@@ -385,7 +393,8 @@ void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
     fd_template.tdel = step.dt;
     fd_template.time = world.clock.time;
     fd_template.flags = 0;
-    const ForceView v = forceView(world, step, fd_template, 1, true, false, false);
+    prepareRuleRows(world);
+    const ForceView v = forceView(world, step, fd_template, 1, false);
     PairEntry e;
     for (std::size_t i = 0; i < v.pairs.size(); ++i) {
         Pair& p = v.pairs[i];
@@ -404,7 +413,7 @@ void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
                                   e.u_dot_s, e.t_dot_rel, p.n_force, p.s_force, p.moment);
         bool done;
         if constexpr (kDispatch) {
-            done = runKernel(rule.kernel, row, &v.cold[i], kf);
+            done = runKernel<Runner::Any>(rule.kernel, row, &v.cold[i], kf);
         } else {
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             done = sdk::LinearLaw::linearLaneStep(row, kf);
@@ -420,6 +429,54 @@ void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
 void stepFinish(World& world, const StepContext& step) {
     forceDisplacement(world, step);
     moveBallsPlain(world, step);
+}
+
+// ---------------------------------------------------------------- memory
+
+/// The process's peak resident memory so far [bytes].
+std::size_t peakResident() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<std::size_t>(u.ru_maxrss) * 1024;
+}
+
+template <class V>
+std::size_t held(const V& v) {
+    return v.capacity() * sizeof(typename V::value_type);
+}
+
+/// The bytes per disk each store of the world holds, from its vectors' capacities.
+void printMemory(const World& world, std::size_t peak_before) {
+    const auto& b = world.bodies.balls;
+    const auto& cs = world.contacts;
+    const double n = static_cast<double>(b.size());
+    const auto line = [&](const char* store, double bytes) {
+        std::printf("MEMORY store=%s bytes_per_disk=%.1f\n", store, bytes / n);
+    };
+    line("pairs (Pair)", held(cs.pairs));
+    line("pairs (PairCold)", held(cs.cold));
+    line("pairs (PairStored)", held(cs.stored));
+    // A node per key (the key, the index, the next pointer: 24 bytes, 32 as allocated) and a
+    // bucket array.
+    line("pairs (key index)", cs.key_index.size() * 32.0 + cs.key_index.bucket_count() * 8.0);
+    double pools = 0.0, rows = 0.0;
+    for (const auto& r : cs.rules) {
+        if (r->pool) pools += r->pool->bytes();
+        if (r->lanes) rows += r->lanes->bytes();
+    }
+    line("model objects (pools)", pools);
+    line("kernel rows", rows);
+    const double balls = held(b.pos) + held(b.vel) + held(b.force) + held(b.fapp) + held(b.angle) +
+                         held(b.spin) + held(b.moment) + held(b.mapp) + held(b.radius) +
+                         held(b.mass) + held(b.inv_mass) + held(b.inertia) + held(b.inv_inertia) +
+                         held(b.density) + held(b.fixity) + held(b.handle) + held(b.proxy) +
+                         held(b.fat) + held(b.groups) + held(b.kn) + held(b.ks) + held(b.fric) +
+                         held(b.k_tran) + held(b.k_rot) + held(b.clump) +
+                         held(world.bodies.slot_of) + held(world.bodies.generation);
+    line("balls", balls);
+    const std::size_t peak = peakResident();
+    std::printf("MEMORY store=peak resident over the empty process bytes_per_disk=%.1f\n",
+                static_cast<double>(peak - peak_before) / n);
 }
 
 // ---------------------------------------------------------------- a rung's run
@@ -457,7 +514,8 @@ void assignGroups(Model& model, int count, bool bands, double width) {
     }
 }
 
-void runRung(const Options& o, const PackState& st, const std::string& rung) {
+void runRung(const Options& o, const PackState& st, const std::string& rung, bool memory) {
+    const std::size_t peak_before = peakResident();
     Model model;
     const DensePack pack = buildDensePackFromState(model, st);
     model.setPlacementWarning(false);
@@ -471,6 +529,7 @@ void runRung(const Options& o, const PackState& st, const std::string& rung) {
     model.setThreads(s.threads);
     model.profile().enabled = false;
     World& world = worldOf(model);
+    if (memory) printMemory(world, peak_before);
     const std::size_t npairs = world.contacts.pairs.size();
     std::size_t contacts = 0;
     for (const Pair& p : world.contacts.pairs) contacts += p.active;
@@ -526,7 +585,11 @@ int main(int argc, char** argv) {
         if (static_cast<int>(st.balls.size()) != o.n)
             throw InputError("the state holds " + std::to_string(st.balls.size()) + " disks, not " +
                              std::to_string(o.n));
-        for (const std::string& rung : o.rungs) runRung(o, st, rung);
+        bool memory = o.memory;
+        for (const std::string& rung : o.rungs) {
+            runRung(o, st, rung, memory);
+            memory = false;
+        }
     } catch (const talus::Error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

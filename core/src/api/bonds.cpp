@@ -279,7 +279,6 @@ std::size_t Model::bond(const BondSettings& s) {
     // ---- the rule that owns the installed objects
     auto rule = std::make_unique<Rule>();
     rule->factory = &factory;
-    rule->batch = factory.batch;
     rule->kernel = kernelOf(factory);
     rule->model_name = factory.name;
     rule->prototype = std::move(proto);

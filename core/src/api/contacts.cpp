@@ -44,7 +44,6 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     requireRuleRoom(world, "contact_model");
     auto rule = std::make_unique<Rule>();
     rule->factory = &world.registry.find(name);
-    rule->batch = rule->factory->batch;
     rule->kernel = kernelOf(*rule->factory);
     rule->model_name = rule->factory->name;
     rule->prototype = world.registry.createPrototype(*rule->factory);

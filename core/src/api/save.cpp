@@ -609,7 +609,6 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
                 std::vector<uint8_t> state = readModelState(r);
                 try {
                     rule->factory = &registry.find(rule->model_name);
-                    rule->batch = rule->factory->batch;
                     rule->kernel = kernelOf(*rule->factory);
                 } catch (const std::exception& e) {
                     r.fail("contact model '" + rule->model_name + "' (plugin version " +

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "force/kernels.hpp"
 #include "step/narrowphase.hpp"
 #include "world/world.hpp"
 
@@ -30,7 +31,11 @@ inline std::size_t threadRangeStart(std::size_t count, int nthreads, int t) {
 void gatherPairActions(World& world, bool automatic);
 /// The balls' pairs in pair order and their routes, for `nthreads` threads.
 void buildIncidence(World& world, int nthreads);
-void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl);
+/// Each rule's kernel rows for this step's loop (ForceScratch::rows), its contacts taken off
+/// their rows where its kernel does not run; the runner the loop is compiled for.
+Runner prepareRuleRows(World& world);
+/// The threads' per-pair records and the incidence, for `nthreads` threads.
+void prepareThreadScratch(World& world, int nthreads);
 bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
 void endContact(World& world, Pair& p, PairCold& c, bool check_guard);
 /// The ABI's energy contract for one FDlaw (rare path). `strain_old`, `bond_old`: what the

@@ -16,7 +16,6 @@ ObjectPool::ObjectPool(std::size_t block_size) {
 
 void* ObjectPool::allocate() {
     if (m_free.empty()) {
-        constexpr std::size_t kPerChunk = 256;
         m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
         unsigned char* base = m_chunks.back().get();
         for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);

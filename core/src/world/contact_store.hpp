@@ -15,11 +15,17 @@
 #include <unordered_map>
 #include <vector>
 
-#include "force/scratch.hpp"
 #include "world/broadphase.hpp"
 #include "world/types.hpp"
 
 namespace talus {
+
+/// The force loop's scratch (force/scratch.hpp): held here for its lifetime, made and freed by
+/// the force loop, which alone knows its type.
+struct ForceScratch;
+struct ForceScratchDelete {
+    void operator()(ForceScratch* s) const;  // force/loop.cpp
+};
 
 struct ContactStore {
     ContactStore();
@@ -50,7 +56,7 @@ struct ContactStore {
     std::vector<uint8_t> ball_moved, segment_moved;
     std::vector<uint8_t> leaving;     // scratch: ball slot -> left its fat box this step
     std::vector<uint32_t> to_remove;  // scratch for the force loop
-    ForceScratch force_scratch;       // the force loop's scratch (force/scratch.hpp)
+    std::unique_ptr<ForceScratch, ForceScratchDelete> force_scratch;  // (force/scratch.hpp)
     // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
     // handle is not mistaken for the pair): no bond on touch for them again (api/bonds.cpp).
     // Empty, and never looked at, in a model without bonds.

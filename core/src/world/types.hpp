@@ -54,6 +54,11 @@ public:
     void* allocate();
     void release(void* p);
     std::size_t blockSize() const { return m_block; }
+    /// The memory it holds [bytes] (its chunks and free list).
+    std::size_t bytes() const {
+        return m_chunks.size() * m_block * kPerChunk + m_free.capacity() * sizeof(void*);
+    }
+    static constexpr std::size_t kPerChunk = 256;  // objects per chunk
 
 private:
     std::size_t m_block;
@@ -61,23 +66,17 @@ private:
     std::vector<void*> m_free;
 };
 
-/// An SDK law the host runs itself on a model's lane rows (force/kernels.hpp; docs/plugin-abi.md,
-/// "Kernels").
+/// An SDK law the host runs itself on a model's kernel rows (force/runners.hpp, the runner
+/// table; docs/plugin-abi.md, "Kernels"); None: the model's FDlaw.
 enum class Kernel : uint8_t { None, Linear, ContactBond };
-
-/// How a rule's contacts run this step (force/loop.cpp): the model's law per contact; its lane
-/// law over blocks of contacts (m:lanes); or the host's kernel of its law, inline.
-enum class LaneMode : uint8_t { None, Blocks, Kernel };
 
 /// A contact-model assignment: which model, with which properties, for which groups.
 struct Rule {
     std::string model_name;
     const ModelFactory* factory = nullptr;
-    /// factory->batch, here so that the force loop finds it one load from the pair (measured:
-    /// through the factory, a second dependent load per contact cost 3-10%).
-    BatchFdLawFn batch = nullptr;
-    Kernel kernel = Kernel::None;         // the host's kernel of the model's law (kernelOf)
-    LaneMode lane_mode = LaneMode::None;  // this step's (force/loop.cpp)
+    /// How its contacts' law runs, chosen once when the rule is made (kernelOf): a kernel on
+    /// their rows, or the model's FDlaw.
+    Kernel kernel = Kernel::None;
     PluginRegistry::PrototypePtr prototype;
     int group_a = -1;  // -1 = any
     int group_b = -1;
@@ -85,8 +84,8 @@ struct Rule {
     int order = 0;        // later rules win ties
     double activity = 0.0;
     std::unique_ptr<ObjectPool> pool;
-    /// The state of its contacts that run in the model's lanes (made at the first; none when
-    /// the model has no lane law).
+    /// The state of its contacts that its kernel runs, one row each in the model's lane layout
+    /// (made at the first; none without a kernel).
     std::unique_ptr<LaneTable> lanes;
     bool warned_no_stiffness = false;          // activate warns once per rule
     bool warned_negative_dissipation = false;  // the force loop warns once per rule
