@@ -209,7 +209,7 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     const Pair before = sc.world.contacts.pairs[0];
     ForceSums sums;
     ForceThreadPart part;
-    finishContact<Features, Delivery::Direct>(v, sums, 0, e, fd, false, part);
+    finishContact<Features, Delivery::Direct>(v, sums, 0, e, fd, kNoTouch, part);
     const Vec2 f1 = b.force[0], f2 = b.force[1];
     CHECK(f1.x() == -f2.x());
     CHECK(f1.y() == -f2.y());
@@ -225,7 +225,7 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     ForceScratch& scratch = forceScratch(sc.world);
     scratch.actions.assign(1, PairAction{});
     v.actions = scratch.actions.data();
-    finishContact<Features, Delivery::Serial>(v, sums, 0, e, fd, false, part);
+    finishContact<Features, Delivery::Serial>(v, sums, 0, e, fd, kNoTouch, part);
     const PairAction& act = scratch.actions[0];
     CHECK(0.0 + act.add[0][0] == f1.x());
     CHECK(0.0 + act.add[0][1] == f1.y());
@@ -246,7 +246,7 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     scratch.actions.assign(1, PairAction{{{untouched, untouched, untouched}, {0.0, 0.0, 0.0}}});
     ForceThreadPart owner;
     owner.index = 1;
-    finishContact<Features, Delivery::Parallel>(v, sums, 0, e, fd, false, owner);
+    finishContact<Features, Delivery::Parallel>(v, sums, 0, e, fd, kNoTouch, owner);
     CHECK(b.force[0] == f1);
     CHECK(b.moment[0] == m1);
     CHECK(b.force[1] == Vec2::Zero());

@@ -390,7 +390,7 @@ std::size_t Model::bond(const BondSettings& s) {
         c.activity = checkedActivity(nm->ActivityDistance(), factory.name);
         if (!was_active) ++world.profile.contacts_created;
         p.active = true;
-        p.watched = c.steps <= kGuardWatch;
+        if (!was_active) world.contacts.startWatch(p, c);  // (an active one keeps its watch)
 
         // The force the next law of motion applies: the last force loop's, corrected by the
         // change of this contact's force (same geometry: nothing moved since).
@@ -497,7 +497,7 @@ std::size_t Model::bond(const BondSettings& s) {
         // skipped) and is a persistent contact, not an impact.
         c.duration = nm->ContactDuration(world.contacts.coldOf(p).mass_eff, 0.0);
         if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
-        c.born_overlapped = true;
+        if (GuardWatch* w = world.contacts.watchOf(c)) w->born_overlapped = true;
         if (fd.flags & kFdBroken) queueBreak(world, i, point, fd);
         ++count;
     }

@@ -294,14 +294,15 @@ void Model::saveState(SaveWriter& w) const {
         w.u32(p.end1), w.u32(p.end2);
         w.boolean(p.wall), w.boolean(p.active), w.boolean(p.sliding), w.boolean(p.bonded);
         w.boolean(p.loading);
-        w.u32(uint32_t{c.steps} | uint32_t{c.apart} << 16);  // (files before the idle count: 0)
+        const GuardWatch g = world.contacts.savedWatch(p, c);
+        w.u32(uint32_t{g.steps} | uint32_t{g.apart} << 16);  // (files before the idle count: 0)
         w.u32(p.rule);
         w.f64(c.mass_eff), w.f64(c.inv_mass_eff_s), w.f64(c.activity);
         w.f64(p.n_force), w.f64(p.s_force), w.f64(p.moment), w.f64(c.overlap);
-        w.f64(c.knest), w.f64(c.ksest), w.f64(c.work), w.f64(c.work_peak);
-        w.f64(c.overlap_max), w.f64(c.force_at_max), w.f64(c.rate_at_max);
-        w.f64(c.knest_at_max), w.f64(c.dt_at_max), w.f64(c.approach_rate), w.f64(c.closure);
-        w.boolean(c.born_overlapped);
+        w.f64(c.knest), w.f64(c.ksest), w.f64(g.work), w.f64(g.work_peak);
+        w.f64(g.overlap_max), w.f64(g.force_at_max), w.f64(g.rate_at_max);
+        w.f64(g.knest_at_max), w.f64(g.dt_at_max), w.f64(g.approach_rate), w.f64(g.closure);
+        w.boolean(g.born_overlapped);
         w.u32(c.rules_version), w.u64(c.key), w.f64(c.krest), w.f64(c.duration);
         w.f64(world.contacts.stored[i].strain), w.f64(world.contacts.stored[i].bond);
         w.boolean(p.model != nullptr);
@@ -663,19 +664,20 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             p.end1 = r.u32(), p.end2 = r.u32();
             p.wall = r.boolean(), p.active = r.boolean(), p.sliding = r.boolean();
             p.bonded = r.boolean(), p.loading = r.boolean();
+            GuardWatch g;
             const uint32_t watch = r.u32();
-            c.steps = static_cast<uint16_t>(watch & 0xffffu);
-            c.apart = static_cast<uint16_t>(watch >> 16);
+            g.steps = static_cast<uint16_t>(watch & 0xffffu);
+            g.apart = static_cast<uint16_t>(watch >> 16);
             const uint32_t rule = r.u32();
             c.mass_eff = r.f64(), c.inv_mass_eff_s = r.f64(), c.activity = r.f64();
             if (!(c.activity >= 0.0) || !std::isfinite(c.activity))
                 r.fail("pair " + std::to_string(i) + " has an invalid activity distance");
             p.n_force = r.f64(), p.s_force = r.f64(), p.moment = r.f64(), c.overlap = r.f64();
-            c.knest = r.f64(), c.ksest = r.f64(), c.work = r.f64(), c.work_peak = r.f64();
-            c.overlap_max = r.f64(), c.force_at_max = r.f64(), c.rate_at_max = r.f64();
-            c.knest_at_max = r.f64(), c.dt_at_max = r.f64(), c.approach_rate = r.f64();
-            c.closure = r.f64();
-            c.born_overlapped = r.boolean();
+            c.knest = r.f64(), c.ksest = r.f64(), g.work = r.f64(), g.work_peak = r.f64();
+            g.overlap_max = r.f64(), g.force_at_max = r.f64(), g.rate_at_max = r.f64();
+            g.knest_at_max = r.f64(), g.dt_at_max = r.f64(), g.approach_rate = r.f64();
+            g.closure = r.f64();
+            g.born_overlapped = r.boolean();
             c.rules_version = r.u32(), c.key = r.u64(), c.krest = r.f64(), c.duration = r.f64();
             PairStored held;
             held.strain = r.f64(), held.bond = r.f64();
@@ -704,7 +706,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             // Clone with the ends' properties (as the pair was made), then its saved state.
             Pair& q = cs.pairs.back();
             PairCold& qc = cs.cold.back();
-            q.watched = q.active && qc.steps <= kGuardWatch;
+            cs.restoreWatch(q, qc, g);
             q.model = nullptr;
             try {
                 q.model = cloneFor(world, q, qc.mass_eff);

@@ -115,12 +115,23 @@ void resetPart(ForceThreadPart& part, uint16_t index, const FdBlock& tmpl) {
     part.row_releases.clear();
     part.items.clear();
     part.diverted.clear();
+    part.watch_ends.clear();
     part.apart.clear();
     part.contracts.clear();
     part.limits = StepLimits{};
     part.finite_check = 0.0;
     part.failure = nullptr;
     part.failure_pair = SIZE_MAX;
+}
+
+/// After the loop: the guard's watches that ended in it, freed; the list compacted when most of
+/// it is free.
+void settleWatches(World& world, const ForceThreadPart* parts, std::size_t count) {
+    ContactStore& cs = world.contacts;
+    for (std::size_t t = 0; t < count; ++t)
+        for (const uint32_t i : parts[t].watch_ends)
+            if (!cs.pairs[i].watched) cs.endWatch(cs.pairs[i], cs.cold[i]);
+    cs.compactWatches();
 }
 
 /// After the loop, in pair order: the rows the threads let go, then the contacts offered to
@@ -164,6 +175,7 @@ void runOneThread(const ForceView& v, ForceSums& sums, std::size_t npairs, Force
     } catch (...) {
         // (what the loop did so far stands; the rows it let go are free again)
         settleRows(v.world, &part, 1, 0);
+        settleWatches(v.world, &part, 1);
         throw;
     }
 }
@@ -259,6 +271,7 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
         runSerialPart<Features>(v, sums, npairs, parts.data(), nthreads, serial);
     mergeParts(world, parts.data(), parts.size(), Features::kAuto, finite_check);
     settleRows(world, parts.data(), parts.size(), failed);
+    settleWatches(world, parts.data(), parts.size());
     for (const auto& part : parts)
         if (part.failure && part.failure_pair == failed) std::rethrow_exception(part.failure);
     gatherPairActions(world, Features::kAuto);
@@ -338,6 +351,7 @@ void forceLoop(World& world, const StepContext& step, int nthreads) {
         runOneThread<Features, R>(v, sums, npairs, part);
         mergeParts(world, &part, 1, Features::kAuto, finite_check);
         settleRows(world, &part, 1, SIZE_MAX);
+        settleWatches(world, &part, 1);
         if constexpr (Features::kAuto) noteApproachesOf(world, &part, 1);
     } else {
         runThreads<Features, R>(v, sums, npairs, nthreads, finite_check);
@@ -366,10 +380,8 @@ void forceDisplacement(World& world, const StepContext& step) {
     // The guard follows a contact through its first steps (Pair::watched). Switched on over
     // contacts that are older, it leaves them be, as it would have after their first steps.
     if (step.guard && !world.stepping.guard_was_on)
-        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-            Pair& p = world.contacts.pairs[i];
-            if (p.active) p.watched = false, world.contacts.cold[i].steps = kGuardWatch + 1;
-        }
+        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i)
+            world.contacts.endWatch(world.contacts.pairs[i], world.contacts.cold[i]);
     world.stepping.guard_was_on = step.guard;
     if (!step.automatic) world.stepping.estimates_stale = true;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.

@@ -51,9 +51,9 @@ __attribute__((always_inline)) inline void kernelContact(const ForceView& v, For
                                                          ForceThreadPart& part) {
     KernelFd kf;
     if (kernelLaw<Features, R>(v, i, e, kf, part.fd, part, kMode != Delivery::Parallel))
-        finishContact<Features, kMode>(v, sums, i, e, kf, false, part);
+        finishContact<Features, kMode>(v, sums, i, e, kf, kNoTouch, part);
     else
-        finishContact<Features, kMode>(v, sums, i, e, part.fd, false, part);
+        finishContact<Features, kMode>(v, sums, i, e, part.fd, kNoTouch, part);
 }
 
 /// A rare pair, alone (one thread, or the threads' serial part); returns the next pair to
@@ -87,8 +87,8 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
     // A pair touching for the first time: activate it, then its law (FDlaw, and the first
     // call's flags), then its finish.
     Pair& p = v.pairs[i];
-    const bool first = activate(world, p, v.cold[i], e.g, e.vrel);
-    if (first) {
+    const Touch touch = activate(world, p, v.cold[i], e.g, e.vrel, Features::kGuard);
+    if (touch.first) {
         fd.flags |= kFdFirstCall | v.world.contacts.activation_flags;
     } else {
         // A wall pair that took over its chain's contact from a neighbouring segment's pair
@@ -98,7 +98,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         fd.moment = p.moment;
     }
     callLaw(v.pairs[i].model, fd, part.error);
-    finishContact<Features, kMode>(v, sums, i, e, fd, first, part);
+    finishContact<Features, kMode>(v, sums, i, e, fd, touch, part);
     offerRow(v, p, i, part);
     return i + 1;
 }
@@ -143,7 +143,7 @@ __attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, Fo
             kernelContact<Features, kMode, R>(v, sums, i, e, part);
         } else {
             callLaw(p.model, part.fd, part.error);
-            finishContact<Features, kMode>(v, sums, i, e, part.fd, false, part);
+            finishContact<Features, kMode>(v, sums, i, e, part.fd, kNoTouch, part);
             offerRow(v, p, i, part);
         }
         return i + 1;

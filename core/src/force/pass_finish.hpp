@@ -124,7 +124,8 @@ struct ContactStep {
     double fn_old, fs_old, m_old;  // the law's forces one step ago
     bool first;                    // its first step in contact
     bool placement;                // ... and born overlapping (placement energy)
-    double placed = 0.0;           // that energy
+    double closure;                // ... the overlap its first step made (Touch)
+    double placed = 0.0;           // the placement energy
     bool ends = false;             // it separates beyond its activity distance and ends
     Vec2 force{0.0, 0.0};          // on end 2 (end 1 gets -force)
     Vec2 arm1{0.0, 0.0};           // contact point - end 1's centre
@@ -139,7 +140,7 @@ __attribute__((always_inline)) inline void checkLawOutput(const ForceView& v, st
     if constexpr (std::is_same_v<Fd, FdBlock>) {  // (a kernel reports no failure, no first touch)
         if (fd.status != 0) reportFailedLaw(v.world, v.pairs[i], fd);
         if (cs.placement)
-            cs.placed = notePlacement(v.world, v.pairs[i], v.cold[i], cs.e.g.overlap, fd,
+            cs.placed = notePlacement(v.world, v.pairs[i], cs.closure, cs.e.g.overlap, fd,
                                       Features::kEnergy);
     }
     part.finite_check += fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest;
@@ -295,21 +296,23 @@ inline void bookContactEnergy(const ForceView& v, ForceSums& sums, std::size_t i
     // Group shares and the work across group borders (group_energy.cpp): one branch per
     // contact, taken only with groups traced (one thread).
     if (v.groups)
-        bookContactToGroups(world, i, fd.energy, fd.moment, cs.first, cs.ends, held, cs.force,
+        bookContactToGroups(world, i, fd.energy, fd.moment, cs.placement, cs.ends, held, cs.force,
                             cs.e.g.point);
 }
 
 /// Stage 4a (the guard): the watch of a young contact, through its first kGuardWatch steps,
 /// which covers any resolved impact (30 to 150 steps); a contact that persists longer (a
 /// packing) is not followed further, and its energy check is skipped (docs/physics/guard.md).
-/// Only a watched contact reads and writes its cold record here. Returns whether it is young.
+/// Only a watched contact reads and writes its cold record and its watch here (the watch ends
+/// after the loop: ForceThreadPart::watch_ends). Returns whether it is young.
 template <class Fd>
 inline bool watchYoungContact(const ForceView& v, std::size_t i, const Fd& fd,
-                              const ContactStep& cs) {
+                              const ContactStep& cs, ForceThreadPart& part) {
     Pair& p = v.pairs[i];
     PairCold& c = v.cold[i];
+    GuardWatch& w = v.world.contacts.watches[c.watch];
     const double overlap = cs.e.g.overlap;
-    const bool young = c.steps < kGuardWatch;
+    const bool young = w.steps < kGuardWatch;
     if (young) {
         // Energy the contact took from the bodies: the impulse of each step's force times the
         // mean of the half-step rates around it, which is what the law of motion did with it.
@@ -320,25 +323,28 @@ inline bool watchYoungContact(const ForceView& v, std::size_t i, const Fd& fd,
             cs.fn_old * fd.u_dot_n - cs.fs_old * fd.u_dot_s - cs.m_old * fd.t_dot_rel;
         const double power_new =
             fd.n_force * fd.u_dot_n - fd.s_force * fd.u_dot_s - fd.moment * fd.t_dot_rel;
-        c.work += 0.5 * (v.window * power_old + v.dt * power_new);
-        if (cs.ends) c.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
-        c.work_peak = std::max(c.work_peak, c.work);
+        w.work += 0.5 * (v.window * power_old + v.dt * power_new);
+        if (cs.ends) w.work += 0.5 * v.dt * power_new;  // the rest of the last force's work
+        w.work_peak = std::max(w.work_peak, w.work);
         // The deepest overlap is where the overlap stops growing: note the previous step's
         // values there, once per turn (the stiffness and resolution checks).
         const bool growing = cs.first || overlap > c.overlap;
-        if (!growing && p.loading) noteDeepest(v.world, p, c, cs.fn_old, fd.u_dot_n);
+        if (!growing && p.loading) noteDeepest(v.world, c, w, cs.fn_old, fd.u_dot_n);
         if (growing != p.loading) p.loading = growing;
     }
     c.overlap = overlap;
     c.knest = fd.knest;
     c.ksest = fd.ksest;
-    c.steps += overlap > 0.0;
-    c.apart += !(overlap > 0.0);
+    w.steps += overlap > 0.0;
+    w.apart += !(overlap > 0.0);
     // (endContact checks up to the watch.) A contact active without overlap for as many steps
     // sits in a packing, not in an impact: it leaves the watch as one that outlived it, so that
     // the loop stops reading its cold record.
-    if (c.apart > kGuardWatch) c.steps = kGuardWatch + 1;
-    if (c.steps > kGuardWatch) p.watched = false;
+    if (w.apart > kGuardWatch) w.steps = kGuardWatch + 1;
+    if (w.steps > kGuardWatch && !cs.ends) {
+        p.watched = false;
+        part.watch_ends.push_back(static_cast<uint32_t>(i));
+    }
     return young;
 }
 
@@ -415,22 +421,30 @@ __attribute__((always_inline)) inline void breakOrEnd(const ForceView& v, std::s
 }
 
 /// Pass 3 for a contact: its law has run on `fd`, its FdBlock or, for a contact a kernel
-/// stepped, its KernelFd (the same names). `first`: its first step in contact. The stages in
-/// order; a feature that is off compiles its stage away.
+/// stepped, its KernelFd (the same names). `touch`: what its first touch found, at its first step
+/// in contact (kNoTouch else). The stages in order; a feature that is off compiles its stage
+/// away.
+inline constexpr Touch kNoTouch{};
 template <class Features, Delivery kMode, class Fd>
 __attribute__((always_inline)) inline void finishContact(const ForceView& v, ForceSums& sums,
                                                          std::size_t i, const PairEntry& e,
-                                                         const Fd& fd, bool first,
+                                                         const Fd& fd, const Touch& touch,
                                                          ForceThreadPart& part) {
     const Pair& p = v.pairs[i];
-    ContactStep cs{e, p.n_force, p.s_force, p.moment, first, first && v.cold[i].born_overlapped};
+    ContactStep cs{e,
+                   p.n_force,
+                   p.s_force,
+                   p.moment,
+                   touch.first,
+                   touch.first && touch.born_overlapped,
+                   touch.closure};
     checkLawOutput<Features>(v, i, fd, cs, part);
     applyForces<kMode>(v, i, fd, cs, part);
     cs.ends = contactEnds(v, i, fd, cs);
     if constexpr (Features::kAuto) noteStepLimits<kMode>(v, i, fd, cs, part);
     if constexpr (Features::kEnergy) bookContactEnergy<kMode>(v, sums, i, fd, cs, part);
     if constexpr (Features::kGuard) {
-        const bool young = p.watched && watchYoungContact(v, i, fd, cs);
+        const bool young = p.watched && watchYoungContact(v, i, fd, cs, part);
         checkPassThrough(v, i, fd, cs, young);
     }
     keepLawResult<Features>(v, i, fd, cs);

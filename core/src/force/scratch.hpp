@@ -135,6 +135,7 @@ struct alignas(128) ForceThreadPart {
     std::vector<DeferredItem> items;  // threads: the serial part's work, in pair order
     // Threads: its balls diverted this step: (ball, the first pair it did not add), pair order.
     std::vector<std::pair<uint32_t, uint32_t>> diverted;
+    std::vector<uint32_t> watch_ends;     // guard: contacts that outlived their watch (freed after)
     std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
     std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)
     StepLimits limits;                    // automatic step: from its contacts

@@ -352,6 +352,7 @@ void removePair(World& world, std::size_t i) {
         world.books.acc.released += stored;
         if (world.books.groups.on) bookReleasedToGroups(world, p, stored);
     }
+    world.contacts.endWatch(p, world.contacts.cold[i]);
     if (p.model) {
         dropLane(world.contacts, p);
         p.model->Destroy();
@@ -392,6 +393,7 @@ void resetPair(World& world, Pair& p) {
     // A fresh clone: the next touch starts from a clean state.
     dropLane(world.contacts, p);
     PairCold& c = world.contacts.coldOf(p);
+    world.contacts.endWatch(p, c);
     p.model->Destroy();
     world.contacts.ruleOf(p).pool->release(p.model);
     p.model = nullptr;

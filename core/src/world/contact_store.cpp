@@ -48,6 +48,57 @@ void ContactStore::swapState(std::size_t i, std::size_t j) {
     std::swap(stored[i], stored[j]);
 }
 
+GuardWatch& ContactStore::startWatch(Pair& p, PairCold& c) {
+    p.watched = true;
+    if (c.watch == kNoWatch) {
+        if (free_watches.empty()) {
+            c.watch = static_cast<uint32_t>(watches.size());
+            watches.emplace_back();
+        } else {
+            c.watch = free_watches.back();
+            free_watches.pop_back();
+        }
+    }
+    GuardWatch& w = watches[c.watch];
+    w = GuardWatch{};
+    return w;
+}
+
+void ContactStore::endWatch(Pair& p, PairCold& c) {
+    p.watched = false;
+    if (c.watch == kNoWatch) return;
+    free_watches.push_back(c.watch);
+    c.watch = kNoWatch;
+}
+
+void ContactStore::compactWatches() {
+    const std::size_t live = watches.size() - free_watches.size();
+    if (watches.size() < 1024 || 4 * live > watches.size()) return;
+    std::vector<GuardWatch> kept;
+    kept.reserve(live);
+    for (PairCold& c : cold) {
+        if (c.watch == kNoWatch) continue;
+        kept.push_back(watches[c.watch]);
+        c.watch = static_cast<uint32_t>(kept.size() - 1);
+    }
+    watches.swap(kept);
+    free_watches.clear();
+    free_watches.shrink_to_fit();
+}
+
+GuardWatch ContactStore::savedWatch(const Pair& p, const PairCold& c) const {
+    if (const GuardWatch* w = watchOf(c)) return *w;
+    GuardWatch w;
+    if (p.active) w.steps = kGuardWatch + 1;
+    return w;
+}
+
+void ContactStore::restoreWatch(Pair& p, PairCold& c, const GuardWatch& w) {
+    c.watch = kNoWatch;
+    p.watched = false;
+    if (p.active && w.steps <= kGuardWatch) startWatch(p, c) = w;
+}
+
 uint16_t ContactStore::ruleIndex(const Rule* rule) const {
     for (std::size_t k = 0; k < rules.size(); ++k)
         if (rules[k].get() == rule) return static_cast<uint16_t>(k);

@@ -42,6 +42,7 @@ struct StepLimits {
 constexpr uint32_t kGuardWatch = 400;
 
 constexpr uint32_t kDeadSlot = 0xffffffffu;
+constexpr uint32_t kNoWatch = 0xffffffffu;  // PairCold::watch of a contact the guard does not watch
 constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
 
 constexpr uint32_t kWallBit = 0x80000000u;  // in ContactKey: end 2 is a wall segment
@@ -147,7 +148,7 @@ struct Pair {
     bool sliding : 1;
     bool bonded : 1;
     bool loading : 1;  // guard: the overlap grew at the last step
-    bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::steps)
+    bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::watch)
     ContactModel* model = nullptr;
     double n_force = 0.0, s_force = 0.0, moment = 0.0;  // the law's, of the last step
 
@@ -172,24 +173,31 @@ struct PairCold {
     double activity = 0.0;
     double knest = 0.0, ksest = 0.0, krest = 0.0;  // the law's estimates, of the last step
     double duration = 0.0;  // expected contact duration from the model at touch [s]
+    double overlap = 0.0;   // at the last step that noted it (the guard's watch, the estimates)
     uint64_t key = 0;
-    // The guard: its watch of the contact's first kGuardWatch steps.
-    double overlap = 0.0;  // at the last watched step
-    uint16_t steps = 0;    // steps with positive overlap in this life, up to kGuardWatch + 1
-    uint16_t apart = 0;    // watched steps active without overlap, up to kGuardWatch + 1
     uint32_t rules_version = 0;
+    uint32_t watch = kNoWatch;  // its GuardWatch in ContactStore::watches while watched
+};
+static_assert(sizeof(PairCold) == 80, "PairCold is 80 bytes (docs/architecture.md quotes it)");
+
+/// The guard's watch of a young contact (docs/physics/guard.md): what it needs of the contact's
+/// first kGuardWatch steps in contact, kept only while they last (ContactStore::watches, named by
+/// PairCold::watch and Pair::watched), so that a contact of a packing carries none of it.
+struct GuardWatch {
+    uint16_t steps = 0;  // steps with positive overlap in this life, up to kGuardWatch + 1
+    uint16_t apart = 0;  // watched steps active without overlap, up to kGuardWatch + 1
+    bool born_overlapped = false;        // first touched with more overlap than one step's approach
     double work = 0.0, work_peak = 0.0;  // energy the contact took in this life [J]
     // ... written at touch and at the deepest overlap (when the overlap stops growing).
-    double overlap_max = 0.0;      // deepest overlap in this life [m]
-    double force_at_max = 0.0;     // normal force there [N]
-    double rate_at_max = 0.0;      // overlap rate just after it [m/s]
-    double knest_at_max = 0.0;     // reported normal stiffness there [N/m]
-    double dt_at_max = 0.0;        // step taken there [s]
-    double approach_rate = 0.0;    // u_dot_n at touch [m/s]
-    double closure = 0.0;          // overlap the step's motion could create at touch [m]
-    bool born_overlapped = false;  // first touched with more overlap than one step's approach
+    double overlap_max = 0.0;    // deepest overlap in this life [m]
+    double force_at_max = 0.0;   // normal force there [N]
+    double rate_at_max = 0.0;    // overlap rate just after it [m/s]
+    double knest_at_max = 0.0;   // reported normal stiffness there [N/m]
+    double dt_at_max = 0.0;      // step taken there [s]
+    double approach_rate = 0.0;  // u_dot_n at touch [m/s]
+    double closure = 0.0;        // overlap the step's motion could create at touch [m]
 };
-static_assert(sizeof(PairCold) == 160, "PairCold is 160 bytes (docs/architecture.md quotes it)");
+static_assert(sizeof(GuardWatch) == 80, "GuardWatch is 80 bytes (docs/architecture.md quotes it)");
 
 /// Energy tracing: a pair's stored energies as its law last reported them [J], same index as
 /// Pair. Written for every contact at every traced step, so kept apart from PairCold (16 bytes
