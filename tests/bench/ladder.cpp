@@ -53,6 +53,7 @@
 #include "force/force.hpp"
 #include "force/kernels.hpp"
 #include "force/pass_geometry.hpp"
+#include "force/pass_law.hpp"
 #include "force/view.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
@@ -282,7 +283,7 @@ void stepPlain(World& world, PlainPairs& pp, const StepContext& step) {
 }
 
 /// The law's block for a contact's kernel row, as the host fills it.
-inline KernelFd kernelBlock(const StepContext& step, double time, uint32_t flags, double overlap,
+inline KernelFd plainBlock(const StepContext& step, double time, uint32_t flags, double overlap,
                             double u_dot_n, double u_dot_s, double t_dot_rel, double fn, double fs,
                             double m) {
     KernelFd kf;
@@ -318,7 +319,7 @@ void stepLaw(World& world, PlainPairs& pp, const StepContext& step) {
         const double us_dot = c.vrel.dot(perp(c.n));
         if (double* row = pp.row[k]) {
             const double t_dot = ((j & kWallBit) ? 0.0 : b.spin[j]) - b.spin[i];
-            KernelFd kf = kernelBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
+            KernelFd kf = plainBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
                                       0.0, pp.shear[k], 0.0);
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             if (sdk::LinearLaw::linearLaneStep(row, kf)) {
@@ -354,7 +355,7 @@ void stepPair(World& world, const PlainPairs& pp, const StepContext& step) {
         if (p.lane != kNoLane) {
             double* row = rule.lanes->row(p.lane);
             const double t_dot = (p.wall ? 0.0 : b.spin[p.end2]) - b.spin[p.end1];
-            KernelFd kf = kernelBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
+            KernelFd kf = plainBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
                                       p.n_force, p.s_force, p.moment);
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             if (sdk::LinearLaw::linearLaneStep(row, kf)) {
@@ -383,8 +384,9 @@ inline void applyAt(World& world, const Pair& p, const PairEntry& e, double fn, 
     }
 }
 
-/// narrow and dispatch: the engine's pass 1, then the law on the row, directly (narrow) or
-/// through the host's kernel runner (dispatch).
+/// narrow and dispatch: the engine's pass 1, then the law on the row: the SDK's step called
+/// directly (narrow), or the engine's law pass for a contact on a row (dispatch: pass_law.hpp's
+/// kernelLaw, the runner the scene's loop is compiled for, FDlaw where the kernel declines).
 template <bool kDispatch>
 void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
     using Off = LoopFeatures<false, false, false>;
@@ -396,6 +398,8 @@ void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
     prepareRuleRows(world);
     const ForceView v = forceView(world, step, fd_template, 1, false);
     PairEntry e;
+    ForceThreadPart part;
+    part.fd = fd_template;
     for (std::size_t i = 0; i < v.pairs.size(); ++i) {
         Pair& p = v.pairs[i];
         const PairStep ps = geometryPass<Off>(v, i, e, nullptr);
@@ -407,14 +411,13 @@ void stepNarrow(World& world, PlainPairs& pp, const StepContext& step) {
             applyAt(world, p, e, fn, p.s_force, 0.0);
             continue;
         }
-        const Rule& rule = v.rule(p);
-        double* row = rule.lanes->row(p.lane);
-        KernelFd kf = kernelBlock(step, fd_template.time, fd_template.flags, e.g.overlap, e.u_dot_n,
-                                  e.u_dot_s, e.t_dot_rel, p.n_force, p.s_force, p.moment);
+        KernelFd kf;
         bool done;
         if constexpr (kDispatch) {
-            done = runKernel<Runner::Any>(rule.kernel, row, &v.cold[i], kf);
+            done = kernelLaw<Off, Runner::Linear>(v, i, e, kf, part.fd, part, true);
         } else {
+            double* row = v.rule(p).lanes->row(p.lane);
+            kf = kernelBlock(v, p, e);
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             done = sdk::LinearLaw::linearLaneStep(row, kf);
         }

@@ -226,8 +226,10 @@ __attribute__((always_inline)) inline void noteStepLimits(const ForceView& v, st
 /// thread: at once; threads: the pair's PairEnergy, added in pair order after the loop), the
 /// stored energies it holds now, and the group shares.
 template <Delivery kMode, class Fd>
-inline void bookContactEnergy(const ForceView& v, ForceSums& sums, std::size_t i, const Fd& fd,
-                              const ContactStep& cs, ForceThreadPart& part) {
+__attribute__((always_inline)) inline void bookContactEnergy(const ForceView& v, ForceSums& sums,
+                                                             std::size_t i, const Fd& fd,
+                                                             const ContactStep& cs,
+                                                             ForceThreadPart& part) {
     World& world = v.world;
     const Pair& p = v.pairs[i];
     PairStored& stored = v.stored[i];
@@ -306,8 +308,9 @@ inline void bookContactEnergy(const ForceView& v, ForceSums& sums, std::size_t i
 /// Only a watched contact reads and writes its cold record and its watch here (the watch ends
 /// after the loop: ForceThreadPart::watch_ends). Returns whether it is young.
 template <class Fd>
-inline bool watchYoungContact(const ForceView& v, std::size_t i, const Fd& fd,
-                              const ContactStep& cs, ForceThreadPart& part) {
+__attribute__((always_inline)) inline bool watchYoungContact(const ForceView& v, std::size_t i,
+                                                             const Fd& fd, const ContactStep& cs,
+                                                             ForceThreadPart& part) {
     Pair& p = v.pairs[i];
     PairCold& c = v.cold[i];
     GuardWatch& w = v.world.contacts.watches[c.watch];

@@ -33,19 +33,7 @@ inline void callLaw(ContactModel* model, FdBlock& fd, std::string& error) {
 /// A kernel's block from pass 1's result: the law's inputs, its last forces.
 inline KernelFd kernelBlock(const ForceView& v, const Pair& p, const PairEntry& e) {
     KernelFd kf;
-    kf.flags = v.fd_template.flags;
-    kf.tdel = v.dt;
-    kf.time = v.fd_template.time;
-    kf.u_n = e.g.overlap;
-    kf.u_dot_n = e.u_dot_n;
-    kf.u_dot_s = e.u_dot_s;
-    kf.t_dot_rel = e.t_dot_rel;
-    kf.du_n = kf.u_dot_n * v.dt;
-    kf.du_s = kf.u_dot_s * v.dt;
-    kf.dtheta = kf.t_dot_rel * v.dt;
-    kf.n_force = p.n_force;
-    kf.s_force = p.s_force;
-    kf.moment = p.moment;
+    fillLawInputs(v, p, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, kf);
     return kf;
 }
 
