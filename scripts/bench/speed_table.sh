@@ -24,8 +24,11 @@
 # and plugins), that build runs beside, 1 thread with energy off and on: before/after in one run.
 #
 # Settings (environment): TALUS_BENCH_BUILD (build-bench), TALUS_BENCH_REPEATS (3),
-# TALUS_BENCH_WARMUP (300), TALUS_BENCH_SIZES ("10000 50000"), TALUS_BENCH_KERNEL (a .cpp),
-# TALUS_BENCH_RAW (the raw lines, default $build/bench-cache/speed-<session>.txt).
+# TALUS_BENCH_WARMUP (300), TALUS_BENCH_SIZES ("10000 50000"), TALUS_BENCH_STEPS (timed steps
+# per size, "10000:2000 50000:600"), TALUS_BENCH_KERNEL (a .cpp), TALUS_BENCH_RAW (the raw lines,
+# default $build/bench-cache/speed-<session>.txt). A smoke run of the script itself:
+#   TALUS_BENCH_BUILD=build TALUS_BENCH_REPEATS=1 TALUS_BENCH_SIZES=10000 \
+#   TALUS_BENCH_STEPS=10000:20 TALUS_BENCH_WARMUP=10 scripts/bench/speed_table.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/bench/lammps_dense_pack.sh
@@ -44,7 +47,12 @@ if [[ -n ${TALUS_BENCH_KERNEL:-} ]]; then
     kernel=$cache/plain_kernel
     g++ -O3 -fopenmp -o "$kernel" "$TALUS_BENCH_KERNEL"
 fi
-steps_of() { [[ $1 == 50000 ]] && echo 600 || echo 2000; }
+steps_for=${TALUS_BENCH_STEPS:-"10000:2000 50000:600"}
+steps_of() {
+    local pair
+    for pair in $steps_for; do [[ ${pair%%:*} == "$1" ]] && { echo "${pair#*:}"; return; }; done
+    echo 1000
+}
 note() { echo "$*" | tee -a "$raw"; }
 # One timed run of a build's dense-pack benchmark: talus_ns BUILD_DIR THREADS [options...];
 # prints "NS BYTES" (ns per particle-step, memory per disk; a build without the latter: "NS ")
