@@ -155,6 +155,13 @@ for n in sizes:
           f"+{100 * (t1 / g('talus', 1, 'guardoff') - 1):.0f}%; 2 threads {t1 / g('talus', 2, 'off'):.2f}x "
           f"(LAMMPS {g('lammps', 1, 'off') / g('lammps', 2, 'off'):.2f}x, "
           f"kernel {g('kernel', 1, 'off') / g('kernel', 2, 'off'):.2f}x)")
+    # Amdahl's law from the two-thread speed-up S2: the serial share s = 2/S2 - 1, and on
+    # P cores 1/(s + (1-s)/P) (an upper bound: it leaves out the memory bandwidth shared by
+    # more cores).
+    s2 = t1 / g("talus", 2, "off")
+    serial = min(max(2 / s2 - 1, 0.0), 1.0) if s2 == s2 else float("nan")
+    print(f"{n}: serial share {100 * serial:.0f}%: expected at most "
+          + ", ".join(f"{1 / (serial + (1 - serial) / p):.1f}x on {p} cores" for p in (8, 16)))
     if (n, "baseline", 1, "off") in best:
         print(f"{n}: Talus/baseline {t1 / g('baseline', 1, 'off'):.2f} (energy on "
               f"{g('talus', 1, 'on') / g('baseline', 1, 'on'):.2f})")
