@@ -284,8 +284,8 @@ void stepPlain(World& world, PlainPairs& pp, const StepContext& step) {
 
 /// The law's block for a contact's kernel row, as the host fills it.
 inline KernelFd plainBlock(const StepContext& step, double time, uint32_t flags, double overlap,
-                            double u_dot_n, double u_dot_s, double t_dot_rel, double fn, double fs,
-                            double m) {
+                           double u_dot_n, double u_dot_s, double t_dot_rel, double fn, double fs,
+                           double m) {
     KernelFd kf;
     kf.flags = flags;
     kf.tdel = step.dt;
@@ -320,7 +320,7 @@ void stepLaw(World& world, PlainPairs& pp, const StepContext& step) {
         if (double* row = pp.row[k]) {
             const double t_dot = ((j & kWallBit) ? 0.0 : b.spin[j]) - b.spin[i];
             KernelFd kf = plainBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
-                                      0.0, pp.shear[k], 0.0);
+                                     0.0, pp.shear[k], 0.0);
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             if (sdk::LinearLaw::linearLaneStep(row, kf)) {
                 pp.shear[k] = kf.s_force;
@@ -356,7 +356,7 @@ void stepPair(World& world, const PlainPairs& pp, const StepContext& step) {
             double* row = rule.lanes->row(p.lane);
             const double t_dot = (p.wall ? 0.0 : b.spin[p.end2]) - b.spin[p.end1];
             KernelFd kf = plainBlock(step, world.clock.time, 0u, c.overlap, un_dot, us_dot, t_dot,
-                                      p.n_force, p.s_force, p.moment);
+                                     p.n_force, p.s_force, p.moment);
             kf.mass_eff = row[sdk::LinearLaw::kLaneMassEff];
             if (sdk::LinearLaw::linearLaneStep(row, kf)) {
                 p.n_force = kf.n_force, p.s_force = kf.s_force, p.moment = kf.moment;

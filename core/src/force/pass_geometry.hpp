@@ -23,8 +23,7 @@ namespace talus {
 template <class Fd>
 __attribute__((always_inline)) inline void fillLawInputs(const ForceView& v, const Pair& p,
                                                          double overlap, double u_dot_n,
-                                                         double u_dot_s, double t_dot_rel,
-                                                         Fd& fd) {
+                                                         double u_dot_s, double t_dot_rel, Fd& fd) {
     fd.flags = v.fd_template.flags;
     fd.tdel = v.dt;
     fd.time = v.fd_template.time;
