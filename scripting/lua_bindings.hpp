@@ -304,7 +304,7 @@ extern const Binding kServosBinding;        // wrap_servos.cpp: m:servo and the 
 extern const Binding kContactBinding;       // wrap_contact.cpp: the contact userdata
 extern const Binding kContactModelBinding;  // wrap_contact_model.cpp
 extern const Binding kTimestepBinding;      // wrap_timestep.cpp: timestep, solve's options
-extern const Binding kForceLoopBinding;     // wrap_force_loop.cpp: batched_law, threads, ...
+extern const Binding kForceLoopBinding;     // wrap_force_loop.cpp: kernels, threads, sort_interval
 extern const Binding kGuardBinding;         // wrap_guard.cpp
 extern const Binding kEnergyBinding;        // wrap_energy.cpp
 extern const Binding kClumpBinding;         // wrap_clump.cpp: clump methods and userdata

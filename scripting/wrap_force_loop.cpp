@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// How the force loop runs (docs/lua-api.md, "Force loop"): m:batched_law, m:lanes, m:kernels and
-// m:threads, none of which changes a result (they are for measurements and for tests that prove
-// it), and m:sort_interval, the balls' memory order (the same physics; sums in another order).
+// How the force loop runs (docs/lua-api.md, "Force loop"): m:threads and m:kernels, neither of
+// which changes a result (m:kernels is for the tests that prove it and for measurements), and
+// m:sort_interval, the balls' memory order (the same physics; sums in another order).
 #include <string>
 
+#include "force_switches.hpp"
 #include "lua_bindings.hpp"
 #include "talus/errors.hpp"
 
@@ -27,25 +28,12 @@ int loopSwitch(lua_State* L, const char* name, Set set, Get get) {
     });
 }
 
-/// m:batched_law(on): the models' batched FDlaw, or FDlaw per contact.
-int w_batched_law(lua_State* L) {
-    return loopSwitch(
-        L, "batched_law", [](Model& m, bool on) { m.setBatchedLaw(on); },
-        [](const Model& m) { return m.batchedLaw(); });
-}
-
-/// m:lanes(on): the contacts of models with a lane law through it.
-int w_lanes(lua_State* L) {
-    return loopSwitch(
-        L, "lanes", [](Model& m, bool on) { m.setLanes(on); },
-        [](const Model& m) { return m.lanes(); });
-}
-
-/// m:kernels(on): the host's kernels of the shipped models' laws, or their FDlaw.
+/// m:kernels(on): the host's kernels of the shipped models' laws, or their FDlaw (a test
+/// switch: talus/testing's, not the facade's).
 int w_kernels(lua_State* L) {
     return loopSwitch(
-        L, "kernels", [](Model& m, bool on) { m.setKernels(on); },
-        [](const Model& m) { return m.kernels(); });
+        L, "kernels", [](Model& m, bool on) { testing::setKernels(m, on); },
+        [](const Model& m) { return testing::kernels(m); });
 }
 
 /// m:threads(n [, grain]) sets the force loop's threads, m:threads() reads them.
@@ -103,10 +91,6 @@ int w_sort_interval(lua_State* L) {
 }
 
 const Method kForceLoopMethods[] = {
-    {"batched_law", w_batched_law, "the models' batched FDlaw (true) or FDlaw per contact",
-     "on?: boolean", "boolean"},
-    {"lanes", w_lanes, "the contacts of models with a lane law through it", "on?: boolean",
-     "boolean"},
     {"kernels", w_kernels, "the host's kernels of the shipped models' laws, or their FDlaw",
      "on?: boolean", "boolean"},
     {"threads", w_threads, "the force loop's threads (the same results for any number)",

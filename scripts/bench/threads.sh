@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 #
-# Threads against ranks on the dense pack (docs/results/benchmarks-history.md, "Threads by ownership", "Lanes"):
-# per repeat and size, in turn, Talus on 1 and on 2 threads, on 1 thread with the lanes
-# (--lanes) and with FDlaw per contact (--classic-law), and LAMMPS on 1 and on 2 MPI ranks, from
-# the settled states of scripts/bench/dense_pack.sh (run that first: it builds and caches them).
+# Threads against ranks on the dense pack (docs/results/benchmarks-history.md, "Threads by
+# ownership"): per repeat and size, in turn, Talus on 1 and on 2 threads, on 1 thread with the
+# models' FDlaw instead of the host's kernels (--no-kernels), and LAMMPS on 1 and on 2 MPI ranks,
+# from the settled states of scripts/bench/dense_pack.sh (run that first: it builds and caches
+# them).
 #
 #   scripts/bench/threads.sh            # 3 repeats, 10k (2000 steps) and 50k (600 steps)
 #
@@ -25,7 +26,7 @@ for rep in $(seq 1 "$repeats"); do
         steps=2000
         [[ $n == 50000 ]] && steps=600
         [[ -f $cache/state_n${n}_seed1.txt ]] || { echo "no settled state for $n" >&2; exit 1; }
-        for variant in "1" "2" "1 --lanes" "1 --classic-law"; do
+        for variant in "1" "2" "1 --no-kernels"; do
             read -r th extra <<<"$variant"
             r=$(TALUS_THREADS=$th OMP_NUM_THREADS=$th "$bench" "$n" "$steps" sorted \
                 --state "$cache/state_n${n}_seed1.txt" --warmup "$warmup" --no-profile $extra 2>&1 |

@@ -18,12 +18,14 @@
 //   --guard on|off        the engine's stability guard (default: the engine's default)
 //   --auto-step           the automatic time step for the timed run (its limits gathered by the
 //                         force loop every step), instead of the scene's fixed step
-//   --groups N            assign the balls round-robin to N groups (0-64) before the timed run
-//                         (with --energy on: energy traced per group)
+//   --groups N            assign the balls to N groups (0-64) before the timed run (with
+//                         --energy on: energy traced per group)
+//   --group-layout L      how: "robin" (round-robin in creation order: nearly every contact
+//                         crosses a group border, the worst case) or "bands" (N vertical bands of
+//                         equal width: contacts cross only at the bands' borders); default robin
 //   --no-profile          time without the per-phase clock reads
-//   --classic-law         FDlaw per contact instead of the batched law (Model::setBatchedLaw)
-//   --lanes               contacts through the models' lane laws (Model::setLanes)
-//   --no-kernels          the shipped models' FDlaw instead of the host's kernels (setKernels)
+//   --no-kernels          the shipped models' FDlaw instead of the host's kernels
+//                         (testing::setKernels)
 //   --settle-only         stop after settling (and exporting)
 //   --tiles K             for large N (scripts/bench/scaling.sh): instead of settling N disks
 //                         from the lattice, settle N/K disks (aspect A) and lay K copies side by
@@ -33,6 +35,8 @@
 //   --tile-state FILE     settled-state cache of the N/K-disk pack (with --tiles)
 // Each timed run prints one machine-readable line starting with "RESULT" (key=value pairs);
 // scripts/bench/dense_pack.sh collects them.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -43,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "force_switches.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
 #include "talus/scenes.hpp"
@@ -66,10 +71,9 @@ struct Options {
     bool auto_step = false;
     std::string energy = "off";  // energy tracing during the timed run
     std::string balance = "on";  // the run-level balance check (while tracing)
-    int groups = 0;  // balls assigned round-robin to this many groups (energy per group)
+    int groups = 0;              // balls assigned to this many groups (energy per group)
+    std::string group_layout = "robin";
     bool profile = true;
-    bool classic_law = false;
-    bool lanes = false;
     bool kernels = true;
     bool settle_only = false;
     int tiles = 1;                // > 1: the state is made from K copies of an N/K pack
@@ -77,15 +81,15 @@ struct Options {
 };
 
 [[noreturn]] void usage(const char* why) {
-    std::fprintf(
-        stderr,
-        "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
-        "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
-        "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
-        "[--balance on|off] "
-        "[--no-profile] [--classic-law] [--lanes] [--no-kernels] [--settle-only] [--tiles K] "
-        "[--tile-state FILE]\n",
-        why);
+    std::fprintf(stderr,
+                 "error: %s\nusage: talus_bench_dense_pack N STEPS [sorted|unsorted|both] "
+                 "[--state FILE] [--export-lammps FILE] [--warmup S] [--sort-interval K] "
+                 "[--seed S] [--aspect A] [--guard on|off] [--energy on|off] [--groups N] "
+                 "[--group-layout robin|bands] "
+                 "[--balance on|off] "
+                 "[--no-profile] [--no-kernels] [--settle-only] [--tiles K] "
+                 "[--tile-state FILE]\n",
+                 why);
     std::exit(2);
 }
 
@@ -118,16 +122,14 @@ Options parse(int argc, char** argv) {
             o.energy = value();
         else if (a == "--groups")
             o.groups = std::atoi(value().c_str());
+        else if (a == "--group-layout")
+            o.group_layout = value();
         else if (a == "--balance")
             o.balance = value();
         else if (a == "--no-profile")
             o.profile = false;
-        else if (a == "--classic-law")
-            o.classic_law = true;
         else if (a == "--no-kernels")
             o.kernels = false;
-        else if (a == "--lanes")
-            o.lanes = true;
         else if (a == "--settle-only")
             o.settle_only = true;
         else if (a == "--tiles")
@@ -150,6 +152,7 @@ Options parse(int argc, char** argv) {
         usage("--energy on|off, --balance on|off");
     if (o.warmup < 0 || o.sort_interval < 1) usage("bad --warmup or --sort-interval");
     if (o.groups < 0 || o.groups > 64) usage("--groups N needs 0 <= N <= 64");
+    if (o.group_layout != "robin" && o.group_layout != "bands") usage("--group-layout robin|bands");
     if (o.tiles < 1 || o.n % o.tiles != 0) usage("--tiles K needs K >= 1 dividing N");
     if (o.tiles == 1 && !o.tile_state_path.empty()) usage("--tile-state needs --tiles K > 1");
     return o;
@@ -288,7 +291,17 @@ talus::PackState tiledState(const Options& o, const talus::DensePackDef& def,
     return st;
 }
 
+/// The process's peak resident memory so far [bytes].
+std::size_t peakResident() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<std::size_t>(u.ru_maxrss) * 1024;
+}
+
 void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
+    // The memory the model takes: the peak resident memory after its run over the peak before
+    // it was made (the state loaded, the process's libraries).
+    const std::size_t peak_before = peakResident();
     talus::Model model;
     const talus::DensePack pack = talus::buildDensePackFromState(model, st);
     // Rebuilt from its saved state, the pack's contacts start overlapping at the first step, as
@@ -303,14 +316,17 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     if (o.auto_step) model.timestep().automatic = true;
     model.setSortInterval(sorted ? o.sort_interval : 0);
     model.profile().enabled = o.profile;
-    model.setBatchedLaw(!o.classic_law);
-    model.setLanes(o.lanes);
-    model.setKernels(o.kernels);
+    talus::testing::setKernels(model, o.kernels);
     if (o.warmup > 0) model.cycle(o.warmup);
     if (o.groups > 0) {
         int k = 0;
-        for (const talus::BallId id : model.ballIds())
-            model.addBallGroup(id, "g" + std::to_string(k++ % o.groups));
+        for (const talus::BallId id : model.ballIds()) {
+            int g = k++ % o.groups;
+            if (o.group_layout == "bands")
+                g = std::clamp(static_cast<int>(model.ballPos(id).x() / pack.width * o.groups), 0,
+                               o.groups - 1);
+            model.addBallGroup(id, "g" + std::to_string(g));
+        }
     }
     model.setEnergyTracing(o.energy == "on");
     model.profile().reset();
@@ -346,6 +362,9 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
         "particle %.4f\n",
         double(active) / n, double(active - wall_contacts) / n, wall_contacts, double(pairs) / n);
     const double ke_end = talus::meanKineticEnergy(model);
+    const double bytes_per_disk = static_cast<double>(peakResident() - peak_before) / n;
+    std::printf("memory: %.0f bytes per disk (peak resident over the peak before the model)\n",
+                bytes_per_disk);
     std::printf(
         "mean KE per disk %.3g J at the start, %.3g J at the end; the floor carries %.4f "
         "of the weight\n",
@@ -353,18 +372,20 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     if (o.profile) std::printf("%s", p.report(model.ballCount()).c_str());
     std::printf(
         "RESULT code=talus n=%d steps=%lld warmup=%lld mode=%s sort_interval=%lld guard=%s "
-        "energy=%s groups=%d balance=%s "
+        "energy=%s groups=%d group_layout=%s balance=%s "
         "profile=%d wall_s=%.6f cpu_s=%.6f ns_per_particle_step=%.4f contacts_per_particle=%.5f "
         "ball_contacts_per_particle=%.5f wall_contacts=%zu pairs_per_particle=%.5f "
         "t_timestep=%.6f t_motion=%.6f t_detection=%.6f t_force=%.6f t_bookkeeping=%.6f "
-        "proxy_moves=%lld pairs_created=%lld contacts_created=%lld ke_start=%.4g ke_end=%.4g\n",
+        "proxy_moves=%lld pairs_created=%lld contacts_created=%lld ke_start=%.4g ke_end=%.4g "
+        "bytes_per_disk=%.1f\n",
         o.n, static_cast<long long>(o.steps), static_cast<long long>(o.warmup),
         sorted ? "sorted" : "unsorted", static_cast<long long>(sorted ? o.sort_interval : 0),
-        guard_on ? "on" : "off", o.energy.c_str(), o.groups, o.balance.c_str(), o.profile ? 1 : 0,
-        wall, cpu, ns, double(active) / n, double(active - wall_contacts) / n, wall_contacts,
-        double(pairs) / n, p.timestep, p.motion, p.detection, p.force_displacement, p.bookkeeping,
-        static_cast<long long>(p.proxy_moves), static_cast<long long>(p.pairs_created),
-        static_cast<long long>(p.contacts_created), ke_start, ke_end);
+        guard_on ? "on" : "off", o.energy.c_str(), o.groups, o.group_layout.c_str(),
+        o.balance.c_str(), o.profile ? 1 : 0, wall, cpu, ns, double(active) / n,
+        double(active - wall_contacts) / n, wall_contacts, double(pairs) / n, p.timestep, p.motion,
+        p.detection, p.force_displacement, p.bookkeeping, static_cast<long long>(p.proxy_moves),
+        static_cast<long long>(p.pairs_created), static_cast<long long>(p.contacts_created),
+        ke_start, ke_end, bytes_per_disk);
     std::fflush(stdout);
 }
 

@@ -5,8 +5,8 @@
 //   pass 1 (pass_geometry.hpp): overlap, normal and contact point of two disks and of a disk on a
 //     segment; the rates of a rigid motion of the pair are zero (objectivity), a pure approach
 //     gives u_dot_n = the approach speed;
-//   pass 2 (pass_law.hpp): linear's first call is F = kn u_n, and its batched law gives the same
-//     bits as FDlaw;
+//   pass 2 (pass_law.hpp): linear's first call is F = kn u_n, and the host's kernel of its law,
+//     on a row packed from the contact, gives the same bits as its FDlaw;
 //   pass 3 (pass_finish.hpp): the ends get equal and opposite forces (bit for bit) and no net
 //     torque about any point; the threads' recorded actions are the same numbers; a pair apart
 //     whose fat boxes separated is queued for removal.
@@ -58,7 +58,9 @@ struct Scene {
     }
     StepContext step() const { return beginStep(world); }
     ForceView view(const StepContext& s) {
-        return forceView(world, s, world.contacts.fd_template, 1, false, false, false);
+        // (every rule's contacts through FDlaw here: no kernel rows)
+        forceScratch(world).rows.assign(world.contacts.rules.size(), RuleRows{});
+        return forceView(world, s, world.contacts.fd_template, 1, false);
     }
 };
 
@@ -148,8 +150,11 @@ TEST_CASE("pass 1: a disk on a segment against closed forms") {
     CHECK(fd.u_dot_s == Approx(-0.4).epsilon(1e-6));
 }
 
-TEST_CASE("pass 2: linear's first call and its batched law") {
+TEST_CASE("pass 2: linear's first call, and its kernel against its FDlaw") {
     Scene sc(false);
+    const auto ids = sc.model.ballIds();
+    sc.model.setBallVel(ids[1], Vec2(-0.02, 0.05));  // loading and sliding a little
+    sc.model.setBallSpin(ids[0], 2.0);
     const StepContext step = sc.step();
     const ForceView v = sc.view(step);
     PairEntry e;
@@ -159,29 +164,29 @@ TEST_CASE("pass 2: linear's first call and its batched law") {
     PairCold& c = sc.world.contacts.cold[0];
     // After the engine's first step (the contact's first call) the force is kn u_n.
     CHECK(p.n_force == Approx(kKn * c.overlap).epsilon(1e-12));
+    // The same contact state both ways: the row packed from the object, FDlaw on the object.
     const Rule& rule = sc.world.contacts.ruleOf(p);
-    REQUIRE(rule.batch != nullptr);
-    // The same contact state through both paths: one on a clone of the object.
-    const std::size_t bytes = rule.pool->blockSize();
-    std::vector<unsigned char> saved(bytes);
-    std::memcpy(saved.data(), static_cast<void*>(p.model), bytes);
-    FdBlock a = fd, b = fd;
+    REQUIRE(rule.kernel == Kernel::Linear);
+    const LaneLaw& rows = *rule.factory->lanes;
+    std::vector<double> row(static_cast<std::size_t>(rows.state_size));
+    REQUIRE(rows.pack(p.model, row.data()) == 1);
     std::string error;
-    int64_t count = 0;
-    ForceView batched = v;
-    batched.batched = true;
-    lawPass(batched, 0, a, error, count);
-    CHECK(count == 1);
-    std::memcpy(static_cast<void*>(p.model), saved.data(), bytes);  // the state before
-    ForceView vtable = v;
-    vtable.batched = false;
-    lawPass(vtable, 0, b, error, count);
-    CHECK(count == 1);
-    CHECK(a.n_force == b.n_force);
-    CHECK(a.s_force == b.s_force);
-    CHECK(a.moment == b.moment);
-    CHECK(a.knest == b.knest);
-    CHECK(a.ksest == b.ksest);
+    callLaw(p.model, fd, error);
+    REQUIRE(fd.status == 0);
+    PairEntry ek;  // pass 1 for a contact on a row: the law's inputs into the entry
+    REQUIRE(geometryPass<Features>(v, 0, ek, nullptr) == PairStep::Contact);
+    KernelFd kf = kernelBlock(v, p, ek);
+    REQUIRE(kernelStep<Kernel::Linear>(row.data(), &c, kf));
+    CHECK(kf.n_force == fd.n_force);
+    CHECK(kf.s_force == fd.s_force);
+    CHECK(kf.moment == fd.moment);
+    CHECK(kf.knest == fd.knest);
+    CHECK(kf.ksest == fd.ksest);
+    CHECK(kf.s_force != 0.0);  // (the shear spring took part)
+    // The object and the row hold the same state after the step.
+    std::vector<double> after(row.size());
+    REQUIRE(rows.pack(p.model, after.data()) == 1);
+    for (std::size_t k = 0; k < row.size(); ++k) CHECK(after[k] == row[k]);
 }
 
 TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
@@ -195,8 +200,7 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     ForceView v = sc.view(step);
     REQUIRE(geometryPass<Features>(v, 0, e, &fd) == PairStep::Contact);
     std::string error;
-    int64_t count = 0;
-    lawPass(v, 0, fd, error, count);
+    callLaw(sc.world.contacts.pairs[0].model, fd, error);
     fd.moment = 1e-4;  // a model moment (rolling resistance, a bond) goes to both ends too
     auto& b = sc.world.bodies.balls;
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
@@ -204,7 +208,8 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     // A copy of the pair's state, for the threads' delivery below.
     const Pair before = sc.world.contacts.pairs[0];
     ForceSums sums;
-    finishContact<Features, Delivery::Direct>(v, sums, 0, e, fd, false, nullptr);
+    ForceThreadPart part;
+    finishContact<Features, Delivery::Direct>(v, sums, 0, e, fd, kNoTouch, part);
     const Vec2 f1 = b.force[0], f2 = b.force[1];
     CHECK(f1.x() == -f2.x());
     CHECK(f1.y() == -f2.y());
@@ -213,14 +218,15 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     const double torque = b.moment[0] + b.moment[1] + cross(b.pos[0], f1) + cross(b.pos[1], f2);
     CHECK(std::fabs(torque) < 1e-15 * (std::fabs(b.moment[0]) + std::fabs(b.moment[1]) +
                                        f2.norm() * (b.pos[0].norm() + b.pos[1].norm())));
-    CHECK(sums.finite_check == fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest);
+    CHECK(part.finite_check == fd.n_force + fd.s_force + fd.moment + fd.knest + fd.ksest);
 
     // The threads' delivery records the same numbers for the gather (end 1's negated).
     sc.world.contacts.pairs[0] = before;
-    sc.world.contacts.force_scratch.actions.assign(1, PairAction{});
-    v.actions = sc.world.contacts.force_scratch.actions.data();
-    finishContact<Features, Delivery::Serial>(v, sums, 0, e, fd, false, nullptr);
-    const PairAction& act = sc.world.contacts.force_scratch.actions[0];
+    ForceScratch& scratch = forceScratch(sc.world);
+    scratch.actions.assign(1, PairAction{});
+    v.actions = scratch.actions.data();
+    finishContact<Features, Delivery::Serial>(v, sums, 0, e, fd, kNoTouch, part);
+    const PairAction& act = scratch.actions[0];
     CHECK(0.0 + act.add[0][0] == f1.x());
     CHECK(0.0 + act.add[0][1] == f1.y());
     CHECK(0.0 + act.add[0][2] == b.moment[0]);
@@ -233,15 +239,14 @@ TEST_CASE("pass 3: action and reaction, and the threads' record of them") {
     sc.world.contacts.pairs[0] = before;
     std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
     std::fill(b.moment.begin(), b.moment.end(), 0.0);
-    auto& scratch = sc.world.contacts.force_scratch;
     scratch.route.assign(b.size(), kRouteShared);
     scratch.route[0] = 1;
     v.route = scratch.route.data();
     const double untouched = 7.0;
     scratch.actions.assign(1, PairAction{{{untouched, untouched, untouched}, {0.0, 0.0, 0.0}}});
-    ForceThreadPart part;
-    part.index = 1;
-    finishContact<Features, Delivery::Parallel>(v, sums, 0, e, fd, false, &part);
+    ForceThreadPart owner;
+    owner.index = 1;
+    finishContact<Features, Delivery::Parallel>(v, sums, 0, e, fd, kNoTouch, owner);
     CHECK(b.force[0] == f1);
     CHECK(b.moment[0] == m1);
     CHECK(b.force[1] == Vec2::Zero());
@@ -260,13 +265,14 @@ TEST_CASE("pass 3: a pair apart whose fat boxes separated is removed") {
     const StepContext step = sc.step();
     ForceView v = sc.view(step);
     sc.world.contacts.to_remove.clear();
+    ForceThreadPart part;
     // Not moved: kept whatever the boxes say (only re-inserted bodies are checked).
-    finishApart<Features, Delivery::Direct>(v, 0, PairStep::Apart, nullptr);
+    finishApart<Features, Delivery::Direct>(v, 0, PairStep::Apart, part);
     CHECK(sc.world.contacts.to_remove.empty());
     // Moved, and its fat box now far from the other's.
     sc.world.contacts.ball_moved[1] = 1;
     b.fat[1] = Box{b.pos[0] + Vec2(10 * kR, 10 * kR), b.pos[0] + Vec2(11 * kR, 11 * kR)};
-    finishApart<Features, Delivery::Direct>(v, 0, PairStep::Apart, nullptr);
+    finishApart<Features, Delivery::Direct>(v, 0, PairStep::Apart, part);
     REQUIRE(sc.world.contacts.to_remove.size() == 1);
     CHECK(sc.world.contacts.to_remove[0] == 0u);
     (void)ids;

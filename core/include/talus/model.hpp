@@ -295,22 +295,6 @@ public:
     static constexpr int64_t kSortAuto = -1;
     static constexpr int64_t kSortAutoEvery = 1000;
     static constexpr std::size_t kSortAutoBalls = 4096;
-    /// Calls the batched FDlaw of the models that offer one (docs/plugin-abi.md, "Batched
-    /// FDlaw"; default on). Off: FDlaw per contact. Both give the same bits; the switch is for
-    /// tests and measurements.
-    /// Off also takes every contact out of the models' lanes, which are part of the batched path.
-    void setBatchedLaw(bool on);
-    bool batchedLaw() const;
-    /// Runs the contacts of models that offer a lane law through it (docs/plugin-abi.md,
-    /// "Lanes"; default off: measured no faster than the batched FDlaw on the shipped models,
-    /// docs/benchmarks.md). The same bits either way; needs the batched law on.
-    void setLanes(bool on);
-    bool lanes() const;
-    /// Runs the laws of the shipped models that name one (`linear`) inside the force loop, on
-    /// host-owned rows of their state (docs/plugin-abi.md, "Kernels"; default on). The same bits
-    /// either way; off runs their FDlaw, for tests and measurements.
-    void setKernels(bool on);
-    bool kernels() const;
     /// Threads of the force loop (docs/architecture.md, "Threads"), n >= 1; results are
     /// bit-identical for any n. The default is the environment's TALUS_THREADS, else 1. A step
     /// runs on one thread in a build without OpenMP, with a contact model that lacks
@@ -326,8 +310,6 @@ public:
     /// OpenMP threads may exist (a talus.map worker): libgomp's thread pool does not survive a
     /// fork, and a worker's parallel region could wait for threads it does not have.
     static void singleThreadedProcess();
-    /// Threads the force loop uses for `npairs` pairs this step.
-    int forceThreads(std::size_t npairs) const;
 
     // ------------------------------------------------------------------ save and restore
     /// Writes every section of the model's state (core/src/api/save.cpp; the file around it:

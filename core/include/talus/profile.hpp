@@ -18,9 +18,6 @@ struct Profile {
     int64_t proxy_moves = 0;  ///< broadphase re-insertions
     int64_t pairs_created = 0;
     int64_t contacts_created = 0;
-    int64_t batched_laws = 0;     ///< contact laws run through a model's batched FDlaw
-    int64_t lane_steps = 0;       ///< contact steps run through a model's lane law
-    int64_t lane_declined = 0;    ///< ... of which the lane law declined (FDlaw ran them)
     int64_t kernel_steps = 0;     ///< contact steps run by the host's kernel of a model's law
     int64_t kernel_declined = 0;  ///< ... of which the kernel declined (FDlaw ran them)
     int64_t threaded_steps = 0;   ///< steps whose force loop ran on more than one thread

@@ -302,7 +302,6 @@ std::vector<uint32_t> bondCandidates(const World& world, const BondSettings& s, 
 Rule& addBondRule(World& world, BondPlan& plan) {
     auto rule = std::make_unique<Rule>();
     rule->factory = plan.factory;
-    rule->batch = plan.factory->batch;
     rule->kernel = kernelOf(*plan.factory);
     rule->model_name = plan.factory->name;
     rule->prototype = std::move(plan.proto);

@@ -44,7 +44,6 @@ void Model::addContactModelRule(const std::string& name, const std::vector<PropV
     requireRuleRoom(world, "contact_model");
     auto rule = std::make_unique<Rule>();
     rule->factory = &world.registry.find(name);
-    rule->batch = rule->factory->batch;
     rule->kernel = kernelOf(*rule->factory);
     rule->model_name = rule->factory->name;
     rule->prototype = world.registry.createPrototype(*rule->factory);
@@ -92,45 +91,7 @@ void requireRuleRoom(const World& world, const char* what) {
                          ": a model holds at most 65 535 contact_model rules and m:bond calls");
 }
 
-const Rule& ruleFor(const World& world, uint64_t g1, uint64_t g2) {
-    const Rule* best = world.contacts.rules[0].get();
-    int best_spec = -1, best_order = -1;
-    auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
-    for (std::size_t i = 1; i < world.contacts.rules.size(); ++i) {
-        const Rule& r = *world.contacts.rules[i];
-        if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
-        const bool match =
-            (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
-        if (match &&
-            (r.specificity > best_spec || (r.specificity == best_spec && r.order > best_order))) {
-            best = &r;
-            best_spec = r.specificity;
-            best_order = r.order;
-        }
-    }
-    return *best;
-}
-
 // ------------------------------------------------------------------------ contacts (queries)
-
-bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point) {
-    const auto& b = world.bodies.balls;
-    const Vec2& x1 = b.pos[p.end1];
-    ContactGeometry g;
-    if (p.wall) {
-        if (!segmentGeometry(world, p.end2, x1, b.radius[p.end1], g)) return false;
-    } else {
-        const Vec2 d = b.pos[p.end2] - x1;
-        const double dist = d.norm();
-        g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
-        g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
-        g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
-    }
-    normal = g.normal;
-    overlap = g.overlap;
-    point = g.point;
-    return true;
-}
 
 ContactInfo infoOf(const World& world, std::size_t index) {
     const Pair& p = world.contacts.pairs[index];

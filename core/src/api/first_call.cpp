@@ -169,7 +169,7 @@ void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
     PairCold& c = world.contacts.cold[i];
     if (!before.was_active) ++world.profile.contacts_created;
     p.active = true;
-    p.watched = c.steps <= kGuardWatch;
+    if (!before.was_active) world.contacts.startWatch(p, c);  // (an active one keeps its watch)
     const Vec2 df =
         (fd.n_force - before.n_force) * g.normal + (fd.s_force - before.s_force) * perp(g.normal);
     correctEndForces(world, p, g, df, fd.moment - before.moment);
@@ -188,7 +188,7 @@ void takeFirstCall(World& world, std::size_t i, const FirstCallGeometry& g, cons
     // persistent contact, not an impact.
     c.duration = p.model->ContactDuration(c.mass_eff, 0.0);
     if (!(c.duration > 0.0)) c.duration = HUGE_VAL;
-    c.born_overlapped = true;
+    if (GuardWatch* w = world.contacts.watchOf(c)) w->born_overlapped = true;
     if (fd.flags & kFdBroken) queueBreak(world, i, g.point, fd);
 }
 
@@ -226,9 +226,9 @@ void placeContact(World& world, std::size_t i, const FirstCallGeometry& g) {
         throw PluginError("contact model '" + world.contacts.ruleOf(p).model_name + "' on " +
                           describePair(world, p) + ": the first FDlaw, where the bodies were " +
                           "placed, " + why);
-    c.closure = c.approach_rate = 0.0;  // nothing moved: what it holds was placed
     takeFirstCall(world, i, g, fd, FirstCallEntry{}, true);
-    notePlacement(world, p, c, g.overlap, fd, world.books.on);
+    // Nothing moved (closure 0): what the contact holds was placed.
+    notePlacement(world, p, 0.0, g.overlap, fd, world.books.on);
     if (world.callbacks.contact_events) {
         Event ev;
         ev.kind = EventKind::ContactCreated;

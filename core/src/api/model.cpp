@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 //
 // The facade, the model itself: construction, settings, group names, running (cycle, solveTime),
-// callbacks and warnings, and the performance switches (threads, lanes, the batched law, the
+// callbacks and warnings, and the performance settings (threads, the memory order, the
 // profile). The other things it faces have a file each in api/ (balls, walls, clumps, contacts,
 // bonds, energy, measure, solve, save); the world it holds is world/world.hpp, the step it runs
 // step/step.cpp.
@@ -27,7 +27,6 @@
 #include "world/body_store.hpp"
 #include "world/broadphase.hpp"
 #include "world/contact_store.hpp"
-#include "world/lanes.hpp"
 #include "world/messages.hpp"
 #include "world/types.hpp"
 
@@ -137,8 +136,6 @@ void Model::setSortInterval(int64_t every) {
     m_world->settings.sort_every = every;
 }
 int64_t Model::sortInterval() const { return m_world->settings.sort_every; }
-bool Model::batchedLaw() const { return m_world->settings.batched_law; }
-bool Model::lanes() const { return m_world->settings.lanes; }
 
 void Model::setEventHandler(std::function<void(const Event&)> fn) {
     m_world->callbacks.event_handler = std::move(fn);
@@ -252,27 +249,11 @@ std::string Profile::report(std::size_t balls) const {
     line("bookkeeping", bookkeeping);
     line("total", tot);
     os << "  broadphase re-insertions " << proxy_moves << ", pairs created " << pairs_created
-       << ", contacts created " << contacts_created << ", batched laws " << batched_laws
-       << ", lane steps " << lane_steps << " (declined " << lane_declined << ")"
-       << ", kernel steps " << kernel_steps << " (declined " << kernel_declined << ")"
+       << ", contacts created " << contacts_created << ", kernel steps " << kernel_steps
+       << " (declined " << kernel_declined << ")"
        << ", threaded steps " << threaded_steps << ", memory sorts " << sorts << "\n";
     return os.str();
 }
-
-void Model::setBatchedLaw(bool on) {
-    World& world = *m_world;
-    if (!on) leaveAllLanes(world);
-    world.settings.batched_law = on;
-}
-
-void Model::setLanes(bool on) {
-    World& world = *m_world;
-    if (!on) leaveAllLanes(world);
-    world.settings.lanes = on;
-}
-
-void Model::setKernels(bool on) { m_world->settings.kernels = on; }
-bool Model::kernels() const { return m_world->settings.kernels; }
 
 void Model::setThreads(int n, int grain) {
     World& world = *m_world;
@@ -318,7 +299,5 @@ bool Model::threadingAvailable() {
     return false;
 #endif
 }
-
-int Model::forceThreads(std::size_t npairs) const { return talus::forceThreads(*m_world, npairs); }
 
 }  // namespace talus

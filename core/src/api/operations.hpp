@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 
+#include "step/detection.hpp"  // ruleFor, pairGeometry
 #include "world/world.hpp"
 
 namespace talus {
@@ -42,9 +43,6 @@ void restoreServos(World& world, SaveReader& in);
 double checkedActivity(double activity, const std::string& model);
 /// Refuses a rule beyond the 65 535 a model can hold (Pair::rule), naming `what` asked for it.
 void requireRuleRoom(const World& world, const char* what);
-const Rule& ruleFor(const World& world, uint64_t groups1, uint64_t groups2);
-/// Geometry of a pair now (for queries): normal, overlap, contact point.
-bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point);
 ContactInfo infoOf(const World& world, std::size_t index);
 std::string describePair(const World& world, const Pair& p);
 

@@ -41,17 +41,17 @@ double bondRadius(const ContactStore& cs, const Pair& p) {
 }
 }  // namespace
 
-bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel) {
+Touch activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel,
+               bool guard) {
     // A wall pair may be taking over the ball's contact from a neighbouring segment's pair
     // (a convex vertex crossed, that pair later in the loop): then the contact goes on.
-    if (p.wall && adoptWallContact(world, world.contacts.pairIndex(p))) return false;
+    if (p.wall && adoptWallContact(world, world.contacts.pairIndex(p))) return Touch{};
     if (c.rules_version != world.contacts.rules_version) refreshRule(world, p);
     // A pair whose bond broke or was removed is not bonded again by a rule (api/bonds.cpp);
     // the lookup runs only in a model where that happened.
     world.contacts.activation_flags =
         world.contacts.unbonded.empty() ? 0u : autoBondFlags(world, p, c);
     p.active = true;
-    p.watched = true;  // the guard follows its first kGuardWatch steps (pass_finish.hpp)
     ++world.profile.contacts_created;
     c.duration = p.model->ContactDuration(c.mass_eff, std::max(0.0, -vrel.dot(g.normal)));
     // The resolution rule and the guard divide by it: NaN, zero or negative would silently
@@ -95,21 +95,29 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
     // vertex or the face, (v_t dt)^2 / (2 r). (The contact-point velocity would add the spins,
     // which turn the balls but do not close the gap.) More overlap than that was there before.
     const auto& b = world.bodies.balls;
-    const double approach = -vrel.dot(g.normal);
-    c.approach_rate = std::max(approach, 0.0);
+    Touch touch;
+    touch.first = true;
     if (!p.wall) {
         const Vec2 d = b.pos[p.end2] - b.pos[p.end1];
         const Vec2 step = (b.vel[p.end2] - b.vel[p.end1]) * world.clock.dt;
         const double rsum = b.radius[p.end1] + b.radius[p.end2];
-        c.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
+        touch.closure = std::max(g.overlap - (rsum - (d - step).norm()), 0.0);
     } else {
         const WallData& w = world.bodies.walls[world.bodies.segments[p.end2].wall];
         const Vec2 step =
             (w.vel + spinCross(w.spin, g.point - w.center) - b.vel[p.end1]) * world.clock.dt;
         const double slide = step.dot(perp(g.normal));
-        c.closure = std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
+        touch.closure =
+            std::max(-step.dot(g.normal), 0.0) + slide * slide / (2.0 * b.radius[p.end1]);
     }
-    c.born_overlapped = g.overlap > c.closure * (1.0 + 1e-9) + 1e-15;
+    touch.born_overlapped = g.overlap > touch.closure * (1.0 + 1e-9) + 1e-15;
+    // The guard follows its first kGuardWatch steps (pass_finish.hpp, watchYoungContact).
+    if (guard) {
+        GuardWatch& w = world.contacts.startWatch(p, c);
+        w.approach_rate = std::max(-vrel.dot(g.normal), 0.0);
+        w.closure = touch.closure;
+        w.born_overlapped = touch.born_overlapped;
+    }
     if (world.callbacks.contact_events) {
         Event ev;
         ev.kind = EventKind::ContactCreated;
@@ -119,17 +127,17 @@ bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, cons
         ev.model = world.contacts.ruleOf(p).model_name;
         world.callbacks.events.push_back(std::move(ev));
     }
-    return true;
+    return touch;
 }
 
-double notePlacement(World& world, const Pair& p, const PairCold& c, double overlap,
-                     const FdBlock& fd, bool energy) {
+double notePlacement(World& world, const Pair& p, double closure, double overlap, const FdBlock& fd,
+                     bool energy) {
     // The model's stored energy at its first call includes what the closure within this step
     // put in (activate); the rest was there before the step. Stored energy grows about as the
     // overlap squared (exactly so for a linear spring), so the part that was placed is the fraction
     // ((overlap - approach dt) / overlap)^2 of it. Without tracing, the linear estimate
     // knest overlap^2 / 2 names the size in the warning.
-    const double before = std::max(overlap - c.closure, 0.0);
+    const double before = std::max(overlap - closure, 0.0);
     const double share = overlap > 0.0 ? (before / overlap) * (before / overlap) : 0.0;
     const double stored = energy ? fd.energy[kEnergyStrain] + fd.energy[kEnergyBondStrain]
                                  : 0.5 * fd.knest * overlap * overlap;
@@ -152,14 +160,14 @@ double notePlacement(World& world, const Pair& p, const PairCold& c, double over
     return placed;
 }
 
-void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after) {
-    (void)p;
-    if (c.overlap <= c.overlap_max) return;
-    c.overlap_max = c.overlap;
-    c.force_at_max = force;
-    c.rate_at_max = rate_after;
-    c.knest_at_max = c.knest;
-    c.dt_at_max = world.clock.dt;
+void noteDeepest(const World& world, const PairCold& c, GuardWatch& w, double force,
+                 double rate_after) {
+    if (c.overlap <= w.overlap_max) return;
+    w.overlap_max = c.overlap;
+    w.force_at_max = force;
+    w.rate_at_max = rate_after;
+    w.knest_at_max = c.knest;
+    w.dt_at_max = world.clock.dt;
 }
 
 void queueBreak(World& world, std::size_t i, const Vec2& point, const FdBlock& fd) {
@@ -187,78 +195,85 @@ void queueBreak(World& world, std::size_t i, const Vec2& point, int32_t mode, bo
     world.callbacks.events.push_back(std::move(ev));
 }
 
-void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
-    if (check_guard && c.steps > 0 && c.steps <= kGuardWatch) {
-        // A contact created overlapping (by placement) gives back energy it never took.
-        // Reference: the larger of the energy the contact held at its peak and the kinetic
-        // energy of the approach (a contact that only ever gave energy has no peak).
-        const double reference =
-            std::max(c.work_peak, 0.5 * c.mass_eff * c.approach_rate * c.approach_rate);
-        if (world.settings.guard.energy != GuardAction::Off && !c.born_overlapped &&
-            reference > 0.0 && c.work < -world.settings.guard.energy_tolerance * reference) {
-            const std::string what =
-                describePair(world, p) + " returned " + num(-c.work) +
-                " J more than it took (reference " + num(reference) + " J, tolerance " +
-                num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
-                std::to_string(c.steps) + " steps ending at t = " + num(world.clock.time) +
-                " s; the step (" + num(world.clock.dt) +
-                " s) is too large for the model's stiffness, or the "
-                "model reports too low a stiffness (knest " +
-                num(c.knest) + " N/m)";
-            // Judged at the step's end against the scene's energy (bookkeeping.cpp,
-            // judgeEnergyGains), when every contact of the step has its new force.
-            world.guard_state.energy_gains.push_back({-c.work, what});
-        }
-        // Under-resolved: a step taken during the contact was too large for the impact's own
-        // duration (the model's estimate at touch). A contact that is short for other reasons
-        // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
-        // stiffness check's business.
-        if (world.settings.guard.resolution != GuardAction::Off && !p.bonded &&
-            c.duration < world.settings.guard.min_steps * c.dt_at_max) {
-            const std::string what =
-                describePair(world, p) + " had " + num(c.duration / c.dt_at_max) +
-                " steps per contact duration (" + num(c.duration) +
-                " s at dt = " + num(c.dt_at_max) + " s, t = " + num(world.clock.time) +
-                " s); it lasted " + std::to_string(c.steps) + " steps";
-            if (world.settings.guard.resolution == GuardAction::Error)
-                throw NumericalError("impact under-resolved: " + what + "; at least " +
-                                     std::to_string(world.settings.guard.min_steps) +
-                                     " steps are needed");
-            if (world.guard_state.underresolved++ == 0)
-                world.guard_state.underresolved_first = what;
-        }
-        // At the deepest overlap the force may be up to twice the reported stiffness times the
-        // overlap (tangent vs secant), plus what a dashpot up to critical damping,
-        // c = 2 sqrt(m knest), gives at the rate there: about zero for a resolved impact, the
-        // rate just after the deepest overlap for a contact in a packing. A contact no deeper
-        // than the closure of its first step (a graze, or an impact resolved in one step) may
-        // have its deepest overlap at that first step, whose force was computed from the
-        // approach rate, not the rate after, and carries what the model adds for a touch inside
-        // the step: its dashpot over the window from touch, up to 1.5 steps' worth at the
-        // approach rate, and the spring's onset corner, up to knest times an eighth of the
-        // closure (talus/sdk/corners.hpp). In a settled pack such contacts touch at
-        // micrometres per second for a step or two, their overlap a few nanometres, and those
-        // terms are most of their force.
-        const double secant = c.overlap_max > 0.0 ? c.force_at_max / c.overlap_max : 0.0;
-        const double dashpot = 2.0 * std::sqrt(c.mass_eff * c.knest_at_max);
-        const bool shallow = c.overlap_max <= c.closure * (1.0 + 1e-9) + 1e-15;
-        const double allowed =
-            shallow ? 2.0 * c.knest_at_max * (c.overlap_max + 0.125 * c.closure) +
-                          dashpot * std::max(1.5 * c.approach_rate, std::fabs(c.rate_at_max))
-                    : 2.0 * c.knest_at_max * c.overlap_max + dashpot * std::fabs(c.rate_at_max);
-        if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
-            c.force_at_max > allowed) {
-            const std::string what =
-                describePair(world, p) + ": at its deepest overlap its normal force was " +
-                num(secant) + " N/m of overlap while it reported knest " + num(c.knest_at_max) +
-                " N/m; the time step follows knest, so the model must report its true tangent "
-                "stiffness (docs/plugin-abi.md, time-step contract)";
-            if (world.settings.guard.stiffness == GuardAction::Error)
-                throw NumericalError("stiffness under-reported: " + what);
-            if (world.guard_state.stiffness_lies++ == 0)
-                world.guard_state.stiffness_lies_first = what;
-        }
+namespace {
+
+/// The guard's judgement of a contact at its end, from its watch (docs/physics/guard.md): the
+/// energy it gave back, whether the step resolved it, whether its model reported its stiffness.
+void judgeContact(World& world, const Pair& p, const PairCold& c, const GuardWatch& w) {
+    // A contact created overlapping (by placement) gives back energy it never took.
+    // Reference: the larger of the energy the contact held at its peak and the kinetic
+    // energy of the approach (a contact that only ever gave energy has no peak).
+    const double reference =
+        std::max(w.work_peak, 0.5 * c.mass_eff * w.approach_rate * w.approach_rate);
+    if (world.settings.guard.energy != GuardAction::Off && !w.born_overlapped && reference > 0.0 &&
+        w.work < -world.settings.guard.energy_tolerance * reference) {
+        const std::string what =
+            describePair(world, p) + " returned " + num(-w.work) +
+            " J more than it took (reference " + num(reference) + " J, tolerance " +
+            num(100.0 * world.settings.guard.energy_tolerance) + "%) over " +
+            std::to_string(w.steps) + " steps ending at t = " + num(world.clock.time) +
+            " s; the step (" + num(world.clock.dt) +
+            " s) is too large for the model's stiffness, or the "
+            "model reports too low a stiffness (knest " +
+            num(c.knest) + " N/m)";
+        // Judged at the step's end against the scene's energy (bookkeeping.cpp,
+        // judgeEnergyGains), when every contact of the step has its new force.
+        world.guard_state.energy_gains.push_back({-w.work, what});
     }
+    // Under-resolved: a step taken during the contact was too large for the impact's own
+    // duration (the model's estimate at touch). A contact that is short for other reasons
+    // (grazing, knocked away) is not a finding; a model that misreports its stiffness is the
+    // stiffness check's business.
+    if (world.settings.guard.resolution != GuardAction::Off && !p.bonded &&
+        c.duration < world.settings.guard.min_steps * w.dt_at_max) {
+        const std::string what = describePair(world, p) + " had " + num(c.duration / w.dt_at_max) +
+                                 " steps per contact duration (" + num(c.duration) +
+                                 " s at dt = " + num(w.dt_at_max) +
+                                 " s, t = " + num(world.clock.time) + " s); it lasted " +
+                                 std::to_string(w.steps) + " steps";
+        if (world.settings.guard.resolution == GuardAction::Error)
+            throw NumericalError("impact under-resolved: " + what + "; at least " +
+                                 std::to_string(world.settings.guard.min_steps) +
+                                 " steps are needed");
+        if (world.guard_state.underresolved++ == 0) world.guard_state.underresolved_first = what;
+    }
+    // At the deepest overlap the force may be up to twice the reported stiffness times the
+    // overlap (tangent vs secant), plus what a dashpot up to critical damping,
+    // c = 2 sqrt(m knest), gives at the rate there: about zero for a resolved impact, the
+    // rate just after the deepest overlap for a contact in a packing. A contact no deeper
+    // than the closure of its first step (a graze, or an impact resolved in one step) may
+    // have its deepest overlap at that first step, whose force was computed from the
+    // approach rate, not the rate after, and carries what the model adds for a touch inside
+    // the step: its dashpot over the window from touch, up to 1.5 steps' worth at the
+    // approach rate, and the spring's onset corner, up to knest times an eighth of the
+    // closure (talus/sdk/corners.hpp). In a settled pack such contacts touch at
+    // micrometres per second for a step or two, their overlap a few nanometres, and those
+    // terms are most of their force.
+    const double secant = w.overlap_max > 0.0 ? w.force_at_max / w.overlap_max : 0.0;
+    const double dashpot = 2.0 * std::sqrt(c.mass_eff * w.knest_at_max);
+    const bool shallow = w.overlap_max <= w.closure * (1.0 + 1e-9) + 1e-15;
+    const double allowed =
+        shallow ? 2.0 * w.knest_at_max * (w.overlap_max + 0.125 * w.closure) +
+                      dashpot * std::max(1.5 * w.approach_rate, std::fabs(w.rate_at_max))
+                : 2.0 * w.knest_at_max * w.overlap_max + dashpot * std::fabs(w.rate_at_max);
+    if (world.settings.guard.stiffness != GuardAction::Off && !p.bonded &&
+        w.force_at_max > allowed) {
+        const std::string what =
+            describePair(world, p) + ": at its deepest overlap its normal force was " +
+            num(secant) + " N/m of overlap while it reported knest " + num(w.knest_at_max) +
+            " N/m; the time step follows knest, so the model must report its true tangent "
+            "stiffness (docs/plugin-abi.md, time-step contract)";
+        if (world.settings.guard.stiffness == GuardAction::Error)
+            throw NumericalError("stiffness under-reported: " + what);
+        if (world.guard_state.stiffness_lies++ == 0) world.guard_state.stiffness_lies_first = what;
+    }
+}
+
+}  // namespace
+
+void endContact(World& world, Pair& p, PairCold& c, bool check_guard) {
+    const GuardWatch* w = world.contacts.watchOf(c);
+    if (check_guard && w && w->steps > 0 && w->steps <= kGuardWatch) judgeContact(world, p, c, *w);
     resetPair(world, p);
 }
 

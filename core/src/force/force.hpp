@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "force/kernels.hpp"
 #include "step/narrowphase.hpp"
 #include "world/world.hpp"
 
@@ -30,8 +31,21 @@ inline std::size_t threadRangeStart(std::size_t count, int nthreads, int t) {
 void gatherPairActions(World& world, bool automatic);
 /// The balls' pairs in pair order and their routes, for `nthreads` threads.
 void buildIncidence(World& world, int nthreads);
-void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl);
-bool activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel);
+/// Each rule's kernel rows for this step's loop (ForceScratch::rows), its contacts taken off
+/// their rows where its kernel does not run; the runner the loop is compiled for.
+Runner prepareRuleRows(World& world);
+/// The threads' per-pair records and the incidence, for `nthreads` threads.
+void prepareThreadScratch(World& world, int nthreads);
+/// What a first touch found (activate), for its first finish.
+struct Touch {
+    bool first = false;            // a new contact (not a wall contact taken over)
+    bool born_overlapped = false;  // more overlap than the step's motion could make (placement)
+    double closure = 0.0;          // the overlap the step's motion could make [m]
+};
+/// A pair touching: its contact made (its duration, the guard's watch when `guard`), or a wall
+/// contact taken over from a neighbouring segment's pair (Touch::first false).
+Touch activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, const Vec2& vrel,
+               bool guard);
 void endContact(World& world, Pair& p, PairCold& c, bool check_guard);
 /// The ABI's energy contract for one FDlaw (rare path). `strain_old`, `bond_old`: what the
 /// contact stored before it; `before`: the run's dissipation totals before this step.
@@ -39,9 +53,11 @@ void checkEnergyContract(World& world, const Pair& p, double strain_old, double 
                          const FdBlock& fd, double fn_old, double fs_old, double m_old,
                          const EnergyTotals& before);
 /// Notes a contact born overlapping; returns the placement energy to book (tracing on).
-double notePlacement(World& world, const Pair& p, const PairCold& c, double overlap,
-                     const FdBlock& fd, bool energy);
-void noteDeepest(World& world, const Pair& p, PairCold& c, double force, double rate_after);
+double notePlacement(World& world, const Pair& p, double closure, double overlap, const FdBlock& fd,
+                     bool energy);
+/// The guard's watch: the values at the deepest overlap (the last step's, as it stops growing).
+void noteDeepest(const World& world, const PairCold& c, GuardWatch& w, double force,
+                 double rate_after);
 void queueBreak(World& world, std::size_t index, const Vec2& point, const FdBlock& fd);
 /// The same from the FdBlock's fields: the break mode, and the stresses at failure if the model
 /// gave them (kFdBreakStress).

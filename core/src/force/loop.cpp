@@ -2,24 +2,26 @@
 //
 // Phase 4: the force-displacement law (docs/architecture.md, "Force-displacement"). Every pair
 // goes through three passes, one file each:
-//   1. geometry (pass_geometry.hpp): its narrowphase and, for a contact, its FdBlock;
-//   2. the law (pass_law.hpp): the model's batched FDlaw (one contact per call: no virtual
-//      call), or FDlaw;
+//   1. geometry (pass_geometry.hpp): its narrowphase and, for a contact, its law's inputs;
+//   2. the law (pass_law.hpp): the host's kernel of the model's law on the contact's row, or the
+//      model's FDlaw (the runner table, kernels.hpp);
 //   3. finish (pass_finish.hpp): forces onto the ends, the time-step notes, the books, the guard.
-// This file only sequences them. One thread runs them pair after pair (pair.hpp: runPair),
-// adding each contact onto its ends at once; contacts in a model's lanes go by blocks
-// (lane_block.hpp). The automatic step, energy tracing and the guard are template switches
-// (LoopFeatures), so a fixed-step run without tracing pays nothing for them.
+// This file only sequences them: one pair at a time through runPair (pair.hpp), on one thread or
+// on several. The automatic step, energy tracing and the guard are template switches
+// (LoopFeatures), so a fixed-step run without tracing pays nothing for them; the loop is compiled
+// for the kernel the scene's rules run (Runner), so that the law of a pack of one model needs no
+// switch per contact.
 //
-// Threads (docs/architecture.md, "Threads") own contiguous ranges of pairs and run all three
-// passes on them, with what reaches beyond the pair kept aside: each pair's action on its ends
-// goes into its PairAction, and whatever allocates or frees model objects, raises an event or
-// touches another pair (activation, a wall pair, a break, the end of a contact, a pair to remove)
-// into the thread's list of deferred work, in pair order. Then one thread does the deferred work
-// of all threads in pair order, and the balls gather their pairs' actions in pair order
-// (threads.cpp: gatherPairActions). Every sum is thus made of the same terms in the same order as
-// on one thread, the time-step limits take the lowest pair on a tie, and the result is the same
-// bit for bit for any thread count (lua.regress.force_loop_identical).
+// Threads (docs/architecture.md, "Threads") own contiguous ranges of pairs and run the same
+// runPair on them, with what reaches beyond the pair kept aside: a pair's action on a ball the
+// thread does not own goes into its PairAction, and whatever allocates or frees model objects,
+// raises an event or touches another pair (activation, a wall pair, a break, the end of a
+// contact, a pair to remove) into the thread's list of deferred work, in pair order. Then one
+// thread does the deferred work of all threads in pair order, and the balls gather their pairs'
+// actions in pair order (threads.cpp: gatherPairActions). Every sum is thus made of the same
+// terms in the same order as on one thread, the time-step limits take the lowest pair on a tie,
+// and the result is the same bit for bit for any thread count
+// (lua.regress.force_loop_identical).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -28,7 +30,6 @@
 #include <vector>
 
 #include "force/force.hpp"
-#include "force/lane_block.hpp"
 #include "force/pair.hpp"
 #include "force/view.hpp"
 #include "step/detection.hpp"
@@ -44,135 +45,178 @@
 
 namespace talus {
 
+void ForceScratchDelete::operator()(ForceScratch* s) const { delete s; }
+
+ForceScratch& forceScratch(World& world) {
+    auto& held = world.contacts.force_scratch;
+    if (!held) held.reset(new ForceScratch);
+    return *held;
+}
+
 ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template, int nthreads,
-                    bool lanes, bool blocks, bool groups) {
+                    bool groups) {
     auto& b = world.bodies.balls;
-    ForceScratch& scratch = world.contacts.force_scratch;
+    ForceScratch& scratch = forceScratch(world);
     return ForceView{world, world.contacts.pairs, world.contacts.cold, world.contacts.stored,
-                     world.contacts.rules.data(), b.pos.data(), b.vel.data(), b.radius.data(),
-                     b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
+                     world.contacts.rules.data(), scratch.rows.data(), b.pos.data(), b.vel.data(),
+                     b.radius.data(), b.spin.data(), b.fat.data(), b.force.data(), b.moment.data(),
                      world.bodies.walls.data(), world.bodies.segments.data(),
                      world.contacts.ball_moved.data(), world.contacts.segment_moved.data(),
                      scratch.route.data(), scratch.actions.data(),
                      step.automatic && nthreads > 1 ? scratch.stiffness.data() : nullptr,
                      step.energy && nthreads > 1 ? scratch.energies.data() : nullptr,
-                     world.contacts.to_remove, scratch.apart, step.dt, step.window, fd_template,
+                     world.contacts.to_remove, step.dt, step.window, fd_template,
                      // the dissipation totals before this step, for the energy contract's check
                      // (the same for every contact, so for every thread count)
-                     world.books.acc, world.settings.batched_law, lanes, blocks, groups};
+                     world.books.acc, groups};
+}
+
+/// Each rule's kernel rows this step: its kernel where the kernels are on, else none, and a rule
+/// without them takes its contacts off their rows (their objects run FDlaw). Returns the runner
+/// the loop is compiled for: the one kernel that every rule with contacts on rows runs, or Any.
+/// (Contacts offered to the rows in this step enter them after its loop.)
+Runner prepareRuleRows(World& world) {
+    ForceScratch& scratch = forceScratch(world);
+    auto& rules = world.contacts.rules;
+    scratch.rows.assign(rules.size(), RuleRows{});
+    bool leave = false;
+    Kernel only = Kernel::None;
+    bool mixed = false;
+    for (std::size_t r = 0; r < rules.size(); ++r) {
+        Rule& rule = *rules[r];
+        const Kernel k = world.settings.kernels ? rule.kernel : Kernel::None;
+        leave = leave || (k == Kernel::None && rule.lanes && rule.lanes->used() > 0);
+        if (k == Kernel::None) continue;
+        if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
+        scratch.rows[r] =
+            RuleRows{rule.lanes->state(), static_cast<uint32_t>(rule.lanes->law().state_size), k};
+        if (rule.lanes->used() == 0) continue;
+        mixed = mixed || (only != Kernel::None && only != k);
+        only = k;
+    }
+    if (leave)
+        for (Pair& p : world.contacts.pairs)
+            if (p.lane != kNoLane && scratch.rows[p.rule].kernel == Kernel::None)
+                leaveLane(world.contacts, p);
+    if (mixed) return Runner::Any;
+    if (only == Kernel::Linear) return Runner::Linear;
+    if (only == Kernel::ContactBond) return Runner::ContactBond;
+    return Runner::Any;
 }
 
 namespace {
 
-/// The threads' ranges: contiguous, of equal pair counts; then the serial part.
-template <class Features>
-void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nthreads) {
-#ifdef TALUS_HAVE_OPENMP
-    World& world = v.world;
-    ForceScratch& scratch = world.contacts.force_scratch;
-    ++world.profile.threaded_steps;
-    auto& parts = scratch.parts;
-    auto& balls = world.bodies.balls;
-    const std::size_t nballs = balls.size();
-    uint16_t* route = scratch.route.data();
-    // Until the routes are whole again (gatherPairActions), a failure must rebuild them.
-    const uint64_t routes_version = scratch.incidence_version;
-    scratch.incidence_version = UINT64_MAX;
-#pragma omp parallel num_threads(nthreads)
-    {
-        const int t = omp_get_thread_num();
-        ForceThreadPart& part = parts[static_cast<std::size_t>(t)];
-        const std::size_t lo = threadRangeStart(npairs, nthreads, t);
-        const std::size_t hi = threadRangeStart(npairs, nthreads, t + 1);
-        // Every ball's sums start from zero (a thread adds onto the balls it owns at once).
-        for (std::size_t k = threadRangeStart(nballs, nthreads, t);
-             k < threadRangeStart(nballs, nthreads, t + 1); ++k) {
-            balls.force[k] = Vec2::Zero();
-            balls.moment[k] = 0.0;
-            if constexpr (Features::kAuto) balls.k_tran[k] = balls.k_rot[k] = 0.0;
+/// A part's state at the start of a step.
+void resetPart(ForceThreadPart& part, uint16_t index, const FdBlock& tmpl) {
+    part.index = index;
+    part.fd = tmpl;
+    part.counts = LawCounts{};
+    part.row_entries.clear();
+    part.row_releases.clear();
+    part.items.clear();
+    part.diverted.clear();
+    part.watch_ends.clear();
+    part.apart.clear();
+    part.contracts.clear();
+    part.limits = StepLimits{};
+    part.finite_check = 0.0;
+    part.failure = nullptr;
+    part.failure_pair = SIZE_MAX;
+}
+
+/// After the loop: the guard's watches that ended in it, freed; the list compacted when most of
+/// it is free.
+void settleWatches(World& world, const ForceThreadPart* parts, std::size_t count) {
+    ContactStore& cs = world.contacts;
+    for (std::size_t t = 0; t < count; ++t)
+        for (const uint32_t i : parts[t].watch_ends)
+            if (!cs.pairs[i].watched) cs.endWatch(cs.pairs[i], cs.cold[i]);
+    cs.compactWatches();
+}
+
+/// After the loop, in pair order: the rows the threads let go, then the contacts offered to
+/// their rule's rows, up to the first pair that failed.
+void settleRows(World& world, ForceThreadPart* parts, std::size_t count, std::size_t failed) {
+    for (std::size_t t = 0; t < count; ++t)
+        for (const auto& [table, row] : parts[t].row_releases) table->release(row);
+    for (std::size_t t = 0; t < count; ++t)
+        for (const uint32_t i : parts[t].row_entries) {
+            if (i >= failed) break;
+            Pair& p = world.contacts.pairs[i];
+            if (p.active && p.lane == kNoLane) enterLane(world.contacts, p);
         }
-#pragma omp barrier
-        // A pair left to the serial part adds onto its balls after the thread's later pairs:
-        // from it on, the thread's pairs record what they do to those balls (gatherPairActions).
-        const auto defer = [&](std::size_t i) {
-            const auto divert = [&](uint32_t k) {
-                if (route[k] != part.index) return;
-                route[k] = kRouteDiverted;
-                part.diverted.emplace_back(k, static_cast<uint32_t>(i));
-            };
-            const Pair& p = v.pairs[i];
-            divert(p.end1);
-            if (!p.wall) divert(p.end2);
-            part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
-        };
-        std::size_t i = lo;
-        try {
-            PairEntry e;
-            LaneCounts counts;
-            if (v.blocks) part.lanes.prepare();
-            while (i < hi) {
-                if (v.blocks) {
-                    std::size_t at = i;
-                    try {
-                        const std::size_t next = runLaneBlock<Features, Delivery::Parallel>(
-                            v, sums, i, hi, part.lanes, &part, part.error, counts, at);
-                        if (next != i) {
-                            i = next;
-                            continue;
-                        }
-                    } catch (...) {
-                        i = at;
-                        throw;
-                    }
-                }
-                prefetchModel(v, i, hi);
-                if (v.pairs[i].wall) {
-                    defer(i);
-                    ++i;
-                    continue;
-                }
-                const bool kernel = v.pairs[i].lane != kNoLane;  // (blocks ran above)
-                const PairStep step = geometryPass<Features>(v, i, e, kernel ? nullptr : &part.fd);
-                if (step == PairStep::Contact) {
-                    Pair& p = v.pairs[i];
-                    if (kernel) {
-                        kernelContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd,
-                                                                    part.error, counts, &part);
-                    } else {
-                        lawPass(v, i, part.fd, part.error, counts.batched);
-                        finishContact<Features, Delivery::Parallel>(v, sums, i, e, part.fd, false,
-                                                                    &part);
-                    }
-                    if (v.lanes && p.lane == kNoLane && laneable(v, p))
-                        part.lane_entries.push_back(static_cast<uint32_t>(i));
-                } else if (step == PairStep::Apart) {
-                    finishApart<Features, Delivery::Parallel>(v, i, step, &part);
-                } else {  // Touch
-                    defer(i);
-                }
-                ++i;
-            }
-            part.batched = counts.batched;
-            part.lane_steps = counts.steps;
-            part.lane_declined = counts.declined;
-            part.kernel_steps = counts.kernel;
-            part.kernel_declined = counts.kernel_declined;
-        } catch (...) {
-            part.failure = std::current_exception();
-            part.failure_pair = i;
-        }
+}
+
+/// The parts' counts and sums after the loop.
+void mergeParts(World& world, const ForceThreadPart* parts, std::size_t count, bool automatic,
+                double& finite_check) {
+    for (std::size_t t = 0; t < count; ++t) {
+        const ForceThreadPart& part = parts[t];
+        finite_check += part.finite_check;
+        world.profile.kernel_steps += part.counts.kernel;
+        world.profile.kernel_declined += part.counts.kernel_declined;
+        if (automatic) world.stepping.limits.merge(part.limits);
     }
-    // ---- the serial part: the threads' deferred work in pair order, up to the first pair that
-    // failed (as one thread would have stopped there)
+}
+
+/// The approach limits of the parts' pairs apart, from the step's complete forces (after the
+/// threads' gather).
+void noteApproachesOf(World& world, const ForceThreadPart* parts, std::size_t count) {
+    for (std::size_t t = 0; t < count; ++t)
+        noteApproaches(world, parts[t].apart, world.stepping.limits);
+}
+
+/// One thread: every pair in order, each onto its ends at once.
+template <class Features, Runner R>
+void runOneThread(const ForceView& v, ForceSums& sums, std::size_t npairs, ForceThreadPart& part) {
+    try {
+        for (std::size_t i = 0; i < npairs;)
+            i = runPair<Features, Delivery::Direct, R>(v, sums, i, npairs, part);
+    } catch (...) {
+        // (what the loop did so far stands; the rows it let go are free again)
+        settleRows(v.world, &part, 1, 0);
+        settleWatches(v.world, &part, 1);
+        throw;
+    }
+}
+
+#ifdef TALUS_HAVE_OPENMP
+/// A thread's range of pairs (Delivery::Parallel): the balls' sums from zero over the thread's
+/// share of balls, then its pairs; a failure is kept with the pair it stopped at.
+template <class Features, Runner R>
+void runThreadRange(const ForceView& v, ForceSums& sums, std::size_t npairs, int nthreads,
+                    ForceThreadPart& part) {
+    auto& balls = v.world.bodies.balls;
+    const int t = part.index;
+    const std::size_t nballs = balls.size();
+    for (std::size_t k = threadRangeStart(nballs, nthreads, t);
+         k < threadRangeStart(nballs, nthreads, t + 1); ++k) {
+        balls.force[k] = Vec2::Zero();
+        balls.moment[k] = 0.0;
+        if constexpr (Features::kAuto) balls.k_tran[k] = balls.k_rot[k] = 0.0;
+    }
+#pragma omp barrier
+    const std::size_t hi = threadRangeStart(npairs, nthreads, t + 1);
+    std::size_t i = threadRangeStart(npairs, nthreads, t);
+    try {
+        while (i < hi) i = runPair<Features, Delivery::Parallel, R>(v, sums, i, hi, part);
+    } catch (...) {
+        part.failure = std::current_exception();
+        part.failure_pair = i;
+    }
+}
+
+/// The threads' serial part: their deferred work in pair order, up to the first pair that
+/// failed (as one thread would have stopped there). Returns that pair (SIZE_MAX: none).
+template <class Features>
+std::size_t runSerialPart(const ForceView& v, ForceSums& sums, std::size_t npairs,
+                          ForceThreadPart* parts, int nthreads, ForceThreadPart& serial) {
+    World& world = v.world;
     std::size_t failed = SIZE_MAX;
-    const ForceThreadPart* failed_part = nullptr;
-    for (const auto& part : parts)
-        if (part.failure && part.failure_pair < failed)
-            failed = part.failure_pair, failed_part = &part;
-    PairEntry e;
-    FdBlock& fd = parts[0].fd;
-    LaneCounts serial;
-    for (auto& part : parts) {
+    for (int t = 0; t < nthreads; ++t)
+        if (parts[t].failure && parts[t].failure_pair < failed) failed = parts[t].failure_pair;
+    for (int t = 0; t < nthreads; ++t) {
+        const ForceThreadPart& part = parts[t];
         for (const DeferredItem& item : part.items) {
             const std::size_t i = item.pair;
             if (i >= failed) break;
@@ -180,8 +224,8 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                 case Deferred::Pair:
                     // (a vertex hand-over leaves the contact's new holder in slot i: again)
                     for (std::size_t next = i; next == i;)
-                        next = runPair<Features, Delivery::Serial>(v, sums, i, npairs, e, fd,
-                                                                   scratch.error, serial);
+                        next = runPair<Features, Delivery::Serial, Runner::Any>(v, sums, i, npairs,
+                                                                                serial);
                     break;
                 case Deferred::Break:
                     queueBreak(world, i, item.point, item.break_mode,
@@ -201,126 +245,75 @@ void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nth
                 }
             }
         }
-        sums.finite_check += part.finite_check;
-        serial.batched += part.batched;
-        world.profile.lane_steps += part.lane_steps;
-        world.profile.lane_declined += part.lane_declined;
-        world.profile.kernel_steps += part.kernel_steps;
-        world.profile.kernel_declined += part.kernel_declined;
-        if constexpr (Features::kAuto) world.stepping.limits.merge(part.limits);
     }
-    world.profile.batched_laws += serial.batched;
-    world.profile.lane_steps += serial.steps;
-    world.profile.lane_declined += serial.declined;
-    world.profile.kernel_steps += serial.kernel;
-    world.profile.kernel_declined += serial.kernel_declined;
-    // The lanes' rows the threads let go, then the contacts they offer (in pair order).
-    for (auto& part : parts)
-        for (const auto& [table, row] : part.lane_releases) table->release(row);
-    for (auto& part : parts)
-        for (const uint32_t i : part.lane_entries)
-            if (i < failed) offerLane(v, v.pairs[i]);
-    if (failed_part) std::rethrow_exception(failed_part->failure);
+    return failed;
+}
+#endif
+
+/// Threads: their ranges of pairs in parallel, the serial part, the rows, then the gather of
+/// the balls no one thread added onto and the energy books in pair order.
+template <class Features, Runner R>
+void runThreads(const ForceView& v, ForceSums& sums, std::size_t npairs, int nthreads,
+                double& finite_check) {
+#ifdef TALUS_HAVE_OPENMP
+    World& world = v.world;
+    ForceScratch& scratch = forceScratch(world);
+    ++world.profile.threaded_steps;
+    auto& parts = scratch.parts;
+    // Until the routes are whole again (gatherPairActions), a failure must rebuild them.
+    const uint64_t routes_version = scratch.incidence_version;
+    scratch.incidence_version = UINT64_MAX;
+#pragma omp parallel num_threads(nthreads)
+    runThreadRange<Features, R>(v, sums, npairs, nthreads,
+                                parts[static_cast<std::size_t>(omp_get_thread_num())]);
+    ForceThreadPart& serial = parts[static_cast<std::size_t>(nthreads)];
+    const std::size_t failed =
+        runSerialPart<Features>(v, sums, npairs, parts.data(), nthreads, serial);
+    mergeParts(world, parts.data(), parts.size(), Features::kAuto, finite_check);
+    settleRows(world, parts.data(), parts.size(), failed);
+    settleWatches(world, parts.data(), parts.size());
+    for (const auto& part : parts)
+        if (part.failure && part.failure_pair == failed) std::rethrow_exception(part.failure);
     gatherPairActions(world, Features::kAuto);
     scratch.incidence_version = routes_version;
+    if constexpr (Features::kAuto) noteApproachesOf(world, parts.data(), parts.size());
     if constexpr (Features::kEnergy)
         for (std::size_t i = 0; i < npairs; ++i)
             if (v.energies[i].what) bookPairEnergy(world.books, sums, v.energies[i]);
 #else
-    (void)v, (void)sums, (void)npairs, (void)nthreads;
+    (void)v, (void)sums, (void)npairs, (void)nthreads, (void)finite_check;
 #endif
 }
 
+/// What the loop leaves at its start: the sums it adds onto from zero, the step's FdBlock.
 template <class Features>
-void forceLoop(World& world, const StepContext& step) {
+FdBlock startLoop(World& world, const StepContext& step, int nthreads) {
     auto& b = world.bodies.balls;
-    ForceScratch& scratch = world.contacts.force_scratch;
-    const std::size_t npairs = world.contacts.pairs.size();
-    const int nthreads = forceThreads(world, npairs);
-    world.clock.threads = nthreads;
     if (nthreads <= 1) {
         std::fill(b.force.begin(), b.force.end(), Vec2::Zero());
         std::fill(b.moment.begin(), b.moment.end(), 0.0);
-    }  // (threads: the gather writes every ball)
-    for (auto& w : world.bodies.walls) w.force.setZero(), w.moment = 0.0, w.knest = 0.0;
-    if constexpr (Features::kAuto) {
-        if (nthreads <= 1) {
+        if constexpr (Features::kAuto) {
             std::fill(b.k_tran.begin(), b.k_tran.end(), 0.0);
             std::fill(b.k_rot.begin(), b.k_rot.end(), 0.0);
         }
+    }  // (threads: each zeroes its share of the balls)
+    for (auto& w : world.bodies.walls) w.force.setZero(), w.moment = 0.0, w.knest = 0.0;
+    if constexpr (Features::kAuto) {
         world.stepping.limits = StepLimits{};
         world.stepping.limits_stale = false;
-        scratch.apart.clear();
     }
     FdBlock fd_template = world.contacts.fd_template;
     fd_template.tdel = step.dt;
     fd_template.time = world.clock.time;
     fd_template.flags = Features::kEnergy ? kFdEnergyOn : 0u;
     world.contacts.to_remove.clear();
-    const bool groups = Features::kEnergy && step.groups;
-    if (groups) groupForceLoopStart(world);
-    // How each rule's contacts run this step (LaneMode): the model's lane law over blocks if
-    // m:lanes asks for it, else the host's kernel of the model's law (kernels.hpp) where it has
-    // one, else its law per contact. A rule without them takes its contacts out first (their
-    // objects run FDlaw).
-    bool lanes = false, blocks = false, leave = false;
-    for (const auto& rule : world.contacts.rules) {
-        LaneMode mode = LaneMode::None;
-        if (rule->factory) {
-            if (world.settings.lanes && world.settings.batched_law && rule->factory->lanes)
-                mode = LaneMode::Blocks;
-            else if (rule->kernel != Kernel::None && world.settings.kernels)
-                mode = LaneMode::Kernel;
-        }
-        leave = leave || (mode != rule->lane_mode && rule->lanes && rule->lanes->used() > 0);
-        rule->lane_mode = mode;
-        lanes = lanes || mode != LaneMode::None;
-        blocks = blocks || mode == LaneMode::Blocks;
-    }
-    if (leave)
-        for (Pair& p : world.contacts.pairs)
-            if (p.lane != kNoLane && world.contacts.ruleOf(p).lane_mode == LaneMode::None)
-                leaveLane(world.contacts, p);
-    if (nthreads > 1) prepareForceScratch(world, nthreads, fd_template);
-    const ForceView v = forceView(world, step, fd_template, nthreads, lanes, blocks, groups);
-    ForceSums sums;
+    return fd_template;
+}
 
-    if (nthreads <= 1) {
-        PairEntry e;
-        FdBlock fd = fd_template;
-        LaneCounts counts;
-        LaneScratch& ls = scratch.lanes;
-        if (blocks) ls.prepare();
-        std::size_t at = 0;
-        if (blocks) {
-            for (std::size_t i = 0; i < npairs;) {
-                const std::size_t next = runLaneBlock<Features, Delivery::Direct>(
-                    v, sums, i, npairs, ls, nullptr, scratch.error, counts, at);
-                i = next != i ? next
-                              : runPair<Features, Delivery::Direct>(v, sums, i, npairs, e, fd,
-                                                                    scratch.error, counts);
-            }
-        } else {
-            for (std::size_t i = 0; i < npairs;)
-                i = runPair<Features, Delivery::Direct>(v, sums, i, npairs, e, fd, scratch.error,
-                                                        counts);
-        }
-        world.profile.batched_laws += counts.batched;
-        world.profile.lane_steps += counts.steps;
-        world.profile.lane_declined += counts.declined;
-        world.profile.kernel_steps += counts.kernel;
-        world.profile.kernel_declined += counts.kernel_declined;
-    } else {
-        runThreads<Features>(v, sums, npairs, nthreads);
-    }
-    if constexpr (Features::kAuto) {
-        noteApproaches(world, scratch.apart, world.stepping.limits);
-        if (nthreads > 1)
-            for (const auto& part : scratch.parts)
-                noteApproaches(world, part.apart, world.stepping.limits);
-    }
-
-    if (!std::isfinite(sums.finite_check)) findNonFiniteContact(world);
+/// What follows the loop: the check of the laws' outputs, the pairs to remove, the books.
+template <class Features>
+void endLoop(World& world, const ForceSums& sums, double finite_check, bool groups) {
+    if (!std::isfinite(finite_check)) findNonFiniteContact(world);
     auto& to_remove = world.contacts.to_remove;
     for (auto it = to_remove.rbegin(); it != to_remove.rend(); ++it) removePair(world, *it);
     clearMovedFlags(world);
@@ -337,33 +330,75 @@ void forceLoop(World& world, const StepContext& step) {
     }
 }
 
+template <class Features, Runner R>
+void forceLoop(World& world, const StepContext& step, int nthreads) {
+    ForceScratch& scratch = forceScratch(world);
+    const std::size_t npairs = world.contacts.pairs.size();
+    const FdBlock fd_template = startLoop<Features>(world, step, nthreads);
+    const bool groups = Features::kEnergy && step.groups;
+    if (groups) groupForceLoopStart(world);
+    // One part per thread, and one for the threads' serial part.
+    const std::size_t nparts = nthreads > 1 ? static_cast<std::size_t>(nthreads) + 1 : 1;
+    scratch.parts.resize(nparts);
+    for (std::size_t t = 0; t < nparts; ++t)
+        resetPart(scratch.parts[t], static_cast<uint16_t>(t), fd_template);
+    if (nthreads > 1) prepareThreadScratch(world, nthreads);
+    const ForceView v = forceView(world, step, fd_template, nthreads, groups);
+    ForceSums sums;
+    double finite_check = 0.0;
+    if (nthreads <= 1) {
+        ForceThreadPart& part = scratch.parts[0];
+        runOneThread<Features, R>(v, sums, npairs, part);
+        mergeParts(world, &part, 1, Features::kAuto, finite_check);
+        settleRows(world, &part, 1, SIZE_MAX);
+        settleWatches(world, &part, 1);
+        if constexpr (Features::kAuto) noteApproachesOf(world, &part, 1);
+    } else {
+        runThreads<Features, R>(v, sums, npairs, nthreads, finite_check);
+    }
+    endLoop<Features>(world, sums, finite_check, groups);
+}
+
+/// The loop compiled for the scene's runner.
+template <class Features>
+void forceLoopFor(World& world, const StepContext& step) {
+    const int nthreads = forceThreads(world, world.contacts.pairs.size());
+    world.clock.threads = nthreads;
+    switch (prepareRuleRows(world)) {
+        case Runner::Linear:
+            return forceLoop<Features, Runner::Linear>(world, step, nthreads);
+        case Runner::ContactBond:
+            return forceLoop<Features, Runner::ContactBond>(world, step, nthreads);
+        case Runner::Any:
+            return forceLoop<Features, Runner::Any>(world, step, nthreads);
+    }
+}
+
 }  // namespace
 
 void forceDisplacement(World& world, const StepContext& step) {
     // The guard follows a contact through its first steps (Pair::watched). Switched on over
     // contacts that are older, it leaves them be, as it would have after their first steps.
     if (step.guard && !world.stepping.guard_was_on)
-        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-            Pair& p = world.contacts.pairs[i];
-            if (p.active) p.watched = false, world.contacts.cold[i].steps = kGuardWatch + 1;
-        }
+        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i)
+            world.contacts.endWatch(world.contacts.pairs[i], world.contacts.cold[i]);
     world.stepping.guard_was_on = step.guard;
     if (!step.automatic) world.stepping.estimates_stale = true;
     // Dispatch once per step to the loop compiled for exactly what this scene needs.
     if (step.automatic) {
         if (step.energy)
-            step.guard ? forceLoop<LoopFeatures<true, true, true>>(world, step)
-                       : forceLoop<LoopFeatures<true, true, false>>(world, step);
+            step.guard ? forceLoopFor<LoopFeatures<true, true, true>>(world, step)
+                       : forceLoopFor<LoopFeatures<true, true, false>>(world, step);
         else
-            step.guard ? forceLoop<LoopFeatures<true, false, true>>(world, step)
-                       : forceLoop<LoopFeatures<true, false, false>>(world, step);
+            step.guard ? forceLoopFor<LoopFeatures<true, false, true>>(world, step)
+                       : forceLoopFor<LoopFeatures<true, false, false>>(world, step);
     } else {
         if (step.energy)
-            step.guard ? forceLoop<LoopFeatures<false, true, true>>(world, step)
-                       : forceLoop<LoopFeatures<false, true, false>>(world, step);
+            step.guard ? forceLoopFor<LoopFeatures<false, true, true>>(world, step)
+                       : forceLoopFor<LoopFeatures<false, true, false>>(world, step);
         else
-            step.guard ? forceLoop<LoopFeatures<false, false, true>>(world, step)
-                       : forceLoop<LoopFeatures<false, false, false>>(world, step);
+            step.guard ? forceLoopFor<LoopFeatures<false, false, true>>(world, step)
+                       : forceLoopFor<LoopFeatures<false, false, false>>(world, step);
     }
 }
 

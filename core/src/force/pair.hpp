@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 //
-// One pair through the three passes (geometry, law, finish), on one thread or in the threads'
-// serial part, and the rare pairs that take the serial path: a first touch (activation) and a
-// wall contact handed over at a vertex. Not installed.
+// One pair through the three passes (geometry, law, finish): the same code on one thread, in a
+// thread's range of pairs and in the threads' serial part (the Delivery says what reaches beyond
+// the pair), for a loop compiled for one kernel's rows or any (the Runner). The rare pairs take
+// the serial path: a first touch (activation) and a wall contact handed over at a vertex. Not
+// installed.
 #pragma once
 
 #include <cstddef>
 #include <string>
 
-#include "force/kernels.hpp"
 #include "force/pass_finish.hpp"
 #include "force/pass_geometry.hpp"
 #include "force/pass_law.hpp"
@@ -20,7 +21,7 @@ namespace talus {
 /// A contact whose law runs through FDlaw reads its object and the first line of its cold record
 /// (the effective masses), which live apart from the pair: ask for both a few pairs ahead of
 /// pair i (the first three cache lines of the object: the shipped models' objects are 88 to 184
-/// bytes). A contact in lanes needs neither.
+/// bytes). A contact on a kernel row needs neither.
 constexpr std::size_t kPrefetchAhead = 4;
 __attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std::size_t i,
                                                          std::size_t end) {
@@ -34,71 +35,34 @@ __attribute__((always_inline)) inline void prefetchModel(const ForceView& v, std
     __builtin_prefetch(&v.cold[i + kPrefetchAhead]);
 }
 
-/// A contact whose rule runs in lanes this step (a kernel, or lane blocks) goes into them after an
-/// FDlaw, if the model's lane law takes it now (docs/plugin-abi.md, "Lanes").
-inline bool laneable(const ForceView& v, const Pair& p) {
-    return !p.wall && v.rule(p).lane_mode != LaneMode::None;
-}
-inline void offerLane(const ForceView& v, Pair& p) {
-    if (v.lanes && p.active && p.lane == kNoLane && laneable(v, p)) enterLane(v.world.contacts, p);
+/// A contact whose rule runs a kernel this step goes onto a row after an FDlaw, if its model
+/// takes it now (docs/plugin-abi.md, "Kernels"): noted here, done after the loop in pair order
+/// (the rows' tables do not grow while the loop reads them). Wall contacts stay with FDlaw.
+inline void offerRow(const ForceView& v, const Pair& p, std::size_t i, ForceThreadPart& part) {
+    if (p.active && p.lane == kNoLane && !p.wall && v.rowsOf(p).kernel != Kernel::None)
+        part.row_entries.push_back(static_cast<uint32_t>(i));
 }
 
-/// Passes 2 and 3 for a contact in its rule's lanes whose law the host runs (kernels.hpp): the
-/// kernel on the contact's row, or, where it declines, the object brought up to date, FDlaw, and
-/// back into its row if the model takes it. Pass 1 left the law's inputs in `e`.
-template <class Features, Delivery kMode>
+/// Passes 2 and 3 for a contact on a kernel row: the kernel (runner R), or, where it declines,
+/// FDlaw on the object brought up to date (kernelLaw). Pass 1 left the law's inputs in `e`.
+template <class Features, Delivery kMode, Runner R>
 __attribute__((always_inline)) inline void kernelContact(const ForceView& v, ForceSums& sums,
                                                          std::size_t i, const PairEntry& e,
-                                                         FdBlock& fd, std::string& error,
-                                                         LaneCounts& counts,
-                                                         ForceThreadPart* part) {
-    Pair& p = v.pairs[i];
-    const Rule& rule = v.rule(p);
-    LaneTable& table = *rule.lanes;
-    double* row = table.row(p.lane);
+                                                         ForceThreadPart& part) {
     KernelFd kf;
-    kf.flags = v.fd_template.flags;
-    kf.tdel = v.dt;
-    kf.time = v.fd_template.time;
-    kf.u_n = e.g.overlap;
-    kf.u_dot_n = e.u_dot_n;
-    kf.u_dot_s = e.u_dot_s;
-    kf.t_dot_rel = e.t_dot_rel;
-    kf.du_n = kf.u_dot_n * v.dt;
-    kf.du_s = kf.u_dot_s * v.dt;
-    kf.dtheta = kf.t_dot_rel * v.dt;
-    kf.n_force = p.n_force;
-    kf.s_force = p.s_force;
-    kf.moment = p.moment;
-    if constexpr (Features::kEnergy)
-        for (double& en : kf.energy) en = 0.0;
-    ++counts.kernel;
-    if (runKernel(rule.kernel, row, &v.cold[i], kf)) {
-        finishContact<Features, kMode>(v, sums, i, e, kf, false, part);
-        return;
-    }
-    ++counts.kernel_declined;
-    ContactModel* model = v.pairs[i].model;
-    table.law().unpack(model, row);
-    fd = v.fd_template;
-    fillFd<Features>(v, i, e.g.overlap, e.u_dot_n, e.u_dot_s, e.t_dot_rel, fd);
-    lawPass(v, i, fd, error, counts.batched);
-    if (table.law().pack(model, row) == 0) {
-        if constexpr (kMode == Delivery::Parallel)
-            part->lane_releases.emplace_back(&table, p.lane);
-        else
-            table.release(p.lane);
-        p.lane = kNoLane;
-    }
-    finishContact<Features, kMode>(v, sums, i, e, fd, false, part);
+    if (kernelLaw<Features, R>(v, i, e, kf, part.fd, part, kMode != Delivery::Parallel))
+        finishContact<Features, kMode>(v, sums, i, e, kf, kNoTouch, part);
+    else
+        finishContact<Features, kMode>(v, sums, i, e, part.fd, kNoTouch, part);
 }
 
-/// A rare pair, alone (never in a thread's range); returns the next pair to process. Pass 1
-/// left its geometry in `e` and its FdBlock in `fd`.
+/// A rare pair, alone (one thread, or the threads' serial part); returns the next pair to
+/// process. Pass 1 left its geometry in `e` and its FdBlock in part.fd.
 template <class Features, Delivery kMode>
 std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, PairStep stop,
-                            PairEntry& e, FdBlock& fd, std::string& error) {
+                            const PairEntry& e, ForceThreadPart& part) {
     World& world = v.world;
+    FdBlock& fd = part.fd;
     if (stop == PairStep::HandOver) {
         // The contact crossed a convex vertex and moves, state and all, to the holder's pair,
         // which now sits in slot i: process slot i again (a pair may have been created).
@@ -112,7 +76,7 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
             if (v.groups) bookReleasedToGroups(world, p, stored);
         }
         endContact(world, p, v.cold[i], Features::kGuard);
-        finishApart<Features, kMode>(v, i, PairStep::Elsewhere, nullptr);
+        finishApart<Features, kMode>(v, i, PairStep::Elsewhere, part);
         if constexpr (Features::kEnergy && kMode != Delivery::Direct) {
             v.energies[i] = PairEnergy{};
             v.energies[i].what = PairEnergy::kHandOver;
@@ -123,8 +87,8 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
     // A pair touching for the first time: activate it, then its law (FDlaw, and the first
     // call's flags), then its finish.
     Pair& p = v.pairs[i];
-    const bool first = activate(world, p, v.cold[i], e.g, e.vrel);
-    if (first) {
+    const Touch touch = activate(world, p, v.cold[i], e.g, e.vrel, Features::kGuard);
+    if (touch.first) {
         fd.flags |= kFdFirstCall | v.world.contacts.activation_flags;
     } else {
         // A wall pair that took over its chain's contact from a neighbouring segment's pair
@@ -133,40 +97,67 @@ std::size_t processRarePair(const ForceView& v, ForceSums& sums, std::size_t i, 
         fd.s_force = p.s_force;
         fd.moment = p.moment;
     }
-    callLaw(v.pairs[i].model, fd, error);
-    finishContact<Features, kMode>(v, sums, i, e, fd, first, nullptr);
-    offerLane(v, p);
+    callLaw(v.pairs[i].model, fd, part.error);
+    finishContact<Features, kMode>(v, sums, i, e, fd, touch, part);
+    offerRow(v, p, i, part);
     return i + 1;
 }
 
-/// One pair, all three passes, on one thread (Direct) or in the threads' serial part; returns
-/// the next pair to process.
-template <class Features, Delivery kMode>
+/// A pair a thread leaves to the serial part (a wall pair, a first touch). Its balls' later
+/// pairs in this thread's range must not add onto them before it: from it on, they are recorded
+/// (diverted) and gathered after the serial part (gatherPairActions).
+inline void deferPair(const ForceView& v, std::size_t i, ForceThreadPart& part) {
+    const auto divert = [&](uint32_t k) {
+        if (v.route[k] != part.index) return;
+        v.route[k] = kRouteDiverted;
+        part.diverted.emplace_back(k, static_cast<uint32_t>(i));
+    };
+    const Pair& p = v.pairs[i];
+    divert(p.end1);
+    if (!p.wall) divert(p.end2);
+    part.items.push_back({static_cast<uint32_t>(i), Deferred::Pair});
+}
+
+/// One pair, all three passes; returns the next pair to process. In a thread's range
+/// (Delivery::Parallel) a wall pair and a first touch are deferred to the serial part; on one
+/// thread and in the serial part they are processed here.
+template <class Features, Delivery kMode, Runner R>
 __attribute__((always_inline)) inline std::size_t runPair(const ForceView& v, ForceSums& sums,
                                                           std::size_t i, std::size_t end,
-                                                          PairEntry& e, FdBlock& fd,
-                                                          std::string& error, LaneCounts& counts) {
+                                                          ForceThreadPart& part) {
     prefetchModel(v, i, end);
-    // A contact in lanes here is a kernel's (lane blocks take theirs before this): its law's
-    // inputs stay in `e`.
-    const bool kernel = v.pairs[i].lane != kNoLane;
-    const PairStep step = geometryPass<Features>(v, i, e, kernel ? nullptr : &fd);
+    Pair& p = v.pairs[i];
+    if constexpr (kMode == Delivery::Parallel) {
+        if (p.wall) {
+            deferPair(v, i, part);
+            return i + 1;
+        }
+    }
+    // A contact on a kernel row keeps its law's inputs in the entry; any other pair gets its
+    // FdBlock from pass 1.
+    const bool on_row = p.lane != kNoLane;
+    PairEntry& e = part.entry;
+    const PairStep step = geometryPass<Features>(v, i, e, on_row ? nullptr : &part.fd);
     if (step == PairStep::Contact) {
-        Pair& p = v.pairs[i];
-        if (kernel) {
-            kernelContact<Features, kMode>(v, sums, i, e, fd, error, counts, nullptr);
+        if (on_row) {
+            kernelContact<Features, kMode, R>(v, sums, i, e, part);
         } else {
-            lawPass(v, i, fd, error, counts.batched);
-            finishContact<Features, kMode>(v, sums, i, e, fd, false, nullptr);
-            offerLane(v, p);
+            callLaw(p.model, part.fd, part.error);
+            finishContact<Features, kMode>(v, sums, i, e, part.fd, kNoTouch, part);
+            offerRow(v, p, i, part);
         }
         return i + 1;
     }
     if (step == PairStep::Apart || step == PairStep::Elsewhere) {
-        finishApart<Features, kMode>(v, i, step, nullptr);
+        finishApart<Features, kMode>(v, i, step, part);
         return i + 1;
     }
-    return processRarePair<Features, kMode>(v, sums, i, step, e, fd, error);
+    if constexpr (kMode == Delivery::Parallel) {
+        deferPair(v, i, part);  // a first touch (wall pairs were deferred above)
+        return i + 1;
+    } else {
+        return processRarePair<Features, kMode>(v, sums, i, step, e, part);
+    }
 }
 
 }  // namespace talus

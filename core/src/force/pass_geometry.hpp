@@ -17,16 +17,14 @@
 
 namespace talus {
 
-/// A contact's FdBlock from its geometry. Only what changes from contact to contact is written:
-/// the rest is the step's template (the thread's copy).
-template <class Features>
-__attribute__((always_inline)) inline void fillFd(const ForceView& v, std::size_t i, double overlap,
-                                                  double u_dot_n, double u_dot_s, double t_dot_rel,
-                                                  FdBlock& fd) {
-    const Pair& p = v.pairs[i];
-    const PairCold& c = v.cold[i];
+/// A contact's law inputs into a block with FdBlock's names (its FdBlock, or a kernel's
+/// KernelFd): the step's constants, pass 1's rates and their increments over the step, the law's
+/// forces of the last step.
+template <class Fd>
+__attribute__((always_inline)) inline void fillLawInputs(const ForceView& v, const Pair& p,
+                                                         double overlap, double u_dot_n,
+                                                         double u_dot_s, double t_dot_rel, Fd& fd) {
     fd.flags = v.fd_template.flags;
-    fd.status = 0;
     fd.tdel = v.dt;
     fd.time = v.fd_template.time;
     fd.u_n = overlap;
@@ -36,11 +34,22 @@ __attribute__((always_inline)) inline void fillFd(const ForceView& v, std::size_
     fd.du_n = fd.u_dot_n * v.dt;
     fd.du_s = fd.u_dot_s * v.dt;
     fd.dtheta = fd.t_dot_rel * v.dt;
-    fd.mass_eff = c.mass_eff;
-    fd.inv_mass_eff_s = c.inv_mass_eff_s;
     fd.n_force = p.n_force;
     fd.s_force = p.s_force;
     fd.moment = p.moment;
+}
+
+/// A contact's FdBlock from its geometry. Only what changes from contact to contact is written:
+/// the rest is the step's template (the thread's copy).
+template <class Features>
+__attribute__((always_inline)) inline void fillFd(const ForceView& v, std::size_t i, double overlap,
+                                                  double u_dot_n, double u_dot_s, double t_dot_rel,
+                                                  FdBlock& fd) {
+    const PairCold& c = v.cold[i];
+    fillLawInputs(v, v.pairs[i], overlap, u_dot_n, u_dot_s, t_dot_rel, fd);
+    fd.status = 0;
+    fd.mass_eff = c.mass_eff;
+    fd.inv_mass_eff_s = c.inv_mass_eff_s;
     fd.knest = fd.ksest = fd.krest = 0.0;
     if constexpr (Features::kEnergy)
         for (double& en : fd.energy) en = 0.0;

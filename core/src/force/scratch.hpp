@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 //
 // The force loop's scratch (force/loop.cpp; docs/architecture.md, "Force loop" and
-// "Threads"): what pass 1 (geometry) of a pair hands to its law and its finish, and, when threads
-// run the loop, which thread adds onto which ball (the routes), what a pair does to the ends it
-// cannot add onto (PairAction), the balls' pairs in pair order (the incidence the gather reads)
-// and each thread's deferred work. Not installed.
+// "Threads"): what pass 1 (geometry) of a pair hands to its law and its finish, each thread's
+// part (one thread alone has one), the rules' kernel rows, and, when threads run the loop, which
+// thread adds onto which ball (the routes), what a pair does to the ends it cannot add onto
+// (PairAction) and the balls' pairs in pair order (the incidence the gather reads). The world
+// holds it (ContactStore::force_scratch) without knowing its type. Not installed.
 #pragma once
 
 #include <cstddef>
@@ -16,7 +17,7 @@
 
 #include "step/narrowphase.hpp"
 #include "talus/contact_model.hpp"
-#include "world/types.hpp"
+#include "world/world.hpp"
 
 namespace talus {
 
@@ -39,65 +40,6 @@ struct PairEntry {
 };
 static_assert(sizeof(PairEntry) == 112,
               "PairEntry is 112 bytes: pass 1 hands it to passes 2 and 3, per pair");
-
-/// What the finish of a pair reads of an FdBlock, for a contact a lane law stepped
-/// (docs/plugin-abi.md, "Lanes"), under FdBlock's names: the finish is one template for both.
-/// A lane law reports no failure and no break (it declines such a step).
-struct LaneResult {
-    static constexpr int32_t status = 0;
-    static constexpr const char* error = nullptr;
-    static constexpr int32_t break_mode = kBreakNone;
-    static constexpr double reserved[3] = {0.0, 0.0, 0.0};
-    uint32_t flags = 0;
-    double u_n = 0.0, u_dot_n = 0.0, u_dot_s = 0.0, t_dot_rel = 0.0;
-    double du_n = 0.0, du_s = 0.0, dtheta = 0.0;
-    double n_force = 0.0, s_force = 0.0, moment = 0.0;
-    double knest = 0.0, ksest = 0.0, krest = 0.0;
-    double energy[kEnergyCount];
-};
-
-/// What one thread's loop counts of the laws it ran (Profile).
-struct LaneCounts {
-    int64_t batched = 0;   // laws run through a batched FDlaw
-    int64_t steps = 0;     // contacts stepped by lane laws
-    int64_t declined = 0;  // ... of which the law declined (FDlaw ran instead)
-    int64_t kernel = 0;    // contacts stepped by the host's kernels
-    int64_t kernel_declined = 0;
-};
-
-/// The lane batches of one thread's force loop: a block of up to kBlock consecutive pairs (lane
-/// contacts of one rule, and pairs apart) and the LaneBatch of its contacts, structure of
-/// arrays (force/lane_block.hpp).
-struct LaneScratch {
-    static constexpr int kBlock = 64;
-    PairEntry entry[kBlock];
-    PairStep step[kBlock];
-    int32_t slot[kBlock];  // the pair's index in the batch (contacts)
-    uint32_t row[kBlock];
-    double u_n[kBlock], u_dot_n[kBlock], u_dot_s[kBlock], t_dot_rel[kBlock];
-    double mass_eff[kBlock], inv_mass_eff_s[kBlock];
-    double n_force[kBlock], s_force[kBlock], moment[kBlock];
-    double knest[kBlock], ksest[kBlock], krest[kBlock];
-    uint32_t flags_out[kBlock];
-    double energy[kEnergyCount][kBlock];
-    std::vector<FdBlock> declined;  // kBlock: the FdBlocks of the contacts a lane law declined
-    LaneBatch batch{};              // points into the arrays above (prepare)
-    /// Sets the batch's array pointers (once: the scratch does not move afterwards).
-    void prepare();
-    /// Contact k's result under FdBlock's names (the increments as the law computed them).
-    LaneResult result(int k, double tdel) const {
-        LaneResult r;
-        r.flags = flags_out[k] & ~(kFdBroken | kFdBreakStress);
-        r.u_n = u_n[k], r.u_dot_n = u_dot_n[k], r.u_dot_s = u_dot_s[k];
-        r.t_dot_rel = t_dot_rel[k];
-        r.du_n = r.u_dot_n * tdel, r.du_s = r.u_dot_s * tdel, r.dtheta = r.t_dot_rel * tdel;
-        r.n_force = n_force[k], r.s_force = s_force[k], r.moment = moment[k];
-        r.knest = knest[k], r.ksest = ksest[k], r.krest = krest[k];
-        for (int e = 0; e < kEnergyCount; ++e)
-            r.energy[e] = (flags_out[k] & kFdEnergyOn) ? energy[e][k] : 0.0;
-        return r;
-    }
-};
 
 /// What one pair did to a ball it may not add onto at once, kept per pair when threads run the
 /// loop (a ball whose pairs two threads share, or one a deferred pair diverted): such a ball then
@@ -169,38 +111,51 @@ struct DeferredItem {
     double sigma = 0.0, tau = 0.0;
 };
 
-/// One thread's share of a threaded force loop. Each on cache lines of its own: the threads
-/// write their FdBlock and counters at every contact, and a line shared by two of them would
-/// move between the cores at every write (false sharing; two lines, for the adjacent-line
-/// prefetch).
+/// What one thread counts of the laws it ran (Profile).
+struct LawCounts {
+    int64_t kernel = 0;           // contacts stepped by the host's kernels
+    int64_t kernel_declined = 0;  // ... of which the kernel declined (FDlaw ran instead)
+};
+
+/// One thread's part of the force loop (one thread alone has one too): its FdBlock and pass 1's
+/// result, what it leaves for after its range, and its sums. Each on cache lines of its own: the
+/// threads write their FdBlock and counters at every contact, and a line shared by two of them
+/// would move between the cores at every write (false sharing; two lines, for the
+/// adjacent-line prefetch).
 struct alignas(128) ForceThreadPart {
-    uint16_t index = 0;                  // the thread's number (its route)
-    FdBlock fd;                          // the thread's FdBlock (a copy of the step's template)
-    LaneScratch lanes;                   // the thread's lane blocks
-    std::vector<uint32_t> lane_entries;  // contacts to put into the lanes (serially, after)
-    std::vector<std::pair<LaneTable*, uint32_t>> lane_releases;  // rows to free (ditto)
-    int64_t lane_steps = 0;                                      // contacts stepped by lane laws
-    int64_t lane_declined = 0;                                   // ... of which declined
-    int64_t kernel_steps = 0, kernel_declined = 0;               // kernels
-    std::vector<DeferredItem> items;                             // in pair order
-    // Its balls diverted this step: (ball, the first pair it did not add), in pair order.
+    uint16_t index = 0;  // the thread's number (its route)
+    FdBlock fd;          // the thread's FdBlock (a copy of the step's template)
+    PairEntry entry;     // pass 1's result for the pair at hand
+    std::string error;   // an exception's text caught at the plugin boundary
+    LawCounts counts;
+    // Contacts to put into their rule's kernel rows after the loop (in pair order: the rows'
+    // tables do not grow while the loop reads them), and rows to free (threads).
+    std::vector<uint32_t> row_entries;
+    std::vector<std::pair<LaneTable*, uint32_t>> row_releases;
+    std::vector<DeferredItem> items;  // threads: the serial part's work, in pair order
+    // Threads: its balls diverted this step: (ball, the first pair it did not add), pair order.
     std::vector<std::pair<uint32_t, uint32_t>> diverted;
+    std::vector<uint32_t> watch_ends;     // guard: contacts that outlived their watch (freed after)
     std::vector<uint32_t> apart;          // automatic step: its pairs apart, for the approach notes
     std::vector<ContractNote> contracts;  // energy tracing: laws to check (Deferred::Contract)
     StepLimits limits;                    // automatic step: from its contacts
     double finite_check = 0.0;            // sum of the laws' outputs (non-finite if one was)
-    int64_t batched = 0;                  // laws run through a batched FDlaw
-    std::string error;                    // an exception's text caught at the plugin boundary
-    std::exception_ptr failure;           // what stopped the thread ...
+    std::exception_ptr failure;           // threads: what stopped the thread ...
     std::size_t failure_pair = SIZE_MAX;  // ... at this pair
 };
 
+/// A rule's kernel rows as the loop reads them this step: where they start and the kernel that
+/// runs them (Kernel::None: the rule's contacts run FDlaw). The rows' tables do not grow during
+/// the loop (ForceThreadPart::row_entries), so `base` stays valid through it.
+struct RuleRows {
+    double* base = nullptr;
+    uint32_t size = 0;  // doubles per row
+    Kernel kernel = Kernel::None;
+};
+
 struct ForceScratch {
-    FdBlock fd{};                          // one thread's FdBlock
-    LaneScratch lanes;                     // one thread's lane blocks
-    std::string error;                     // one thread's caught exception text
-    std::vector<uint32_t> apart;           // one thread: pairs apart (automatic step)
-    std::vector<ForceThreadPart> parts;    // threads: one per thread
+    std::vector<ForceThreadPart> parts;    // one per thread (one alone: parts[0])
+    std::vector<RuleRows> rows;            // per rule (Pair::rule), this step
     std::vector<PairAction> actions;       // threads: per pair (the ends not routed)
     std::vector<PairStiffness> stiffness;  // threads, automatic step: per pair
     std::vector<PairEnergy> energies;      // threads, energy tracing: per pair
@@ -214,5 +169,8 @@ struct ForceScratch {
     uint64_t incidence_version = UINT64_MAX;
     int route_threads = 0;
 };
+
+/// The force loop's scratch of a world, made at its first use (force/loop.cpp).
+ForceScratch& forceScratch(World& world);
 
 }  // namespace talus

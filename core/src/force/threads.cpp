@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "force/force.hpp"
+#include "force/scratch.hpp"
 #include "talus/errors.hpp"
 
 namespace talus {
@@ -58,7 +59,7 @@ inline void addActions(const ForceScratch& s, uint32_t from, uint32_t to, bool a
 
 void gatherPairActions(World& world, bool automatic) {
     auto& b = world.bodies.balls;
-    ForceScratch& s = world.contacts.force_scratch;
+    ForceScratch& s = forceScratch(world);
     const uint32_t* start = s.incidence_start.data();
     const auto store = [&](uint32_t k, const BallSums& sum) {
         b.force[k] = Vec2(sum.fx, sum.fy);
@@ -88,7 +89,7 @@ void gatherPairActions(World& world, bool automatic) {
 }
 
 void buildIncidence(World& world, int nthreads) {
-    ForceScratch& s = world.contacts.force_scratch;
+    ForceScratch& s = forceScratch(world);
     const auto& pairs = world.contacts.pairs;
     const std::size_t nballs = world.bodies.balls.size();
     if (s.incidence_version == world.contacts.pairs_version && s.route_threads == nthreads &&
@@ -149,31 +150,12 @@ int forceThreads(const World& world, std::size_t npairs) {
 #endif
 }
 
-void prepareForceScratch(World& world, int nthreads, const FdBlock& tmpl) {
-    ForceScratch& s = world.contacts.force_scratch;
-    s.parts.resize(static_cast<std::size_t>(nthreads));
-    for (std::size_t t = 0; t < s.parts.size(); ++t) {
-        ForceThreadPart& part = s.parts[t];
-        part.index = static_cast<uint16_t>(t);
-        part.diverted.clear();
-        part.fd = tmpl;
-        part.items.clear();
-        part.apart.clear();
-        part.limits = StepLimits{};
-        part.finite_check = 0.0;
-        part.batched = 0;
-        part.failure = nullptr;
-        part.failure_pair = SIZE_MAX;
-        part.lane_entries.clear();
-        part.lane_releases.clear();
-        part.lane_steps = part.lane_declined = 0;
-        part.kernel_steps = part.kernel_declined = 0;
-    }
+void prepareThreadScratch(World& world, int nthreads) {
+    ForceScratch& s = forceScratch(world);
     // (pairs a vertex hand-over adds in this step are not processed in it: npairs is enough)
     s.actions.resize(world.contacts.pairs.size());
     if (world.settings.timestep.automatic) s.stiffness.resize(world.contacts.pairs.size());
     if (world.books.on) s.energies.resize(world.contacts.pairs.size());
-    for (auto& part : s.parts) part.contracts.clear();
     buildIncidence(world, nthreads);
 }
 

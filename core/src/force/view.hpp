@@ -19,9 +19,10 @@ namespace talus {
 
 /// What a finish does with what reaches beyond its pair (loop.cpp, "Threads").
 enum class Delivery {
-    Direct,    // one thread: onto the ends at once
-    Serial,    // threads, serial part: actions recorded
-    Parallel,  // threads, a range: actions recorded, rare work deferred
+    Direct,    // one thread: onto the ends at once, rare work at once
+    Serial,    // threads, serial part: actions recorded, rare work at once
+    Parallel,  // threads, a range: onto the balls the thread owns at once, else recorded; rare
+               // work deferred to the serial part
 };
 
 /// The loop's compile-time switches: a scene pays only for the extras it asks for.
@@ -34,6 +35,8 @@ struct LoopFeatures {
 
 struct ForceView {
     Rule& rule(const Pair& p) const { return *rules[p.rule]; }
+    /// The kernel rows of p's rule this step (kernel None: its contacts run FDlaw).
+    const RuleRows& rowsOf(const Pair& p) const { return rows[p.rule]; }
 
     World& world;  // the rare paths
     // Pairs through their vectors: a wall contact's hand-over may add a pair (and move the
@@ -42,6 +45,7 @@ struct ForceView {
     std::vector<PairCold>& cold;
     std::vector<PairStored>& stored;
     const std::unique_ptr<Rule>* rules;  // Pair::rule indexes it
+    const RuleRows* rows;                // ... and this
     // Balls and walls do not change size during the loop.
     const Vec2* pos;
     const Vec2* vel;
@@ -61,28 +65,24 @@ struct ForceView {
     PairStiffness* stiffness;
     PairEnergy* energies;
     std::vector<uint32_t>& to_remove;  // pairs whose fat boxes stopped overlapping
-    std::vector<uint32_t>& apart;      // one thread, automatic step: pairs apart
     // The step.
     double dt;
     double window;               // between the half-step velocities around this force's time
     FdBlock fd_template;         // the step's FdBlock fields
     EnergyTotals totals_before;  // the energy contract's reference
-    bool batched;                // the batched FDlaw where a model offers one
-    bool lanes;                  // some rule's contacts run in lanes this step (Rule::lane_mode)
-    bool blocks;                 // ... of which some by lane blocks
     bool groups;                 // energy per group
 };
 
 struct StepContext;  // step/step.hpp
 
 /// The view of `world` for the force loop of `step` (loop.cpp): the arrays as they are now, so
-/// it is taken after everything that resizes them (the threads' scratch included).
+/// it is taken after everything that resizes them (the threads' scratch and the rules' rows
+/// included: prepareRuleRows).
 ForceView forceView(World& world, const StepContext& step, const FdBlock& fd_template, int nthreads,
-                    bool lanes, bool blocks, bool groups);
+                    bool groups);
 
-/// One thread's running sums in a step without threads, or in the threads' serial part.
+/// The energy books' running sums of a step, on one thread or in the threads' serial part.
 struct ForceSums {
-    double finite_check = 0.0;  // the laws' outputs, summed: non-finite if one of them was
     double strain_now = 0.0, bond_now = 0.0;  // stored energies, this step
     double held_before = 0.0;  // stored by contacts older than the tracing (baseline, once)
 };

@@ -23,43 +23,46 @@ namespace talus {
 namespace {
 
 /// A pair's fields in file order (the model object's state follows).
-void writeRecord(SaveWriter& w, const Pair& p, const PairCold& c, const PairStored& s) {
+/// `g`: the guard's watch as saved (ContactStore::savedWatch; an unwatched contact's is empty).
+void writeRecord(SaveWriter& w, const Pair& p, const PairCold& c, const PairStored& s,
+                 const GuardWatch& g) {
     w.u32(p.end1), w.u32(p.end2);
     w.boolean(p.wall), w.boolean(p.active), w.boolean(p.sliding), w.boolean(p.bonded);
     w.boolean(p.loading);
-    w.u32(uint32_t{c.steps} | uint32_t{c.apart} << 16);  // (files before the idle count: 0)
+    w.u32(uint32_t{g.steps} | uint32_t{g.apart} << 16);  // (files before the idle count: 0)
     w.u32(p.rule);
     w.f64(c.mass_eff), w.f64(c.inv_mass_eff_s), w.f64(c.activity);
     w.f64(p.n_force), w.f64(p.s_force), w.f64(p.moment), w.f64(c.overlap);
-    w.f64(c.knest), w.f64(c.ksest), w.f64(c.work), w.f64(c.work_peak);
-    w.f64(c.overlap_max), w.f64(c.force_at_max), w.f64(c.rate_at_max);
-    w.f64(c.knest_at_max), w.f64(c.dt_at_max), w.f64(c.approach_rate), w.f64(c.closure);
-    w.boolean(c.born_overlapped);
+    w.f64(c.knest), w.f64(c.ksest), w.f64(g.work), w.f64(g.work_peak);
+    w.f64(g.overlap_max), w.f64(g.force_at_max), w.f64(g.rate_at_max);
+    w.f64(g.knest_at_max), w.f64(g.dt_at_max), w.f64(g.approach_rate), w.f64(g.closure);
+    w.boolean(g.born_overlapped);
     w.u32(c.rules_version), w.u64(c.key), w.f64(c.krest), w.f64(c.duration);
     w.f64(s.strain), w.f64(s.bond);
 }
 
-/// The fields writeRecord wrote; returns the rule index (checked by the caller).
-uint32_t readRecord(SaveReader& r, Pair& p, PairCold& c, PairStored& s, std::size_t i) {
+/// The fields writeRecord wrote (the watch into `g`); returns the rule index (checked by the
+/// caller).
+uint32_t readRecord(SaveReader& r, Pair& p, PairCold& c, PairStored& s, GuardWatch& g,
+                    std::size_t i) {
     p.end1 = r.u32(), p.end2 = r.u32();
     p.wall = r.boolean(), p.active = r.boolean(), p.sliding = r.boolean();
     p.bonded = r.boolean(), p.loading = r.boolean();
     const uint32_t watch = r.u32();
-    c.steps = static_cast<uint16_t>(watch & 0xffffu);
-    c.apart = static_cast<uint16_t>(watch >> 16);
+    g.steps = static_cast<uint16_t>(watch & 0xffffu);
+    g.apart = static_cast<uint16_t>(watch >> 16);
     const uint32_t rule = r.u32();
     c.mass_eff = r.f64(), c.inv_mass_eff_s = r.f64(), c.activity = r.f64();
     if (!(c.activity >= 0.0) || !std::isfinite(c.activity))
         r.fail("pair " + std::to_string(i) + " has an invalid activity distance");
     p.n_force = r.f64(), p.s_force = r.f64(), p.moment = r.f64(), c.overlap = r.f64();
-    c.knest = r.f64(), c.ksest = r.f64(), c.work = r.f64(), c.work_peak = r.f64();
-    c.overlap_max = r.f64(), c.force_at_max = r.f64(), c.rate_at_max = r.f64();
-    c.knest_at_max = r.f64(), c.dt_at_max = r.f64(), c.approach_rate = r.f64();
-    c.closure = r.f64();
-    c.born_overlapped = r.boolean();
+    c.knest = r.f64(), c.ksest = r.f64(), g.work = r.f64(), g.work_peak = r.f64();
+    g.overlap_max = r.f64(), g.force_at_max = r.f64(), g.rate_at_max = r.f64();
+    g.knest_at_max = r.f64(), g.dt_at_max = r.f64(), g.approach_rate = r.f64();
+    g.closure = r.f64();
+    g.born_overlapped = r.boolean();
     c.rules_version = r.u32(), c.key = r.u64(), c.krest = r.f64(), c.duration = r.f64();
     s.strain = r.f64(), s.bond = r.f64();
-    p.watched = p.active && c.steps <= kGuardWatch;
     return rule;
 }
 
@@ -84,7 +87,7 @@ void checkPair(const World& world, SaveReader& r, const Pair& p, const PairCold&
 /// Appends a read pair to the store with a model object cloned as when the pair was made (the
 /// ends' properties), then its saved state.
 void appendPair(RestoreContext& ctx, SaveReader& r, const Pair& p, const PairCold& c,
-                const PairStored& s, uint32_t rule, const std::vector<uint8_t>& state,
+                const PairStored& s, const GuardWatch& g, uint32_t rule, const std::vector<uint8_t>& state,
                 const std::string& at) {
     World& world = ctx.world;
     ContactStore& cs = world.contacts;
@@ -94,6 +97,7 @@ void appendPair(RestoreContext& ctx, SaveReader& r, const Pair& p, const PairCol
     cs.cold.push_back(c);
     cs.stored.push_back(s);
     Pair& q = cs.pairs.back();
+    cs.restoreWatch(q, cs.cold.back(), g);
     q.model = nullptr;
     try {
         q.model = cloneFor(world, q, cs.cold.back().mass_eff);
@@ -114,7 +118,7 @@ void writePairs(const World& world, SaveWriter& w) {
     w.u64(cs.pairs.size());
     for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
         const Pair& p = cs.pairs[i];
-        writeRecord(w, p, cs.cold[i], cs.stored[i]);
+        writeRecord(w, p, cs.cold[i], cs.stored[i], cs.savedWatch(p, cs.cold[i]));
         w.boolean(p.model != nullptr);
         syncLane(cs, p);
         if (p.model) writeModelState(w, *p.model);
@@ -137,14 +141,15 @@ void readPairs(RestoreContext& ctx, SaveReader& r) {
         Pair p;
         PairCold c;
         PairStored s;
-        const uint32_t rule = readRecord(r, p, c, s, i);
+        GuardWatch g;
+        const uint32_t rule = readRecord(r, p, c, s, g, i);
         const bool has_model = r.boolean();
         const std::string at = "pair " + std::to_string(i);
         checkPair(ctx.world, r, p, c, rule, at);
         if (!has_model) r.fail(at + " has no contact model object");
         p.rule = static_cast<uint16_t>(rule);
         const std::vector<uint8_t> state = readModelState(r);
-        appendPair(ctx, r, p, c, s, rule, state, at);
+        appendPair(ctx, r, p, c, s, g, rule, state, at);
     }
     const std::size_t nu = r.count(16, "unbonded pairs");
     for (std::size_t i = 0; i < nu; ++i) {

@@ -50,7 +50,6 @@ int32_t readRuleModel(RestoreContext& ctx, SaveReader& r, Rule& rule, std::size_
     std::vector<uint8_t> state = readModelState(r);
     try {
         rule.factory = &ctx.registry.find(rule.model_name);
-        rule.batch = rule.factory->batch;
         rule.kernel = kernelOf(*rule.factory);
     } catch (const std::exception& e) {
         r.fail("contact model '" + rule.model_name + "' (plugin version " + plugin_version +

@@ -15,7 +15,6 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "api/operations.hpp"
 #include "step/group_energy.hpp"
 #include "step/narrowphase.hpp"
 #include "step/step.hpp"
@@ -244,6 +243,44 @@ void clearMovedFlags(World& world) {
 
 // ------------------------------------------------------------------------ pairs
 
+const Rule& ruleFor(const World& world, uint64_t g1, uint64_t g2) {
+    const Rule* best = world.contacts.rules[0].get();
+    int best_spec = -1, best_order = -1;
+    auto in = [](uint64_t g, int idx) { return idx < 0 || (g & (uint64_t(1) << idx)) != 0; };
+    for (std::size_t i = 1; i < world.contacts.rules.size(); ++i) {
+        const Rule& r = *world.contacts.rules[i];
+        if (r.specificity == 0 || !r.prototype) continue;  // retired defaults
+        const bool match =
+            (in(g1, r.group_a) && in(g2, r.group_b)) || (in(g2, r.group_a) && in(g1, r.group_b));
+        if (match &&
+            (r.specificity > best_spec || (r.specificity == best_spec && r.order > best_order))) {
+            best = &r;
+            best_spec = r.specificity;
+            best_order = r.order;
+        }
+    }
+    return *best;
+}
+
+bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point) {
+    const auto& b = world.bodies.balls;
+    const Vec2& x1 = b.pos[p.end1];
+    ContactGeometry g;
+    if (p.wall) {
+        if (!segmentGeometry(world, p.end2, x1, b.radius[p.end1], g)) return false;
+    } else {
+        const Vec2 d = b.pos[p.end2] - x1;
+        const double dist = d.norm();
+        g.normal = dist > 0.0 ? Vec2(d / dist) : Vec2(0.0, 1.0);
+        g.overlap = b.radius[p.end1] + b.radius[p.end2] - dist;
+        g.point = x1 + (b.radius[p.end1] - 0.5 * g.overlap) * g.normal;
+    }
+    normal = g.normal;
+    overlap = g.overlap;
+    point = g.point;
+    return true;
+}
+
 PropBlock propBlockFor(const World& world, const Pair& p, double mass_eff) {
     const auto& b = world.bodies.balls;
     PropBlock pb{};
@@ -352,6 +389,7 @@ void removePair(World& world, std::size_t i) {
         world.books.acc.released += stored;
         if (world.books.groups.on) bookReleasedToGroups(world, p, stored);
     }
+    world.contacts.endWatch(p, world.contacts.cold[i]);
     if (p.model) {
         dropLane(world.contacts, p);
         p.model->Destroy();
@@ -392,6 +430,7 @@ void resetPair(World& world, Pair& p) {
     // A fresh clone: the next touch starts from a clean state.
     dropLane(world.contacts, p);
     PairCold& c = world.contacts.coldOf(p);
+    world.contacts.endWatch(p, c);
     p.model->Destroy();
     world.contacts.ruleOf(p).pool->release(p.model);
     p.model = nullptr;

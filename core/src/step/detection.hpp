@@ -27,6 +27,10 @@ bool segmentGeometry(const World& world, uint32_t seg, const Vec2& centre, doubl
                      ContactGeometry& g);
 /// The segment of seg's chain that holds a ball seg gives up (-1: none).
 int32_t wallHolder(const World& world, uint32_t seg, const Vec2& centre, double radius);
+/// The rule of a pair whose ends are in these groups: the most specific, the latest on a tie.
+const Rule& ruleFor(const World& world, uint64_t groups1, uint64_t groups2);
+/// Geometry of a pair now (for queries and messages): normal, overlap, contact point.
+bool pairGeometry(const World& world, const Pair& p, Vec2& normal, double& overlap, Vec2& point);
 bool makePair(World& world, uint32_t ball_slot, uint32_t other, bool other_is_segment);
 void removePair(World& world, std::size_t index);
 ContactModel* cloneFor(World& world, const Pair& p, double mass_eff);

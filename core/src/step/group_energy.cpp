@@ -83,13 +83,12 @@ uint64_t endGroups(const World& world, const Pair& p, bool end2) {
 }
 
 void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
-                         bool first, bool ends, double held, const Vec2& f, const Vec2& point) {
+                         bool placement, bool ends, double held, const Vec2& f, const Vec2& point) {
     auto& gb = world.books.groups;
     const Pair& p = world.contacts.pairs[i];
-    const PairCold& c = world.contacts.cold[i];
     const PairStored& stored = world.contacts.stored[i];  // (this step's, written before)
     const uint64_t g1 = endGroups(world, p, false), g2 = endGroups(world, p, true);
-    const double placed = (first && c.born_overlapped) ? world.books.last_placed : 0.0;
+    const double placed = placement ? world.books.last_placed : 0.0;
     auto* groups = gb.g.data();
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);

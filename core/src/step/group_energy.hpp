@@ -28,9 +28,10 @@ inline void bookBodyToGroups(World& world, uint64_t mask, double kinetic, double
         gr.step_driven += driven;
     }
 }
-/// The force loop's per-contact share (rare path: called only with groups traced).
+/// The force loop's per-contact share (rare path: called only with groups traced). `placement`:
+/// its first step, born overlapping (the placement energy just noted, EnergyBooks::last_placed).
 void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
-                         bool first, bool ends, double held, const Vec2& f, const Vec2& point);
+                         bool placement, bool ends, double held, const Vec2& f, const Vec2& point);
 void bookReleasedToGroups(World& world, const Pair& p, double released);
 /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
 void bookDeletedToGroups(World& world, uint64_t mask, double kinetic);

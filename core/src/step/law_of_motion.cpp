@@ -40,10 +40,9 @@ namespace {
 
 std::string text(double v) { return messageNumber(v); }
 
-enum class Motion { Plain, Traced, General };
-
-template <Motion kMode>
-void moveBalls(World& world, const StepContext& step);
+void moveBallsPlain(World& world, const StepContext& step);
+void moveBallsTraced(World& world, const StepContext& step);
+void moveBallsGeneral(World& world, const StepContext& step);
 
 void closeBooks(World& world, const StepContext& step, double lead, double kinetic, double body,
                 double damping, double driven);
@@ -58,11 +57,11 @@ void lawOfMotion(World& world, const StepContext& step) {
                          world.bodies.hasClumps();
     if (step.groups) gatherExchangeStart(world);  // rates before the update (group_energy.cpp)
     if (general)
-        moveBalls<Motion::General>(world, step);
+        moveBallsGeneral(world, step);
     else if (step.energy)
-        moveBalls<Motion::Traced>(world, step);
+        moveBallsTraced(world, step);
     else
-        moveBalls<Motion::Plain>(world, step);
+        moveBallsPlain(world, step);
     world.clock.first_cycle = false;
     world.clock.time += step.dt;
     ++world.clock.step;
@@ -70,8 +69,10 @@ void lawOfMotion(World& world, const StepContext& step) {
 
 namespace {
 
-template <Motion kMode>
-void moveBalls(World& world, const StepContext& step) {
+/// The plain update: no damping, no energy, no fixity. Every ball's update is its own: with
+/// threads (as many as the force loop took, over the same static ranges of balls as its gather,
+/// so each thread reads the forces it wrote) the result is the same bit for bit.
+void moveBallsPlain(World& world, const StepContext& step) {
     auto& b = world.bodies.balls;
     const std::size_t n = b.size();
     const double dt = step.dt;
@@ -87,141 +88,177 @@ void moveBalls(World& world, const StepContext& step) {
     const double* mapp = b.mapp.data();
     const double* inv_mass = b.inv_mass.data();
     const double* inv_inertia = b.inv_inertia.data();
-
-    // Every ball's update is its own: with threads (as many as the force loop took, over the
-    // same static ranges of balls as its gather, so each thread reads the forces it wrote) the
-    // result is the same bit for bit. With energy tracing the sums stay on one thread.
     const int threads = world.clock.threads;
     (void)threads;
-    if constexpr (kMode == Motion::Plain) {
-        bool finite = true;
-        TALUS_OMP(omp parallel for num_threads(threads) schedule(static) reduction(&& : finite) if (threads > 1))
-        for (std::size_t s = 0; s < n; ++s) {
-            const Vec2 v = vel[s] + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
-            const double om = spin[s] + (moment[s] + mapp[s]) * inv_inertia[s] * w;
-            vel[s] = v;
-            spin[s] = om;
-            pos[s] += v * dt;
-            angle[s] += om * dt;
-            finite = finite && std::isfinite(v.x() + v.y() + om);
-        }
-        if (!finite) reportNonFiniteBall(world);
-        return;
-    }
-    const double lead = w > 0.0 ? 0.5 * step.dt_prev / w : 0.0;
-    if constexpr (kMode == Motion::Traced) {
-        // The plain update with the snapshot's kinetic energy at t and the body work; the sums
-        // on one thread, in ball order, as the general loop makes them.
-        const double* mass = b.mass.data();
-        const double* inertia = b.inertia.data();
-        double kinetic = 0.0, body = 0.0, finite_check = 0.0;
-        for (std::size_t s = 0; s < n; ++s) {
-            const Vec2 v_old = vel[s];
-            const double w_old = spin[s];
-            const Vec2 v = v_old + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
-            const double om = w_old + (moment[s] + mapp[s]) * inv_inertia[s] * w;
-            vel[s] = v;
-            spin[s] = om;
-            pos[s] += v * dt;
-            angle[s] += om * dt;
-            finite_check += v.x() + v.y() + om;
-            const double m = mass[s];
-            const Vec2 v_now = v_old + (v - v_old) * lead;
-            const double om_now = w_old + (om - w_old) * lead;
-            kinetic += 0.5 * (m * v_now.squaredNorm() + inertia[s] * om_now * om_now);
-            body += ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
-        }
-        if (!std::isfinite(finite_check)) reportNonFiniteBall(world);
-        closeBooks(world, step, lead, kinetic, body, 0.0, 0.0);
-        return;
-    }
-
-    const double alpha = world.settings.damping.local;
-    const double c = world.settings.damping.viscous;
-    const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
-    const double gain = w / (1.0 + 0.5 * c * w);
-    const bool energy = step.energy;
-    const bool groups = step.groups;
-    // Without damping its work is zero (dampingWork of zero forces and coefficients), left out.
-    const bool damped = alpha > 0.0 || c > 0.0;
-    double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
-    double finite_check = 0.0;  // the new rates summed: non-finite if one of them is
-    const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
+    bool finite = true;
+    TALUS_OMP(omp parallel for num_threads(threads) schedule(static) reduction(&& : finite) if (threads > 1))
     for (std::size_t s = 0; s < n; ++s) {
-        if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
-        const Vec2 v_old = vel[s];
-        const double w_old = spin[s];
-        const uint8_t fix = b.fixity[s];
-        const Vec2 f = force[s] + fapp[s];
-        const double mom = moment[s] + mapp[s];
-        Vec2 fd = Vec2::Zero();
-        double md = 0.0;
-        if (alpha > 0.0) {
-            // PFC applies the damping to the unbalanced force including gravity.
-            const Vec2 unbalanced = f + b.mass[s] * g;
-            fd = Vec2(localDamping(alpha, unbalanced.x(), v_old.x()),
-                      localDamping(alpha, unbalanced.y(), v_old.y()));
-            md = localDamping(alpha, mom, w_old);
-        }
-        const Vec2 acc = (f + fd) * inv_mass[s] + g;
-        const double ang = (mom + md) * inv_inertia[s];
-        Vec2 v = keep * v_old + gain * acc;
-        double om = keep * w_old + gain * ang;
-        // Damping coefficients per degree of freedom: a fixed component is driven, not damped.
-        double cx = c, cy = c, cw = c;
-        if (fix) {
-            if (fix & kFixX) v.x() = v_old.x(), fd.x() = 0.0, cx = 0.0;
-            if (fix & kFixY) v.y() = v_old.y(), fd.y() = 0.0, cy = 0.0;
-            if (fix & kFixSpin) om = w_old, md = 0.0, cw = 0.0;
-        }
+        const Vec2 v = vel[s] + ((force[s] + fapp[s]) * inv_mass[s] + g) * w;
+        const double om = spin[s] + (moment[s] + mapp[s]) * inv_inertia[s] * w;
         vel[s] = v;
         spin[s] = om;
         pos[s] += v * dt;
         angle[s] += om * dt;
-        finite_check += v.x() + v.y() + om;
-        if (energy) {
-            const double m = b.mass[s];
-            const double inertia = b.inertia[s];
-            const Vec2 v_now = v_old + (v - v_old) * lead;
-            const double om_now = w_old + (om - w_old) * lead;
-            const double ke = 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
-            const double work = ((m * g + fapp[s]).dot(v) + mapp[s] * om) * dt;
-            kinetic += ke;
-            body += work;
-            // Local damping on the velocity at t, viscous on the mean of the half steps
-            // (body_damping.hpp).
-            double damp = 0.0;
-            if (damped) {
-                const Vec2 v_mid = 0.5 * (v_old + v);
-                const double om_mid = 0.5 * (w_old + om);
-                damp = dampingWork(w, fd, md, v_now, om_now, v_mid, om_mid, m, inertia, cx, cy, cw);
-                damping += damp;
-            }
-            double react = 0.0;
-            if (fix) {
-                // A fixed component moves at its set velocity whatever acts on it: the fixity
-                // supplies the reaction R = -(everything else), and R's work goes into
-                // `boundary`, like a wall's (docs/physics/energy.md). R acts as an impulse R w
-                // at the rate v, split at the snapshot like the damping impulse below (the
-                // trapezoidal rule: second order, as the rest of the balance).
-                const Vec2 load = f + m * g;
-                if (fix & kFixX) react -= load.x() * v.x();
-                if (fix & kFixY) react -= load.y() * v.y();
-                if (fix & kFixSpin) react -= mom * om;
-                driven += react * w;
-            }
-            if (groups) bookBodyToGroups(world, b.groups[s], ke, work, damp, react * w);
-        }
+        finite = finite && std::isfinite(v.x() + v.y() + om);
     }
-    if (pebble) moveClumps(world, step, kinetic, body, damping, driven);  // clump_motion.cpp
+    if (!finite) reportNonFiniteBall(world);
+}
+
+/// The weight of the old half-step velocity's step in the velocity at the whole step t.
+double snapshotLead(const StepContext& step) {
+    return step.window > 0.0 ? 0.5 * step.dt_prev / step.window : 0.0;
+}
+
+/// The plain update with the snapshot's kinetic energy at t and the body work; the sums on one
+/// thread, in ball order, as the general loop makes them.
+void moveBallsTraced(World& world, const StepContext& step) {
+    auto& b = world.bodies.balls;
+    const std::size_t n = b.size();
+    const double dt = step.dt;
+    const double w = step.window;
+    const Vec2 g = world.settings.gravity;
+    const double lead = snapshotLead(step);
+    double kinetic = 0.0, body = 0.0, finite_check = 0.0;
+    for (std::size_t s = 0; s < n; ++s) {
+        const Vec2 v_old = b.vel[s];
+        const double w_old = b.spin[s];
+        const Vec2 v = v_old + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + g) * w;
+        const double om = w_old + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * w;
+        b.vel[s] = v;
+        b.spin[s] = om;
+        b.pos[s] += v * dt;
+        b.angle[s] += om * dt;
+        finite_check += v.x() + v.y() + om;
+        const double m = b.mass[s];
+        const Vec2 v_now = v_old + (v - v_old) * lead;
+        const double om_now = w_old + (om - w_old) * lead;
+        kinetic += 0.5 * (m * v_now.squaredNorm() + b.inertia[s] * om_now * om_now);
+        body += ((m * g + b.fapp[s]).dot(v) + b.mapp[s] * om) * dt;
+    }
+    if (!std::isfinite(finite_check)) reportNonFiniteBall(world);
+    closeBooks(world, step, lead, kinetic, body, 0.0, 0.0);
+}
+
+/// The general loop's energy sums, added ball by ball.
+struct MotionSums {
+    double kinetic = 0.0, body = 0.0, damping = 0.0, driven = 0.0;
+};
+
+/// What one ball's update of the general loop does to the books: the kinetic energy at t, the
+/// body work, the damping's work and a fixity's reaction work.
+struct BallUpdate {
+    uint32_t s;
+    Vec2 v_old, v, f, fd;  // velocities before and after; the force; local damping's force
+    double w_old, om, mom, md;
+    double cx, cy, cw;  // viscous damping coefficient per degree of freedom
+};
+
+void bookBall(World& world, const StepContext& step, double lead, const BallUpdate& u,
+              MotionSums& sums) {
+    const auto& b = world.bodies.balls;
+    const Vec2 g = world.settings.gravity;
+    const uint32_t s = u.s;
+    const uint8_t fix = b.fixity[s];
+    const double m = b.mass[s];
+    const double inertia = b.inertia[s];
+    const Vec2 v_now = u.v_old + (u.v - u.v_old) * lead;
+    const double om_now = u.w_old + (u.om - u.w_old) * lead;
+    const double ke = 0.5 * (m * v_now.squaredNorm() + inertia * om_now * om_now);
+    const double work = ((m * g + b.fapp[s]).dot(u.v) + b.mapp[s] * u.om) * step.dt;
+    sums.kinetic += ke;
+    sums.body += work;
+    // Local damping on the velocity at t, viscous on the mean of the half steps
+    // (body_damping.hpp). Without damping its work is zero, left out.
+    double damp = 0.0;
+    if (world.settings.damping.local > 0.0 || world.settings.damping.viscous > 0.0) {
+        const Vec2 v_mid = 0.5 * (u.v_old + u.v);
+        const double om_mid = 0.5 * (u.w_old + u.om);
+        damp = dampingWork(step.window, u.fd, u.md, v_now, om_now, v_mid, om_mid, m, inertia, u.cx,
+                           u.cy, u.cw);
+        sums.damping += damp;
+    }
+    double react = 0.0;
+    if (fix) {
+        // A fixed component moves at its set velocity whatever acts on it: the fixity supplies
+        // the reaction R = -(everything else), and R's work goes into `boundary`, like a wall's
+        // (docs/physics/energy.md). R acts as an impulse R w at the rate v, split at the snapshot
+        // like the damping impulse below (the trapezoidal rule: second order, as the rest of the
+        // balance).
+        const Vec2 load = u.f + m * g;
+        if (fix & kFixX) react -= load.x() * u.v.x();
+        if (fix & kFixY) react -= load.y() * u.v.y();
+        if (fix & kFixSpin) react -= u.mom * u.om;
+        sums.driven += react * step.window;
+    }
+    if (step.groups) bookBodyToGroups(world, b.groups[s], ke, work, damp, react * step.window);
+}
+
+/// The general update: PFC local damping, mass-proportional viscous damping, fixities, clumps
+/// (their pebbles skipped here: moveClumps), energy with groups.
+void moveBallsGeneral(World& world, const StepContext& step) {
+    auto& b = world.bodies.balls;
+    const std::size_t n = b.size();
+    const double dt = step.dt;
+    const double w = step.window;
+    const Vec2 g = world.settings.gravity;
+    const double lead = snapshotLead(step);
+    const double alpha = world.settings.damping.local;
+    const double c = world.settings.damping.viscous;
+    const double keep = (1.0 - 0.5 * c * w) / (1.0 + 0.5 * c * w);
+    const double gain = w / (1.0 + 0.5 * c * w);
+    MotionSums sums;
+    double finite_check = 0.0;  // the new rates summed: non-finite if one of them is
+    const uint32_t* pebble = world.bodies.hasClumps() ? b.clump.data() : nullptr;
+    for (std::size_t s = 0; s < n; ++s) {
+        if (pebble && pebble[s] != kNoClump) continue;  // moved with its clump (moveClumps)
+        BallUpdate u{static_cast<uint32_t>(s),
+                     b.vel[s],
+                     Vec2::Zero(),
+                     b.force[s] + b.fapp[s],
+                     Vec2::Zero(),
+                     b.spin[s],
+                     0.0,
+                     b.moment[s] + b.mapp[s],
+                     0.0,
+                     c,
+                     c,
+                     c};
+        const uint8_t fix = b.fixity[s];
+        if (alpha > 0.0) {
+            // PFC applies the damping to the unbalanced force including gravity.
+            const Vec2 unbalanced = u.f + b.mass[s] * g;
+            u.fd = Vec2(localDamping(alpha, unbalanced.x(), u.v_old.x()),
+                        localDamping(alpha, unbalanced.y(), u.v_old.y()));
+            u.md = localDamping(alpha, u.mom, u.w_old);
+        }
+        const Vec2 acc = (u.f + u.fd) * b.inv_mass[s] + g;
+        const double ang = (u.mom + u.md) * b.inv_inertia[s];
+        u.v = keep * u.v_old + gain * acc;
+        u.om = keep * u.w_old + gain * ang;
+        // Damping coefficients per degree of freedom: a fixed component is driven, not damped.
+        if (fix) {
+            if (fix & kFixX) u.v.x() = u.v_old.x(), u.fd.x() = 0.0, u.cx = 0.0;
+            if (fix & kFixY) u.v.y() = u.v_old.y(), u.fd.y() = 0.0, u.cy = 0.0;
+            if (fix & kFixSpin) u.om = u.w_old, u.md = 0.0, u.cw = 0.0;
+        }
+        b.vel[s] = u.v;
+        b.spin[s] = u.om;
+        b.pos[s] += u.v * dt;
+        b.angle[s] += u.om * dt;
+        finite_check += u.v.x() + u.v.y() + u.om;
+        if (step.energy) bookBall(world, step, lead, u, sums);
+    }
+    if (pebble)  // clump_motion.cpp
+        moveClumps(world, step, sums.kinetic, sums.body, sums.damping, sums.driven);
     // (a clump's pebbles take its rates: a non-finite clump shows in the scan's balls)
     if (!std::isfinite(finite_check) || pebble) {
         bool finite = true;
         for (std::size_t s = 0; s < n && finite; ++s)
-            finite = std::isfinite(vel[s].x() + vel[s].y() + spin[s]);
+            finite = std::isfinite(b.vel[s].x() + b.vel[s].y() + b.spin[s]);
         if (!finite) reportNonFiniteBall(world);
     }
-    if (energy) closeBooks(world, step, lead, kinetic, body, damping, driven);
+    if (step.energy)
+        closeBooks(world, step, lead, sums.kinetic, sums.body, sums.damping, sums.driven);
 }
 
 void closeBooks(World& world, const StepContext& step, double lead, double kinetic, double body,

@@ -240,8 +240,192 @@ void surveyPairs(World& world) {
     world.stepping.limits_stale = false;
 }
 
+namespace {
+
+/// The step the rules choose: the smallest so far, the rule that set it and where.
+struct StepChoice {
+    double dt = std::numeric_limits<double>::infinity();
+    StepRule rule = StepRule::Max;
+    StepWhere where;
+    void take(double d, StepRule r, const StepWhere& w) {
+        if (d < dt) dt = d, rule = r, where = w;
+    }
+};
+
+/// The fixed step (or solveTime's cap on it).
+void fixedStep(World& world) {
+    world.stepping.idle = false;
+    if (!(world.settings.timestep.fixed > 0.0) || !std::isfinite(world.settings.timestep.fixed))
+        throw InputError("timestep: fixed step must be > 0 (got " +
+                         std::to_string(world.settings.timestep.fixed) + ")");
+    world.clock.dt = world.settings.timestep.fixed;
+    world.stepping.rule = StepRule::Fixed;
+    world.stepping.where = StepWhere{};
+    if (world.stepping.cap > 0.0 && world.stepping.cap < world.clock.dt)
+        world.clock.dt = world.stepping.cap;
+}
+
+void checkAutomaticSettings(const TimestepSettings& t) {
+    if (!(t.safety > 0.0)) throw InputError("timestep: safety must be > 0");
+    if (!(t.resolution >= 0.0)) throw InputError("timestep: resolution must be >= 0");
+    if (!(t.growth > 1.0)) throw InputError("timestep: growth must be > 1");
+    if (!(t.max > 0.0)) throw InputError("timestep: max must be > 0");
+}
+
+/// Stability, per ball, from the stiffness sums of the last force loop; and per clump
+/// (docs/physics/clumps.md, "Time step"): the clump's mass over the sum of its pebbles'
+/// translational stiffnesses, and its inertia over an upper bound of the rotational stiffness
+/// about the centroid: a contact on pebble s at distance d_s from the centroid has the arm
+/// d_s + r_s n, and kn (arm x n)^2 + ks (arm . t)^2 <= (kn + ks)(d_s^2 + 2 d_s r_s) + ks r_s^2, so
+/// sum (k_rot[s] + k_tran[s] d_s (d_s + 2 r_s)) bounds it (exact at d_s = 0: a one-pebble clump
+/// gets the ball's step).
+void stabilityOfBodies(const World& world, StepChoice& choice) {
+    const auto& b = world.bodies.balls;
+    const double safety = world.settings.timestep.safety;
+    const auto ball = [](uint32_t s) { return StepWhere{StepWhere::Ball, s, 0}; };
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const auto slot = static_cast<uint32_t>(s);
+        if (b.k_tran[s] > 0.0)
+            choice.take(safety * std::sqrt(b.mass[s] / b.k_tran[s]), StepRule::Stability,
+                        ball(slot));
+        if (b.k_rot[s] > 0.0)
+            choice.take(safety * std::sqrt(b.inertia[s] / b.k_rot[s]), StepRule::Stability,
+                        ball(slot));
+    }
+    if (!world.bodies.hasClumps()) return;
+    for (const ClumpData& c : world.bodies.clumps) {
+        if (!c.alive) continue;
+        double kt = 0.0, kr = 0.0;
+        for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+            const uint32_t s = world.bodies.pebbleSlot(c, k);
+            const double d = (b.pos[s] - c.pos).norm();
+            kt += b.k_tran[s];
+            kr += b.k_rot[s] + b.k_tran[s] * d * (d + 2.0 * b.radius[s]);
+        }
+        const uint32_t s0 = world.bodies.pebbleSlot(c, 0);
+        if (kt > 0.0) choice.take(safety * std::sqrt(c.mass / kt), StepRule::Stability, ball(s0));
+        if (kr > 0.0)
+            choice.take(safety * std::sqrt(c.inertia / kr), StepRule::Stability, ball(s0));
+    }
+}
+
+/// Stability, resolution and approach, per pair (gathered by the force loop).
+void pairLimits(const World& world, StepChoice& choice) {
+    const StepLimits& l = world.stepping.limits;
+    const auto pair = [](uint64_t key) { return StepWhere{StepWhere::Pair, 0, key}; };
+    choice.take(l.stability, StepRule::Stability, pair(l.stability_key));
+    choice.take(l.resolution, StepRule::Resolution, pair(l.resolution_key));
+    choice.take(l.approach, StepRule::Approach, pair(l.approach_key));
+}
+
+/// Kinematic: stay inside the fat boxes. Half the room, to leave the acceleration estimate
+/// (contact forces change within the step) a factor of two.
+void kinematicOfBalls(World& world, StepChoice& choice) {
+    const auto& b = world.bodies.balls;
+    const double half_prev = 0.5 * world.clock.dt_prev;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const Vec2 acc = (b.force[s] + b.fapp[s]) * b.inv_mass[s] + world.settings.gravity;
+        const double a = acc.norm(), v = b.vel[s].norm();
+        if (a == 0.0 && v == 0.0) continue;
+        const double room = roomInside(b.fat[s], ballBox(world, static_cast<uint32_t>(s)));
+        // A ball already outside its box was moved or grown by the script between cycles
+        // (b.radius, b.pos): this cycle's detection, after the motion, boxes it again and finds
+        // its pairs. Limiting the step by a room of zero stopped the run ("automatic step became
+        // 0 (kinematic rule)", met by material.lua's radius expansion).
+        if (room <= 0.0) continue;
+        choice.take(stepForDisplacement(a, v + a * half_prev, 0.5 * room), StepRule::Kinematic,
+                    StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0});
+    }
+    if (!world.bodies.hasClumps()) return;
+    // A pebble accelerates with its clump: a_s = a_c + alpha x r - w^2 r, |a_s| <= |a_c| +
+    // (|alpha| + w^2) d_s (the ball loop above used the pebble's own force only).
+    gatherClumpForces(world);
+    for (const ClumpData& c : world.bodies.clumps) {
+        if (!c.alive) continue;
+        const double ac = ((c.force + c.fapp) * c.inv_mass + world.settings.gravity).norm();
+        const double al = std::fabs((c.moment + c.mapp) * c.inv_inertia);
+        for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+            const uint32_t s = world.bodies.pebbleSlot(c, k);
+            const double dist = (b.pos[s] - c.pos).norm();
+            const double a = ac + (al + c.spin * c.spin) * dist;
+            const double v = b.vel[s].norm();
+            if (a == 0.0 && v == 0.0) continue;
+            const double room = roomInside(b.fat[s], ballBox(world, s));
+            if (room <= 0.0) continue;  // re-boxed by this cycle's detection (above)
+            choice.take(stepForDisplacement(a, v + a * half_prev, 0.5 * room), StepRule::Kinematic,
+                        StepWhere{StepWhere::Ball, s, 0});
+        }
+    }
+}
+
+/// Kinematic, for the moving walls' segments (a servo's at its vmax: it sets its velocity after
+/// this phase, wall_servo.cpp).
+void kinematicOfWalls(const World& world, StepChoice& choice) {
+    for (std::size_t w = 0; w < world.bodies.walls.size(); ++w) {
+        const WallData& wd = world.bodies.walls[w];
+        const double servo_v = wd.has_servo && wd.servo.settings.on ? wd.servo.settings.vmax : 0.0;
+        if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0 && servo_v == 0.0))
+            continue;
+        double reach = 0.0;
+        for (uint32_t k = 0; k < wd.vertex_count; ++k)
+            reach =
+                std::max(reach, (world.bodies.vertices[wd.first_vertex + k] - wd.center).norm());
+        const double v = wd.vel.norm() + servo_v + std::fabs(wd.spin) * reach;
+        for (uint32_t k = 0; k < wd.segment_count; ++k) {
+            const uint32_t sg = wd.first_segment + k;
+            const double room = roomInside(world.bodies.segments[sg].fat, segmentBox(world, sg));
+            choice.take(stepForDisplacement(0.0, v, 0.5 * std::max(room, 0.0)), StepRule::Kinematic,
+                        StepWhere{StepWhere::Wall, static_cast<uint32_t>(w), 0});
+        }
+    }
+}
+
+/// Idle: no rule limits the step. No body moves or accelerates, no wall moves, nothing touches
+/// with a stiffness. Any step is exact then, but the step must stay on the scene's own time
+/// scales (doubling by the growth rule reached 6e26 s, then t = inf). It is the smallest step
+/// the scene's pairs would need at their present closing speeds (the approach rule's limit),
+/// never more than the previous step, and kept while the scene stays idle; at most 1 ms (a lone
+/// body, or Hertz-type pairs that nothing presses, whose duration at zero closing speed is
+/// unbounded: an idle ng pack took 3.5e149 s steps from it).
+void idleStep(const World& world, double dt_last, bool surveyed, StepChoice& choice) {
+    const auto& b = world.bodies.balls;
+    choice.dt = dt_last > 0.0 ? dt_last : std::numeric_limits<double>::infinity();
+    choice.rule = StepRule::Idle;
+    choice.where = world.stepping.rule == StepRule::Idle ? world.stepping.where : StepWhere{};
+    if (surveyed || !world.stepping.idle) {
+        for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
+            const Pair& p = world.contacts.pairs[i];
+            const double m1 = b.mass[p.end1];
+            const double m2 = p.wall ? 0.0 : b.mass[p.end2];
+            const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
+            const double m_min = p.wall ? m1 : std::min(m1, m2);
+            const PairCold& c = world.contacts.cold[i];
+            const double d = contactStepLimit(
+                c, m_min, approachDuration(p, c, m_eff, 0.0, 0.0, 1.0), world.settings.timestep);
+            if (d < choice.dt) choice.dt = d, choice.where = StepWhere{StepWhere::Pair, 0, c.key};
+        }
+    }
+    choice.dt = std::min(choice.dt, kIdleStepCap);
+}
+
+/// The bounds on any automatic step: mass-proportional viscous damping's own time scale 1/c (the
+/// implicit update keeps (1 - c w/2) / (1 + c w/2) of the velocity per step, which turns
+/// negative past c w = 2: a ball creeping at nm/s in free flight otherwise takes 1e5 s steps from
+/// the kinematic rule, stress suite seeds 74, 397, 401), `max`, `growth` and solveTime's cap.
+void boundStep(const World& world, bool idle, StepChoice& choice) {
+    const double c = world.settings.damping.viscous;
+    if (!idle && c > 0.0 && 1.0 / c < choice.dt) choice = {1.0 / c, StepRule::Damping, {}};
+    if (world.settings.timestep.max < choice.dt)
+        choice = {world.settings.timestep.max, StepRule::Max, {}};
+    const double grown = world.settings.timestep.growth * world.clock.dt_prev;
+    if (!idle && world.clock.dt_prev > 0.0 && choice.dt > grown)
+        choice = {grown, StepRule::Growth, {}};
+    if (world.stepping.cap > 0.0 && world.stepping.cap < choice.dt) choice.dt = world.stepping.cap;
+}
+
+}  // namespace
+
 void computeTimestep(World& world) {
-    const double inf = std::numeric_limits<double>::infinity();
     // The previous step: the growth rule's base. After an idle step (nothing moved and nothing
     // accelerated, see below) the half-step velocities are the velocities at this instant, so
     // the integrator starts afresh as at the first cycle (window dt/2, law_of_motion.cpp): what
@@ -249,23 +433,8 @@ void computeTimestep(World& world) {
     // idle step before it.
     const double dt_last = world.clock.dt;
     world.clock.dt_prev = world.stepping.idle ? 0.0 : world.clock.dt;
-    if (!world.settings.timestep.automatic) {
-        world.stepping.idle = false;
-        if (!(world.settings.timestep.fixed > 0.0) || !std::isfinite(world.settings.timestep.fixed))
-            throw InputError("timestep: fixed step must be > 0 (got " +
-                             std::to_string(world.settings.timestep.fixed) + ")");
-        world.clock.dt = world.settings.timestep.fixed;
-        world.stepping.rule = StepRule::Fixed;
-        world.stepping.where = StepWhere{};
-        if (world.stepping.cap > 0.0 && world.stepping.cap < world.clock.dt)
-            world.clock.dt = world.stepping.cap;
-        return;
-    }
-    if (!(world.settings.timestep.safety > 0.0)) throw InputError("timestep: safety must be > 0");
-    if (!(world.settings.timestep.resolution >= 0.0))
-        throw InputError("timestep: resolution must be >= 0");
-    if (!(world.settings.timestep.growth > 1.0)) throw InputError("timestep: growth must be > 1");
-    if (!(world.settings.timestep.max > 0.0)) throw InputError("timestep: max must be > 0");
+    if (!world.settings.timestep.automatic) return fixedStep(world);
+    checkAutomaticSettings(world.settings.timestep);
     // The approach limits were gathered with the accelerations of the last force loop: a change
     // of gravity (or of an applied force, setBallAppliedForce) since then needs a new survey.
     const bool surveyed =
@@ -273,202 +442,33 @@ void computeTimestep(World& world) {
     if (surveyed) surveyPairs(world);
     world.stepping.limits_gravity = world.settings.gravity;
 
-    double dt = inf;
-    StepRule rule = StepRule::Max;
-    StepWhere where;
-    auto& b = world.bodies.balls;
-    const std::size_t n = b.size();
-
-    // Stability, per ball, from the stiffness sums of the last force loop.
-    uint32_t worst = kDeadSlot;
-    for (std::size_t s = 0; s < n; ++s) {
-        if (b.k_tran[s] > 0.0) {
-            const double d = world.settings.timestep.safety * std::sqrt(b.mass[s] / b.k_tran[s]);
-            if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
-        }
-        if (b.k_rot[s] > 0.0) {
-            const double d = world.settings.timestep.safety * std::sqrt(b.inertia[s] / b.k_rot[s]);
-            if (d < dt) dt = d, rule = StepRule::Stability, worst = static_cast<uint32_t>(s);
-        }
-    }
-    // Clumps (docs/physics/clumps.md, "Time step"): the clump's mass over the sum of its
-    // pebbles' translational stiffnesses, and its inertia over an upper bound of the rotational
-    // stiffness about the centroid: a contact on pebble s at distance d_s from the centroid has
-    // the arm d_s + r_s n, and kn (arm x n)^2 + ks (arm . t)^2 <= (kn + ks)(d_s^2 + 2 d_s r_s) +
-    // ks r_s^2, so sum (k_rot[s] + k_tran[s] d_s (d_s + 2 r_s)) bounds it (exact at d_s = 0: a
-    // one-pebble clump gets the ball's step).
-    if (world.bodies.hasClumps()) {
-        for (const ClumpData& c : world.bodies.clumps) {
-            if (!c.alive) continue;
-            double kt = 0.0, kr = 0.0;
-            for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-                const uint32_t s = world.bodies.pebbleSlot(c, k);
-                const double d = (b.pos[s] - c.pos).norm();
-                kt += b.k_tran[s];
-                kr += b.k_rot[s] + b.k_tran[s] * d * (d + 2.0 * b.radius[s]);
-            }
-            const uint32_t s0 = world.bodies.pebbleSlot(c, 0);
-            if (kt > 0.0) {
-                const double d = world.settings.timestep.safety * std::sqrt(c.mass / kt);
-                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
-            }
-            if (kr > 0.0) {
-                const double d = world.settings.timestep.safety * std::sqrt(c.inertia / kr);
-                if (d < dt) dt = d, rule = StepRule::Stability, worst = s0;
-            }
-        }
-    }
-    if (rule == StepRule::Stability) where = StepWhere{StepWhere::Ball, worst, 0};
-
-    // Stability, resolution and approach, per pair (gathered by the force loop).
-    if (world.stepping.limits.stability < dt) {
-        dt = world.stepping.limits.stability;
-        rule = StepRule::Stability;
-        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.stability_key};
-    }
-    if (world.stepping.limits.resolution < dt) {
-        dt = world.stepping.limits.resolution;
-        rule = StepRule::Resolution;
-        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.resolution_key};
-    }
-    if (world.stepping.limits.approach < dt) {
-        dt = world.stepping.limits.approach;
-        rule = StepRule::Approach;
-        where = StepWhere{StepWhere::Pair, 0, world.stepping.limits.approach_key};
-    }
-
-    // Kinematic: stay inside the fat boxes. Half the room, to leave the acceleration estimate
-    // (contact forces change within the step) a factor of two.
+    StepChoice choice;
+    stabilityOfBodies(world, choice);
+    pairLimits(world, choice);
     if (world.contacts.broadphase_ready) {
-        const double half_prev = 0.5 * world.clock.dt_prev;
-        for (std::size_t s = 0; s < n; ++s) {
-            const Vec2 acc = (b.force[s] + b.fapp[s]) * b.inv_mass[s] + world.settings.gravity;
-            const double a = acc.norm(), v = b.vel[s].norm();
-            if (a == 0.0 && v == 0.0) continue;
-            const double room = roomInside(b.fat[s], ballBox(world, static_cast<uint32_t>(s)));
-            // A ball already outside its box was moved or grown by the script between cycles
-            // (b.radius, b.pos): this cycle's detection, after the motion, boxes it again and
-            // finds its pairs. Limiting the step by a room of zero stopped the run ("automatic
-            // step became 0 (kinematic rule)", met by material.lua's radius expansion).
-            if (room <= 0.0) continue;
-            const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * room);
-            if (d < dt)
-                dt = d, rule = StepRule::Kinematic,
-                where = StepWhere{StepWhere::Ball, static_cast<uint32_t>(s), 0};
-        }
-        if (world.bodies.hasClumps()) {
-            // A pebble accelerates with its clump: a_s = a_c + alpha x r - w^2 r, |a_s| <= |a_c|
-            // + (|alpha| + w^2) d_s (the ball loop above used the pebble's own force only).
-            gatherClumpForces(world);
-            for (const ClumpData& c : world.bodies.clumps) {
-                if (!c.alive) continue;
-                const double ac = ((c.force + c.fapp) * c.inv_mass + world.settings.gravity).norm();
-                const double al = std::fabs((c.moment + c.mapp) * c.inv_inertia);
-                for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-                    const uint32_t s = world.bodies.pebbleSlot(c, k);
-                    const double dist = (b.pos[s] - c.pos).norm();
-                    const double a = ac + (al + c.spin * c.spin) * dist;
-                    const double v = b.vel[s].norm();
-                    if (a == 0.0 && v == 0.0) continue;
-                    const double room = roomInside(b.fat[s], ballBox(world, s));
-                    if (room <= 0.0) continue;  // re-boxed by this cycle's detection (above)
-                    const double d = stepForDisplacement(a, v + a * half_prev, 0.5 * room);
-                    if (d < dt)
-                        dt = d, rule = StepRule::Kinematic,
-                        where = StepWhere{StepWhere::Ball, s, 0};
-                }
-            }
-        }
-        for (std::size_t w = 0; w < world.bodies.walls.size(); ++w) {
-            const WallData& wd = world.bodies.walls[w];
-            // A servo sets its velocity after this phase: bound it by vmax (wall_servo.cpp).
-            const double servo_v =
-                wd.has_servo && wd.servo.settings.on ? wd.servo.settings.vmax : 0.0;
-            if (!wd.alive || (wd.vel.squaredNorm() == 0.0 && wd.spin == 0.0 && servo_v == 0.0))
-                continue;
-            double reach = 0.0;
-            for (uint32_t k = 0; k < wd.vertex_count; ++k)
-                reach = std::max(reach,
-                                 (world.bodies.vertices[wd.first_vertex + k] - wd.center).norm());
-            const double v = wd.vel.norm() + servo_v + std::fabs(wd.spin) * reach;
-            for (uint32_t k = 0; k < wd.segment_count; ++k) {
-                const uint32_t sg = wd.first_segment + k;
-                const double room =
-                    roomInside(world.bodies.segments[sg].fat, segmentBox(world, sg));
-                const double d = stepForDisplacement(0.0, v, 0.5 * std::max(room, 0.0));
-                if (d < dt)
-                    dt = d, rule = StepRule::Kinematic,
-                    where = StepWhere{StepWhere::Wall, static_cast<uint32_t>(w), 0};
-            }
-        }
+        kinematicOfBalls(world, choice);
+        kinematicOfWalls(world, choice);
     }
-
     bool idle = false;
-    if (!(dt < inf)) {
-        // Idle: no rule limits the step. No body moves or accelerates, no wall moves, nothing
-        // touches with a stiffness. Any step is exact then, but the step must stay on the
-        // scene's own time scales (doubling by the growth rule reached 6e26 s,
-        // then t = inf). It is the smallest step the scene's pairs would need at their present
-        // closing speeds (the approach rule's limit), never more than the previous step, and
-        // kept while the scene stays idle; at most 1 ms (a lone body, or Hertz-type pairs that
-        // nothing presses, whose duration at zero closing speed is unbounded: an idle ng pack
-        // took 3.5e149 s steps from it).
+    if (!(choice.dt < std::numeric_limits<double>::infinity())) {
         idle = true;
-        dt = dt_last > 0.0 ? dt_last : inf;
-        rule = StepRule::Idle;
-        where = world.stepping.rule == StepRule::Idle ? world.stepping.where : StepWhere{};
-        if (surveyed || !world.stepping.idle) {
-            for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-                const Pair& p = world.contacts.pairs[i];
-                const double m1 = b.mass[p.end1];
-                const double m2 = p.wall ? 0.0 : b.mass[p.end2];
-                const double m_eff = p.wall ? m1 : m1 * m2 / (m1 + m2);
-                const double m_min = p.wall ? m1 : std::min(m1, m2);
-                const PairCold& c = world.contacts.cold[i];
-                const double d =
-                    contactStepLimit(c, m_min, approachDuration(p, c, m_eff, 0.0, 0.0, 1.0),
-                                     world.settings.timestep);
-                if (d < dt)
-                    dt = d, where = StepWhere{StepWhere::Pair, 0, world.contacts.cold[i].key};
-            }
-        }
-        dt = std::min(dt, kIdleStepCap);
+        idleStep(world, dt_last, surveyed, choice);
     }
-    // Mass-proportional viscous damping has its own time scale 1/c: the implicit update keeps
-    // (1 - c w/2) / (1 + c w/2) of the velocity per step, which turns negative (the damping
-    // reverses the motion) past c w = 2. A ball creeping at nm/s in free flight otherwise takes
-    // 1e5 s steps from the kinematic rule (stress suite, seeds 74, 397, 401).
-    if (!idle && world.settings.damping.viscous > 0.0 &&
-        1.0 / world.settings.damping.viscous < dt) {
-        dt = 1.0 / world.settings.damping.viscous;
-        rule = StepRule::Damping;
-        where = StepWhere{};
-    }
-    if (world.settings.timestep.max < dt) {
-        dt = world.settings.timestep.max;
-        rule = StepRule::Max;
-        where = StepWhere{};
-    }
-    if (!idle && world.clock.dt_prev > 0.0 &&
-        dt > world.settings.timestep.growth * world.clock.dt_prev) {
-        dt = world.settings.timestep.growth * world.clock.dt_prev;
-        rule = StepRule::Growth;
-        where = StepWhere{};
-    }
-    if (world.stepping.cap > 0.0 && world.stepping.cap < dt) dt = world.stepping.cap;
-    if (!(dt > 0.0) || !(dt < inf))
-        throw NumericalError("timestep: the automatic step became " + std::to_string(dt) + " (" +
-                             std::string(stepRuleName(rule)) + " rule)");
+    boundStep(world, idle, choice);
+    if (!(choice.dt > 0.0) || !(choice.dt < std::numeric_limits<double>::infinity()))
+        throw NumericalError("timestep: the automatic step became " + std::to_string(choice.dt) +
+                             " (" + std::string(stepRuleName(choice.rule)) + " rule)");
     // The next step restarts the integrator only if this one was idle in rotation too (no
     // moment: a spin changing under an applied moment keeps its half-step history).
+    const auto& b = world.bodies.balls;
     if (idle)
-        for (std::size_t s = 0; s < n && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
+        for (std::size_t s = 0; s < b.size() && idle; ++s) idle = b.moment[s] + b.mapp[s] == 0.0;
     if (idle)
         for (const ClumpData& c : world.bodies.clumps) idle = idle && (!c.alive || c.mapp == 0.0);
     world.stepping.idle = idle;
-    world.clock.dt = dt;
-    world.stepping.rule = rule;
-    world.stepping.where = where;
+    world.clock.dt = choice.dt;
+    world.stepping.rule = choice.rule;
+    world.stepping.where = choice.where;
 }
 
 }  // namespace talus

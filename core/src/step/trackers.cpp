@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "api/operations.hpp"
+#include "step/detection.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
 #include "world/types.hpp"

@@ -5,7 +5,6 @@
 #include <memory>
 #include <unordered_map>
 
-#include "force/scratch.hpp"
 #include "talus/errors.hpp"
 #include "world/contact_store.hpp"
 #include "world/lanes.hpp"
@@ -71,8 +70,7 @@ void leaveAllLanes(World& world) {
 }
 
 void reorderLanes(World& world) {
-    // Each table's rows in the order of their pairs, so that the loop's blocks read them
-    // forward.
+    // Each table's rows in the order of their pairs, so that the loop reads them forward.
     std::unordered_map<LaneTable*, std::vector<uint32_t>> order;
     for (Pair& p : world.contacts.pairs) {
         if (p.lane == kNoLane) continue;
@@ -83,21 +81,6 @@ void reorderLanes(World& world) {
     }
     for (auto& rule : world.contacts.rules)
         if (rule->lanes) rule->lanes->reorder(order[rule->lanes.get()]);
-}
-
-// ------------------------------------------------------------------------ the loop's scratch
-
-void LaneScratch::prepare() {
-    if (declined.empty()) declined.resize(kBlock);
-    LaneBatch& b = batch;
-    b.size = sizeof(LaneBatch);
-    b.row = row;
-    b.u_n = u_n, b.u_dot_n = u_dot_n, b.u_dot_s = u_dot_s, b.t_dot_rel = t_dot_rel;
-    b.mass_eff = mass_eff, b.inv_mass_eff_s = inv_mass_eff_s;
-    b.n_force = n_force, b.s_force = s_force, b.moment = moment;
-    b.knest = knest, b.ksest = ksest, b.krest = krest;
-    b.flags_out = flags_out;
-    for (int e = 0; e < kEnergyCount; ++e) b.energy[e] = energy[e];
 }
 
 }  // namespace talus

@@ -28,6 +28,10 @@ public:
     uint32_t allocate();
     void release(uint32_t r) { m_free.push_back(r); }
     std::size_t used() const { return m_rows - m_free.size(); }
+    /// The memory it holds [bytes].
+    std::size_t bytes() const {
+        return m_data.capacity() * sizeof(double) + m_free.capacity() * sizeof(uint32_t);
+    }
     /// Moves row order[k] to row k for every k and drops the rest (and the free list): the
     /// contacts in the order the force loop visits them (sortBalls).
     void reorder(const std::vector<uint32_t>& order);

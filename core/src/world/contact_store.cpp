@@ -16,7 +16,6 @@ ObjectPool::ObjectPool(std::size_t block_size) {
 
 void* ObjectPool::allocate() {
     if (m_free.empty()) {
-        constexpr std::size_t kPerChunk = 256;
         m_chunks.emplace_back(new unsigned char[m_block * kPerChunk]);
         unsigned char* base = m_chunks.back().get();
         for (std::size_t i = kPerChunk; i-- > 0;) m_free.push_back(base + i * m_block);
@@ -47,6 +46,57 @@ void ContactStore::swapState(std::size_t i, std::size_t j) {
     std::swap(cold[i], cold[j]);
     std::swap(cold[i].key, cold[j].key);
     std::swap(stored[i], stored[j]);
+}
+
+GuardWatch& ContactStore::startWatch(Pair& p, PairCold& c) {
+    p.watched = true;
+    if (c.watch == kNoWatch) {
+        if (free_watches.empty()) {
+            c.watch = static_cast<uint32_t>(watches.size());
+            watches.emplace_back();
+        } else {
+            c.watch = free_watches.back();
+            free_watches.pop_back();
+        }
+    }
+    GuardWatch& w = watches[c.watch];
+    w = GuardWatch{};
+    return w;
+}
+
+void ContactStore::endWatch(Pair& p, PairCold& c) {
+    p.watched = false;
+    if (c.watch == kNoWatch) return;
+    free_watches.push_back(c.watch);
+    c.watch = kNoWatch;
+}
+
+void ContactStore::compactWatches() {
+    const std::size_t live = watches.size() - free_watches.size();
+    if (watches.size() < 1024 || 4 * live > watches.size()) return;
+    std::vector<GuardWatch> kept;
+    kept.reserve(live);
+    for (PairCold& c : cold) {
+        if (c.watch == kNoWatch) continue;
+        kept.push_back(watches[c.watch]);
+        c.watch = static_cast<uint32_t>(kept.size() - 1);
+    }
+    watches.swap(kept);
+    free_watches.clear();
+    free_watches.shrink_to_fit();
+}
+
+GuardWatch ContactStore::savedWatch(const Pair& p, const PairCold& c) const {
+    if (const GuardWatch* w = watchOf(c)) return *w;
+    GuardWatch w;
+    if (p.active) w.steps = kGuardWatch + 1;
+    return w;
+}
+
+void ContactStore::restoreWatch(Pair& p, PairCold& c, const GuardWatch& w) {
+    c.watch = kNoWatch;
+    p.watched = false;
+    if (p.active && w.steps <= kGuardWatch) startWatch(p, c) = w;
 }
 
 uint16_t ContactStore::ruleIndex(const Rule* rule) const {

@@ -15,11 +15,17 @@
 #include <unordered_map>
 #include <vector>
 
-#include "force/scratch.hpp"
 #include "world/broadphase.hpp"
 #include "world/types.hpp"
 
 namespace talus {
+
+/// The force loop's scratch (force/scratch.hpp): held here for its lifetime, made and freed by
+/// the force loop, which alone knows its type.
+struct ForceScratch;
+struct ForceScratchDelete {
+    void operator()(ForceScratch* s) const;  // force/loop.cpp
+};
 
 struct ContactStore {
     ContactStore();
@@ -29,6 +35,10 @@ struct ContactStore {
     std::vector<PairCold> cold;                        // same index as `pairs`
     std::vector<PairStored> stored;                    // same index (energy tracing)
     std::unordered_map<uint64_t, uint32_t> key_index;  // ContactKey value -> index
+    // The guard's watch of young contacts (GuardWatch), one record per watched contact; freed
+    // records are reused, and the list is compacted when most of it is free (compactWatches).
+    std::vector<GuardWatch> watches;
+    std::vector<uint32_t> free_watches;
     // Bumped whenever a pair is added or removed or an end's slot changes (the threads'
     // incidence lists are rebuilt then; force/scratch.hpp).
     uint64_t pairs_version = 0;
@@ -50,7 +60,7 @@ struct ContactStore {
     std::vector<uint8_t> ball_moved, segment_moved;
     std::vector<uint8_t> leaving;     // scratch: ball slot -> left its fat box this step
     std::vector<uint32_t> to_remove;  // scratch for the force loop
-    ForceScratch force_scratch;       // the force loop's scratch (force/scratch.hpp)
+    std::unique_ptr<ForceScratch, ForceScratchDelete> force_scratch;  // (force/scratch.hpp)
     // Pairs whose bond broke or was removed (key -> the ends' generations, so that a reused
     // handle is not mistaken for the pair): no bond on touch for them again (api/bonds.cpp).
     // Empty, and never looked at, in a model without bonds.
@@ -60,6 +70,26 @@ struct ContactStore {
     // contact activate() just made
     FdBlock fd_template{};
     uint32_t activation_flags = 0;
+
+    /// A contact's watch record, or nullptr when the guard does not watch it.
+    GuardWatch* watchOf(const PairCold& c) {
+        return c.watch == kNoWatch ? nullptr : &watches[c.watch];
+    }
+    const GuardWatch* watchOf(const PairCold& c) const {
+        return c.watch == kNoWatch ? nullptr : &watches[c.watch];
+    }
+    /// The guard starts watching the contact (a fresh record; the one it has, if any).
+    GuardWatch& startWatch(Pair& p, PairCold& c);
+    /// The guard stops watching it (its record freed).
+    void endWatch(Pair& p, PairCold& c);
+    /// The records in a list no larger than what is watched, when at most a quarter is (after a
+    /// packing's contacts outlived their watch).
+    void compactWatches();
+    /// The watch as a save file holds it for every pair (docs/save-format.md): the record, or,
+    /// for a contact that outlived its watch (or was never watched), steps past the watch.
+    GuardWatch savedWatch(const Pair& p, const PairCold& c) const;
+    /// A restored pair's watch: a record when it is active and within its watch.
+    void restoreWatch(Pair& p, PairCold& c, const GuardWatch& w);
 
     /// A pair's cold record (same index) and its rule.
     PairCold& coldOf(const Pair& p) { return cold[pairIndex(p)]; }

@@ -42,6 +42,7 @@ struct StepLimits {
 constexpr uint32_t kGuardWatch = 400;
 
 constexpr uint32_t kDeadSlot = 0xffffffffu;
+constexpr uint32_t kNoWatch = 0xffffffffu;  // PairCold::watch of a contact the guard does not watch
 constexpr uint32_t kNoClump = 0xffffffffu;  // BallArrays::clump of a free ball
 
 constexpr uint32_t kWallBit = 0x80000000u;  // in ContactKey: end 2 is a wall segment
@@ -54,6 +55,11 @@ public:
     void* allocate();
     void release(void* p);
     std::size_t blockSize() const { return m_block; }
+    /// The memory it holds [bytes] (its chunks and free list).
+    std::size_t bytes() const {
+        return m_chunks.size() * m_block * kPerChunk + m_free.capacity() * sizeof(void*);
+    }
+    static constexpr std::size_t kPerChunk = 256;  // objects per chunk
 
 private:
     std::size_t m_block;
@@ -61,23 +67,17 @@ private:
     std::vector<void*> m_free;
 };
 
-/// An SDK law the host runs itself on a model's lane rows (force/kernels.hpp; docs/plugin-abi.md,
-/// "Kernels").
+/// An SDK law the host runs itself on a model's kernel rows (force/runners.hpp, the runner
+/// table; docs/plugin-abi.md, "Kernels"); None: the model's FDlaw.
 enum class Kernel : uint8_t { None, Linear, ContactBond };
-
-/// How a rule's contacts run this step (force/loop.cpp): the model's law per contact; its lane
-/// law over blocks of contacts (m:lanes); or the host's kernel of its law, inline.
-enum class LaneMode : uint8_t { None, Blocks, Kernel };
 
 /// A contact-model assignment: which model, with which properties, for which groups.
 struct Rule {
     std::string model_name;
     const ModelFactory* factory = nullptr;
-    /// factory->batch, here so that the force loop finds it one load from the pair (measured:
-    /// through the factory, a second dependent load per contact cost 3-10%).
-    BatchFdLawFn batch = nullptr;
-    Kernel kernel = Kernel::None;         // the host's kernel of the model's law (kernelOf)
-    LaneMode lane_mode = LaneMode::None;  // this step's (force/loop.cpp)
+    /// How its contacts' law runs, chosen once when the rule is made (kernelOf): a kernel on
+    /// their rows, or the model's FDlaw.
+    Kernel kernel = Kernel::None;
     PluginRegistry::PrototypePtr prototype;
     int group_a = -1;  // -1 = any
     int group_b = -1;
@@ -85,8 +85,8 @@ struct Rule {
     int order = 0;        // later rules win ties
     double activity = 0.0;
     std::unique_ptr<ObjectPool> pool;
-    /// The state of its contacts that run in the model's lanes (made at the first; none when
-    /// the model has no lane law).
+    /// The state of its contacts that its kernel runs, one row each in the model's lane layout
+    /// (made at the first; none without a kernel).
     std::unique_ptr<LaneTable> lanes;
     bool warned_no_stiffness = false;          // activate warns once per rule
     bool warned_negative_dissipation = false;  // the force loop warns once per rule
@@ -148,7 +148,7 @@ struct Pair {
     bool sliding : 1;
     bool bonded : 1;
     bool loading : 1;  // guard: the overlap grew at the last step
-    bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::steps)
+    bool watched : 1;  // guard: within its first kGuardWatch steps in contact (PairCold::watch)
     ContactModel* model = nullptr;
     double n_force = 0.0, s_force = 0.0, moment = 0.0;  // the law's, of the last step
 
@@ -173,24 +173,31 @@ struct PairCold {
     double activity = 0.0;
     double knest = 0.0, ksest = 0.0, krest = 0.0;  // the law's estimates, of the last step
     double duration = 0.0;  // expected contact duration from the model at touch [s]
+    double overlap = 0.0;   // at the last step that noted it (the guard's watch, the estimates)
     uint64_t key = 0;
-    // The guard: its watch of the contact's first kGuardWatch steps.
-    double overlap = 0.0;  // at the last watched step
-    uint16_t steps = 0;    // steps with positive overlap in this life, up to kGuardWatch + 1
-    uint16_t apart = 0;    // watched steps active without overlap, up to kGuardWatch + 1
     uint32_t rules_version = 0;
+    uint32_t watch = kNoWatch;  // its GuardWatch in ContactStore::watches while watched
+};
+static_assert(sizeof(PairCold) == 80, "PairCold is 80 bytes (docs/architecture.md quotes it)");
+
+/// The guard's watch of a young contact (docs/physics/guard.md): what it needs of the contact's
+/// first kGuardWatch steps in contact, kept only while they last (ContactStore::watches, named by
+/// PairCold::watch and Pair::watched), so that a contact of a packing carries none of it.
+struct GuardWatch {
+    uint16_t steps = 0;  // steps with positive overlap in this life, up to kGuardWatch + 1
+    uint16_t apart = 0;  // watched steps active without overlap, up to kGuardWatch + 1
+    bool born_overlapped = false;        // first touched with more overlap than one step's approach
     double work = 0.0, work_peak = 0.0;  // energy the contact took in this life [J]
     // ... written at touch and at the deepest overlap (when the overlap stops growing).
-    double overlap_max = 0.0;      // deepest overlap in this life [m]
-    double force_at_max = 0.0;     // normal force there [N]
-    double rate_at_max = 0.0;      // overlap rate just after it [m/s]
-    double knest_at_max = 0.0;     // reported normal stiffness there [N/m]
-    double dt_at_max = 0.0;        // step taken there [s]
-    double approach_rate = 0.0;    // u_dot_n at touch [m/s]
-    double closure = 0.0;          // overlap the step's motion could create at touch [m]
-    bool born_overlapped = false;  // first touched with more overlap than one step's approach
+    double overlap_max = 0.0;    // deepest overlap in this life [m]
+    double force_at_max = 0.0;   // normal force there [N]
+    double rate_at_max = 0.0;    // overlap rate just after it [m/s]
+    double knest_at_max = 0.0;   // reported normal stiffness there [N/m]
+    double dt_at_max = 0.0;      // step taken there [s]
+    double approach_rate = 0.0;  // u_dot_n at touch [m/s]
+    double closure = 0.0;        // overlap the step's motion could create at touch [m]
 };
-static_assert(sizeof(PairCold) == 160, "PairCold is 160 bytes (docs/architecture.md quotes it)");
+static_assert(sizeof(GuardWatch) == 80, "GuardWatch is 80 bytes (docs/architecture.md quotes it)");
 
 /// Energy tracing: a pair's stored energies as its law last reported them [J], same index as
 /// Pair. Written for every contact at every traced step, so kept apart from PairCold (16 bytes

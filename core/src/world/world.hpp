@@ -46,9 +46,9 @@ struct Settings {
     GuardSettings guard;
     DampingSettings damping;
     int64_t sort_every = Model::kSortAuto;  // re-order the balls every N steps (0: never)
-    bool batched_law = true;
-    bool lanes = false;
-    bool kernels = true;   // the host's kernels of the shipped models' laws (force/kernels.hpp)
+    // The host's kernels of the shipped models' laws (force/runners.hpp); off (tests and
+    // measurements only: testing/force_switches.hpp) runs their FDlaw.
+    bool kernels = true;
     int threads = 0;       // 0 = TALUS_THREADS or 1
     int thread_grain = 0;  // 0 = TALUS_THREAD_GRAIN or Model::kDefaultThreadGrain
 };

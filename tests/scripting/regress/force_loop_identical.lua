@@ -1,19 +1,18 @@
 -- SPDX-License-Identifier: MIT
 -- The force loop's ways of running give the same bits (docs/architecture.md, "Force
--- loop" and "Threads"): the batched FDlaw against FDlaw per contact (`m:batched_law`), the
--- host's kernel of linear's law on its lane rows (`m:kernels`, docs/plugin-abi.md "Kernels"), the
--- lanes (`m:lanes`: linear's lane law on host-owned state, docs/plugin-abi.md "Lanes"), and 1, 2
--- or 3 threads (`m:threads`; 3 on a machine with 2 cores runs a thread more than there are
--- cores, and grain 1 makes even this scene's few hundred pairs use them). One scene with what the
+-- loop" and "Threads"): the host's kernels of linear's and cbond's laws on their rows
+-- (`m:kernels`, docs/plugin-abi.md "Kernels") against FDlaw per contact, and 1, 2 or 3 threads
+-- (`m:threads`; 3 on a machine with 2 cores runs a thread more than there are cores, and grain 1
+-- makes even this scene's few hundred pairs use them). One scene with what the
 -- loop does beyond the plain contact: `linear` with every dashpot mode (normal and shear
 -- dashpots, no tension, no shear dashpot while sliding) and without dashpots, another model
--- (hertz, which has no batched law), the automatic step (stability, resolution and approach
+-- (hertz, which has no kernel: the loop runs a switch per contact), the automatic step (stability, resolution and approach
 -- notes, the latter from the step's complete forces), cbond bonds that break on impact, clumps,
 -- and a wall chain with convex vertices the balls roll over (contact hand-over between segments,
 -- done in the threads' serial part). Three ways to trace energy: per group (the whole model and
 -- every group: one thread, the threads request falls back), off, and without groups (the whole
 -- model's books: threads, each contact's items added in pair order afterwards).
--- A second scene, of the parallel bond's kernel and lane law, is described at its function.
+-- A second scene, of the parallel bond (no kernel), is described at its function.
 -- The states must agree to the bit: positions, velocities, spins, every contact's forces and
 -- moment, the wall forces, every energy item traced, the steps. No tolerance: every path runs
 -- the same inline law on the same inputs, and every sum takes the same terms in the same order
@@ -23,11 +22,9 @@ local T = require("testlib")
 -- energy: "groups" (traced, with groups), "off", "plain" (traced, a scene without groups:
 -- one contact rule with dashpots, every bond installed before the loose balls are made), or
 -- "bare" (off, and no clumps: the law of motion's plain loop, which threads share too)
-local function scene(batched, threads, energy, lanes, kernels)
+local function scene(threads, energy, kernels)
     local m = talus.model{ gravity = {0, -9.81} }
-    T.check(m:batched_law(batched) == batched, "m:batched_law(on) returns the setting")
-    T.check(m:kernels(kernels == true) == (kernels == true), "m:kernels(on) returns the setting")
-    T.check(m:lanes(lanes == true) == (lanes == true), "m:lanes(on) returns the setting")
+    T.check(m:kernels(kernels) == kernels, "m:kernels(on) returns the setting")
     T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
     m:on_warning(function() end)  -- guard findings of the pour are not this test's topic
     local grouped = energy ~= "plain"
@@ -108,57 +105,37 @@ local function digest(m, energy)
     return table.concat(out, " "), contacts
 end
 
-local function batchedLaws(m)
-    return tonumber(m:profile():match("batched laws (%d+)"))
+local function kernelSteps(m)
+    local n, d = m:profile():match("kernel steps (%d+) %(declined (%d+)%)")
+    return tonumber(n), tonumber(d)
 end
 
 local m
 for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
-    local ref_m, ref_breaks = scene(false, 1, energy)
+    local ref_m, ref_breaks = scene(1, energy, false)
     local ref, ref_contacts = digest(ref_m, energy)
-    -- The scene must exercise what it claims, and the reference must not have used the batch.
+    -- The scene must exercise what it claims, and the reference must not have used a kernel.
     T.check(ref_contacts > 100, energy .. ": a pile in contact: " .. ref_contacts .. " contacts")
     T.check(ref_breaks > 0 and ref_breaks < 40, energy .. ": some bonds broke: " .. ref_breaks)
     T.check(ref_m:clump_count() == (energy == "bare" and 0 or 6), "clumps present")
     T.check(ref_m:timestep().rule ~= "fixed", "automatic step")
-    T.check(batchedLaws(ref_m) == 0, "m:batched_law(false): no batched call")
-    for _, case in ipairs({{true, 1}, {true, 2}, {true, 3}, {false, 2}, {true, 1, true},
-                           {true, 2, true}, {true, 3, true}, {true, 1, false, true},
-                           {true, 2, false, true}, {true, 3, false, true},
-                           {false, 1, false, true}}) do
-        local batched, threads, lanes, kernels = case[1], case[2], case[3], case[4]
-        local what = energy .. ", " .. (batched and "batched" or "per contact") ..
-                     (lanes and " with lanes" or "") .. (kernels and " with kernels" or "") ..
-                     ", " .. threads .. " thread(s)"
+    T.check(kernelSteps(ref_m) == 0, "m:kernels(false): no kernel step")
+    for _, case in ipairs({{2, false}, {3, false}, {1, true}, {2, true}, {3, true}}) do
+        local threads, kernels = case[1], case[2]
+        local what = energy .. (kernels and ", kernels" or ", FDlaw") .. ", " .. threads ..
+                     " thread(s)"
         local breaks
-        m, breaks = scene(batched, threads, energy, lanes, kernels)
+        m, breaks = scene(threads, energy, kernels)
         local d, contacts = digest(m, energy)
-        -- The lanes (or the kernels) ran linear's contacts, and some left them for FDlaw
-        -- (separations); the rest of the contacts went through the batch or FDlaw.
-        local lane_steps, declined = m:profile():match("lane steps (%d+) %(declined (%d+)%)")
-        lane_steps, declined = tonumber(lane_steps), tonumber(declined)
-        local kernel_steps, kernel_declined =
-            m:profile():match("kernel steps (%d+) %(declined (%d+)%)")
-        kernel_steps, kernel_declined = tonumber(kernel_steps), tonumber(kernel_declined)
-        if lanes then
-            T.check(lane_steps > 10 * m:step() and declined > 0,
-                    what .. ": lane steps " .. lane_steps .. " (declined " .. declined .. ") over " ..
-                    m:step() .. " steps")
-        else
-            T.check(lane_steps == 0, what .. ": no lane steps (" .. lane_steps .. ")")
-        end
-        if kernels and not lanes then
+        -- The kernels ran linear's contacts, and some left them for FDlaw (separations); the
+        -- rest of the contacts went through FDlaw.
+        local kernel_steps, kernel_declined = kernelSteps(m)
+        if kernels then
             T.check(kernel_steps > 10 * m:step() and kernel_declined > 0,
                     what .. ": kernel steps " .. kernel_steps .. " (declined " ..
                     kernel_declined .. ") over " .. m:step() .. " steps")
         else
             T.check(kernel_steps == 0, what .. ": no kernel steps (" .. kernel_steps .. ")")
-        end
-        if batched and not lanes and not kernels then
-            -- The pile settles into ~200 contacts, most of them linear: the batch was the usual
-            -- path (at least ten contacts per step on average, over a run that starts in flight).
-            T.check(batchedLaws(m) > 10 * m:step(),
-                    what .. ": batched laws " .. batchedLaws(m) .. " over " .. m:step() .. " steps")
         end
         -- More than one thread ran, in a build with OpenMP (GCC's libgomp: .ci's build), except
         -- with energy per group (one thread by design); without OpenMP every step runs on one.
@@ -173,19 +150,15 @@ for _, energy in ipairs({"groups", "off", "plain", "bare"}) do
     end
 end
 
--- The parallel bond's steady step (docs/models/pbond.md, "Lanes"): a bonded block of
--- pbond (started stress-free: lin_mode 1, with dashpots, a Mohr-Coulomb shear strength and a
--- bending stress) falls onto a pile of loose balls that touch through unbonded pbond (lin_mode
--- 0) and breaks up there, in tension and in shear. pbond's lane law steps the contacts that go
--- on touching, bonded or not, with the steady step its FDlaw takes; breaks, touches and
--- separations go through FDlaw. Against FDlaw alone on one thread: FDlaw on 1 to 3 threads with
--- the kernels setting on (pbond has no kernel in the engine: measured no faster than its FDlaw,
--- docs/results/benchmarks-history.md "Kernels: pbond"), and the lane law on 1 and 2, energy
--- traced and not.
-local function pbondScene(threads, energy, kernels, lanes)
+-- The parallel bond (docs/models/pbond.md): a bonded block of pbond (started stress-free:
+-- lin_mode 1, with dashpots, a Mohr-Coulomb shear strength and a bending stress) falls onto a
+-- pile of loose balls that touch through unbonded pbond (lin_mode 0) and breaks up there, in
+-- tension and in shear. Against FDlaw alone on one thread: on 1 to 3 threads with the kernels
+-- setting on (pbond has no kernel in the engine: measured no faster than its FDlaw,
+-- docs/results/benchmarks-history.md "Kernels: pbond"), energy traced and not.
+local function pbondScene(threads, energy, kernels)
     local m = talus.model{ gravity = {0, -9.81} }
     T.check(m:kernels(kernels) == kernels, "m:kernels(on) returns the setting")
-    T.check(m:lanes(lanes == true) == (lanes == true), "m:lanes(on) returns the setting")
     T.check(m:threads(threads, 1) == threads, "m:threads(n) returns the count set")
     m:on_warning(function() end)
     m:contact_model("pbond", { kn = 2e6, ks = 1e6, fric = 0.4, dp_nratio = 0.1 })
@@ -230,25 +203,14 @@ for _, energy in ipairs({true, false}) do
     T.check(bonded > 5, mode .. ": bonds left intact: " .. bonded)
     local kernel_steps = tonumber(ref_m:profile():match("kernel steps (%d+)"))
     T.check(kernel_steps == 0, mode .. ", kernels off: no kernel steps (" .. kernel_steps .. ")")
-    for _, case in ipairs({{1, true}, {2, true}, {3, true}, {2, false}, {1, false, true},
-                           {2, false, true}}) do
-        local threads, kernels, lanes = case[1], case[2], case[3]
-        local what = mode .. (lanes and ", lanes" or kernels and ", kernels" or ", FDlaw") .. ", " ..
-                     threads .. " thread(s)"
-        local mk, breaks = pbondScene(threads, energy, kernels, lanes)
+    for _, case in ipairs({{1, true}, {2, true}, {3, true}, {2, false}}) do
+        local threads, kernels = case[1], case[2]
+        local what = mode .. (kernels and ", kernels on" or ", FDlaw") .. ", " .. threads ..
+                     " thread(s)"
+        local mk, breaks = pbondScene(threads, energy, kernels)
         local d, contacts = digest(mk, energy and "plain" or "off")
-        local steps, declined = mk:profile():match("kernel steps (%d+) %(declined (%d+)%)")
-        steps, declined = tonumber(steps), tonumber(declined)
+        local steps, declined = kernelSteps(mk)
         T.check(steps == 0 and declined == 0, what .. ": no kernel steps (" .. steps .. ")")
-        local lane_steps, lane_declined = mk:profile():match("lane steps (%d+) %(declined (%d+)%)")
-        lane_steps, lane_declined = tonumber(lane_steps), tonumber(lane_declined)
-        if lanes then
-            T.check(lane_steps > 10 * mk:step() and lane_declined > 0,
-                    what .. ": lane steps " .. lane_steps .. " (declined " .. lane_declined ..
-                    ") over " .. mk:step() .. " steps")
-        else
-            T.check(lane_steps == 0, what .. ": no lane steps (" .. lane_steps .. ")")
-        end
         T.check(breaks.tension == ref_breaks.tension and breaks.shear == ref_breaks.shear,
                 what .. ": the same breaks")
         T.check(mk:step() == ref_m:step(), what .. ": same step count")
@@ -257,8 +219,54 @@ for _, energy in ipairs({true, false}) do
     end
 end
 
-T.fails(function() m:batched_law(1) end, {"batched_law: expected true or false"}, "not a boolean")
-T.fails(function() m:lanes("yes") end, {"lanes: expected true or false"}, "not a boolean")
+-- A scene of one kernel (the contact bond everywhere): the loop compiled for cbond's rows alone
+-- (no switch per contact), against FDlaw, on 1 and 2 threads. A bonded block falls onto a pile
+-- of unbonded cbond contacts and breaks up.
+local function cbondScene(threads, kernels)
+    local m = talus.model{ gravity = {0, -9.81} }
+    m:kernels(kernels)
+    m:threads(threads, 1)
+    m:on_warning(function() end)
+    m:contact_model("cbond", { kn = 2e6, ks = 1e6, fric = 0.4 })
+    m:wall{ points = {{0, 2}, {0, 0}, {2, 0}, {2, 2}} }
+    for j = 0, 3 do
+        for i = 0, 3 do
+            m:ball{ pos = {0.8 + 0.05 * i, 0.9 + 0.05 * j}, radius = 0.025, density = 2600,
+                    vel = {0, -1} }
+        end
+    end
+    m:bond{ model = "cbond", gap = 1e-4,
+            props = { kn = 2e6, ks = 1e6, fric = 0.4, cb_tenf = 3000, cb_shearf = 3000 } }
+    local rnd = T.lcg(777)
+    for j = 0, 5 do
+        for i = 0, 17 do
+            m:ball{ pos = {0.1 + 0.1 * i + 0.02 * rnd(), 0.1 + 0.1 * j + 0.02 * rnd()},
+                    radius = 0.03 + 0.015 * rnd(), density = 2600,
+                    vel = {rnd() - 0.5, rnd() - 0.5}, spin = 4 * (rnd() - 0.5) }
+        end
+    end
+    local breaks = 0
+    m:on_event("bond_break", function() breaks = breaks + 1 end)
+    m:solve{ time = 0.4 }
+    return m, breaks
+end
+
+do
+    local ref_m, ref_breaks = cbondScene(1, false)
+    local ref, ref_contacts = digest(ref_m, "off")
+    T.check(ref_contacts > 15 and ref_breaks > 0 and ref_breaks < 24, "cbond: in contact (" ..
+            ref_contacts .. " contacts), some of the 24 bonds broke (" .. ref_breaks .. ")")
+    for _, threads in ipairs({1, 2}) do
+        local mk, breaks = cbondScene(threads, true)
+        local d = digest(mk, "off")
+        local steps = kernelSteps(mk)
+        T.check(steps > 10 * mk:step(), "cbond, " .. threads .. " thread(s): kernel steps " .. steps)
+        T.check(breaks == ref_breaks and d == ref,
+                "cbond, kernels, " .. threads .. " thread(s): the same bits as FDlaw")
+    end
+end
+
+T.fails(function() m:kernels("yes") end, {"kernels: expected true or false"}, "not a boolean")
 T.fails(function() m:threads(0) end, {"threads: the thread count must be from 1 to 1024"},
         "zero threads")
 T.fails(function() m:threads(1.5) end, {"must be an integer"}, "a fraction")

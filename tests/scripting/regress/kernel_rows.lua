@@ -1,22 +1,22 @@
 -- SPDX-License-Identifier: MIT
--- Lanes (docs/plugin-abi.md, "Lanes"): while `linear`'s contacts run through its lane
--- law, their state lives in the host's rows and their objects are out of date. Everything that
--- reads or writes a contact's object must see what FDlaw alone would have: reading a state
--- property (lin_fs, dp_fn, ...) mid-run, writing a property (the contact leaves the lanes and
--- comes back), m:save and talus.restore, switching the lanes off mid-run, energy tracing (the
--- lane law's energies). Each run is compared with the same script on FDlaw per contact, to the
--- bit: positions, velocities, spins, every contact's forces and state properties, the energies.
+-- Kernel rows (docs/plugin-abi.md, "Kernels"): while the host's kernel runs `linear`'s
+-- contacts, their state lives in the host's rows and their objects are out of date. Everything
+-- that reads or writes a contact's object must see what FDlaw alone would have: reading a state
+-- property (lin_fs, dp_fn, ...) mid-run, writing a property (the contact leaves its row and comes
+-- back), m:save and talus.restore, switching the kernels off mid-run, energy tracing (the
+-- kernel's energies). Each run is compared with the same script on FDlaw per contact
+-- (m:kernels(false)), to the bit: positions, velocities, spins, every contact's forces and state
+-- properties, the energies.
 local T = require("testlib")
 
 local save = os.tmpname()
 
 -- A pile of ~150 balls of three sizes poured into a box with a sloped floor: persistent
--- contacts (the lanes), separations (declined steps) and new touches, normal and shear dashpots
+-- contacts (the rows), separations (declined steps) and new touches, normal and shear dashpots
 -- with no-tension, and energy traced over the whole model.
-local function scene(lanes)
+local function scene(kernels)
     local m = talus.model{ gravity = {0, -9.81} }
-    m:batched_law(true)
-    T.check(m:lanes(lanes) == lanes, "m:lanes returns the setting")
+    T.check(m:kernels(kernels) == kernels, "m:kernels returns the setting")
     m:on_warning(function() end)
     m:contact_model("linear", { kn = 4e6, ks = 2e6, fric = 0.5, dp_nratio = 0.3,
                                 dp_sratio = 0.2, dp_mode = 1 })
@@ -42,15 +42,15 @@ local function digest(m)
     return T.state_text(m, { props = STATE, energies = ENERGIES })
 end
 
-local function laneSteps(m)
-    local n, d = m:profile():match("lane steps (%d+) %(declined (%d+)%)")
+local function kernelSteps(m)
+    local n, d = m:profile():match("kernel steps (%d+) %(declined (%d+)%)")
     return tonumber(n), tonumber(d)
 end
 
 -- The script both runs follow: cycles, state reads, a property written on the contacts of one
--- ball, more cycles. `after` runs in the middle (save and restore, lanes off, ...).
-local function run(lanes, after)
-    local m = scene(lanes)
+-- ball, more cycles. `after` runs in the middle (save and restore, kernels off, ...).
+local function run(kernels, after)
+    local m = scene(kernels)
     m:cycle(600)
     local reads = digest(m)  -- reads every contact's state properties mid-run
     m:cycle(200)
@@ -67,36 +67,36 @@ local function run(lanes, after)
 end
 
 local ref_m, ref = run(false)
-T.check(laneSteps(ref_m) == 0, "m:lanes(false): no lane steps")
+T.check(kernelSteps(ref_m) == 0, "m:kernels(false): no kernel steps")
 T.check(ref_m:contact_count{} > 150, "a pile in contact: " .. ref_m:contact_count{})
 
 local m, d = run(true)
-local steps, declined = laneSteps(m)
+local steps, declined = kernelSteps(m)
 T.check(steps > 50 * m:step() and declined > 0,
-        "the lanes ran: " .. steps .. " lane steps, " .. declined .. " declined, " .. m:step() ..
+        "the kernel ran: " .. steps .. " kernel steps, " .. declined .. " declined, " .. m:step() ..
         " steps")
-T.check(d == ref, "lanes: the same bits as FDlaw per contact, property reads and writes included")
+T.check(d == ref, "kernel rows: the same bits as FDlaw per contact, property reads and writes " ..
+        "included")
 
--- Saved with contacts in the lanes, restored (no lanes until their next FDlaw), continued.
+-- Saved with contacts on rows, restored (no rows until their next FDlaw), continued.
 local saved = nil
 m, d = run(true, function(mm)
     mm:save(save)
     saved = digest(mm)
     local r = talus.restore(save, { quiet = true })
     r:energy{ on = true }
-    T.check(r:lanes() == false, "lanes are a run setting: a restored model starts without")
-    r:lanes(true)
+    T.check(r:kernels() == true, "kernels are a run setting: a restored model runs them")
     return r
 end)
 T.check(saved ~= nil, "saved mid-run")
-T.check(d == ref, "lanes: saved and restored mid-run, the same bits")
+T.check(d == ref, "kernel rows: saved and restored mid-run, the same bits")
 
--- The lanes switched off mid-run: every contact goes back to its object, which is up to date.
+-- The kernels switched off mid-run: every contact goes back to its object, which is up to date.
 m, d = run(true, function(mm)
-    mm:lanes(false)
+    mm:kernels(false)
     return mm
 end)
-T.check(d == ref, "lanes switched off mid-run: the same bits")
+T.check(d == ref, "kernels switched off mid-run: the same bits")
 os.remove(save)
 
-T.done("lanes")
+T.done("kernel_rows")
