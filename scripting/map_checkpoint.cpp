@@ -5,8 +5,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 
+#include "lua_runtime.hpp"
 #include "map_codec.hpp"
+#include "progress.hpp"
 
 namespace talus::lua {
 
@@ -71,6 +75,41 @@ Checkpoint::Item Checkpoint::load(int64_t i, std::string& value, std::string& wh
     if (startsWith(bytes, kMagicV1)) return keyAndValue(bytes, kMagicV1.size(), key, value, why);
     why = bytes.empty() ? "empty" : "not a talus.map item";
     return Item::Damaged;
+}
+
+void Checkpoint::open() const {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        throw ScriptError("map: cannot create the checkpoint directory '" + dir + "' (" +
+                          ec.message() + ")");
+}
+
+std::vector<int64_t> Checkpoint::take(int64_t lo, int64_t hi, std::vector<std::string>& values,
+                                      CheckpointCounts& counts) const {
+    std::vector<int64_t> todo;
+    std::string why;
+    for (int64_t i = lo; i <= hi; ++i) {
+        std::string& value = values[static_cast<std::size_t>(i - lo)];
+        const Item item = on() ? load(i, value, why) : Item::Missing;
+        if (item == Item::Taken) {
+            ++counts.taken;
+            continue;
+        }
+        value.clear();
+        todo.push_back(i);
+        counts.other_key += item == Item::OtherKey;
+        if (item == Item::Damaged) {
+            ++counts.damaged;
+            clearProgressLine();
+            std::fflush(stdout);
+            std::fprintf(stderr,
+                         "talus: map: the checkpoint file '%s' is damaged (%s); fn(%lld) runs "
+                         "again\n",
+                         file(i).c_str(), why.c_str(), static_cast<long long>(i));
+        }
+    }
+    return todo;
 }
 
 void Checkpoint::store(int64_t i, const std::string& value) const {

@@ -15,8 +15,24 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace talus::lua {
+
+/// What a map found in its checkpoint (summed over the ranks for the closing note).
+struct CheckpointCounts {
+    int64_t taken = 0;      ///< items taken from the checkpoint, not run
+    int64_t other_key = 0;  ///< files of another run (another key): their items run again
+    int64_t damaged = 0;    ///< damaged files: their items run again
+
+    bool any() const { return taken > 0 || other_key > 0 || damaged > 0; }
+    CheckpointCounts& operator+=(const CheckpointCounts& o) {
+        taken += o.taken;
+        other_key += o.other_key;
+        damaged += o.damaged;
+        return *this;
+    }
+};
 
 struct Checkpoint {
     std::string dir;  ///< "" = none
@@ -33,6 +49,15 @@ struct Checkpoint {
         Damaged,   ///< not a whole item (`why` says how): the item runs again
     };
     Item load(int64_t i, std::string& value, std::string& why) const;
+
+    /// Creates the directory (and its parents); throws ScriptError saying why it cannot.
+    void open() const;
+
+    /// Takes the items of [lo, hi] held whole under this key into values[i - lo] and returns the
+    /// others, to be run (all of them without a checkpoint). A damaged file is said on stderr,
+    /// naming it, and its item runs again.
+    std::vector<int64_t> take(int64_t lo, int64_t hi, std::vector<std::string>& values,
+                              CheckpointCounts& counts) const;
 
     /// Stores item i's value; a failure to write is reported once on stderr and the map goes on
     /// (the results are still returned; only a rerun loses them).
