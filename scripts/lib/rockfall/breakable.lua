@@ -18,12 +18,10 @@ local KEYS = { "material", "balls", "size", "emod", "bond", "seed", "break_gap",
 B.DEFAULT_EMOD = 1e8
 
 -- The normal stiffness of a ball's contact with the slope [N/m] (ks half of it; the slope
--- material's damping, friction and rolling resistance are kept). The rigid rock's 1e8 N/m lets a
--- 1.5 t rock sink 8 cm into the slope at 20 m/s, more than a ball's radius: the few balls
--- touching first would be pushed through the wall. 1e9 N/m keeps the sinking below the radius
--- of a 500-ball rock's balls (v sqrt(M / (3 kn)) = 1.4 cm at 20 m/s); a linear spring-dashpot's
--- restitution does not depend on kn at a given damping ratio.
-B.SLOPE_KN = 1e9
+-- material's damping, friction and rolling resistance are kept), when `slope_kn` is given:
+-- otherwise the material's own. Stiffer than the balls' bonds it is resolved in fewer than 10
+-- steps (B.TIMESTEP); much softer, a heavy rock's first balls may be pushed through it.
+B.SLOPE_KN = nil
 
 -- The strengths a softened material scales by sqrt(E' / E).
 local STRENGTHS = { "pb_ten", "pb_coh", "fj_ten", "fj_coh", "cb_tenf", "cb_shearf" }
@@ -58,11 +56,14 @@ function B.soften(mat, emod)
     return mat
 end
 
--- The step of a bonded rock: the stability rule, and 10 steps per contact duration (the guard's
--- minimum). The rigid rock's 20 would read each bond as an impact and take a step about 3 times
--- smaller than the stability rule's; with none, a ball's impact on the slope (1e9 N/m) is
--- resolved in 4 steps and the books drift by more than 1 % in a hard impact.
-B.TIMESTEP = { resolution = 10 }
+-- The step of a bonded rock: the stability rule only. The resolution rule (the rigid rock's 20
+-- steps per contact duration, or even the guard's 10) reads each bond as an impact and takes a
+-- step 6 times smaller than the stability rule's. A ball's impact on the slope is resolved by
+-- the stability step all the same while the slope is softer than the ball's bonds: about
+-- 2.5 pi sqrt(sum of the ball's bond stiffnesses / slope kn) steps, about 20 at the default
+-- slope_kn. The safety factor 0.5 (the engine's is 0.8) keeps the books of a hard impact on an
+-- unbroken rock within 1 % (2.1 % at 0.8; tests/scripting/regress/rockfall_breakable_energy.lua).
+B.TIMESTEP = { resolution = 0, safety = 0.5 }
 
 --- The named bonded materials: the material library's Lac du Bonnet granite with parallel bonds
 --- (Potyondy & Cundall 2004) or flat joints (Potyondy 2012). A material is a table as
@@ -262,7 +263,7 @@ function B.slope_view(an, br)
     for name, mat in pairs(an.materials) do
         local props = {}
         for k, v in pairs(mat.props or {}) do props[k] = v end
-        props.kn, props.ks = br.slope_kn, 0.5 * br.slope_kn
+        if br.slope_kn then props.kn, props.ks = br.slope_kn, 0.5 * br.slope_kn end
         mats[name] = { model = mat.model, props = props }
     end
     return setmetatable({ materials = mats }, { __index = an })
@@ -408,9 +409,35 @@ local function run_to_rest(m, an, st, br)
     end
 end
 
+B.FRAGMENT_HEADER = { "rock", "fragment", "balls", "mass", "size", "x", "y", "vx", "vy", "ke", "ke_centre", "stop" }
+B.BREAKAGE_HEADER = { "rock", "impact", "t_start", "t_end", "broken", "fragments", "pieces", "largest_share",
+    "rr_d0", "rr_n", "energy_per_mass", "ke_before", "ke_after", "gravity", "released", "slip", "dashpot",
+    "damping", "strain", "bond", "residual" }
+
+--- The rows of rock_fragments.csv and rock_breakage.csv for the breakable rocks of `records`
+--- (nil when none is breakable).
+function B.csv_rows(records)
+    local frs, brs, any = {}, {}, false
+    for _, r in ipairs(records) do
+        if r.breakable then
+            any = true
+            for _, f in ipairs(r.fragments) do
+                frs[#frs + 1] = { r.rock, f.fragment, f.balls, f.mass, f.size, f.x, f.y, f.vx, f.vy, f.ke, f.ke_centre, f.stop }
+            end
+            for k, ep in ipairs(r.breakage.impacts) do
+                local e = ep.energy
+                brs[#brs + 1] = { r.rock, k, ep.t_start, ep.t_end, ep.broken, ep.fragments, ep.pieces, ep.largest_share,
+                    ep.rr_d0, ep.rr_n, ep.energy_per_mass, e.ke_before, e.ke_after, e.gravity, e.released, e.slip,
+                    e.dashpot, e.damping, e.strain, e.bond, e.residual }
+            end
+        end
+    end
+    if any then return frs, brs end
+end
+
 --- Runs breakable rock i (draw `s`) alone on its slope; returns its record: the rigid rock's
 --- fields (end_x, end_y: the largest fragment's centre; stop, t_end) and `fragments` (rows at the
---- end, largest first), `impacts` (breakage episodes), `breakage` (the end's distribution),
+--- end, largest first), `breakage` (the end's distribution; its `impacts`: the breakage episodes),
 --- `balls`, `bonds`, `broken`, `reach_x` (the farthest fragment's end x) and `energy`.
 function B.run_rock(an, i, s, opts)
     local br = s.breakable
@@ -439,11 +466,11 @@ function B.run_rock(an, i, s, opts)
         rock = i, seed = s.seed, seeder = s.seeder, shape = rk.shape, mass = rk.mass, volume = rk.volume,
         r_eq = rk.r_eq, density = rk.density, scale = rk.scale, angle = rk.angle, lifted = s.lifted or nil,
         release = { x = s.release.x, y = s.release.y, vx = s.release.vx, vy = s.release.vy, spin = s.release.spin },
-        crossings = {}, barrier = {}, impacts = st.episodes, env_height = {}, env_ke = {},
+        crossings = {}, barrier = {}, impacts = {}, env_height = {}, env_ke = {},
         stop = stop, t_end = t_end, balls = #balls, bonds = bonds, broken = st.broken,
         fragments = fragment_rows(frags, stop),
         breakage = { pieces = #frags, largest_share = dist.largest_share, rr_d0 = dist.rr_d0, rr_n = dist.rr_n,
-            curve = dist.curve },
+            curve = dist.curve, impacts = st.episodes },
         wall_material = wall_material, breakable = true,
     }
     local big, reach = 0, -math.huge
