@@ -251,7 +251,30 @@ local function bond_rock(m, br, balls)
     local M = require("material")
     local n = M.install_bonds(m, { model = mat.model, kn = mat.kn, ks = mat.ks, fric = mat.fric, bond = mat.bond,
         slit = mat.slit, seed = br.seed }, mat.gap or 1e-3 * rmin)
+    m:timestep{ max = B.bond_step(m, balls, mat) }
     return n
+end
+
+--- The stable step of the bonded balls: safety x min over balls of sqrt(m / sum k), k of each
+--- bond its linear part's kn plus the bond's normal stiffness (pb_kn x its area 2 pb_rad, per
+--- unit thickness; fj_kn likewise). A cap on the automatic step: bonds installed across a gap
+--- (near-contacts) were not all seen by the engine's stability rule, whose step then grew in a
+--- fall until a hard impact at emod = 1e9 Pa pushed a ball through the slope.
+function B.bond_step(m, balls, mat)
+    local ksum = {}
+    for c in m:contacts{ model = mat.model } do
+        if c.ball2 and c:prop("bonded") == 1 then
+            local p = c:props()
+            local k = (p.kn or 0) + (p.pb_kn or 0) * 2 * (p.pb_rad or 0) + (p.fj_kn or 0) * 2 * (p.fj_radius or 0)
+            for _, b in ipairs({ c.ball1, c.ball2 }) do ksum[b.id] = (ksum[b.id] or 0) + k end
+        end
+    end
+    local dt = math.huge
+    for _, b in ipairs(balls) do
+        local k = ksum[b.id]
+        if k and k > 0 then dt = math.min(dt, math.sqrt(b.mass / k)) end
+    end
+    return B.TIMESTEP.safety * dt
 end
 
 -- ------------------------------------------------------------------ the run
