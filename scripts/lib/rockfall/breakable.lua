@@ -472,7 +472,7 @@ function B.run_rock(an, i, s, opts)
     for _, p in ipairs(unit) do rsum = rsum + p[3] end
     local margin = 0.5 * rsum / #unit * s.rock.scale
     local m = Model.new_model(an, margin, warnings, B.TIMESTEP)
-    local wall_material = Model.build_slope(m, B.slope_view(an, br), s.points, s.materials)
+    Model.build_slope(m, B.slope_view(an, br), s.points, s.materials)
     local balls = place_balls(m, s, br)
     m:energy{ on = true }
     local bonds = bond_rock(m, br, balls)
@@ -494,7 +494,7 @@ function B.run_rock(an, i, s, opts)
         fragments = fragment_rows(frags, stop),
         breakage = { pieces = #frags, largest_share = dist.largest_share, rr_d0 = dist.rr_d0, rr_n = dist.rr_n,
             curve = dist.curve, impacts = st.episodes },
-        wall_material = wall_material, breakable = true,
+        breakable = true,
     }
     local big, reach = 0, -math.huge
     for _, f in ipairs(frags) do

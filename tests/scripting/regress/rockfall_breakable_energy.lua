@@ -47,4 +47,27 @@ T.check(strong.broken == 0 and strong.breakage.pieces == 1, "an unbreakable rock
 print(string.format("unbreakable: balance %.3g J of %.4g J input", strong.energy.balance_error, strong.energy.input))
 T.check(math.abs(strong.energy.balance_error) <= 0.02 * strong.energy.input, "the unbroken rock's books close to 2 %")
 T.check(#strong.breakage.impacts == 0, "and has no breakage episode")
+
+-- A breakable seeder runs through monte_carlo (talus.map) like any other: the same records as
+-- run_rock, and the fragments' and episodes' CSVs.
+local outdir = (arg and arg[1] or ".") .. "/rockfall_breakable_mc"
+local an = rf.analysis{
+    profile = { { -10, 0 }, { 10, 0 } },
+    materials = { slope = { model = "linear", props = { kn = 1e8, ks = 5e7, fric = 0.5, dp_nratio = 0.3 } } },
+    seeders = { { kind = "point", at = { 0, 0.6 }, vy = { dist = "uniform", min = -25, max = -15 },
+        rock = { shape = "ball", radius = 0.5 }, breakable = { balls = 100 } } },
+    t_max = 0.1, seed = 9,
+}
+local recs = rf.monte_carlo(an, { n = 2, outdir = outdir, quiet = true, resume = false })
+for i = 1, 2 do
+    local alone = rf.run_rock(an, i)
+    T.check(recs[i].broken == alone.broken and recs[i].end_x == alone.end_x
+        and recs[i].breakage.pieces == alone.breakage.pieces, "monte_carlo's rock " .. i .. " is run_rock's")
+end
+local rows = 0
+for _ in io.lines(outdir .. "/rock_fragments.csv") do rows = rows + 1 end
+T.check(rows == 1 + #recs[1].fragments + #recs[2].fragments, "a row per fragment in rock_fragments.csv")
+rows = 0
+for _ in io.lines(outdir .. "/rock_breakage.csv") do rows = rows + 1 end
+T.check(rows == 1 + #recs[1].breakage.impacts + #recs[2].breakage.impacts and rows > 1, "a row per episode in rock_breakage.csv")
 T.done("rockfall_breakable_energy")
