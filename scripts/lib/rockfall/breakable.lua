@@ -472,6 +472,12 @@ function B.run_rock(an, i, s, opts)
     for _, p in ipairs(unit) do rsum = rsum + p[3] end
     local margin = 0.5 * rsum / #unit * s.rock.scale
     local m = Model.new_model(an, margin, warnings, B.TIMESTEP)
+    -- Balls of the rock that touch (fragments, and the bonded pairs before bonding) meet with the
+    -- material's own linear contact and rock_contact's damping: the default rock-rock contact
+    -- (1e9 N/m, for rigid rocks) would be ten times stiffer than the rock's bonds.
+    local mat = br.material
+    m:contact_model("linear", { kn = mat.kn, ks = mat.ks or mat.kn, fric = mat.fric or 0.5,
+        dp_nratio = (an.rock_contact.props or {}).dp_nratio or 0 })
     Model.build_slope(m, B.slope_view(an, br), s.points, s.materials)
     local balls = place_balls(m, s, br)
     m:energy{ on = true }
