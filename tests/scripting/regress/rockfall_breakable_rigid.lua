@@ -12,7 +12,7 @@
 --     measured); the bonded rock to 25 %: it lands on a face studded with balls, not on two
 --     corner pebbles, and rocks on it while it slides (the mean spin of its balls swings by +-4
 --     rad/s), so its contacts stick and lift in turn and its centre gets farther (measured
---     17 % at 2 s with 80 balls, 10 % with 100). This is what a bonded rock of a few hundred
+--     22 % at 2 s with 80 balls). This is what a bonded rock of a few hundred
 --     balls costs against the rigid rock: a face is never flat.
 local T = require("testlib")
 local rf = require("rockfall")
