@@ -50,7 +50,7 @@ for i = 1, n do
     local c0 = os.clock()
     local r = rockfall.run_rock(rigid, i)
     local c1 = os.clock()
-    local b = rockfall.run_rock(breakable, i, { on_end = function(m, rec)
+    local ok, b = pcall(rockfall.run_rock, breakable, i, { on_end = function(m, rec)
         -- each fragment its own colour: the fragment index of each ball, by its position
         local frag_of = {}
         for k, f in ipairs(rec.fragments) do frag_of[k] = f end
@@ -69,7 +69,13 @@ for i = 1, n do
                 rec.breakage.pieces) }
     end })
     local c2 = os.clock()
-    rigid_recs[i], break_recs[i] = r, b
+    rigid_recs[i] = r
+    if not ok then
+        print(string.format("%4d %7.0f %9.2f %7.1fs | breakable rock failed after %.1f s of CPU: %s", i, r.mass, r.end_x,
+            c1 - c0, c2 - c1, tostring(b)))
+        goto next
+    end
+    break_recs[#break_recs + 1] = b
     local br = b.breakage
     print(string.format("%4d %7.0f %9.2f %7.1fs | %9.2f %9.2f %6d %7.3f %8s %8s %7d %6.1fs", i, r.mass, r.end_x,
         c1 - c0, b.end_x, b.reach_x, br.pieces, br.largest_share,
@@ -84,12 +90,13 @@ for i = 1, n do
             e.ke_after / 1e3, e.gravity / 1e3, e.released / 1e3, e.slip / 1e3, e.dashpot / 1e3, e.residual / 1e3))
     end
     for _, p in ipairs(br.curve) do curve_rows[#curve_rows + 1] = { i, p.size, p.passing } end
+    ::next::
 end
 rockfall.write_csv(rigid_recs, rigid, outdir .. "/rigid")
 rockfall.write_csv(break_recs, breakable, outdir .. "/breakable")
-for i = 1, n do
-    local e = break_recs[i].energy
-    print(string.format("rock %d: the whole run's books close to %.2f %% of the energy put in", i,
+for _, b in ipairs(break_recs) do
+    local e = b.energy
+    print(string.format("rock %d: the whole run's books close to %.2f %% of the energy put in", b.rock,
         100 * math.abs(e.balance_error) / e.input))
 end
 local Csv = require("talus_util.csv")
