@@ -19,7 +19,7 @@ local MATERIAL_KEYS = { "model", "props" }
 -- sampling error from 10 to 90 steps, and from 20 steps on the energy books keep within the
 -- engine's 1 % (docs/rockfall.md, "Contact resolution"; scripts/examples/rockfall_resolution.lua).
 local ROCK_TIMESTEP = { resolution = 20 }
-local SEEDER_KEYS = { "kind", "name", "at", "from", "to", "weight", "rock", "vx", "vy", "spin" }
+local SEEDER_KEYS = { "kind", "name", "at", "from", "to", "weight", "rock", "vx", "vy", "spin", "breakable" }
 local ANALYSIS_KEYS = {
     "profile", "materials", "zones", "material", "roughness", "seeders", "collectors", "barriers",
     "seed", "n", "envelope", "gravity", "margin", "rest_speed", "rest_ke", "rest_time", "t_max",
@@ -133,6 +133,8 @@ local function seeder_options(opts, an)
         sd.vx = check_dist(s.vx or 0, w .. ".vx")
         sd.vy = check_dist(s.vy or 0, w .. ".vy")
         sd.spin = check_dist(s.spin or 0, w .. ".spin")
+        -- a rock that breaks: bonded balls (rockfall/breakable.lua)
+        if s.breakable ~= nil then sd.breakable = require("rockfall.breakable").check(s.breakable, w .. ".breakable") end
         an.seeders[k] = sd
         an.seeder_weight = an.seeder_weight + sd.weight
     end

@@ -63,7 +63,7 @@ local function sample(an, i)
         else y = y + (rock.bound + an.clearance - d) + 1e-6 end
     end
     return {
-        seed = seed, seeder = sd.name, rock = rock, points = pts, materials = mats, lifted = lifted,
+        seed = seed, seeder = sd.name, rock = rock, breakable = sd.breakable, points = pts, materials = mats, lifted = lifted,
         release = { x = x, y = y, vx = draw(sd.vx, rs.vx), vy = draw(sd.vy, rs.vy),
             spin = draw(sd.spin, rs.spin) },
     }

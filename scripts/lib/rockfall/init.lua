@@ -16,6 +16,8 @@
 --   tracking.lua       the engine's tracker of a rock, its events and its record
 --   run.lua            rockfall.run_rock: one rock alone
 --   mass_release.lua   rockfall.mass_release: rocks together
+--   breakable.lua      a seeder's `breakable` rocks: bonded balls in the rock's shape, run to rest
+--   fragments.lua      the fragments of a bonded rock and their mass distribution
 --   output.lua         the per-rock CSV files, rockfall.summary
 --   monte_carlo.lua    rockfall.monte_carlo: all rocks on all cores, n of them or until named
 --                      statistics are known to a stated precision

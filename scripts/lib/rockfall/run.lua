@@ -23,6 +23,7 @@ local function run_rock(an, i, opts)
     check_hook(opts, "on_end", "run_rock options")
     if math.type(i) ~= "integer" or i < 1 then fail("rock index must be an integer >= 1 (got %s)", tostring(i)) end
     local s = sample(an, i)
+    if s.breakable then return require("rockfall.breakable").run_rock(an, i, s, opts) end
     -- A margin of the rock's size: free-flight steps grow until the rock would leave its fat box
     -- (the kinematic rule), so a wide box means few steps in flight; a rock has only the slope's
     -- few segments as candidates, so the wider box costs nothing measurable.
