@@ -26,7 +26,7 @@ class PluginRegistry;
 /// "TALUSSAV": the first 8 bytes of every save file.
 inline constexpr char kSaveMagic[8] = {'T', 'A', 'L', 'U', 'S', 'S', 'A', 'V'};
 /// Raise when the layout of any section changes; a reader refuses other versions.
-inline constexpr uint32_t kSaveFormatVersion = 1;
+inline constexpr uint32_t kSaveFormatVersion = 2;
 /// Written in the saving machine's byte order; read back as another value on a machine of the
 /// other order.
 inline constexpr uint32_t kSaveByteOrderMark = 0x01020304u;

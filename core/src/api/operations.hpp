@@ -12,6 +12,19 @@
 
 namespace talus {
 
+/// Marks a cycle or solve call under way for its lifetime; refuses one started while another is
+/// (a callback that cycles the model from inside a step would recurse until the stack overflows).
+class RunLock {
+public:
+    RunLock(World& world, const char* what);
+    ~RunLock() { m_world.clock.running = false; }
+    RunLock(const RunLock&) = delete;
+    RunLock& operator=(const RunLock&) = delete;
+
+private:
+    World& m_world;
+};
+
 /// The bit of a group name (Model::groupIndex); creates it when asked (api/model.cpp).
 int groupIndex(World& world, const std::string& name, bool create);
 

@@ -111,6 +111,47 @@ namespace {
 void writeTotals(SaveWriter& w, const EnergyTotals& e) { w.pod(e); }
 EnergyTotals readTotals(SaveReader& r) { return r.pod<EnergyTotals>(); }
 
+// What the script changed since the last step (step/script_work.cpp), booked at the next step.
+void writeMotion(SaveWriter& w, const BodyMotion& m) {
+    w.f64(m.mass), w.f64(m.inv_mass), w.f64(m.inertia), w.f64(m.inv_inertia);
+    w.vec2(m.vel), w.f64(m.spin), w.vec2(m.force), w.f64(m.moment);
+    w.u8(m.fixity), w.u64(m.groups);
+}
+BodyMotion readMotion(SaveReader& r) {
+    BodyMotion m;
+    m.mass = r.f64(), m.inv_mass = r.f64(), m.inertia = r.f64(), m.inv_inertia = r.f64();
+    m.vel = r.vec2(), m.spin = r.f64(), m.force = r.vec2(), m.moment = r.f64();
+    m.fixity = r.u8(), m.groups = r.u64();
+    return m;
+}
+void writeScriptChanges(SaveWriter& w, const EnergyBooks::ScriptChanges& sc) {
+    w.boolean(sc.seen), w.vec2(sc.gravity);
+    w.f64(sc.damping.local), w.f64(sc.damping.viscous);
+    w.u64(sc.bodies.size());
+    for (const ScriptBody& e : sc.bodies) {
+        w.u32(e.index), w.u32(e.generation);
+        w.boolean(e.clump), w.boolean(e.existed), w.boolean(e.deleted);
+        writeMotion(w, e.before), writeMotion(w, e.gone);
+    }
+}
+void readScriptChanges(SaveReader& r, EnergyBooks::ScriptChanges& sc, const BodyStore& bs) {
+    sc.seen = r.boolean(), sc.gravity = r.vec2();
+    sc.damping.local = r.f64(), sc.damping.viscous = r.f64();
+    sc.bodies.resize(r.count(2 * 89 + 11, "script changes"));
+    sc.index.clear();
+    for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
+        ScriptBody& e = sc.bodies[k];
+        e.index = r.u32(), e.generation = r.u32();
+        e.clump = r.boolean(), e.existed = r.boolean(), e.deleted = r.boolean();
+        e.before = readMotion(r), e.gone = readMotion(r);
+        if (e.clump ? e.index >= bs.clumps.size() : (e.index == 0 || e.index > bs.slot_of.size()))
+            r.fail("a script change names a body out of range");
+        const uint64_t key =
+            e.clump ? ((uint64_t(1) << 63) | e.index) : ((uint64_t(e.generation) << 32) | e.index);
+        if (!sc.index.emplace(key, k).second) r.fail("a body is named twice in the script changes");
+    }
+}
+
 void writeTimestep(SaveWriter& w, const TimestepSettings& t) {
     w.boolean(t.automatic);
     w.f64(t.fixed), w.f64(t.safety), w.f64(t.resolution), w.f64(t.max), w.f64(t.growth);
@@ -345,6 +386,7 @@ void Model::saveState(SaveWriter& w) const {
         w.u64(x.g1), w.u64(x.g2), w.vec2(x.f1), w.f64(x.m1), w.f64(x.m2);
         w.vec2(x.v1), w.vec2(x.v2), w.f64(x.w1), w.f64(x.w2);
     }
+    writeScriptChanges(w, e.script);
     w.endSection();
 
     w.beginSection("GARD");
@@ -799,6 +841,7 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
             if (x.end1 >= b.size() || x.end2 >= (x.wall ? bs.walls.size() : b.size()))
                 r.fail("an exchange record names a body out of range");
         }
+        readScriptChanges(r, e.script, bs);
         r.expectEnd();
     }
     {

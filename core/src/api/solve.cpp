@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "api/operations.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "world/messages.hpp"
@@ -59,6 +60,7 @@ SolveStop Model::solve(const SolveSpec& s) {
         throw InputError(
             "solve: max_time must be > 0 and at most 1e9 [s of wall-clock time] (got " +
             messageNumber(s.max_time) + ")");
+    const RunLock lock(world, "solve");
     prepareRun(world);
     const auto clock_start = std::chrono::steady_clock::now();
     const int64_t first = world.clock.step;

@@ -25,7 +25,7 @@ void bookkeeping(World& world, const StepContext& step) {
     if (step.energy) bookWallsBefore(world, step);
     if (step.energy && world.settings.guard.balance != GuardAction::Off) checkBalance(world);
     if (!world.callbacks.events.empty()) {
-        // Swap out first: a handler may cycle the model or queue events of its own.
+        // Swap out first: a handler may queue events of its own (delete a ball, break a bond).
         std::vector<Event> events;
         events.swap(world.callbacks.events);
         if (world.callbacks.event_handler)
@@ -162,7 +162,8 @@ void checkBalance(World& world) {
                     {"plastic", e.plastic - o.plastic},
                     {"damping", e.damping - o.damping},
                     {"released", e.released - o.released},
-                    {"placement", e.placement - o.placement}};
+                    {"placement", e.placement - o.placement},
+                    {"script", e.script - o.script}};
     std::stable_sort(std::begin(items), std::end(items), [](const Item& a, const Item& b) {
         return std::fabs(a.change) > std::fabs(b.change);
     });
