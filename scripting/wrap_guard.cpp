@@ -33,7 +33,7 @@ int w_guard(lua_State* L) {
         GuardSettings g = lm.model->guard();
         readGuardOptions(o, g);
         lm.model->guard() = g;
-        lua_createtable(L, 0, 8);
+        lua_createtable(L, 0, 12);
         lua_pushstring(L, guardName(g.energy));
         lua_setfield(L, -2, "energy");
         lua_pushnumber(L, g.energy_tolerance);
@@ -50,6 +50,14 @@ int w_guard(lua_State* L) {
         lua_setfield(L, -2, "balance_tolerance");
         lua_pushinteger(L, g.balance_every);
         lua_setfield(L, -2, "balance_every");
+        lua_pushstring(L, guardName(g.severe));
+        lua_setfield(L, -2, "severe");
+        lua_pushnumber(L, g.severe_created);
+        lua_setfield(L, -2, "severe_created");
+        lua_pushinteger(L, g.severe_min_steps);
+        lua_setfield(L, -2, "severe_min_steps");
+        lua_pushnumber(L, g.memory_limit);
+        lua_setfield(L, -2, "memory_limit");
         return 1;
     });
 }
@@ -83,7 +91,8 @@ extern const luaL_Reg kGuardMethods[] = {
 const std::vector<std::string>& guardOptionNames() {
     static const std::vector<std::string> names = {
         "energy",    "energy_tolerance", "resolution",        "min_steps",
-        "stiffness", "balance",          "balance_tolerance", "balance_every"};
+        "stiffness", "balance",          "balance_tolerance", "balance_every",
+        "severe",    "severe_created",   "severe_min_steps",  "memory_limit"};
     return names;
 }
 
@@ -112,6 +121,26 @@ void readGuardOptions(const Options& o, GuardSettings& g) {
     if (steps < 0 || steps > std::numeric_limits<int>::max())
         throw ScriptError("guard: 'min_steps' must be >= 0 (got " + std::to_string(steps) + ")");
     g.min_steps = static_cast<int>(steps);
+    // Severe findings (docs/physics/guard.md): "error" stops the run, "warn" reports them as the
+    // check's other findings.
+    if (o.has("severe"))
+        g.severe =
+            o.choice("severe", 0, {"error", "warn"}) == 0 ? GuardAction::Error : GuardAction::Warn;
+    g.severe_created = o.number("severe_created", g.severe_created);
+    if (!(g.severe_created > 0.0) || !std::isfinite(g.severe_created))
+        throw ScriptError("guard: 'severe_created' must be a finite fraction > 0 (got " +
+                          numberText(g.severe_created) + ")");
+    const long long severe_steps = o.integer("severe_min_steps", g.severe_min_steps);
+    if (severe_steps < 0 || severe_steps > std::numeric_limits<int>::max())
+        throw ScriptError("guard: 'severe_min_steps' must be >= 0 (got " +
+                          std::to_string(severe_steps) + ")");
+    g.severe_min_steps = static_cast<int>(severe_steps);
+    g.memory_limit = o.number("memory_limit", g.memory_limit);
+    if (!(g.memory_limit >= 0.0) || !std::isfinite(g.memory_limit))
+        throw ScriptError(
+            "guard: 'memory_limit' must be a number of bytes >= 0 (0: what the "
+            "machine has; got " +
+            numberText(g.memory_limit) + ")");
 }
 
 }  // namespace talus::lua

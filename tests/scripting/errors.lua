@@ -37,7 +37,7 @@ l = T.line(); T.fails(function() m:guard{ balance_tolerance = 0 / 0 } end,
 l = T.line(); T.fails(function() m:guard{ balance_every = 0 } end,
     { at(l), "guard: 'balance_every' must be >= 1 step (got 0)" }, "empty balance window")
 l = T.line(); T.fails(function() m:guard{ stifness = "off" } end,
-    { at(l), "guard: unknown option 'stifness'; did you mean 'stiffness'? (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, min_steps, resolution, stiffness)" },
+    { at(l), "guard: unknown option 'stifness'; did you mean 'stiffness'? (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, memory_limit, min_steps, resolution, severe, severe_created, severe_min_steps, stiffness)" },
     "misspelt guard option")
 l = T.line(); T.fails(function() m.cycle(10) end,
     { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")

@@ -238,6 +238,18 @@ struct GuardSettings {
     GuardAction balance = GuardAction::Warn;
     double balance_tolerance = 0.01;
     int64_t balance_every = 10;
+    /// Severe findings, which no sound run makes (docs/physics/guard.md, "Severe findings"): a
+    /// check set to Warn stops the run with its error at once when its finding passes these
+    /// (`severe = Warn` reports them as warnings). Energy created above `severe_created` of the
+    /// throughput (the balance check, while tracing) or of the scene's energy (a contact that
+    /// gave back more than it took), a contact with fewer than `severe_min_steps` steps per
+    /// duration.
+    GuardAction severe = GuardAction::Error;
+    double severe_created = 0.1;
+    int severe_min_steps = 3;
+    /// The memory a model may take [bytes]; 0: what the machine has (MemAvailable in
+    /// /proc/meminfo), checked before a model grows (docs/physics/guard.md, "Memory").
+    double memory_limit = 0.0;
 
     bool anyOn() const {
         return energy != GuardAction::Off || resolution != GuardAction::Off ||

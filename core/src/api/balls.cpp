@@ -104,10 +104,13 @@ BallId createBallIn(World& world, const BallDef& d, uint32_t clump) {
             has_mass ? "mass " + messageNumber(d.mass) + " and radius " + messageNumber(r)
                      : "density " + messageNumber(d.density) + " and radius " + messageNumber(r));
         requireFiniteEnergy(mass, inertia, d.vel, d.spin);
+        requireClearOfWalls(world, d.pos, r, "ball");
     }
 
     auto& b = world.bodies.balls;
     const uint32_t s = static_cast<uint32_t>(b.size());
+    // (where the ball arrays grow, the model's memory with its contacts is checked first)
+    if (s == b.pos.capacity()) requireMemory(world, s + 1, "ball");
     b.resize(s + 1);
     b.pos[s] = d.pos;
     b.vel[s] = d.vel;
@@ -273,6 +276,7 @@ void Model::setBallPos(BallId id, const Vec2& p) {
     world.stepping.limits_stale = true;
     requireCoordinate("ball: pos", p);
     const uint32_t s = world.bodies.slotOf(id);
+    requireClearOfWalls(world, p, world.bodies.balls.radius[s], "ball " + std::to_string(id.index));
     world.bodies.balls.pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
@@ -311,6 +315,12 @@ void Model::setBallRadius(BallId id, double r) {
     world.bodies.balls.radius[s] = r;
     if (world.bodies.balls.density[s] > 0.0) updateMass(world, s);
     refreshPairMasses(world, s);
+    // Its contacts' overlap changes with no work behind it: like a contact born overlapping, each
+    // gives back energy it never took, which is the script's doing, not the step's (the guard's
+    // energy check passes such contacts; docs/physics/guard.md).
+    for (const Pair& p : world.contacts.pairs)
+        if (p.active && (p.end1 == s || (!p.wall && p.end2 == s)))
+            world.contacts.coldOf(p).born_overlapped = true;
 }
 void Model::setBallDensity(BallId id, double rho) {
     World& world = *m_world;

@@ -495,6 +495,26 @@ uint8_t Model::clumpFixity(ClumpId id) const {
     return TALUS_CLUMP(id).fixity;
 }
 
+namespace {
+/// A clump moved or turned (placed already): refused, and put back with `undo`, when a pebble's
+/// centre lands within half its radius of a wall (requireClearOfWalls).
+template <class Undo>
+void requirePebblesClear(World& world, ClumpData& c, Undo undo, const std::string& what) {
+    const auto& b = world.bodies.balls;
+    try {
+        for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+            const uint32_t s = world.bodies.pebbleSlot(c, k);
+            requireClearOfWalls(world, b.pos[s], b.radius[s],
+                                what + " pebble " + std::to_string(k + 1));
+        }
+    } catch (const InputError&) {
+        undo();
+        placePebbles(world, c);
+        throw;
+    }
+}
+}  // namespace
+
 void Model::setClumpPos(ClumpId id, const Vec2& p) {
     World& world = *m_world;
     if (!finite2(p)) throw InputError(clumpText(id) + ": pos must be finite");
@@ -504,8 +524,11 @@ void Model::setClumpPos(ClumpId id, const Vec2& p) {
                          " is out of range: coordinates must be within " +
                          messageNumber(kPebbleMaxLength) + " m of the origin");
     ClumpData& c = TALUS_CLUMP(id);
+    const Vec2 was = c.pos;
     c.pos = p;
     placePebbles(world, c);
+    requirePebblesClear(
+        world, c, [&] { c.pos = was; }, clumpText(id));
     world.stepping.limits_stale = true;
 }
 void Model::setClumpVel(ClumpId id, const Vec2& v) {
@@ -532,8 +555,11 @@ void Model::setClumpAngle(ClumpId id, double a) {
     World& world = *m_world;
     if (!std::isfinite(a)) throw InputError(clumpText(id) + ": angle must be finite");
     ClumpData& c = TALUS_CLUMP(id);
+    const double was = c.angle;
     c.angle = a;
     placePebbles(world, c);
+    requirePebblesClear(
+        world, c, [&] { c.angle = was; }, clumpText(id));
     world.stepping.limits_stale = true;
 }
 void Model::setClumpAppliedForce(ClumpId id, const Vec2& f) {

@@ -166,6 +166,8 @@ void Model::cycle(int64_t steps) {
     World& world = *m_world;
     if (steps < 0) throw InputError("cycle: number of steps must be >= 0");
     const RunLock lock(world, "cycle");
+    requireMemory(world, world.bodies.balls.size(), "cycle");
+    world.guard_state.memory_counted_balls = world.bodies.balls.size();
     prepareRun(world);
     try {
         runSteps(world, steps);

@@ -34,6 +34,21 @@ void removeBall(World& world, BallId id, bool book_energy);
 void updateMass(World& world, uint32_t slot);
 void refreshPairMasses(World& world, uint32_t slot);
 
+// --- memory (api/memory.cpp)
+/// Refuses to grow the model to `balls` balls, or to run it (`what`: "ball", "cycle", "solve"),
+/// when the memory it would need, estimated from the bytes a ball and a contact take (measured,
+/// docs/results/memory.md), is more than the machine has available (MemAvailable in
+/// /proc/meminfo) or than m:guard{memory_limit =}. Reads /proc/meminfo only when the model is
+/// about to grow by 64 MiB or more.
+void requireMemory(World& world, std::size_t balls, const char* what);
+
+// --- walls (api/walls.cpp)
+/// Refuses a ball (or pebble) of `radius` placed with its centre within half its radius of a
+/// wall segment: the wall would push it out on whichever side that is (docs/physics/walls.md,
+/// "Placing a ball against a wall"). `what` starts the message ("ball", "clump 2 pebble 1").
+void requireClearOfWalls(const World& world, const Vec2& centre, double radius,
+                         const std::string& what);
+
 // --- contacts (api/contacts.cpp)
 /// A model's activity distance, refused unless finite and >= 0 (the force loop tests a pair
 /// apart against its rule's, a contact's end against its object's).

@@ -213,6 +213,8 @@ void Model::saveState(SaveWriter& w) const {
     w.i32(static_cast<int32_t>(world.settings.guard.balance)),
         w.f64(world.settings.guard.balance_tolerance);
     w.i64(world.settings.guard.balance_every);
+    w.i32(static_cast<int32_t>(world.settings.guard.severe)),
+        w.f64(world.settings.guard.severe_created), w.i32(world.settings.guard.severe_min_steps);
     w.f64(world.settings.damping.local), w.f64(world.settings.damping.viscous);
     w.i64(world.settings.sort_every);
     w.boolean(world.callbacks.contact_events);
@@ -438,6 +440,9 @@ std::unique_ptr<Model> Model::restoreState(SaveReader& in, PluginRegistry& regis
         world.settings.guard.balance_tolerance = r.f64();
         world.settings.guard.balance_every = r.i64();
         if (world.settings.guard.balance_every < 1) r.fail("guard balance_every must be >= 1");
+        world.settings.guard.severe = r.enumValue<GuardAction>(3, "guard severe");
+        world.settings.guard.severe_created = r.f64();
+        world.settings.guard.severe_min_steps = r.i32();
         world.settings.damping.local = r.f64();
         world.settings.damping.viscous = r.f64();
         world.settings.sort_every = r.i64();

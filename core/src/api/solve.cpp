@@ -61,6 +61,8 @@ SolveStop Model::solve(const SolveSpec& s) {
             "solve: max_time must be > 0 and at most 1e9 [s of wall-clock time] (got " +
             messageNumber(s.max_time) + ")");
     const RunLock lock(world, "solve");
+    requireMemory(world, world.bodies.balls.size(), "solve");
+    world.guard_state.memory_counted_balls = world.bodies.balls.size();
     prepareRun(world);
     const auto clock_start = std::chrono::steady_clock::now();
     const int64_t first = world.clock.step;

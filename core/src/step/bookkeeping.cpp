@@ -85,6 +85,28 @@ double sceneEnergy(const World& world) {
     return energy;
 }
 
+/// Where the energy is: the body with the most kinetic energy now, for a balance finding ("; the
+/// most kinetic energy: ball 3 at (x, y), 12 J"). Called only with a finding to report.
+std::string mostKinetic(const World& world) {
+    const auto& b = world.bodies.balls;
+    double most = -1.0;
+    std::string who;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        if (b.clump[s] != kNoClump) continue;
+        const double ke =
+            0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
+        if (ke > most) most = ke, who = world.bodies.describeBall(static_cast<uint32_t>(s));
+    }
+    for (std::size_t i = 0; i < world.bodies.clumps.size(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
+        const double ke = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
+        if (c.alive && ke > most)
+            most = ke, who = "clump " + std::to_string(i + 1) + " at " + vecText(c.pos);
+    }
+    return who.empty() ? std::string()
+                       : "; the most kinetic energy: " + who + ", " + num(most) + " J";
+}
+
 }  // namespace
 
 void bookWallsBefore(World& world, const StepContext& step) {
@@ -111,11 +133,22 @@ void judgeEnergyGains(World& world, bool may_throw) {
     // resolve gains a share of the impact's energy, far above the floor in any scene of fewer
     // than ~1e7 such bodies.
     auto& gains = world.guard_state.energy_gains;
-    const double floor = 1e-9 * sceneEnergy(world);
+    const double scene = sceneEnergy(world);
+    const double floor = 1e-9 * scene;
+    const GuardSettings& gs = world.settings.guard;
     for (const auto& gain : gains) {
         if (!(gain.gained > floor)) continue;
-        if (may_throw && world.settings.guard.energy == GuardAction::Error) {
-            const std::string what = gain.what;
+        // A contact that made more than severe_created of the energy the whole scene holds (or,
+        // traced, has moved) is no resolution error of a pack's contact, pushed about by its
+        // neighbours: it made the run's energy (docs/physics/guard.md, "Severe findings").
+        const bool severe =
+            gs.severe == GuardAction::Error && gain.gained > gs.severe_created * scene;
+        if (may_throw && (gs.energy == GuardAction::Error || severe)) {
+            const std::string what =
+                gain.what +
+                (severe ? severeNote("more than " + num(100.0 * gs.severe_created) +
+                                     "% of the scene's energy " + num(scene) + " J, severe_created")
+                        : std::string());
             gains.clear();
             throw NumericalError("energy created: " + what);
         }
@@ -178,7 +211,15 @@ void checkBalance(World& world) {
         num(100.0 * world.settings.guard.balance_tolerance) + "%) at step " +
         std::to_string(world.clock.step) + " (t = " + num(world.clock.time) + " s); in steps " +
         std::to_string(world.guard_state.balance.open_step) + "-" +
-        std::to_string(world.clock.step) + " the items that moved most: " + moved;
+        std::to_string(world.clock.step) + " the items that moved most: " + moved +
+        mostKinetic(world);
+    // Energy created beyond severe_created of the throughput: no sound run does that.
+    const bool severe = world.settings.guard.severe == GuardAction::Error && error < 0.0 &&
+                        -error > world.settings.guard.severe_created * throughput;
+    if (severe)
+        throw NumericalError(what + severeNote("more than " +
+                                               num(100.0 * world.settings.guard.severe_created) +
+                                               "% of the throughput created, severe_created"));
     if (world.settings.guard.balance == GuardAction::Error) throw NumericalError(what);
     if (world.guard_state.balance.findings++ == 0) world.guard_state.balance.first = what;
     world.guard_state.balance.last = what;

@@ -204,6 +204,9 @@ struct GuardState {
     // Off while a routine overlaps bodies on purpose (Model::setPlacementWarning): contacts that
     // start overlapping are booked as placement but not reported. Not saved (a run-time switch).
     bool placement_warning = true;
+    // Balls whose memory (their contacts' included) the last check counted (api/memory.cpp):
+    // the balls added since are the ones a run has yet to make room for. Not saved.
+    std::size_t memory_counted_balls = 0;
     // Run-level balance check: the snapshot at the last check that passed (the window a finding
     // names opens there), the peak mechanical energy, and the error last reported (a finding is
     // reported again only when it grows by another tolerance).
