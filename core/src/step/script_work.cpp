@@ -45,15 +45,10 @@ BodyMotion motionOfBall(const World& world, uint32_t s) {
 }
 
 BodyMotion motionOfClump(const World& world, const ClumpData& c) {
-    // The pebbles' forces of the last force loop, gathered as gatherClumpForces does.
-    const auto& b = world.bodies.balls;
-    Vec2 f = Vec2::Zero();
-    double mom = 0.0;
-    for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-        const uint32_t s = world.bodies.pebbleSlot(c, k);
-        f += b.force[s];
-        mom += b.moment[s] + cross(b.pos[s] - c.pos, b.force[s]);
-    }
+    // The pebbles' forces of the last force loop, gathered as the law of motion gathers them.
+    Vec2 f;
+    double mom;
+    sumPebbleForces(world, c, f, mom);
     BodyMotion m;
     m.mass = c.mass, m.inv_mass = c.inv_mass;
     m.inertia = c.inertia, m.inv_inertia = c.inv_inertia;
