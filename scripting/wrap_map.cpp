@@ -58,6 +58,7 @@
 #include "map_codec.hpp"
 #include "mpi_world.hpp"
 #include "talus/model.hpp"
+#include "talus/run_control.hpp"
 
 namespace talus::lua {
 
@@ -719,6 +720,20 @@ int w_map(lua_State* L) {
         for (const Outcome& o : ranks)
             if (o.failed && (!failed || o.index < failed->index)) failed = &o;
         if (failed) throw ScriptError("map: " + failed->message);
+        // Ctrl-C reaches the workers with the caller (one process group): the items it stopped
+        // failed as "interrupted", and the values left would look like a whole map. Raise, as
+        // an interrupted run call does; the finished items are in the checkpoint for a rerun.
+        if (talus::stopRequested()) {
+            int64_t done = 0;
+            for (const Outcome& o : ranks)
+                for (const std::string& v : o.values) done += v.empty() ? 0 : 1;
+            if (done < n)
+                throw ScriptError("map: interrupted (Ctrl-C) with " + std::to_string(done) +
+                                  " of " + std::to_string(n) + " items done" +
+                                  (ckpt.on() ? "; they are kept in the checkpoint '" + ckpt.dir +
+                                                   "': a rerun with it runs only the others"
+                                             : ""));
+        }
 
         lua_createtable(L, static_cast<int>(std::min<long long>(n, 1 << 24)), 0);
         lua_Integer i = 1;

@@ -6,8 +6,8 @@
     python3 scripts/plot_rockfall.py out/rockfall -o fig.pdf --trajectories 5 --logy-energy
 
 DIR is the directory that `rockfall_stats.write(records, analysis, DIR)` filled
-(scripts/lib/rockfall_stats.lua; columns in docs/rockfall-statistics.md). The figure has four
-panels sharing the x axis:
+(rockfall.stats, scripts/lib/rockfall/stats/; columns in docs/rockfall-statistics.md). The figure has up to
+four panels sharing the x axis, and a fifth with its own:
   1. the slope profile (profile.csv: x,y), a few trajectories (trajectories.csv: rock,t,x,y,
      when present), the end points coloured by stop rule (endpoints.csv), collector and barrier
      lines (collectors.csv, barriers.csv);
@@ -16,9 +16,12 @@ panels sharing the x axis:
      (endpoint_percentiles.csv);
   3. the bounce-height envelope: mean, median and 95 % quantile per bin, each quantile with its
      order-statistic confidence band (envelopes.csv);
-  4. the total kinetic-energy envelope, the same way.
-Missing optional files (profile, trajectories, envelopes, collectors, barriers) leave their
-part out. Cells written `nan` (no rock in a bin, an interval side out of reach) leave gaps; a
+  4. the total kinetic-energy envelope, the same way;
+  5. catchment retention: the percentage of the rocks retained within a distance of the toe
+     (Pierson et al. 2001's cumulative curve) with its Wilson band (retention.csv), named
+     catchments shaded with their retention (catchments.csv).
+Missing optional files (profile, trajectories, envelopes, collectors, barriers, retention)
+leave their part out. Cells written `nan` (no rock in a bin, an interval side out of reach) leave gaps; a
 band is shaded only where both sides exist, and a lone lower bound is drawn as a dotted line.
 
 Errors (missing directory or required file, unknown output type) are printed on stderr as
@@ -38,7 +41,7 @@ from plot_history import ensure_matplotlib  # the same tools directory
 OUTPUT_TYPES = (".png", ".pdf", ".svg")
 REQUIRED = ("endpoints", "endpoint_hist", "reach")
 OPTIONAL = ("endpoint_percentiles", "envelopes", "collectors", "barriers", "profile",
-            "trajectories", "stops", "angles")
+            "trajectories", "stops", "angles", "retention", "catchments")
 STOP_COLOURS = {"rest": "C2", "left": "C3", "time": "C1", "barrier": "C4"}
 
 
@@ -113,6 +116,41 @@ def _band(ax, x, mid, lo, hi, colour, label):
                 label=f"{label} lower bound (no upper)")
 
 
+def _retention_panel(ax, ret, catchments):
+    """Retained [%] against the distance from the toe, with its band; named catchments shaded."""
+    dist = _col(ret, "distance", "retention")
+    pct = [100 * v if _finite(v) else math.nan for v in _col(ret, "fraction", "retention")]
+    lo = [100 * v if _finite(v) else math.nan for v in _col(ret, "ci_lo", "retention")]
+    hi = [100 * v if _finite(v) else math.nan for v in _col(ret, "ci_hi", "retention")]
+    _band(ax, dist, pct, lo, hi, "C2", "retained")
+    toe = _col(ret, "x", "retention")[0] if dist else math.nan
+    if catchments:
+        for k, (name, a, b, f) in enumerate(zip(_col(catchments, "catchment", "catchments"),
+                                                 _col(catchments, "x_from", "catchments"),
+                                                 _col(catchments, "x_to", "catchments"),
+                                                 _col(catchments, "fraction", "catchments"))):
+            if not (_finite(a) and _finite(b) and _finite(toe)):
+                continue
+            d0, d1 = sorted((abs(a - toe), abs(b - toe)))
+            ax.axvspan(d0, d1, color=f"C{(k + 4) % 10}", alpha=0.15, linewidth=0)
+            ax.annotate(f"{name}: {100 * f:.1f} %" if _finite(f) else str(name),
+                        (0.5 * (d0 + d1), 0.03), xycoords=("data", "axes fraction"),
+                        ha="center", fontsize=7)
+    low = [v for v in lo + pct if _finite(v)]
+    ax.set_ylim(max(0.0, min(low) - 5) if low else 0.0, 101)
+    # The curve up to where it levels off (every rock retained, or the most there are), and a
+    # half again beyond: the flat rest of a long run-out says nothing more.
+    top = max((v for v in pct if _finite(v)), default=math.nan)
+    full = next((d for d, v in zip(dist, pct) if _finite(v) and v >= top), None)
+    if full is not None and dist and full > 0:
+        ax.set_xlim(0, min(dist[-1], 1.5 * full))
+    ax.set_xlabel(f"distance from the toe (x = {toe:g} m) [m]" if _finite(toe)
+                  else "distance from the toe [m]")
+    ax.set_ylabel("retained [%]")
+    ax.grid(True, linewidth=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+
+
 def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] = None,
          trajectories: int = 10, logy_energy: bool = False, dpi: int = 120) -> str:
     ext = os.path.splitext(output)[1].lower()
@@ -125,9 +163,15 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
     matplotlib.rcParams["svg.hashsalt"] = "talus"
 
     env = results.get("envelopes")
-    npanel = 4 if env else 2
-    fig, axes = plt.subplots(npanel, 1, figsize=(10, 3.0 * npanel), sharex=True,
-                             constrained_layout=True)
+    ret = results.get("retention")
+    nshared = 4 if env else 2
+    npanel = nshared + (1 if ret else 0)
+    fig, all_axes = plt.subplots(npanel, 1, figsize=(10, 3.0 * npanel), squeeze=False,
+                                 constrained_layout=True)
+    all_axes = list(all_axes[:, 0])
+    axes = all_axes[:nshared]
+    for ax in axes[1:]:
+        ax.sharex(axes[0])
     ep = results["endpoints"]
     n = len(ep.get("rock", []))
 
@@ -225,6 +269,10 @@ def plot(results: Dict[str, Dict[str, list]], output: str, title: Optional[str] 
                     ax.set_yscale("log")
             ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("x [m]")
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    if ret:
+        _retention_panel(all_axes[-1], ret, results.get("catchments"))
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
     fig.savefig(output, dpi=dpi, metadata={"Software": None} if ext == ".png" else None)
     plt.close(fig)

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 --
--- rockfall_analysis.lua: a small rockfall analysis with scripts/lib/rockfall.lua (docs/rockfall.md).
+-- rockfall_analysis.lua: a small rockfall analysis with the rockfall library, scripts/lib/rockfall/ (docs/rockfall.md).
 -- Clump rocks from a line seeder at the crest of Nejati's (2008) stepped profile, two slope
 -- materials, a barrier line near the toe and two collectors; a Monte Carlo
 -- of independent rocks (all cores when talus.map exists), per-rock CSVs and, when the module
@@ -8,30 +8,13 @@
 --
 --   talus run scripts/examples/rockfall_analysis.lua [outdir] [--n=300] [--seed=2026]
 --                                                    [--jobs=J] [--impacts] [--paths=20]
---                                                    [--mass-release=N]
+--                                                    [--mass-release=N] [--runout95=H]
 --
--- Inputs:
---   profile   (0,60) (7.3,40) (19.3,40) (26.2,20) (38.6,20) (46,0) (170,0) [m];
---             roughness: vertices every 2 m, each moved up to 0.05 m across the slope, a
---             different perturbation per rock (RocFall-style).
---   materials bedrock on the three cliff faces, talus on the benches and the toe flat.
---             Restitution: bedrock Rn = 0.53 ("clean hard bedrock", RocFall defaults,
---             RocFall's classic default materials); talus Rn = 0.45 with rolling friction tan(beta) = 0.35
---             (STONE's "loosely packed clastic deposits"); bedrock tan(beta) = 0.30 (STONE).
---             Each Rn is the damping ratio of a linear dashpot with that restitution,
---             dp_nratio = -ln Rn / sqrt(pi^2 + ln^2 Rn) = 0.198 / 0.246. Friction 0.5 (bedrock)
---             and 0.6 (talus). kn = 1e8 N/m (Nejati 2008 used 1e6-1e7 N/m for walls; for 1-2 t
---             rocks 1e8 keeps a 20 m/s impact's overlap near 8 cm), ks = kn/2.
---             Rolling resistance: with the rrlinear plugin, rr_fric = (1 + kappa) tan(beta),
---             kappa = I / (m R^2) = 1/2 for a disk, so that a rolling disk decelerates at
---             g tan(beta) (rrlinear's run-out v^2 (1 + kappa) / (2 rr_fric g)). Without rrlinear
---             the script falls back to linear and says so (rounded rocks then roll farther).
---   rocks     An's (2006) rock (three equal balls in mutual contact) and rounded hexagons, half
---             each; mass lognormal, mean 1500 kg, sd 500 kg, truncated to 300-5000 kg (2D,
---             unit thickness, density 2600 kg/m^3: r_eq about 0.43 m at 1500 kg); random angle.
---   seeder    a line from (0.5, 61) to (2.5, 61): vx uniform 0.5-3 m/s, vy 0, spin 0.
---   lines     collectors at x = 30 m (second bench) and x = 50 m (toe flat); a barrier at
---             x = 52 m with capacity 30 kJ and height 2 m.
+-- --runout95=H runs until the 95 % run-out is known to +-H m (95 % confidence), in batches of
+-- 100, 200, 400, ... rocks (docs/rockfall.md, "Rockfall by the answer"), instead of --n rocks.
+--
+-- Inputs: scripts/examples/rockfall_nejati.lua (the slope, its materials, the rocks, the seeder,
+-- the collectors, the barrier and the catchment).
 -- Outputs in <outdir> (default out/rockfall_analysis): per rock rock_endpoints.csv,
 -- rock_crossings.csv, rock_barriers.csv, rock_profile.csv, rock_impacts.csv (--impacts),
 -- rock_paths.csv (the first --paths rocks), and the statistics files of rockfall_stats when
@@ -41,6 +24,7 @@
 local rockfall = require("rockfall")
 
 local outdir, n, seed, jobs, impacts, paths, mass_n = "out/rockfall_analysis", 300, 2026, nil, false, 20, nil
+local runout95
 for _, a in ipairs(arg) do
     local key, value = a:match("^%-%-([%w_%-]+)=(.+)$")
     if key == "n" then n = math.tointeger(tonumber(value)) or error("--n needs an integer")
@@ -48,55 +32,18 @@ for _, a in ipairs(arg) do
     elseif key == "jobs" then jobs = math.tointeger(tonumber(value)) or error("--jobs needs an integer")
     elseif key == "paths" then paths = math.tointeger(tonumber(value)) or error("--paths needs an integer")
     elseif key == "mass-release" then mass_n = math.tointeger(tonumber(value)) or error("--mass-release needs an integer")
+    elseif key == "runout95" then runout95 = tonumber(value) or error("--runout95 needs a number (m)")
     elseif a == "--impacts" then impacts = true
     elseif a:match("^%-%-") then
-        error("unknown option " .. a .. " (--n=, --seed=, --jobs=, --impacts, --paths=, --mass-release=)")
+        error("unknown option " .. a .. " (--n=, --seed=, --jobs=, --impacts, --paths=, --mass-release=, --runout95=)")
     else outdir = a end
 end
 
--- Contact model of the slope: rrlinear when the plugin is available, else linear.
-local model = "linear"
-if pcall(talus.contact_model_info, "rrlinear") then
-    model = "rrlinear"
-else
-    print("rockfall_analysis: the rrlinear contact model is not available; using linear "
-        .. "(no rolling resistance: rounded rocks roll farther than they should)")
-end
-local function material(rn, fric, tan_beta)
-    local props = { kn = 1e8, ks = 5e7, fric = fric, dp_nratio = rockfall.dp_nratio(rn), dp_mode = "full" }
-    if model == "rrlinear" then props.rr_fric = 1.5 * tan_beta end
-    return { model = model, props = props }
-end
-
-local an = rockfall.analysis{
-    profile = { {0, 60}, {7.3, 40}, {19.3, 40}, {26.2, 20}, {38.6, 20}, {46, 0}, {170, 0} },
-    materials = {
-        bedrock = material(0.53, 0.5, 0.30),
-        talus = material(0.45, 0.6, 0.35),
-    },
-    zones = {
-        { material = "bedrock", x_from = 0, x_to = 7.3 },
-        { material = "talus", x_from = 7.3, x_to = 19.3 },
-        { material = "bedrock", x_from = 19.3, x_to = 26.2 },
-        { material = "talus", x_from = 26.2, x_to = 38.6 },
-        { material = "bedrock", x_from = 38.6, x_to = 46 },
-        { material = "talus", x_from = 46, x_to = 170 },
-    },
-    roughness = { amplitude = 0.05, spacing = 2 },
-    seeders = { {
-        kind = "line", from = {0.5, 61}, to = {2.5, 61},
-        vx = { dist = "uniform", min = 0.5, max = 3 }, vy = 0, spin = 0,
-        rock = {
-            { shape = "three_balls", weight = 1, mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
-            { shape = "ngon", n = 6, name = "hexagon", weight = 1,
-              mass = { dist = "lognormal", mean = 1500, sd = 500, min = 300, max = 5000 } },
-        },
-    } },
-    collectors = { { name = "bench2", x = 30 }, { name = "toe", x = 50 } },
-    barriers = { { name = "fence", x = 52, energy = 30e3, height = 2 } },
-    envelope = { x0 = 0, x1 = 170, dx = 2 },
-    seed = seed, n = n,
-}
+-- The slope, its materials and rocks: rockfall_nejati.lua beside this script (found from its path,
+-- so that the script runs from any directory and through dofile).
+local here = debug.getinfo(1, "S").source:match("^@(.*)[/\\][^/\\]*$") or "."
+local options, model = dofile(here .. "/rockfall_nejati.lua")(seed, n)
+local an = rockfall.analysis(options)
 
 local wall = os.time()
 local clock = os.clock()
@@ -105,8 +52,9 @@ if mass_n then
     records = rockfall.mass_release(an, { n = mass_n })
     rockfall.write_csv(records, an, outdir, { impacts = impacts })
 else
-    records, info = rockfall.monte_carlo(an, { n = n, outdir = outdir, jobs = jobs, impacts = impacts,
-        trajectories = paths })
+    local precision = runout95 and { { stat = "run_out", p = 0.95, within = runout95 } } or nil
+    records, info = rockfall.monte_carlo(an, { n = not precision and n or nil, outdir = outdir, jobs = jobs,
+        impacts = impacts, trajectories = paths, precision = precision })
 end
 local cpu = os.clock() - clock
 
@@ -129,6 +77,17 @@ if (talus.rank and talus.rank() or 0) == 0 then
         print(string.format("  collector %s (x = %g m): %d of %d rocks crossed; kinetic energy median %.3g J, "
             .. "95%% %.3g J", c.name, c.x, passed[c.name] or 0, #records,
             ke[math.max(1, math.ceil(0.5 * #ke))] or 0, ke[math.max(1, math.ceil(0.95 * #ke))] or 0))
+    end
+    local ret = info and info.summary and info.summary.retention
+    if ret then
+        local w = ret.widths[2]
+        print(string.format("  catchment: %.1f%% of the rocks stopped above the toe (x = %g m); 95%% within "
+            .. "%.3g m of it [%.3g, %.3g]", 100 * ret.curve[1].fraction, ret.toe.x, w.width, w.lo, w.hi))
+        for _, c in ipairs(ret.catchments) do
+            print(string.format("  catchment %s (x = %g..%g m): retained %.1f%% of the rocks [%.1f, %.1f], "
+                .. "%.1f%% of the %d that reached it", c.name, c.x_from, c.x_to, 100 * c.fraction, 100 * c.lo,
+                100 * c.hi, 100 * c.of_reached, c.reached))
+        end
     end
     print(string.format("  CPU %.2f s in this process (%.3f s per rock%s); wall about %d s",
         cpu, cpu / #records, (info and info.parallel) and ", workers not counted" or "", os.time() - wall))

@@ -69,6 +69,10 @@ pc = res["endpoint_percentiles"]
 check(pc["end_x"][0] == 25.5 and pc["ci_lo"][0] == 20 and pc["ci_hi"][0] == 31, "p50 row")
 check(res["endpoints"]["stop"][:3] == ["left", "barrier", "time"], "stop rules as strings")
 check(len(set(res["trajectories"]["rock"])) == 3, "three trajectories")
+# Retention from the toe x = 25 (the foot of the talus): 10 of the 20 rocks rest at x <= 25.
+ret = res.get("retention", {})
+check(ret.get("distance", [None])[0] == 0 and ret["x"][0] == 25 and ret["fraction"][0] == 0.5,
+      "retention at the toe: 10 of 20")
 
 # ------------------------------------------------------------------ the figure
 png = os.path.join(out, "rockfall.png")
@@ -84,7 +88,7 @@ if os.path.exists(png):
     import matplotlib.image as mpimg
     img = mpimg.imread(png)
     h, w = img.shape[:2]
-    check(h > 1000 and w > 1000, f"four panels: {w} x {h} pixels")
+    check(h > 1700 and w > 1000, f"five panels: {w} x {h} pixels")
     # Share of pixels that are not white: axes, bars, bands and lines cover far more than 2 %
     # of a figure with data; a figure with empty axes only covers ~1 %.
     inked = sum(1 for row in img[::4] for px in row[::4] if min(px[:3]) < 0.9)

@@ -6,6 +6,7 @@ local Wl = require("material.walls")
 local L = require("material.loading")
 local Cr = require("material.cracks")
 local St = require("material.statistics")
+local raise = require("talus_util.errors").raise
 
 local Br = {}
 
@@ -185,9 +186,9 @@ end
 function Br.brazilian(sp, opts)
     opts = opts or {}
     if opts.jaws ~= nil and opts.jaws ~= (sp.jaws or "flat") then
-        error(string.format("material.brazilian: jaws = '%s' but the specimen has %s (give jaws to " ..
+        raise(string.format("material.brazilian: jaws = '%s' but the specimen has %s (give jaws to " ..
             "M.specimen: M.specimen(pk, mat, { balls = M.disk(pk), jaws = '%s' })",
-            tostring(opts.jaws), sp.jaws and ("'" .. sp.jaws .. "'") or "flat platens", tostring(opts.jaws)), 2)
+            tostring(opts.jaws), sp.jaws and ("'" .. sp.jaws .. "'") or "flat platens", tostring(opts.jaws)))
     end
     -- a copy, the caller's table untouched
     local o = U.merged(opts)

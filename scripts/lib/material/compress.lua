@@ -6,6 +6,7 @@ local Wl = require("material.walls")
 local L = require("material.loading")
 local St = require("material.statistics")
 local Cr = require("material.cracks")
+local raise = require("talus_util.errors").raise
 
 local C = {}
 
@@ -52,7 +53,7 @@ function C.compress(sp, opts)
     local width = sp.width
     local lateral, sv
     if opts.confinement then
-        if not sp.left then error("material.compress: confinement needs a specimen with sides = true", 2) end
+        if not sp.left then raise("material.compress: confinement needs a specimen with sides = true") end
         local function hlen() return -Wl.pos(sp.top) - Wl.pos(sp.bottom) end
         sp.left.len, sp.right.len = hlen, hlen
         sp.left.target, sp.right.target = opts.confinement, opts.confinement

@@ -6,6 +6,7 @@ local U = require("material.util")
 local S = require("material.specimen")
 local C = require("material.compress")
 local St = require("material.statistics")
+local raise = require("talus_util.errors").raise
 
 local Env = {}
 
@@ -15,7 +16,7 @@ local function xy(points, where)
     for i, p in ipairs(points) do
         local x, y = p.sigma3 or p[1], p.sigma1 or p[2]
         if type(x) ~= "number" or type(y) ~= "number" or x ~= x or y ~= y then
-            error(string.format("material.%s: point %d is not a pair of numbers {sigma3, sigma1}", where, i), 3)
+            raise(string.format("material.%s: point %d is not a pair of numbers {sigma3, sigma1}", where, i))
         end
         xs[i], ys[i] = x, y
     end
@@ -37,7 +38,7 @@ function Env.mohr_coulomb(points)
     local sxx, sxy = 0, 0
     for i = 1, n do sxx = sxx + (xs[i] - mx) ^ 2; sxy = sxy + (xs[i] - mx) * (ys[i] - my) end
     if n < 2 or sxx == 0 then
-        error("material.mohr_coulomb: needs points at two or more confinements", 2)
+        raise("material.mohr_coulomb: needs points at two or more confinements")
     end
     local k = sxy / sxx
     local a = my - k * mx
@@ -61,10 +62,10 @@ function Env.hoek_brown(points, sigma_ci)
     for i = 1, n do X[i] = xs[i]; Y[i] = (ys[i] - xs[i]) ^ 2 end
     local m
     if sigma_ci then
-        if not (sigma_ci > 0) then error("material.hoek_brown: sigma_ci must be > 0", 2) end
+        if not (sigma_ci > 0) then raise("material.hoek_brown: sigma_ci must be > 0") end
         local sxx, sxy = 0, 0
         for i = 1, n do sxx = sxx + X[i] * X[i]; sxy = sxy + X[i] * (Y[i] - sigma_ci ^ 2) end
-        if sxx == 0 then error("material.hoek_brown: needs a point with sigma3 > 0", 2) end
+        if sxx == 0 then raise("material.hoek_brown: needs a point with sigma3 > 0") end
         m = sxy / (sigma_ci * sxx)
     else
         local mx, my = 0, 0
@@ -72,10 +73,10 @@ function Env.hoek_brown(points, sigma_ci)
         mx, my = mx / n, my / n
         local sxx, sxy = 0, 0
         for i = 1, n do sxx = sxx + (X[i] - mx) ^ 2; sxy = sxy + (X[i] - mx) * (Y[i] - my) end
-        if n < 2 or sxx == 0 then error("material.hoek_brown: needs points at two or more confinements", 2) end
+        if n < 2 or sxx == 0 then raise("material.hoek_brown: needs points at two or more confinements") end
         local slope = sxy / sxx
         local icpt = my - slope * mx
-        if not (icpt > 0) then error("material.hoek_brown: the fitted sigma_ci^2 is not positive", 2) end
+        if not (icpt > 0) then raise("material.hoek_brown: the fitted sigma_ci^2 is not positive") end
         sigma_ci = math.sqrt(icpt)
         m = slope / sigma_ci
     end
@@ -236,8 +237,8 @@ function Env.run(spec)
     local seeds = spec.seeds or { 1, 2, 3 }
     for i, s3 in ipairs(confs) do
         if type(s3) ~= "number" or not (s3 >= 0) then
-            error(string.format("material.envelope: confinements[%d] must be a stress >= 0 (got %s)", i,
-                tostring(s3)), 2)
+            raise(string.format("material.envelope: confinements[%d] must be a stress >= 0 (got %s)", i,
+                tostring(s3)))
         end
     end
     local map_opts = function(sub)

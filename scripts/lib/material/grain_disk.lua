@@ -7,6 +7,7 @@ local U = require("material.util")
 local G = require("material.genesis")
 local V = require("material.vessels")
 local B = require("material.bodies")
+local raise = require("talus_util.errors").raise
 
 local GD = {}
 
@@ -32,18 +33,18 @@ function GD.clump_genesis_disk(opts)
         verbose = opts.verbose,
     }
     o.ks = opts.ks or o.kn
-    if not (o.rmin > 0 and o.rmax >= o.rmin) then error("material.clump_genesis_disk: need 0 < rmin <= rmax", 2) end
+    if not (o.rmin > 0 and o.rmax >= o.rmin) then raise("material.clump_genesis_disk: need 0 < rmin <= rmax") end
     local D0 = U.req(opts, "diameter", "clump_genesis_disk")
     -- a grain of three balls spans up to 4 rmax + 2 rmax: the disk holds a few across
     if not (D0 > 12 * o.rmax) then
-        error(string.format("material.clump_genesis_disk: diameter %g m must exceed 12 rmax (%g m)", D0, 12 * o.rmax), 2)
+        raise(string.format("material.clump_genesis_disk: diameter %g m must exceed 12 rmax (%g m)", D0, 12 * o.rmax))
     end
     local shares = opts.shares or { 1 / 3, 1 / 3, 1 / 3 }
     -- the segment count of M.genesis_disk: a polygon within roughness x rmin of its circle
     local e_rough = opts.roughness or 0.01
     local N = opts.segments or 4 * math.ceil(math.pi * math.sqrt(0.5 * D0 / (2 * e_rough * o.rmin)) / 4)
     if math.type(N) ~= "integer" or N < 8 then
-        error("material.clump_genesis_disk: segments must be an integer >= 8 (got " .. tostring(N) .. ")", 2)
+        raise("material.clump_genesis_disk: segments must be an integer >= 8 (got " .. tostring(N) .. ")")
     end
     local pk = G.run(V.circle(D0, N), B.grains(o.rmin, o.rmax, shares), o)
     return pk -- not a tail call: the errors of run name the caller's line

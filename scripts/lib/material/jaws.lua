@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- material/jaws.lua: the loading walls of the Brazilian test: the curved jaws of the ISRM
 -- suggested method (ISRM 1978), and where the loading walls first touch a disk.
+local raise = require("talus_util.errors").raise
 local J = {}
 
 --- Where the loading walls first touch a disk: the angles [degrees] from the loaded diameter,
@@ -59,13 +60,13 @@ function J.make_jaws(sp, list, center, angle_deg, segments)
     local Rj = 1.5 * 0.5 * D
     angle_deg = angle_deg or 20
     if type(angle_deg) ~= "number" or angle_deg <= 0 or angle_deg > 60 then
-        error(string.format("material.specimen: jaw_angle = %s degrees (0 < angle <= 60)", tostring(angle_deg)), 3)
+        raise(string.format("material.specimen: jaw_angle = %s degrees (0 < angle <= 60)", tostring(angle_deg)))
     end
     local phi = math.rad(angle_deg)
     -- an even count puts a vertex at the apex (the jaw symmetric about the loaded diameter)
     local n = segments or 2 * math.max(4, math.ceil(phi * Rj / (0.5 * rmin)))
     if type(n) ~= "number" or n < 1 or n ~= math.floor(n) then
-        error(string.format("material.specimen: jaw_segments = %s (a positive integer)", tostring(segments)), 3)
+        raise(string.format("material.specimen: jaw_segments = %s (a positive integer)", tostring(segments)))
     end
     -- Only the balls the arc can touch count: those seen from the jaw's centre within the
     -- jaw's span widened by the ball's own angular half-width r / (Rj - r) (a ball further out

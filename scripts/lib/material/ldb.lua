@@ -4,6 +4,8 @@
 -- 2007), on the same ball sizes (docs/material.md, "Lac du Bonnet").
 local G = require("material.genesis")
 local GD = require("material.grain_disk")
+local raise = require("talus_util.errors").raise
+local Opt = require("talus_util.options")
 
 local Ldb = {}
 
@@ -49,16 +51,8 @@ Ldb.calibrated = {
 local function with_defaults(kind, p)
     local o = {}
     for k, v in pairs(Ldb.defaults[kind]) do o[k] = v end
-    for k, v in pairs(p or {}) do
-        if Ldb.defaults[kind][k] == nil then
-            local names = {}
-            for n in pairs(Ldb.defaults[kind]) do names[#names + 1] = n end
-            table.sort(names)
-            error(string.format("material.lac_du_bonnet: unknown parameter '%s' for '%s' (known: %s)", tostring(k), kind,
-                table.concat(names, ", ")), 3)
-        end
-        o[k] = v
-    end
+    Opt.check(p or {}, Ldb.defaults[kind], "the '" .. kind .. "' parameters", "material.lac_du_bonnet: ")
+    for k, v in pairs(p or {}) do o[k] = v end
     return o
 end
 
@@ -122,7 +116,7 @@ function Ldb.lac_du_bonnet(kind, p)
         local genesis, disk = ball_genesis(62e9, 2.5)
         return mat, genesis, disk
     end
-    error(string.format("material.lac_du_bonnet: kind '%s' (known: pbond, fjoint, clumped)", tostring(kind)), 2)
+    raise(string.format("material.lac_du_bonnet: kind '%s' (known: pbond, fjoint, clumped)", tostring(kind)))
 end
 
 return Ldb

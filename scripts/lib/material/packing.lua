@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- material/packing.lua: a packing (a genesis' result, a plain table) written to and read from a
 -- Lua file, exactly (17 significant digits), so calibration loops reuse one genesis.
+local raise = require("talus_util.errors").raise
 local P = {}
 
 local function ser(v, ind)
@@ -25,19 +26,25 @@ local function ser(v, ind)
         for _, k in ipairs(keys) do parts[#parts + 1] = "[" .. ser(k) .. "]=" .. ser(v[k], ind) end
         return "{" .. table.concat(parts, ",") .. "}"
     end
-    error("material.save_packing: cannot write a " .. type(v))
+    raise("material.save_packing: cannot write a " .. type(v))
 end
 
---- Writes a packing as a Lua file (exact: 17 significant digits).
+--- Writes a packing as a Lua file (exact: 17 significant digits); an error naming the file when
+--- it cannot be written.
 function P.save(pk, file)
-    local f = assert(io.open(file, "w"))
-    f:write("return ", ser(pk), "\n")
-    f:close()
+    local text = "return " .. ser(pk) .. "\n"
+    local f, err = io.open(file, "w")
+    local ok, why = f and f:write(text)
+    local closed, cwhy = true, nil
+    if f then closed, cwhy = f:close() end
+    if not (f and ok and closed) then
+        raise("material.save_packing: cannot write '%s': %s", file, tostring(err or why or cwhy))
+    end
 end
 
 function P.load(file)
     local chunk, err = loadfile(file, "t", {})
-    if not chunk then error("material.load_packing: " .. err, 2) end
+    if not chunk then raise("material.load_packing: " .. err) end
     return chunk()
 end
 

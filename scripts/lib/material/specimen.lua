@@ -5,6 +5,7 @@ local U = require("material.util")
 local E = require("material.equilibrium")
 local Wl = require("material.walls")
 local J = require("material.jaws")
+local raise = require("talus_util.errors").raise
 
 local S = {}
 
@@ -82,11 +83,11 @@ function S.specimen(pk, mat, opts)
     -- a disk cut by M.disk gets the Brazilian loading walls (opts.jaws, default curved jaws)
     local jaws = opts.jaws
     if jaws ~= nil and not (opts.balls and opts.balls.cut) then
-        error("material.specimen: option 'jaws' is for a disk (balls = M.disk(pk, D))", 2)
+        raise("material.specimen: option 'jaws' is for a disk (balls = M.disk(pk, D))")
     end
     if opts.balls and opts.balls.cut then jaws = jaws or "curved" end
     if jaws ~= nil and jaws ~= "curved" and jaws ~= "flat" then
-        error(string.format("material.specimen: jaws = '%s' (known: 'curved', 'flat')", tostring(jaws)), 2)
+        raise(string.format("material.specimen: jaws = '%s' (known: 'curved', 'flat')", tostring(jaws)))
     end
     if jaws == "curved" then
         sp.jaws = "curved"
@@ -161,14 +162,14 @@ function S.install_slits(m, mat, has)
     local model = mat.model or "cbond"
     local sl = mat.slit
     if not has.fj_mtype then
-        error(string.format("material.specimen: mat.slit is for a flat joint (a model with fj_mtype), not '%s'", model), 4)
+        raise(string.format("material.specimen: mat.slit is for a flat joint (a model with fj_mtype), not '%s'", model))
     end
     local f, g = sl.fraction, sl.gap or 0
     if type(f) ~= "number" or not (f >= 0 and f <= 1) then
-        error("material.specimen: mat.slit.fraction must be in [0, 1] (got " .. tostring(f) .. ")", 4)
+        raise("material.specimen: mat.slit.fraction must be in [0, 1] (got " .. tostring(f) .. ")")
     end
     if type(g) ~= "number" or not (g >= 0) then
-        error("material.specimen: mat.slit.gap must be >= 0 (got " .. tostring(g) .. ")", 4)
+        raise("material.specimen: mat.slit.gap must be >= 0 (got " .. tostring(g) .. ")")
     end
     local list = {}
     for c in m:contacts{ model = model } do

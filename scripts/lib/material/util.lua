@@ -1,60 +1,40 @@
 -- SPDX-License-Identifier: MIT
--- material/util.lua: what the material parts share: option checks, the seeded number stream
--- and the CSV writer.
+-- material/util.lua: what the material parts share, on the common library (talus_util): option
+-- checks, the seeded number stream and the CSV writer.
+local Err = require("talus_util.errors")
+local Opt = require("talus_util.options")
+local Rand = require("talus_util.random")
+local Csv = require("talus_util.csv")
+
 local U = {}
 
 U.clock = os.clock
+U.merged = Opt.merged
+U.set_of = Opt.set_of
+U.raise = Err.raise
 
---- opts[key], or an error naming the routine `where` and the line `level` levels up (default
---- 3: the line that called the routine that called req).
-function U.req(opts, key, where, level)
+--- opts[key], or an error naming the routine `where`, at the user's line.
+function U.req(opts, key, where)
     local v = opts[key]
-    if v == nil then error(string.format("material.%s: option '%s' is required", where, key), level or 3) end
+    if v == nil then Err.raise("material.%s: option '%s' is required", where, key) end
     return v
 end
 
---- An error naming the first key of opts that is not in the set `known` (`level` as for req).
-function U.check_known(opts, known, where, level)
-    for k in pairs(opts) do
-        if not known[k] then
-            local names = {}
-            for n in pairs(known) do names[#names + 1] = n end
-            table.sort(names)
-            error(string.format("material.%s: unknown option '%s' (known: %s)", where, tostring(k),
-                table.concat(names, ", ")), level or 3)
-        end
-    end
+--- An error naming the first key of opts that is not in the set `known` (did you mean ...?).
+function U.check_known(opts, known, where)
+    Opt.check(opts, known, nil, "material." .. where .. ": ")
 end
 
---- A new table with the entries of each argument in turn (later ones win; nil arguments are
---- skipped): a copy with some entries changed, the tables given left as they are.
-function U.merged(...)
-    local o = {}
-    for i = 1, select("#", ...) do
-        for k, v in pairs(select(i, ...) or {}) do o[k] = v end
-    end
-    return o
-end
-
-function U.set_of(list)
-    local s = {}
-    for _, v in ipairs(list) do s[v] = true end
-    return s
-end
-
---- A private number stream for `seed` (xorshift64*, the same on every platform, independent of
---- other users of math.random): returns u01() (uniform in (0, 1)) and draw(spec), a value drawn
---- from {mean =, sd =, dist = "normal"|"uniform"} or a plain number. Normal: Box-Muller,
---- truncated at zero by redrawing; uniform: mean +- sd sqrt(3) (that interval has standard
---- deviation sd).
+--- A private number stream for `seed` (xorshift64*, talus_util.random: the generator the
+--- packings were always made with, so a seed gives the same specimen): returns u01() (uniform
+--- in (0, 1)) and draw(spec), a value drawn from {mean =, sd =, dist = "normal"|"uniform"} or a
+--- plain number. Normal: Box-Muller, truncated at zero by redrawing; uniform: mean +- sd sqrt(3)
+--- (that interval has standard deviation sd).
 function U.drawer(seed)
-    local s = (seed or 1) * 0x9E3779B97F4A7C15 ~ 0x2545F4914F6CDD1D
+    local s = (seed or 1) * Rand.GOLDEN ~ 0x2545F4914F6CDD1D
     if s == 0 then s = 1 end
-    local function u01()
-        s = s ~ (s >> 12); s = s ~ (s << 25); s = s ~ (s >> 27)
-        local x = (s * 0x2545F4914F6CDD1D) >> 11
-        return (x + 0.5) / 9007199254740992.0
-    end
+    local gen = Rand.xorshift64star(s)
+    local function u01() return gen:uniform_open() end
     local function draw(spec)
         if type(spec) ~= "table" then return spec end
         local mean, sd = spec.mean, spec.sd or 0
@@ -66,14 +46,16 @@ function U.drawer(seed)
             local v = mean + sd * math.sqrt(-2 * math.log(u01())) * math.cos(2 * math.pi * u01())
             if v > 0 then return v end
         end
-        error("material: cannot draw a positive value from mean " .. mean .. ", sd " .. sd)
+        Err.raise("material: cannot draw a positive value from mean %s, sd %s", mean, sd)
     end
     return u01, draw
 end
 
---- CSV with 12 significant digits (calibrate.lua's writer).
+--- Rows (tables with named fields) as CSV with 12 significant digits; an error naming the file
+--- when it cannot be written.
 function U.write_csv(file, rows, cols)
-    return require("calibrate").write_csv(file, rows, cols, "%.12g")
+    local ok, why = Csv.write_records(file, rows, cols, { digits = 12 })
+    if not ok then Err.raise("material: " .. why) end
 end
 
 return U

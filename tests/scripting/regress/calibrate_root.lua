@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- calibrate.root (scripts/lib/calibrate.lua): the Illinois regula falsi finds known roots to
+-- calibrate.root (talus_util/optimize.lua, through scripts/lib/calibrate/): the Illinois regula falsi finds known roots to
 -- the requested bracket width, keeps the bracket, and refuses a bracket without a sign change.
 local T = require("testlib")
 local C = require("calibrate")

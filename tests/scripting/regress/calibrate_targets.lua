@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- calibrate.fit_targets (scripts/lib/calibrate.lua) on cheap known functions, so that the
+-- calibrate.fit_targets (talus_util/optimize.lua) on cheap known functions, so that the
 -- method is tested without DEM runs: the design is orthogonal; four parameters are found from
 -- four targets of a made-up "material" (power laws with a curvature) to the tolerance, within
 -- the budget, and the parameters that produce them are recovered; with 2% noise on every output

@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- rockfall_stats (scripts/lib/rockfall_stats.lua) against a hand-computed small Monte Carlo:
+-- rockfall_stats (scripts/lib/rockfall/stats/) against a hand-computed small Monte Carlo:
 -- 20 synthetic per-rock records whose end points, envelope entries, collector crossings and
 -- barrier impacts are chosen so that every statistic can be worked out by hand (the working
 -- is in the comments). Then the edge cases: 0 rocks, 1 rock, all rocks stopped by a barrier,
@@ -362,12 +362,17 @@ T.near(a2.shadow.min, math.deg(math.atan(0, 10)), EPS, "given apex on the flat: 
 local a3 = S.angles(records, { profile = profile, release = analysis.release, shadow_steep = 80 })
 T.check(a3.apex == nil and a3.shadow.n == 0 and isnan(a3.shadow.min), "no steep segment: no apex")
 T.check(ang.note == nil, "apex above the floor: no note")
--- A cliff straight onto a flat floor (Nejati's 2008 last step): the derived apex is the bottom of
--- the profile, every shadow angle on the floor is atan(0) = 0, and the result says so.
+-- A cliff straight onto a flat floor (Nejati's 2008 last step): no talus, so no apex and no
+-- shadow angles (once the apex was the cliff's toe and every angle on the floor atan(0) = 0).
 local a4 = S.angles(records,
     { profile = { { 0, 30 }, { 5, 0 }, { 60, 0 } }, release = analysis.release })
-T.check(a4.apex.x == 5 and a4.apex.y == 0 and a4.shadow.max == 0 and a4.note
-    and a4.note:find("shadow_apex", 1, true), "apex at the bottom: note")
+T.check(a4.apex == nil and a4.shadow.n == 0 and a4.no_apex
+    and a4.no_apex:find("does not go down", 1, true), "cliff onto a flat: no apex, the reason")
+-- A given apex at the bottom: its angles are 0, and the result says so.
+local a5 = S.angles(records, { profile = { { 0, 30 }, { 5, 0 }, { 60, 0 } },
+    release = analysis.release, shadow_apex = { 5, 0 } })
+T.check(a5.shadow.max == 0 and a5.note and a5.note:find("shadow_apex", 1, true),
+    "a given apex at the bottom: note")
 
 -- ------------------------------------------------------------------ a slope falling towards -x
 -- The same analysis mirrored (x -> -x): the direction is inferred from the profile (its first

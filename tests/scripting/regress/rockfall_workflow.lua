@@ -1,5 +1,5 @@
 -- SPDX-License-Identifier: MIT
--- The rockfall workflow module (scripts/lib/rockfall.lua, docs/rockfall.md): reproducibility,
+-- The rockfall workflow module (scripts/lib/rockfall/, docs/rockfall.md): reproducibility,
 -- collector interpolation, barrier bookkeeping, the impact table, end rules, seeder
 -- distributions, roughness and input errors.
 local T = require("testlib")
