@@ -10,6 +10,7 @@
 // so a callback that refers to its model does not keep the model alive forever.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
@@ -19,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "binding.hpp"
 #include "crack.hpp"
 #include "lua_runtime.hpp"
 #include "progress.hpp"
@@ -153,8 +155,6 @@ private:
 
 // ------------------------------------------------------------------ model (wrap_model.cpp)
 
-/// talus.model{...}
-int newModel(lua_State* L);
 /// Pushes a new model userdata owning `model` (talus.model, talus.restore).
 void pushNewModel(lua_State* L, std::unique_ptr<Model> model);
 
@@ -173,6 +173,14 @@ void setInterruptHook(InterruptHook hook);
 /// The LuaModel of the model userdata at `index`; throws ScriptError naming `fn` (and hinting
 /// at the m:fn(...) method-call syntax) when it is not one.
 LuaModel& checkModel(lua_State* L, int index, const char* fn);
+/// m:ball_count() and its kin: the number the Model's Count() gives (Name: the method's name).
+template <std::size_t (Model::*Count)() const, const char* Name>
+int countMethod(lua_State* L) {
+    return catchexcept(L, [&] {
+        lua_pushinteger(L, static_cast<lua_Integer>((*checkModel(L, 1, Name).model.*Count)()));
+        return 1;
+    });
+}
 /// Pushes the model userdata that owns `lm` (it is alive whenever one of its objects is used).
 void pushModel(lua_State* L, const LuaModel& lm);
 /// Stores the value at `value_index` in the model's user-value table; returns its reference.
@@ -180,12 +188,6 @@ int storeRef(lua_State* L, const LuaModel& lm, int value_index);
 void pushRef(lua_State* L, const LuaModel& lm, int ref);
 void releaseRef(lua_State* L, const LuaModel& lm, int ref);
 
-/// Parses the options of m:timestep{...} / impact{timestep = {...}} into `ts`.
-void readTimestepOptions(const Options& o, TimestepSettings& ts);
-/// Parses the options of m:guard{...} / impact{guard = {...}} into `g`.
-void readGuardOptions(const Options& o, GuardSettings& g);
-/// The option names readGuardOptions understands (for Options' unknown-name check).
-const std::vector<std::string>& guardOptionNames();
 /// Reads a contact-model property table {kn = 1e8, dp_mode = "no_tension"} for `model_name`.
 /// Enum properties accept their names; keys are applied in sorted order (deterministic).
 std::vector<PropValue> readProps(lua_State* L, int index, const std::string& model_name,
@@ -237,46 +239,92 @@ ClumpRef* testClump(lua_State* L, int index);
 /// w:servo{...} / w:servo() for wall `id`, options at stack index 2 (wrap_servo.cpp).
 int servoWall(lua_State* L, LuaModel& lm, WallId id);
 
-// ------------------------------------------------------------------ open functions
+// ------------------------------------------------------------------ body values (wrap_bodies.cpp)
 
-void openModel(lua_State* L);    // wrap_model.cpp: talus.Model metatable
-void openBall(lua_State* L);     // wrap_ball.cpp
-void openWall(lua_State* L);     // wrap_wall.cpp
-void openContact(lua_State* L);  // wrap_contact.cpp
-void openClump(lua_State* L);    // wrap_clump.cpp
-void openHistory(lua_State* L);  // wrap_history.cpp
-void openTracker(lua_State* L);  // wrap_tracker.cpp
-void openOutputs(lua_State* L);  // wrap_vtk.cpp: series userdata
+/// Pushes a fixity as the list of its fixed components, {"x", "spin"}.
+void pushFixity(lua_State* L, uint8_t fix);
+/// Reads a fixity: a list such as {"x", "spin"}, one name, true (all) or false / nil (none).
+uint8_t toFixity(lua_State* L, int index, const std::string& what);
+/// Pushes a number, or nil for NaN (a contact property that is not set).
+void pushOptional(lua_State* L, double v);
+/// The `group` or `groups` option (one name or a list; not both).
+std::vector<std::string> groupsOption(const Options& o);
+/// A handle packed into one Lua integer (index in the high word), for the iterators' lists.
+template <class Id>
+lua_Integer packId(Id id) {
+    return static_cast<lua_Integer>((uint64_t(id.index) << 32) | id.generation);
+}
+template <class Id>
+Id unpackId(lua_Integer v) {
+    const auto u = static_cast<uint64_t>(v);
+    return Id{static_cast<uint32_t>(u >> 32), static_cast<uint32_t>(u & 0xffffffffu)};
+}
+/// m:balls{group =}'s group, checked against the model's groups ("" for every body).
+std::string iteratorGroup(const Options& o, Model& m);
+/// The handles among `ids` of the bodies in `group` (all when ""; groups_of(id) gives a body's
+/// groups), packed for pushIterator.
+template <class Id, class GroupsOf>
+std::vector<lua_Integer> packIds(const std::vector<Id>& ids, const std::string& group,
+                                 const GroupsOf& groups_of) {
+    std::vector<lua_Integer> out;
+    for (const Id id : ids) {
+        if (!group.empty()) {
+            const std::vector<std::string> g = groups_of(id);
+            if (std::find(g.begin(), g.end(), group) == g.end()) continue;
+        }
+        out.push_back(packId(id));
+    }
+    return out;
+}
+/// The body of an iterator made by pushIterator: pushes the next item of its list for which
+/// `push` pushes a value (it returns false for an item deleted during the loop).
+int iterateIds(lua_State* L, bool (*push)(lua_State* L, LuaModel& lm, lua_Integer item));
+/// Pushes the iterator over `items` for the model at index 1: a table callable as the iterator
+/// function `next` (a closure over the model, the items and the position; its body calls
+/// iterateIds), whose indexing or length is an error naming what to use instead
+/// (m:balls()[3] would otherwise say "attempt to index a function value"). `name`: "balls".
+void pushIterator(lua_State* L, lua_CFunction next, const std::vector<lua_Integer>& items,
+                  const char* name);
 
-// ------------------------------------------------------------------ method tables
+// ------------------------------------------------------------------ bindings
 
-/// The model's methods: one table per thing, in its wrap_<thing>.cpp; kModelMethodTables
-/// (wrap_model.cpp) lists the tables. Adding a method is a row in its thing's table; adding a
-/// thing is its table, declared here, and a row in kModelMethodTables. openModel registers
-/// every table and the unknown-method error lists every name in them (modelMethodNames).
-extern const luaL_Reg kModelMethods[];         // wrap_model.cpp: settings, running, callbacks
-extern const luaL_Reg kModelBodyMethods[];     // wrap_bodies.cpp: ball, wall, iterators, counts
-extern const luaL_Reg kContactModelMethods[];  // wrap_contact_model.cpp
-extern const luaL_Reg kTimestepMethods[];      // wrap_timestep.cpp
-extern const luaL_Reg kForceLoopMethods[];     // wrap_force_loop.cpp: batched_law, threads
-extern const luaL_Reg kGuardMethods[];         // wrap_guard.cpp
-extern const luaL_Reg kEnergyMethods[];        // wrap_energy.cpp
-extern const luaL_Reg kClumpMethods[];         // wrap_clump.cpp: clump, clump_template, clumps
-extern const luaL_Reg kBondMethods[];          // wrap_bond.cpp: bond, unbond
-extern const luaL_Reg kMeasureMethods[];       // wrap_measure.cpp: measure, unbalanced
-extern const luaL_Reg kModelHistoryMethods[];  // wrap_history.cpp: history, close_history
-extern const luaL_Reg kVtkMethods[];           // wrap_vtk.cpp: vtk
-extern const luaL_Reg kPictureMethods[];       // wrap_picture.cpp: picture
-extern const luaL_Reg kSaveMethods[];          // wrap_save.cpp: save
-extern const luaL_Reg kCrackMethods[];         // wrap_cracks.cpp: cracks
-extern const luaL_Reg kTrackerMethods[];       // wrap_tracker.cpp: track, trackers, clear_trackers
-/// Every model method name in kModelMethodTables, sorted.
-std::vector<std::string> modelMethodNames();
-/// The `talus` module's functions, one table per thing likewise; kModuleFunctionTables
-/// (lua_module.cpp) lists them and luaopen_talus registers every one.
-extern const luaL_Reg kImpactFunctions[];  // wrap_impact.cpp: impact, drive
-extern const luaL_Reg kMapFunctions[];     // wrap_map.cpp: map, rank, ranks
-extern const luaL_Reg kSaveFunctions[];    // wrap_save.cpp: restore
+/// What each wrap_<thing>.cpp adds to the API (binding.hpp); bindings() (lua_module.cpp) lists
+/// them. Adding a thing is its Binding, declared here, and a row in that list.
+extern const Binding kModuleBinding;        // lua_module.cpp: load_plugin, models, mkdir, ...
+extern const Binding kModelBinding;         // wrap_model.cpp: talus.model, settings, running
+extern const Binding kBodiesBinding;        // wrap_bodies.cpp: ball, wall, iterators, counts
+extern const Binding kBallBinding;          // wrap_ball.cpp: the ball userdata
+extern const Binding kWallBinding;          // wrap_wall.cpp: the wall userdata
+extern const Binding kServoBinding;         // wrap_servo.cpp: w:servo's options
+extern const Binding kContactBinding;       // wrap_contact.cpp: the contact userdata
+extern const Binding kContactModelBinding;  // wrap_contact_model.cpp
+extern const Binding kTimestepBinding;      // wrap_timestep.cpp: timestep, solve's options
+extern const Binding kForceLoopBinding;     // wrap_force_loop.cpp: batched_law, threads, ...
+extern const Binding kGuardBinding;         // wrap_guard.cpp
+extern const Binding kEnergyBinding;        // wrap_energy.cpp
+extern const Binding kClumpBinding;         // wrap_clump.cpp: clump methods and userdata
+extern const Binding kBondBinding;          // wrap_bond.cpp: bond, unbond
+extern const Binding kMeasureBinding;       // wrap_measure.cpp: measure, unbalanced
+extern const Binding kHistoryBinding;       // wrap_history.cpp: history and its userdata
+extern const Binding kVtkBinding;           // wrap_vtk.cpp: vtk and the output userdata
+extern const Binding kPictureBinding;       // wrap_picture.cpp: picture
+extern const Binding kSaveBinding;          // wrap_save.cpp: save, talus.restore
+extern const Binding kCrackBinding;         // wrap_cracks.cpp: cracks
+extern const Binding kTrackerBinding;       // wrap_tracker.cpp: track and the tracker userdata
+extern const Binding kImpactBinding;        // wrap_impact.cpp: talus.impact, talus.drive
+extern const Binding kMapBinding;           // wrap_map.cpp: talus.map, rank, ranks
+
+/// Registers the model's metatable: every Binding's model methods (wrap_model.cpp).
+void openModel(lua_State* L);
+
+/// Parses the options of m:timestep{...} / impact{timestep = {...}} into `ts`.
+void readTimestepOptions(const Options& o, TimestepSettings& ts);
+/// The options of m:timestep{...} (wrap_timestep.cpp), also impact's `timestep`.
+extern const OptionTable kTimestepOptions;
+/// Parses the options of m:guard{...} / impact{guard = {...}} into `g`.
+void readGuardOptions(const Options& o, GuardSettings& g);
+/// The options of m:guard{...} (wrap_guard.cpp), also impact's `guard`.
+extern const OptionTable kGuardOptions;
 
 /// m:solve{...}'s options (wrap_timestep.cpp). `time_only`: only `time` was given, and the run
 /// is Model::solveTime as before the other criteria existed. The `until` function stays at

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// The `talus` module table: talus.model, talus.load_plugin, talus.contact_model_info,
-// talus.models, talus.mkdir, talus.version, talus.impact/drive (wrap_impact.cpp) and
-// talus.map/rank/ranks (wrap_map.cpp).
+// The `talus` module: luaopen_talus walks the Binding of every wrap_<thing>.cpp (binding.hpp)
+// and registers their types, functions and values; this file's own are talus.load_plugin,
+// talus.models, talus.contact_model_info, talus.mkdir, talus.did_you_mean, talus.version and
+// talus.openmp.
 #include <filesystem>
 #include <system_error>
 
@@ -46,33 +47,22 @@ int w_contact_model_info(lua_State* L) {
         const ModelFactory& f = PluginRegistry::global().find(name);
         const ContactModel* m = f.reference;
         lua_createtable(L, 0, 4);
-        lua_pushstring(L, f.name.c_str());
-        lua_setfield(L, -2, "name");
-        lua_pushstring(L, f.library.c_str());
-        lua_setfield(L, -2, "library");
-        lua_pushstring(L, f.plugin_version.c_str());
-        lua_setfield(L, -2, "plugin_version");
+        setString(L, "name", f.name);
+        setString(L, "library", f.library);
+        setString(L, "plugin_version", f.plugin_version);
         lua_newtable(L);
         for (int32_t i = 0; m && i < m->PropCount(); ++i) {
             const PropInfo* p = m->PropInfoAt(i);
             if (!p) continue;
             lua_createtable(L, 0, 9);
-            lua_pushstring(L, p->name);
-            lua_setfield(L, -2, "name");
-            lua_pushstring(L, p->units ? p->units : "");
-            lua_setfield(L, -2, "units");
-            lua_pushnumber(L, p->default_value);
-            lua_setfield(L, -2, "default");
-            lua_pushstring(L, p->description ? p->description : "");
-            lua_setfield(L, -2, "description");
-            lua_pushboolean(L, (p->flags & kPropReadOnly) != 0);
-            lua_setfield(L, -2, "read_only");
-            lua_pushboolean(L, (p->flags & kPropState) != 0);
-            lua_setfield(L, -2, "state");
-            lua_pushboolean(L, (p->flags & kPropInheritable) != 0);
-            lua_setfield(L, -2, "inheritable");
-            lua_pushboolean(L, (p->flags & kPropInteger) != 0);
-            lua_setfield(L, -2, "integer");
+            setString(L, "name", p->name);
+            setString(L, "units", p->units ? p->units : "");
+            setNumber(L, "default", p->default_value);
+            setString(L, "description", p->description ? p->description : "");
+            setBoolean(L, "read_only", (p->flags & kPropReadOnly) != 0);
+            setBoolean(L, "state", (p->flags & kPropState) != 0);
+            setBoolean(L, "inheritable", (p->flags & kPropInheritable) != 0);
+            setBoolean(L, "integer", (p->flags & kPropInteger) != 0);
             if (p->enum_names) {
                 std::vector<std::string> names;
                 for (int k = 0; p->enum_names[k]; ++k) names.push_back(p->enum_names[k]);
@@ -114,42 +104,57 @@ int w_did_you_mean(lua_State* L) {
     });
 }
 
-const luaL_Reg kModuleFunctions[] = {
-    {"model", newModel},  {"load_plugin", w_load_plugin},
-    {"models", w_models}, {"contact_model_info", w_contact_model_info},
-    {"mkdir", w_mkdir},   {"did_you_mean", w_did_you_mean},
-    {nullptr, nullptr},
+const Method kModuleFunctions[] = {
+    {"load_plugin", w_load_plugin,
+     "loads a contact-model library; returns the model names it added", "path: string", "string[]"},
+    {"models", w_models, "the contact models loaded so far", "", "string[]"},
+    {"contact_model_info", w_contact_model_info,
+     "a model's metadata: name, library, plugin_version, properties", "name: string", "table"},
+    {"mkdir", w_mkdir, "creates a directory and its parents (no error if it exists)",
+     "path: string", ""},
+    {"did_you_mean", w_did_you_mean, "\"; did you mean 'x'?\" for the names close to name, or \"\"",
+     "name: string, names: string[]", "string"},
 };
 
-/// Every function table of the module, one per thing (lua_bindings.hpp): a new thing's table
-/// is one row here.
-const luaL_Reg* const kModuleFunctionTables[] = {
-    kModuleFunctions,  // this file
-    kImpactFunctions,  // wrap_impact.cpp
-    kMapFunctions,     // wrap_map.cpp
-    kSaveFunctions,    // wrap_save.cpp
+const Constant kModuleConstants[] = {
+    {"version", "string", "the project version, e.g. \"0.1.0\"",
+     [](lua_State* L) { lua_pushliteral(L, TALUS_VERSION); }},
+    {"openmp", "boolean", "true when m:threads(n) can run the force loop on n threads",
+     [](lua_State* L) { lua_pushboolean(L, talus::Model::threadingAvailable()); }},
+};
+
+/// Every Binding of the module: adding a thing is its Binding (lua_bindings.hpp) and a row here.
+const Binding* const kBindings[] = {
+    &kModuleBinding,   &kModelBinding,   &kBodiesBinding,    &kBallBinding,
+    &kWallBinding,     &kServoBinding,   &kContactBinding,   &kContactModelBinding,
+    &kTimestepBinding, &kGuardBinding,   &kEnergyBinding,    &kClumpBinding,
+    &kBondBinding,     &kMeasureBinding, &kForceLoopBinding, &kHistoryBinding,
+    &kVtkBinding,      &kPictureBinding, &kSaveBinding,      &kCrackBinding,
+    &kTrackerBinding,  &kImpactBinding,  &kMapBinding,
 };
 
 }  // namespace
+
+extern const Binding kModuleBinding = {"talus", {}, kModuleFunctions, {}, {}, kModuleConstants};
+
+Rows<const Binding*> bindings() { return kBindings; }
 
 }  // namespace talus::lua
 
 extern "C" int luaopen_talus(lua_State* L) {
     using namespace talus::lua;
     openModel(L);
-    openBall(L);
-    openWall(L);
-    openContact(L);
-    openClump(L);
-    openHistory(L);
-    openTracker(L);
-    openOutputs(L);
     lua_newtable(L);
-    for (const luaL_Reg* table : kModuleFunctionTables) luaL_setfuncs(L, table, 0);
-    lua_pushliteral(L, TALUS_VERSION);
-    lua_setfield(L, -2, "version");
-    // Whether m:threads(n) can run the force loop on n threads (built with OpenMP).
-    lua_pushboolean(L, talus::Model::threadingAvailable());
-    lua_setfield(L, -2, "openmp");
+    for (const Binding* b : bindings()) {
+        for (const ObjectType* t : b->types) registerObjectType(L, *t);
+        for (const Method& f : b->functions) {
+            lua_pushcfunction(L, f.fn);
+            lua_setfield(L, -2, f.name);
+        }
+        for (const Constant& c : b->constants) {
+            c.push(L);
+            lua_setfield(L, -2, c.name);
+        }
+    }
     return 1;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "binding.hpp"
 #include "talus/suggest.hpp"
 
 namespace talus::lua {
@@ -148,6 +149,26 @@ void pushVec(lua_State* L, const Vec2& v) {
     lua_rawseti(L, -2, 2);
 }
 
+void setNumber(lua_State* L, const char* key, double v) {
+    lua_pushnumber(L, v);
+    lua_setfield(L, -2, key);
+}
+
+void setInteger(lua_State* L, const char* key, lua_Integer v) {
+    lua_pushinteger(L, v);
+    lua_setfield(L, -2, key);
+}
+
+void setBoolean(lua_State* L, const char* key, bool v) {
+    lua_pushboolean(L, v);
+    lua_setfield(L, -2, key);
+}
+
+void setString(lua_State* L, const char* key, const std::string& v) {
+    lua_pushlstring(L, v.data(), v.size());
+    lua_setfield(L, -2, key);
+}
+
 void pushStringList(lua_State* L, const std::vector<std::string>& list) {
     lua_createtable(L, static_cast<int>(list.size()), 0);
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -196,22 +217,6 @@ std::vector<std::string> sortedKeys(lua_State* L, int index, const std::string& 
     return keys;
 }
 
-void registerRefType(lua_State* L, const char* tname, const luaL_Reg* methods, lua_CFunction index,
-                     lua_CFunction newindex, lua_CFunction eq, lua_CFunction tostring) {
-    luaL_newmetatable(L, tname);
-    lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
-    lua_pushcclosure(L, index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushcfunction(L, eq);
-    lua_setfield(L, -2, "__eq");
-    lua_pushcfunction(L, tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
-}
-
 // ------------------------------------------------------------------ Options
 
 Options::Options(lua_State* L, int index, std::string what, std::vector<std::string> known,
@@ -252,6 +257,9 @@ Options::Options(lua_State* L, int index, std::string what, std::vector<std::str
                           ")");
     }
 }
+
+Options::Options(lua_State* L, int index, std::string what, const OptionTable& table, bool optional)
+    : Options(L, index, std::move(what), table.names(), optional) {}
 
 std::string Options::field(const char* key) const { return m_what + ": '" + key + "'"; }
 

@@ -32,6 +32,8 @@
 
 namespace talus::lua {
 
+struct OptionTable;  // binding.hpp
+
 /// Bad input from a script (wrong type, unknown option). Raised as a Lua error with the line.
 class ScriptError : public std::runtime_error {
 public:
@@ -106,6 +108,12 @@ double toNumber(lua_State* L, int index, const std::string& what);
 /// Reads an integer-valued number; throws ScriptError naming `what` (1.5 is refused).
 long long toInteger(lua_State* L, int index, const std::string& what);
 
+/// t[key] = v for the table on top of the stack (the tables of results).
+void setNumber(lua_State* L, const char* key, double v);
+void setInteger(lua_State* L, const char* key, lua_Integer v);
+void setBoolean(lua_State* L, const char* key, bool v);
+void setString(lua_State* L, const char* key, const std::string& v);
+
 /// Pushes a table of strings {"a", "b"}.
 void pushStringList(lua_State* L, const std::vector<std::string>& list);
 
@@ -123,6 +131,9 @@ class Options {
 public:
     /// `index` may be absent/nil when `optional`; then every getter returns its fallback.
     Options(lua_State* L, int index, std::string what, std::vector<std::string> known,
+            bool optional = false);
+    /// The options of `table` (binding.hpp): the names its rows declare.
+    Options(lua_State* L, int index, std::string what, const OptionTable& table,
             bool optional = false);
 
     bool has(const char* key) const;
@@ -175,23 +186,6 @@ void applyFields(lua_State* L, int table, const std::string& what, const std::st
         set(k, lua_gettop(L));
         lua_pop(L, 1);
     }
-}
-
-/// Registers the metatable of a userdata type that holds a reference to a body or contact of a
-/// model: methods reached through __index (as its upvalue), __newindex, __eq, __tostring.
-void registerRefType(lua_State* L, const char* tname, const luaL_Reg* methods, lua_CFunction index,
-                     lua_CFunction newindex, lua_CFunction eq, lua_CFunction tostring);
-
-/// A new userdata of type `tname` holding a Ref, whose first user value keeps the model (at
-/// `model_index`) alive while the reference exists.
-template <class Ref>
-Ref* newRef(lua_State* L, int model_index, const char* tname) {
-    model_index = lua_absindex(L, model_index);
-    auto* ref = static_cast<Ref*>(lua_newuserdatauv(L, sizeof(Ref), 1));
-    luaL_setmetatable(L, tname);
-    lua_pushvalue(L, model_index);
-    lua_setiuservalue(L, -2, 1);
-    return ref;
 }
 
 }  // namespace talus::lua

@@ -3,6 +3,7 @@
 //
 //   talus run [--traceback] [--quiet] [--save-on-interrupt FILE] script.lua [args...]
 //             args arrive in `arg` (arg[0] = script) and `...`
+//   talus --lua-annotations FILE   the API as LuaLS annotations, for editors
 //   talus --help | --version
 //
 // Exit status: 0 on success, 1 when the script fails (missing file, syntax error, runtime or
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "lua_annotations.hpp"
 #include "lua_bindings.hpp"
 #include "mpi_world.hpp"
 #include "progress.hpp"
@@ -34,6 +36,7 @@ namespace {
 const char* const kUsage =
     "usage: talus run [--traceback] [--quiet] [--save-on-interrupt FILE] [--threads N]\n"
     "                 script.lua [args...]\n"
+    "       talus --lua-annotations FILE\n"
     "       talus --help | --version\n"
     "\n"
     "Runs a Lua 5.4 script with the Talus module preloaded as the global `talus`\n"
@@ -55,6 +58,8 @@ const char* const kUsage =
     "Modules are searched in the script's directory, in TALUS_LUA_PATH (directories separated\n"
     "by ':'), and in the Talus scripts directory. Contact-model plugins are searched\n"
     "in TALUS_PLUGIN_PATH, then in the build and install plugin directories.\n"
+    "--lua-annotations FILE writes the API as LuaLS annotations for an editor (the installed\n"
+    "copy is share/talus/lua-annotations/talus.lua).\n"
     "Documentation: docs/getting-started.md and docs/lua-api.md.\n";
 
 bool g_stderr_tty = false;
@@ -249,6 +254,21 @@ int runScript(const std::string& script, const std::vector<std::string>& args, b
     return status;
 }
 
+/// talus --lua-annotations FILE: the API as LuaLS annotations (lua_annotations.hpp).
+int writeAnnotations(const std::vector<std::string>& a) {
+    if (a.size() != 2 || a[1].empty()) {
+        std::fprintf(stderr, "talus: --lua-annotations needs a file name\n\n%s", kUsage);
+        return 2;
+    }
+    try {
+        talus::lua::writeLuaAnnotations(a[1]);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "talus: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -265,6 +285,7 @@ int main(int argc, char** argv) {
         std::printf("talus %s (%s)\n", TALUS_VERSION, LUA_RELEASE);
         return 0;
     }
+    if (a[0] == "--lua-annotations") return writeAnnotations(a);
     if (a[0] != "run") {
         std::fprintf(stderr, "talus: unknown command '%s'\n\n%s", a[0].c_str(), kUsage);
         return 2;

@@ -209,57 +209,47 @@ private:
     std::vector<std::string> m_path;  // ".a", "[3]": where the value being written sits
 };
 
+/// Reads one value; pushes what it reads onto L, or only checks the bytes when L is null.
 class Decoder {
 public:
     Decoder(lua_State* L, const char* data, std::size_t size)
         : m_L(L), m_p(data), m_end(data + size) {}
 
-    void value(int depth) {
+    /// Reads one value; returns its tag.
+    char value(int depth) {
         if (depth > kMaxDepth) bad("nesting too deep");
-        if (!lua_checkstack(m_L, 3)) bad("no Lua stack space left");
-        switch (byte()) {
+        if (m_L && !lua_checkstack(m_L, 3)) bad("no Lua stack space left");
+        const char tag = byte();
+        switch (tag) {
             case 'n':
-                lua_pushnil(m_L);
-                return;
+                if (m_L) lua_pushnil(m_L);
+                return tag;
             case 'f':
-                lua_pushboolean(m_L, 0);
-                return;
             case 't':
-                lua_pushboolean(m_L, 1);
-                return;
+                if (m_L) lua_pushboolean(m_L, tag == 't');
+                return tag;
             case 'i': {
                 lua_Integer v;
                 bytes(&v, 8);
-                lua_pushinteger(m_L, v);
-                return;
+                if (m_L) lua_pushinteger(m_L, v);
+                return tag;
             }
             case 'd': {
                 double v;
                 bytes(&v, 8);
-                lua_pushnumber(m_L, v);
-                return;
+                if (m_L) lua_pushnumber(m_L, v);
+                return tag;
             }
             case 's': {
                 const uint64_t len = u64();
                 if (len > static_cast<uint64_t>(m_end - m_p)) bad("string runs past the end");
-                lua_pushlstring(m_L, m_p, static_cast<std::size_t>(len));
+                if (m_L) lua_pushlstring(m_L, m_p, static_cast<std::size_t>(len));
                 m_p += len;
-                return;
+                return tag;
             }
-            case 'T': {
-                const uint64_t pairs = u64();
-                // Every pair takes at least two bytes: a corrupt count fails here, not in
-                // an allocation.
-                if (pairs > static_cast<uint64_t>(m_end - m_p) / 2) bad("table count too large");
-                lua_createtable(m_L, 0, 0);
-                for (uint64_t k = 0; k < pairs; ++k) {
-                    value(depth + 1);
-                    if (lua_isnil(m_L, -1)) bad("nil table key");
-                    value(depth + 1);
-                    lua_rawset(m_L, -3);
-                }
-                return;
-            }
+            case 'T':
+                table(depth);
+                return tag;
             default:
                 bad("unknown tag");
         }
@@ -268,6 +258,18 @@ public:
     bool atEnd() const { return m_p == m_end; }
 
 private:
+    void table(int depth) {
+        const uint64_t pairs = u64();
+        // Every pair takes at least two bytes: a corrupt count fails here, not in an allocation.
+        if (pairs > static_cast<uint64_t>(m_end - m_p) / 2) bad("table count too large");
+        if (m_L) lua_createtable(m_L, 0, 0);
+        for (uint64_t k = 0; k < pairs; ++k) {
+            if (value(depth + 1) == 'n') bad("nil table key");
+            value(depth + 1);
+            if (m_L) lua_rawset(m_L, -3);
+        }
+    }
+
     [[noreturn]] static void bad(const char* what) {
         throw std::runtime_error(std::string("map: corrupt result data (") + what + ")");
     }
@@ -314,6 +316,25 @@ void decodeValue(lua_State* L, const char* data, std::size_t size) {
         lua_settop(L, top);
         throw;
     }
+}
+
+bool wellFormed(const char* data, std::size_t size) {
+    try {
+        Decoder d(nullptr, data, size);
+        d.value(0);
+        return d.atEnd();
+    } catch (const std::runtime_error&) {
+        return false;
+    }
+}
+
+uint64_t checksum64(const char* data, std::size_t size) {
+    uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a's offset basis and prime (64 bits)
+    for (std::size_t i = 0; i < size; ++i) {
+        h ^= static_cast<unsigned char>(data[i]);
+        h *= 0x100000001b3ull;
+    }
+    return h;
 }
 
 }  // namespace talus::lua

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <lua.hpp>
 #include <stdexcept>
 #include <string>
@@ -34,5 +35,13 @@ void encodeValue(lua_State* L, int index, std::string& out);
 /// Decodes one value from [data, data + size) and pushes it; throws std::runtime_error if the
 /// bytes are not exactly one well-formed value.
 void decodeValue(lua_State* L, const char* data, std::size_t size);
+
+/// Whether [data, data + size) is exactly one well-formed value (decodeValue would take it),
+/// found without building it.
+bool wellFormed(const char* data, std::size_t size);
+
+/// FNV-1a 64 (Fowler, Noll and Vo) of [data, data + size): the checksum of a checkpoint item.
+/// Each step of it maps the state one to one, so any change of one byte changes the sum.
+uint64_t checksum64(const char* data, std::size_t size);
 
 }  // namespace talus::lua

@@ -217,6 +217,205 @@ void addGroupArrays(std::vector<Array>& out, const std::vector<std::string>& all
     }
 }
 
+/// A line cell from a to b (walls, contacts and cracks are line parts).
+void addSegment(PolyData& p, const Vec2& a, const Vec2& b) {
+    const auto first = static_cast<int64_t>(p.pointCount());
+    push3(p.points, a);
+    push3(p.points, b);
+    p.connectivity.push_back(first);
+    p.connectivity.push_back(first + 1);
+    p.offsets.push_back(first + 2);
+}
+
+/// The optional built-in ball array `f` (optionalBallFields) over `ids`.
+Array optionalBallArray(const Model& m, const std::vector<BallId>& ids, const std::string& f) {
+    std::vector<double> v;
+    int comps = 1;
+    for (const BallId b : ids) {
+        if (f == "force") {
+            push3(v, m.ballForce(b)), comps = 3;
+        } else if (f == "applied_force") {
+            push3(v, m.ballAppliedForce(b)), comps = 3;
+        } else if (f == "moment") {
+            v.push_back(m.ballMoment(b));
+        } else if (f == "mass") {
+            v.push_back(m.ballMass(b));
+        } else if (f == "density") {
+            v.push_back(m.ballDensity(b));
+        } else if (f == "angle") {
+            v.push_back(m.ballAngle(b));
+        } else if (f == "speed") {
+            v.push_back(m.ballVel(b).norm());
+        } else if (f == "fixity") {
+            v.push_back(m.ballFixity(b));
+        } else {
+            throw Error("vtk: unknown ball field '" + f + "'");
+        }
+    }
+    return f64(f, v, comps);
+}
+
+/// Balls: one vertex per particle, with its arrays, the optional built-in ones (`fields`) and
+/// the caller's (`extra`).
+PolyData ballsPart(const Model& m, const std::vector<std::string>& fields,
+                   const std::vector<BallArray>& extra, const std::vector<Array>& field_data) {
+    PolyData p;
+    p.field_data = field_data;
+    const std::vector<BallId> ids = particleIds(m);
+    const std::size_t n = ids.size();
+    std::vector<double> radius, vel, spin;
+    std::vector<int64_t> id, clump;
+    std::vector<std::vector<std::string>> ball_groups;
+    radius.reserve(n), spin.reserve(n), vel.reserve(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const BallId b = ids[i];
+        push3(p.points, m.ballPos(b));
+        p.connectivity.push_back(static_cast<int64_t>(i));
+        p.offsets.push_back(static_cast<int64_t>(i + 1));
+        id.push_back(b.index);
+        radius.push_back(m.ballRadius(b));
+        push3(vel, m.ballVel(b));
+        spin.push_back(m.ballSpin(b));
+        clump.push_back(m.clumpOf(b).index);  // 0: a free ball
+        ball_groups.push_back(m.ballGroups(b));
+    }
+    p.point_data = {i64("id", id), f64("radius", radius), f64("velocity", vel, 3),
+                    f64("spin", spin), i64("clump", clump)};
+    addGroupArrays(p.point_data, m.groupNames(), ball_groups);
+    for (const std::string& f : fields) p.point_data.push_back(optionalBallArray(m, ids, f));
+    for (const BallArray& a : extra) {
+        if (a.values.size() != static_cast<std::size_t>(a.components) * n)
+            throw Error("vtk: field '" + a.name + "' has " + std::to_string(a.values.size()) +
+                        " values for " + std::to_string(n) + " balls");
+        p.point_data.push_back(f64(a.name, a.values, a.components));
+    }
+    return p;
+}
+
+/// Walls: one polyline per wall chain.
+PolyData wallsPart(const Model& m, const std::vector<Array>& field_data) {
+    PolyData p;
+    p.lines = true;
+    p.field_data = field_data;
+    std::vector<int64_t> id;
+    std::vector<double> vel, spin, force;
+    std::vector<std::vector<std::string>> wall_groups;
+    for (const WallId w : m.wallIds()) {
+        const std::vector<Vec2> pts = m.wallPoints(w);
+        const auto first = static_cast<int64_t>(p.pointCount());
+        for (const Vec2& q : pts) push3(p.points, q);
+        for (std::size_t k = 0; k < pts.size(); ++k)
+            p.connectivity.push_back(first + static_cast<int64_t>(k));
+        // A closed wall repeats its first point (wallPoints lists each vertex once).
+        if (m.wallClosed(w)) p.connectivity.push_back(first);
+        p.offsets.push_back(static_cast<int64_t>(p.connectivity.size()));
+        id.push_back(w.index);
+        push3(vel, m.wallVel(w));
+        spin.push_back(m.wallSpin(w));
+        push3(force, m.wallForce(w));
+        wall_groups.push_back(m.wallGroups(w));
+    }
+    p.cell_data = {i64("id", id), f64("velocity", vel, 3), f64("spin", spin),
+                   f64("force", force, 3)};
+    addGroupArrays(p.cell_data, m.groupNames(), wall_groups);
+    return p;
+}
+
+/// Contacts: a line from end 1's centre to end 2's centre (to the contact point for a wall), so
+/// a ball-ball line crosses the contact point.
+PolyData contactsPart(const Model& m, const std::vector<Array>& field_data) {
+    PolyData p;
+    p.lines = true;
+    p.field_data = field_data;
+    std::vector<double> fn, fs, mom, overlap, normal;
+    std::vector<int64_t> end1, end2, model_index;
+    std::vector<uint8_t> wall, bonded, sliding;
+    std::vector<std::string> model;
+    std::map<std::string, int64_t> model_ids;
+    for (const ContactInfo& c : m.contacts(true)) {
+        addSegment(p, m.ballPos(c.ball1), c.wall.valid() ? c.point : m.ballPos(c.ball2));
+        fn.push_back(c.normal_force);
+        fs.push_back(c.shear_force);
+        mom.push_back(c.moment);
+        overlap.push_back(c.overlap);
+        push3(normal, c.normal);
+        end1.push_back(c.ball1.index);
+        end2.push_back(c.wall.valid() ? c.wall.index : c.ball2.index);
+        wall.push_back(c.wall.valid() ? 1 : 0);
+        bonded.push_back(c.bonded ? 1 : 0);
+        sliding.push_back(c.sliding ? 1 : 0);
+        model.push_back(c.model);
+        model_ids.emplace(c.model, 0);
+    }
+    // Model names as numbers too (ParaView colours by numbers, not strings): the index in the
+    // sorted list "model_names" of the field data.
+    std::vector<std::string> names;
+    for (auto& [name, index] : model_ids) {
+        index = static_cast<int64_t>(names.size());
+        names.push_back(name);
+    }
+    for (const std::string& s : model) model_index.push_back(model_ids[s]);
+    p.cell_data = {f64("normal_force", fn),
+                   f64("shear_force", fs),
+                   f64("moment", mom),
+                   f64("overlap", overlap),
+                   f64("normal", normal, 3),
+                   i64("end1", end1),
+                   i64("end2", end2),
+                   u8("wall", wall),
+                   u8("bonded", bonded),
+                   u8("sliding", sliding),
+                   i64("model_index", model_index),
+                   strings("model", model)};
+    if (!names.empty()) p.field_data.push_back(strings("model_names", names));
+    return p;
+}
+
+/// Cracks: a line across each broken bond (crack.hpp), through the contact point where it
+/// broke, 2 x the bond's radius long; mode 1 tension, 2 shear.
+PolyData cracksPart(const std::vector<Crack>& cracks, const std::vector<Array>& field_data) {
+    PolyData p;
+    p.lines = true;
+    p.field_data = field_data;
+    std::vector<double> time, width, normal;
+    std::vector<int64_t> mode, step, end1, end2;
+    for (const Crack& c : cracks) {
+        addSegment(p, c.end1(), c.end2());
+        mode.push_back(c.mode);
+        time.push_back(c.time);
+        step.push_back(c.step);
+        width.push_back(2.0 * c.radius);
+        push3(normal, c.normal);
+        end1.push_back(c.ball1.index);
+        end2.push_back(c.ball2.index);
+    }
+    p.cell_data = {i64("mode", mode),   f64("time", time),        i64("step", step),
+                   f64("width", width), f64("normal", normal, 3), i64("ball1", end1),
+                   i64("ball2", end2)};
+    return p;
+}
+
+/// The frame's multiblock file: its parts, by name.
+std::string multiblockText(const SeriesState& st, const std::string& stem) {
+    std::ostringstream s;
+    s << "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" "
+         "byte_order=\""
+      << (littleEndian() ? "LittleEndian" : "BigEndian")
+      << "\" header_type=\"UInt64\">\n  <vtkMultiBlockDataSet>\n";
+    int index = 0;
+    const auto part = [&](bool on, const char* name) {
+        if (on)
+            s << "    <DataSet index=\"" << index++ << "\" name=\"" << name << "\" file=\""
+              << xmlEscape(stem) << "_" << name << ".vtp\"/>\n";
+    };
+    part(true, "balls");
+    part(st.walls, "walls");
+    part(st.contacts, "contacts");
+    part(st.cracks, "cracks");
+    s << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
+    return s.str();
+}
+
 }  // namespace
 
 std::vector<BallId> particleIds(const Model& m) {
@@ -251,201 +450,13 @@ void Series::writeFrame(const Model& m, const std::vector<BallArray>& extra,
     const int64_t frame = m_state.next_frame;
     const std::string stem = frameStem(m_state, frame);
     const std::string base = m_state.dir + "/" + stem;
-    const std::vector<std::string>& groups = m.groupNames();
-    std::vector<Array> field{f64("TimeValue", {m.time()}),
-                             i64("step", {static_cast<int64_t>(m.step())})};
-
-    // ---- balls: one vertex per ball
-    {
-        PolyData p;
-        p.field_data = field;
-        const std::vector<BallId> ids = particleIds(m);
-        const std::size_t n = ids.size();
-        std::vector<double> radius, vel, spin;
-        std::vector<int64_t> id, clump;
-        std::vector<std::vector<std::string>> ball_groups;
-        radius.reserve(n), spin.reserve(n), vel.reserve(3 * n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const BallId b = ids[i];
-            push3(p.points, m.ballPos(b));
-            p.connectivity.push_back(static_cast<int64_t>(i));
-            p.offsets.push_back(static_cast<int64_t>(i + 1));
-            id.push_back(b.index);
-            radius.push_back(m.ballRadius(b));
-            push3(vel, m.ballVel(b));
-            spin.push_back(m.ballSpin(b));
-            clump.push_back(m.clumpOf(b).index);  // 0: a free ball
-            ball_groups.push_back(m.ballGroups(b));
-        }
-        p.point_data = {i64("id", id), f64("radius", radius), f64("velocity", vel, 3),
-                        f64("spin", spin), i64("clump", clump)};
-        addGroupArrays(p.point_data, groups, ball_groups);
-        for (const std::string& f : m_state.fields) {
-            std::vector<double> v;
-            int comps = 1;
-            for (const BallId b : ids) {
-                if (f == "force") {
-                    push3(v, m.ballForce(b)), comps = 3;
-                } else if (f == "applied_force") {
-                    push3(v, m.ballAppliedForce(b)), comps = 3;
-                } else if (f == "moment") {
-                    v.push_back(m.ballMoment(b));
-                } else if (f == "mass") {
-                    v.push_back(m.ballMass(b));
-                } else if (f == "density") {
-                    v.push_back(m.ballDensity(b));
-                } else if (f == "angle") {
-                    v.push_back(m.ballAngle(b));
-                } else if (f == "speed") {
-                    v.push_back(m.ballVel(b).norm());
-                } else if (f == "fixity") {
-                    v.push_back(m.ballFixity(b));
-                } else {
-                    throw Error("vtk: unknown ball field '" + f + "'");
-                }
-            }
-            p.point_data.push_back(f64(f, v, comps));
-        }
-        for (const BallArray& a : extra) {
-            if (a.values.size() != static_cast<std::size_t>(a.components) * n)
-                throw Error("vtk: field '" + a.name + "' has " + std::to_string(a.values.size()) +
-                            " values for " + std::to_string(n) + " balls");
-            p.point_data.push_back(f64(a.name, a.values, a.components));
-        }
-        p.write(base + "_balls.vtp");
-    }
-    // ---- walls: one polyline per wall chain
-    if (m_state.walls) {
-        PolyData p;
-        p.lines = true;
-        p.field_data = field;
-        std::vector<int64_t> id;
-        std::vector<double> vel, spin, force;
-        std::vector<std::vector<std::string>> wall_groups;
-        for (const WallId w : m.wallIds()) {
-            const std::vector<Vec2> pts = m.wallPoints(w);
-            const auto first = static_cast<int64_t>(p.pointCount());
-            for (const Vec2& q : pts) push3(p.points, q);
-            for (std::size_t k = 0; k < pts.size(); ++k)
-                p.connectivity.push_back(first + static_cast<int64_t>(k));
-            // A closed wall repeats its first point (wallPoints lists each vertex once).
-            if (m.wallClosed(w)) p.connectivity.push_back(first);
-            p.offsets.push_back(static_cast<int64_t>(p.connectivity.size()));
-            id.push_back(w.index);
-            push3(vel, m.wallVel(w));
-            spin.push_back(m.wallSpin(w));
-            push3(force, m.wallForce(w));
-            wall_groups.push_back(m.wallGroups(w));
-        }
-        p.cell_data = {i64("id", id), f64("velocity", vel, 3), f64("spin", spin),
-                       f64("force", force, 3)};
-        addGroupArrays(p.cell_data, groups, wall_groups);
-        p.write(base + "_walls.vtp");
-    }
-    // ---- contacts: a line from end 1's centre to end 2's centre (to the contact point for a
-    // wall), so a ball-ball line crosses the contact point
-    if (m_state.contacts) {
-        PolyData p;
-        p.lines = true;
-        p.field_data = field;
-        std::vector<double> fn, fs, mom, overlap, normal;
-        std::vector<int64_t> end1, end2, model_index;
-        std::vector<uint8_t> wall, bonded, sliding;
-        std::vector<std::string> model;
-        std::map<std::string, int64_t> model_ids;
-        for (const ContactInfo& c : m.contacts(true)) {
-            const auto first = static_cast<int64_t>(p.pointCount());
-            push3(p.points, m.ballPos(c.ball1));
-            push3(p.points, c.wall.valid() ? c.point : m.ballPos(c.ball2));
-            p.connectivity.push_back(first);
-            p.connectivity.push_back(first + 1);
-            p.offsets.push_back(first + 2);
-            fn.push_back(c.normal_force);
-            fs.push_back(c.shear_force);
-            mom.push_back(c.moment);
-            overlap.push_back(c.overlap);
-            push3(normal, c.normal);
-            end1.push_back(c.ball1.index);
-            end2.push_back(c.wall.valid() ? c.wall.index : c.ball2.index);
-            wall.push_back(c.wall.valid() ? 1 : 0);
-            bonded.push_back(c.bonded ? 1 : 0);
-            sliding.push_back(c.sliding ? 1 : 0);
-            model.push_back(c.model);
-            model_ids.emplace(c.model, 0);
-        }
-        // Model names as numbers too (ParaView colours by numbers, not strings): the index in
-        // the sorted list "model_names" of the field data.
-        std::vector<std::string> names;
-        for (auto& [name, index] : model_ids) {
-            index = static_cast<int64_t>(names.size());
-            names.push_back(name);
-        }
-        for (const std::string& s : model) model_index.push_back(model_ids[s]);
-        p.cell_data = {f64("normal_force", fn),
-                       f64("shear_force", fs),
-                       f64("moment", mom),
-                       f64("overlap", overlap),
-                       f64("normal", normal, 3),
-                       i64("end1", end1),
-                       i64("end2", end2),
-                       u8("wall", wall),
-                       u8("bonded", bonded),
-                       u8("sliding", sliding),
-                       i64("model_index", model_index),
-                       strings("model", model)};
-        if (!names.empty()) p.field_data.push_back(strings("model_names", names));
-        p.write(base + "_contacts.vtp");
-    }
-    // ---- cracks: a line across each broken bond (crack.hpp), through the contact point where
-    // it broke, 2 x the bond's radius long; mode 1 tension, 2 shear
-    if (m_state.cracks) {
-        PolyData p;
-        p.lines = true;
-        p.field_data = field;
-        std::vector<double> time, width, normal;
-        std::vector<int64_t> mode, step, end1, end2;
-        for (const Crack& c : cracks) {
-            const auto first = static_cast<int64_t>(p.pointCount());
-            push3(p.points, c.end1());
-            push3(p.points, c.end2());
-            p.connectivity.push_back(first);
-            p.connectivity.push_back(first + 1);
-            p.offsets.push_back(first + 2);
-            mode.push_back(c.mode);
-            time.push_back(c.time);
-            step.push_back(c.step);
-            width.push_back(2.0 * c.radius);
-            push3(normal, c.normal);
-            end1.push_back(c.ball1.index);
-            end2.push_back(c.ball2.index);
-        }
-        p.cell_data = {i64("mode", mode),   f64("time", time),        i64("step", step),
-                       f64("width", width), f64("normal", normal, 3), i64("ball1", end1),
-                       i64("ball2", end2)};
-        p.write(base + "_cracks.vtp");
-    }
-    // ---- the frame's multiblock file
-    {
-        std::ostringstream s;
-        s << "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" "
-             "byte_order=\""
-          << (littleEndian() ? "LittleEndian" : "BigEndian")
-          << "\" header_type=\"UInt64\">\n  <vtkMultiBlockDataSet>\n"
-          << "    <DataSet index=\"0\" name=\"balls\" file=\"" << xmlEscape(stem)
-          << "_balls.vtp\"/>\n";
-        int index = 1;
-        if (m_state.walls)
-            s << "    <DataSet index=\"" << index++ << "\" name=\"walls\" file=\""
-              << xmlEscape(stem) << "_walls.vtp\"/>\n";
-        if (m_state.contacts)
-            s << "    <DataSet index=\"" << index++ << "\" name=\"contacts\" file=\""
-              << xmlEscape(stem) << "_contacts.vtp\"/>\n";
-        if (m_state.cracks)
-            s << "    <DataSet index=\"" << index++ << "\" name=\"cracks\" file=\""
-              << xmlEscape(stem) << "_cracks.vtp\"/>\n";
-        s << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
-        writeTextAtomically(base + ".vtm", s.str());
-    }
+    const std::vector<Array> field{f64("TimeValue", {m.time()}),
+                                   i64("step", {static_cast<int64_t>(m.step())})};
+    ballsPart(m, m_state.fields, extra, field).write(base + "_balls.vtp");
+    if (m_state.walls) wallsPart(m, field).write(base + "_walls.vtp");
+    if (m_state.contacts) contactsPart(m, field).write(base + "_contacts.vtp");
+    if (m_state.cracks) cracksPart(cracks, field).write(base + "_cracks.vtp");
+    writeTextAtomically(base + ".vtm", multiblockText(m_state, stem));
     m_state.frames.push_back(FrameEntry{frame, m.step(), m.time(), stem + ".vtm"});
     m_state.next_frame = frame + 1;
     writePvd();

@@ -11,6 +11,39 @@ namespace talus::lua {
 
 namespace {
 
+const Option kBondOptionRows[] = {
+    {"model", "string", "the bond model (cbond, pbond, or a plugin with kTraitBond)", true},
+    {"props", "table<string, number|string|talus.Distribution>",
+     "its properties: a number, a mode's name, or a distribution drawn per contact"},
+    {"group", "string", "contacts whose two ends are in this group (default: all bodies)"},
+    {"groups", "string|string[]", "{a}: as group; {a, b}: between a body of a and one of b"},
+    {"gap", "number", "near-contacts too, up to this gap [m] (default 0)"},
+    {"seed", "integer", "seed of the drawn properties (default 1)"},
+    {"reset", "boolean", "start stress-free: the bonded contacts' forces go to zero"},
+    {"walls", "boolean", "ball-wall contacts too (default false)"},
+};
+const OptionTable kBondOptions = {"talus.BondOptions",
+                                  "m:bond{...}: installs a bond model at the selected contacts",
+                                  kBondOptionRows};
+
+const Option kDistributionRows[] = {
+    {"mean", "number", "the mean value", true},
+    {"sd", "number", "the standard deviation (default 0)"},
+    {"dist", "\"normal\"|\"uniform\"", "normal (truncated at zero, the default) or uniform"},
+};
+const OptionTable kDistribution = {"talus.Distribution", "a property drawn per contact",
+                                   kDistributionRows};
+
+const Option kUnbondOptionRows[] = {
+    {"group", "string", "contacts whose two ends are in this group (default: all bodies)"},
+    {"groups", "string|string[]", "{a}: as group; {a, b}: between a body of a and one of b"},
+    {"model", "string", "only the bonds of this model"},
+    {"walls", "boolean", "ball-wall contacts too (default true)"},
+};
+const OptionTable kUnbondOptions = {"talus.UnbondOptions",
+                                    "m:unbond{...}: removes the selected contacts' bonds",
+                                    kUnbondOptionRows};
+
 /// The selection options shared by bond and unbond: group = "a" or groups = {"a"[, "b"]}.
 std::vector<std::string> readSelection(const Options& o) {
     if (o.has("group") && o.has("groups"))
@@ -65,7 +98,7 @@ std::vector<BondProp> readBondProps(lua_State* L, int index, const std::string& 
                     throw ScriptError(what + " must be one of " + joinNames(names) + " (got \"" +
                                       text + "\")");
             } else if (t == LUA_TTABLE) {
-                const Options d(L, v, what, {"mean", "sd", "dist"});
+                const Options d(L, v, what, kDistribution);
                 if (!d.has("mean")) throw ScriptError(what + ": the distribution needs 'mean'");
                 bp.mean = d.number("mean", 0.0);
                 bp.sd = d.number("sd", 0.0);
@@ -88,8 +121,7 @@ std::vector<BondProp> readBondProps(lua_State* L, int index, const std::string& 
 int w_bond(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "bond");
-        const Options o(L, 2, "bond",
-                        {"model", "props", "group", "groups", "gap", "seed", "reset", "walls"});
+        const Options o(L, 2, "bond", kBondOptions);
         BondSettings s;
         if (!o.has("model"))
             throw ScriptError("bond: 'model' is required (a bond model: cbond, pbond)");
@@ -124,7 +156,7 @@ int w_bond(lua_State* L) {
 int w_unbond(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "unbond");
-        const Options o(L, 2, "unbond", {"group", "groups", "model", "walls"}, true);
+        const Options o(L, 2, "unbond", kUnbondOptions, true);
         BondSettings s;
         s.groups = readSelection(o);
         s.model = o.string("model", "");
@@ -134,12 +166,17 @@ int w_unbond(lua_State* L) {
     });
 }
 
+const Method kBondMethods[] = {
+    {"bond", w_bond, "installs a bond model at the selected contacts; returns how many",
+     "options: talus.BondOptions", "integer"},
+    {"unbond", w_unbond, "removes the bonds of the selected contacts; returns how many",
+     "options?: talus.UnbondOptions", "integer"},
+};
+
+const OptionTable* const kOptionTables[] = {&kBondOptions, &kDistribution, &kUnbondOptions};
+
 }  // namespace
 
-extern const luaL_Reg kBondMethods[] = {
-    {"bond", w_bond},
-    {"unbond", w_unbond},
-    {nullptr, nullptr},
-};
+extern const Binding kBondBinding = {"bonds", kBondMethods, {}, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

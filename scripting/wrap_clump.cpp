@@ -4,8 +4,8 @@
 // and write the engine state by id, so a deleted clump gives "clump 3 was deleted (stale id)").
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
+#include "field_accessors.hpp"
 #include "lua_bindings.hpp"
 #include "talus/errors.hpp"
 
@@ -16,54 +16,6 @@ ClumpRef* testClump(lua_State* L, int index) {
 }
 
 namespace {
-
-ClumpRef& checkClump(lua_State* L, int index, const char* fn) {
-    ClumpRef* c = testClump(L, index);
-    if (!c)
-        throw ScriptError(std::string("clump: call it as a method, c:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) +
-                          ", not a clump)");
-    if (!c->lm->model) throw ScriptError("clump: its model was closed");
-    return *c;
-}
-
-uint8_t toFixity(lua_State* L, int index, const std::string& what) {
-    if (lua_type(L, index) == LUA_TBOOLEAN)
-        return lua_toboolean(L, index) ? uint8_t(kFixX | kFixY | kFixSpin) : uint8_t(0);
-    if (lua_isnil(L, index)) return 0;
-    if (lua_type(L, index) != LUA_TTABLE)
-        throw ScriptError(what + " must be a list such as {\"x\", \"spin\"}, or true/false");
-    uint8_t fix = 0;
-    const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
-    for (lua_Integer i = 1; i <= n; ++i) {
-        lua_rawgeti(L, index, i);
-        int which = -1;
-        try {
-            which = toEnum(L, -1, what + " entry " + std::to_string(i), {"x", "y", "spin"});
-        } catch (...) {
-            lua_pop(L, 1);
-            throw;
-        }
-        lua_pop(L, 1);
-        fix |= which == 0 ? kFixX : which == 1 ? kFixY : kFixSpin;
-    }
-    return fix;
-}
-
-void pushFixity(lua_State* L, uint8_t fix) {
-    std::vector<std::string> names;
-    if (fix & kFixX) names.push_back("x");
-    if (fix & kFixY) names.push_back("y");
-    if (fix & kFixSpin) names.push_back("spin");
-    pushStringList(L, names);
-}
-
-void pushOptional(lua_State* L, double v) {
-    if (std::isnan(v))
-        lua_pushnil(L);
-    else
-        lua_pushnumber(L, v);
-}
 
 /// Reads {{x, y, r}, ...} at the top of the stack (`what` names the option in errors).
 std::vector<Pebble> readPebbles(lua_State* L, int index, const std::string& what) {
@@ -105,107 +57,236 @@ ClumpMassMode toMode(int k) {
     return k == 1 ? ClumpMassMode::PlainSum : k == 2 ? ClumpMassMode::Direct : ClumpMassMode::Union;
 }
 
-std::vector<std::string> groupsOption(const Options& o) {
-    if (o.has("group") && o.has("groups"))
-        throw ScriptError(o.what() + ": give 'group' or 'groups', not both");
-    return o.has("group") ? o.strings("group") : o.strings("groups");
+// ------------------------------------------------------------------ the clump object
+
+using namespace fields;
+using C = ClumpRef;
+
+const Field kClumpFields[] = {
+    {"id", "integer", "the clump's handle number", getIndex<C, &Model::clumpMass>},
+    {"pos", "talus.Vec", "centroid [m]; writing moves the pebbles with it",
+     get<C, &Model::clumpPos>, set<C, &Model::setClumpPos>},
+    {"vel", "talus.Vec", "velocity of the centroid at the half step [m/s]",
+     get<C, &Model::clumpVel>, set<C, &Model::setClumpVel>},
+    {"spin", "number", "angular velocity at the half step [rad/s]", get<C, &Model::clumpSpin>,
+     set<C, &Model::setClumpSpin>},
+    {"angle", "number", "orientation [rad]", get<C, &Model::clumpAngle>,
+     set<C, &Model::setClumpAngle>},
+    {"mass", "number", "[kg]", get<C, &Model::clumpMass>},
+    {"inertia", "number", "inertia about the centroid [kg m^2]", get<C, &Model::clumpInertia>},
+    {"density", "number", "[kg/m^3]; 0 in direct mode", get<C, &Model::clumpDensity>},
+    {"force", "talus.Vec", "contact force summed to the centroid, last step [N]",
+     get<C, &Model::clumpForce>},
+    {"moment", "number", "contact moment about the centroid, last step [N m]",
+     get<C, &Model::clumpMoment>},
+    {"fapp", "talus.Vec", "applied force at the centroid [N]", get<C, &Model::clumpAppliedForce>,
+     set<C, &Model::setClumpAppliedForce>},
+    {"mapp", "number", "applied moment [N m]", get<C, &Model::clumpAppliedMoment>,
+     set<C, &Model::setClumpAppliedMoment>},
+    {"fix", "string[]|boolean", "fixed components, {\"x\", \"y\", \"spin\"}; true all",
+     getFixity<C, &Model::clumpFixity>, setFixity<C, &Model::setClumpFixity>},
+    {"kn", "number?", "normal stiffness of the clump and its pebbles [N/m]; nil: not set",
+     getProp<C, &Model::clumpContactProp, kKn>, setProp<C, &Model::setClumpContactProp, kKn>},
+    {"ks", "number?", "shear stiffness of the clump and its pebbles [N/m]; nil: not set",
+     getProp<C, &Model::clumpContactProp, kKs>, setProp<C, &Model::setClumpContactProp, kKs>},
+    {"fric", "number?", "friction coefficient of the clump and its pebbles; nil: not set",
+     getProp<C, &Model::clumpContactProp, kFric>, setProp<C, &Model::setClumpContactProp, kFric>},
+    {"groups", "string[]", "the clump's group names", get<C, &Model::clumpGroups>},
+    {"alive", "boolean", "false once deleted or released", getAlive<C>},
+};
+
+int w_pebbles(lua_State* L);
+int w_release(lua_State* L);
+
+constexpr char kWhat[] = "clump";
+
+const Method kClumpObjectMethods[] = {
+    {"set", objectSet, "writes several fields at once, in sorted name order",
+     "fields: talus.ClumpFields", ""},
+    {"pebbles", w_pebbles, "the pebbles in world coordinates, {{pos =, radius =}, ...}", "",
+     "table[]"},
+    {"delete", actMethod<C, &Model::deleteClump, kDelete>,
+     "removes the clump, its pebbles and their contacts", "", ""},
+    {"release", w_release, "turns the pebbles into free balls (PFC clump release)", "",
+     "talus.Ball[]"},
+    {"add_group", addGroup<C, &Model::addClumpGroup>, "adds the clump to a group", "name: string",
+     ""},
+};
+
+const ObjectType kClumpObject = {
+    kClumpType,
+    kWhat,
+    "c",
+    "a clump: a rigid body of pebbles, by id",
+    kClumpFields,
+    kClumpObjectMethods,
+    describeBody<C, &Model::clumpPos, kWhat>,
+};
+
+ClumpRef& checkClump(lua_State* L, int index, const char* fn) {
+    return checkObject<ClumpRef>(L, index, kClumpObject, fn);
 }
 
-// ------------------------------------------------------------------ model methods
+// ------------------------------------------------------------------ m:clump{...}
+
+const Option kClumpOptionRows[] = {
+    {"pebbles", "number[][]",
+     "{{x, y, r}, ...} [m]: in the clump's frame with pos, else in world coordinates"},
+    {"template", "table|integer", "a template from m:clump_template{} (or pebbles, or balls)"},
+    {"balls", "talus.Ball[]", "balls that become the pebbles (no pos, angle, scale)"},
+    {"pos", "talus.Vec", "where the centroid goes [m]"},
+    {"angle", "number", "orientation [rad] (default 0)"},
+    {"scale", "number", "multiplies all lengths (default 1)"},
+    {"density", "number", "[kg/m^3] for the union and sum mass modes"},
+    {"mass", "number", "direct mode: mass [kg]"},
+    {"inertia", "number", "direct mode: inertia about the centroid [kg m^2]"},
+    {"centroid", "talus.Vec", "direct mode: centroid in the clump frame [m]"},
+    {"mass_mode", "\"union\"|\"sum\"|\"direct\"", "how mass and inertia follow (default union)"},
+    {"vel", "talus.Vec", "velocity of the centroid [m/s] (default {0, 0})"},
+    {"spin", "number", "angular velocity [rad/s] (default 0)"},
+    {"fix", "string[]|boolean", "fixed components {\"x\", \"y\", \"spin\"}; true all"},
+    {"group", "string|string[]", "a group name, or a list (or groups)"},
+    {"groups", "string|string[]", "a list of group names (or group)"},
+    {"kn", "number", "normal stiffness [N/m], inherited by the pebbles' contacts"},
+    {"ks", "number", "shear stiffness [N/m], inherited by the pebbles' contacts"},
+    {"fric", "number", "friction coefficient, inherited by the pebbles' contacts"},
+};
+const OptionTable kClumpOptions = {"talus.ClumpDef", "m:clump{...}: a rigid body of pebbles",
+                                   kClumpOptionRows};
+
+const Option kClumpTemplateOptionRows[] = {
+    {"pebbles", "number[][]", "{{x, y, r}, ...} [m] in the template's frame", true},
+    {"mass_mode", "\"union\"|\"sum\"|\"direct\"", "how mass and inertia follow (default union)"},
+};
+const OptionTable kClumpTemplateOptions = {"talus.ClumpTemplateDef",
+                                           "m:clump_template{...}: pebbles to place many times",
+                                           kClumpTemplateOptionRows};
+
+const Option kClumpsOptionRows[] = {
+    {"group", "string", "only the clumps of this group"},
+};
+const OptionTable kClumpsOptions = {"talus.ClumpsOptions", "m:clumps{...}", kClumpsOptionRows};
+
+/// The balls of m:clump{balls = {...}}: live balls of this model.
+std::vector<BallId> readBalls(const Options& o, const LuaModel& lm) {
+    lua_State* L = o.state();
+    for (const char* k : {"pos", "angle", "scale"})
+        if (o.has(k))
+            throw ScriptError(std::string("clump: '") + k +
+                              "' does not go with 'balls' (the balls stay where they are)");
+    if (o.push("balls") != LUA_TTABLE) {
+        const std::string got = typeName(L, -1);
+        lua_pop(L, 1);
+        throw ScriptError("clump: 'balls' must be a list of balls (got " + got + ")");
+    }
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+    // Said here: the density check would otherwise answer an empty list.
+    if (n == 0) {
+        lua_pop(L, 1);
+        throw ScriptError("clump: 'balls' is empty: a clump needs at least one ball");
+    }
+    std::vector<BallId> balls;
+    for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, -1, i);
+        BallRef* b = testBall(L, -1);
+        lua_pop(L, 1);
+        if (!b || b->lm != &lm) {
+            lua_pop(L, 1);
+            throw ScriptError("clump: 'balls' entry " + std::to_string(i) +
+                              " is not a ball of this model");
+        }
+        balls.push_back(b->id);
+    }
+    lua_pop(L, 1);
+    return balls;
+}
+
+/// The id of m:clump{template = t}: the template table, or its id.
+int readTemplate(const Options& o) {
+    lua_State* L = o.state();
+    const int t = o.push("template");
+    lua_Integer id = 0;
+    if (t == LUA_TTABLE) {
+        lua_getfield(L, -1, "id");
+        id = lua_tointeger(L, -1);
+        lua_pop(L, 1);
+    } else if (t == LUA_TNUMBER) {
+        id = lua_tointeger(L, -1);
+    }
+    lua_pop(L, 1);
+    if (id <= 0) throw ScriptError("clump: 'template' must be a template from m:clump_template{}");
+    return static_cast<int>(id);
+}
+
+/// Pebbles read from the option `key` (pebbles), `what` naming one in errors.
+std::vector<Pebble> pebblesOption(const Options& o, const char* key, const std::string& what) {
+    lua_State* L = o.state();
+    o.push(key);
+    try {
+        std::vector<Pebble> out = readPebbles(L, lua_gettop(L), what);
+        lua_pop(L, 1);
+        return out;
+    } catch (...) {
+        lua_pop(L, 1);
+        throw;
+    }
+}
+
+/// Where the clump goes and its mass: pos, angle, scale, the mass mode and its values.
+void readPlacementAndMass(const Options& o, ClumpDef& d, bool from_balls) {
+    if (o.has("pos")) d.pos = o.vec("pos", d.pos);
+    d.angle = o.number("angle", 0.0);
+    d.scale = o.number("scale", 1.0);
+    d.mass_mode = toMode(massModeOption(o));
+    if (o.has("mass") && o.has("density"))
+        throw ScriptError("clump: give 'density' or 'mass' (direct mode), not both");
+    d.density = o.number("density", kNotSet);
+    d.mass = o.number("mass", kNotSet);
+    d.inertia = o.number("inertia", kNotSet);
+    if (o.has("centroid")) d.centroid = o.vec("centroid", d.centroid);
+    if (d.mass_mode != ClumpMassMode::Direct && !o.has("density") && !o.has("mass") &&
+        !d.template_id && !from_balls)
+        throw ScriptError("clump: 'density' (or direct 'mass' and 'inertia') is required");
+}
+
+/// Its motion, fixity, groups and contact properties.
+void readMotionAndProps(const Options& o, ClumpDef& d) {
+    lua_State* L = o.state();
+    d.vel = o.vec("vel", d.vel);
+    d.spin = o.number("spin", 0.0);
+    if (o.has("fix")) {
+        o.push("fix");
+        try {
+            d.fixity = toFixity(L, -1, "clump: 'fix'");
+        } catch (...) {
+            lua_pop(L, 1);
+            throw;
+        }
+        lua_pop(L, 1);
+    }
+    d.groups = groupsOption(o);
+    d.kn = o.number("kn", kNotSet);
+    d.ks = o.number("ks", kNotSet);
+    d.fric = o.number("fric", kNotSet);
+}
 
 int w_clump(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "clump");
-        const Options o(
-            L, 2, "clump",
-            {"pebbles", "template", "balls", "pos", "angle", "scale", "density", "mass", "inertia",
-             "centroid", "mass_mode", "vel", "spin", "fix", "group", "groups", "kn", "ks", "fric"});
+        const Options o(L, 2, "clump", kClumpOptions);
         ClumpDef d;
         const int sources = o.has("pebbles") + o.has("template") + o.has("balls");
         if (sources != 1)
             throw ScriptError("clump: give exactly one of 'pebbles', 'template' or 'balls'");
         std::vector<BallId> balls;
-        if (o.has("balls")) {
-            for (const char* k : {"pos", "angle", "scale"})
-                if (o.has(k))
-                    throw ScriptError(std::string("clump: '") + k +
-                                      "' does not go with 'balls' (the balls stay where they are)");
-            if (o.push("balls") != LUA_TTABLE) {
-                const std::string got = typeName(L, -1);
-                lua_pop(L, 1);
-                throw ScriptError("clump: 'balls' must be a list of balls (got " + got + ")");
-            }
-            const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
-            // Said here: the density check below would otherwise answer an empty list.
-            if (n == 0) {
-                lua_pop(L, 1);
-                throw ScriptError("clump: 'balls' is empty: a clump needs at least one ball");
-            }
-            for (lua_Integer i = 1; i <= n; ++i) {
-                lua_rawgeti(L, -1, i);
-                BallRef* b = testBall(L, -1);
-                lua_pop(L, 1);
-                if (!b || b->lm != &lm) {
-                    lua_pop(L, 1);
-                    throw ScriptError("clump: 'balls' entry " + std::to_string(i) +
-                                      " is not a ball of this model");
-                }
-                balls.push_back(b->id);
-            }
-            lua_pop(L, 1);
-        } else if (o.has("pebbles")) {
-            o.push("pebbles");
-            try {
-                d.pebbles = readPebbles(L, lua_gettop(L), "clump: pebble");
-            } catch (...) {
-                lua_pop(L, 1);
-                throw;
-            }
-            lua_pop(L, 1);
-        } else {
-            const int t = o.push("template");
-            lua_Integer id = 0;
-            if (t == LUA_TTABLE) {
-                lua_getfield(L, -1, "id");
-                id = lua_tointeger(L, -1);
-                lua_pop(L, 1);
-            } else if (t == LUA_TNUMBER) {
-                id = lua_tointeger(L, -1);
-            }
-            lua_pop(L, 1);
-            if (id <= 0)
-                throw ScriptError("clump: 'template' must be a template from m:clump_template{}");
-            d.template_id = static_cast<int>(id);
-        }
-        if (o.has("pos")) d.pos = o.vec("pos", d.pos);
-        d.angle = o.number("angle", 0.0);
-        d.scale = o.number("scale", 1.0);
-        d.mass_mode = toMode(massModeOption(o));
-        if (o.has("mass") && o.has("density"))
-            throw ScriptError("clump: give 'density' or 'mass' (direct mode), not both");
-        d.density = o.number("density", kNotSet);
-        d.mass = o.number("mass", kNotSet);
-        d.inertia = o.number("inertia", kNotSet);
-        if (o.has("centroid")) d.centroid = o.vec("centroid", d.centroid);
-        if (d.mass_mode != ClumpMassMode::Direct && !o.has("density") && !o.has("mass") &&
-            !d.template_id && balls.empty())
-            throw ScriptError("clump: 'density' (or direct 'mass' and 'inertia') is required");
-        d.vel = o.vec("vel", d.vel);
-        d.spin = o.number("spin", 0.0);
-        if (o.has("fix")) {
-            o.push("fix");
-            try {
-                d.fixity = toFixity(L, -1, "clump: 'fix'");
-            } catch (...) {
-                lua_pop(L, 1);
-                throw;
-            }
-            lua_pop(L, 1);
-        }
-        d.groups = groupsOption(o);
-        d.kn = o.number("kn", kNotSet);
-        d.ks = o.number("ks", kNotSet);
-        d.fric = o.number("fric", kNotSet);
+        if (o.has("balls"))
+            balls = readBalls(o, lm);
+        else if (o.has("pebbles"))
+            d.pebbles = pebblesOption(o, "pebbles", "clump: pebble");
+        else
+            d.template_id = readTemplate(o);
+        readPlacementAndMass(o, d, !balls.empty());
+        readMotionAndProps(o, d);
         pushClump(
             L, 1,
             balls.empty() ? lm.model->createClump(d) : lm.model->createClumpFromBalls(balls, d));
@@ -217,214 +298,46 @@ int w_clump(lua_State* L) {
 int w_clump_template(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "clump_template");
-        const Options o(L, 2, "clump_template", {"pebbles", "mass_mode"});
+        const Options o(L, 2, "clump_template", kClumpTemplateOptions);
         if (!o.has("pebbles")) throw ScriptError("clump_template: 'pebbles' is required");
-        o.push("pebbles");
-        std::vector<Pebble> peb;
-        try {
-            peb = readPebbles(L, lua_gettop(L), "clump_template: pebble");
-        } catch (...) {
-            lua_pop(L, 1);
-            throw;
-        }
-        lua_pop(L, 1);
+        const std::vector<Pebble> peb = pebblesOption(o, "pebbles", "clump_template: pebble");
         const int id = lm.model->defineClumpTemplate(peb, toMode(massModeOption(o)));
         const ClumpTemplate& t = lm.model->clumpTemplate(id);
         // A plain table: the id m:clump{template = t} uses, and the mass properties per unit
         // density (unit thickness) in the template's frame.
         lua_createtable(L, 0, 5);
-        lua_pushinteger(L, id);
-        lua_setfield(L, -2, "id");
-        lua_pushnumber(L, t.props.area);
-        lua_setfield(L, -2, "area");
+        setInteger(L, "id", id);
+        setNumber(L, "area", t.props.area);
         pushVec(L, t.props.centroid);
         lua_setfield(L, -2, "centroid");
-        lua_pushnumber(L, t.props.polar_moment);
-        lua_setfield(L, -2, "inertia");
-        lua_pushinteger(L, static_cast<lua_Integer>(peb.size()));
-        lua_setfield(L, -2, "pebble_count");
+        setNumber(L, "inertia", t.props.polar_moment);
+        setInteger(L, "pebble_count", static_cast<lua_Integer>(peb.size()));
         return 1;
     });
 }
 
-int clumpIterator(lua_State* L) {
-    return catchexcept(L, [&] {
-        auto* lm = static_cast<LuaModel*>(lua_touserdata(L, lua_upvalueindex(1)));
-        if (!lm || !lm->model) throw ScriptError("iterator: the model was closed");
-        lua_Integer pos = lua_tointeger(L, lua_upvalueindex(3));
-        const auto n = static_cast<lua_Integer>(lua_rawlen(L, lua_upvalueindex(2)));
-        while (pos < n) {
-            ++pos;
-            lua_rawgeti(L, lua_upvalueindex(2), pos);
-            const auto v = static_cast<uint64_t>(lua_tointeger(L, -1));
-            lua_pop(L, 1);
-            const ClumpId id{static_cast<uint32_t>(v >> 32), static_cast<uint32_t>(v)};
-            if (!lm->model->isAlive(id)) continue;  // deleted during the loop
-            lua_pushinteger(L, pos);
-            lua_replace(L, lua_upvalueindex(3));
-            pushClump(L, lua_upvalueindex(1), id);
-            return 1;
-        }
-        lua_pushinteger(L, pos);
-        lua_replace(L, lua_upvalueindex(3));
-        return 0;
-    });
+bool pushLiveClump(lua_State* L, LuaModel& lm, lua_Integer item) {
+    const auto id = unpackId<ClumpId>(item);
+    if (!lm.model->isAlive(id)) return false;  // deleted during the loop
+    pushClump(L, lua_upvalueindex(1), id);
+    return true;
 }
+
+int clumpIterator(lua_State* L) { return iterateIds(L, pushLiveClump); }
 
 int w_clumps(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "clumps");
-        const Options o(L, 2, "clumps", {"group"}, true);
-        const std::string group = o.string("group", "");
+        const Options o(L, 2, "clumps", kClumpsOptions, true);
         Model& m = *lm.model;
-        if (!group.empty() && m.groupIndex(group, false) < 0)
-            throw ScriptError(
-                "clumps: no group named '" + group + "' (groups: " +
-                (m.groupNames().empty() ? std::string("none") : joinNames(m.groupNames())) + ")");
-        lua_pushvalue(L, 1);
-        lua_newtable(L);
-        lua_Integer k = 0;
-        for (const ClumpId id : m.clumpIds()) {
-            if (!group.empty()) {
-                const auto g = m.clumpGroups(id);
-                if (std::find(g.begin(), g.end(), group) == g.end()) continue;
-            }
-            lua_pushinteger(L,
-                            static_cast<lua_Integer>((uint64_t(id.index) << 32) | id.generation));
-            lua_rawseti(L, -2, ++k);
-        }
-        lua_pushinteger(L, 0);
-        lua_pushcclosure(L, clumpIterator, 3);
+        const auto ids = packIds(m.clumpIds(), iteratorGroup(o, m),
+                                 [&](ClumpId id) { return m.clumpGroups(id); });
+        pushIterator(L, clumpIterator, ids, "clumps");
         return 1;
     });
 }
 
-int w_clump_count(lua_State* L) {
-    return catchexcept(L, [&] {
-        LuaModel& lm = checkModel(L, 1, "clump_count");
-        lua_pushinteger(L, static_cast<lua_Integer>(lm.model->clumpCount()));
-        return 1;
-    });
-}
-
-// ------------------------------------------------------------------ the clump object
-
-struct FieldInfo {
-    const char* name;
-    bool writable;
-};
-const FieldInfo kFields[] = {
-    {"id", false},   {"pos", true},      {"vel", true},      {"spin", true},   {"angle", true},
-    {"mass", false}, {"inertia", false}, {"density", false}, {"force", false}, {"moment", false},
-    {"fapp", true},  {"mapp", true},     {"fix", true},      {"kn", true},     {"ks", true},
-    {"fric", true},  {"groups", false},  {"alive", false},
-};
-const char* const kMethods[] = {"set", "pebbles", "delete", "release", "add_group"};
-
-std::string knownFields(bool writable_only) {
-    std::vector<std::string> names;
-    for (const FieldInfo& f : kFields)
-        if (f.writable || !writable_only) names.push_back(f.name);
-    if (!writable_only)
-        for (const char* m : kMethods) names.push_back(std::string(m) + "()");
-    return joinNames(names);
-}
-const FieldInfo* findField(const std::string& name) {
-    for (const FieldInfo& f : kFields)
-        if (name == f.name) return &f;
-    return nullptr;
-}
-
-std::string fieldKey(lua_State* L, int index) {
-    if (lua_type(L, index) != LUA_TSTRING)
-        throw ScriptError("clump: field names are strings (got " + typeName(L, index) + ")");
-    return lua_tostring(L, index);
-}
-
-void pushField(lua_State* L, const ClumpRef& c, const std::string& f) {
-    Model& m = *c.lm->model;
-    const ClumpId id = c.id;
-    if (f == "alive") return lua_pushboolean(L, m.isAlive(id));
-    if (f == "id") {
-        (void)m.clumpMass(id);  // a deleted clump's id is an error like any other field
-        return lua_pushinteger(L, id.index);
-    }
-    if (f == "pos") return pushVec(L, m.clumpPos(id));
-    if (f == "vel") return pushVec(L, m.clumpVel(id));
-    if (f == "spin") return lua_pushnumber(L, m.clumpSpin(id));
-    if (f == "angle") return lua_pushnumber(L, m.clumpAngle(id));
-    if (f == "mass") return lua_pushnumber(L, m.clumpMass(id));
-    if (f == "inertia") return lua_pushnumber(L, m.clumpInertia(id));
-    if (f == "density") return lua_pushnumber(L, m.clumpDensity(id));
-    if (f == "force") return pushVec(L, m.clumpForce(id));
-    if (f == "moment") return lua_pushnumber(L, m.clumpMoment(id));
-    if (f == "fapp") return pushVec(L, m.clumpAppliedForce(id));
-    if (f == "mapp") return lua_pushnumber(L, m.clumpAppliedMoment(id));
-    if (f == "fix") return pushFixity(L, m.clumpFixity(id));
-    if (f == "groups") return pushStringList(L, m.clumpGroups(id));
-    if (f == "kn" || f == "ks" || f == "fric") return pushOptional(L, m.clumpContactProp(id, f));
-}
-
-void setField(lua_State* L, const ClumpRef& c, const std::string& name, int index) {
-    const FieldInfo* info = findField(name);
-    if (!info)
-        throw ScriptError("clump: unknown field '" + name + "'" +
-                          didYouMeanIn(name, knownFields(true)) +
-                          " (writable: " + knownFields(true) + ")");
-    if (!info->writable)
-        throw ScriptError("clump: field '" + name +
-                          "' is read-only (writable: " + knownFields(true) + ")");
-    Model& m = *c.lm->model;
-    const ClumpId id = c.id;
-    const std::string what = "clump: '" + name + "'";
-    if (name == "pos") return m.setClumpPos(id, toVec(L, index, what));
-    if (name == "vel") return m.setClumpVel(id, toVec(L, index, what));
-    if (name == "spin") return m.setClumpSpin(id, toNumber(L, index, what));
-    if (name == "angle") return m.setClumpAngle(id, toNumber(L, index, what));
-    if (name == "fapp") return m.setClumpAppliedForce(id, toVec(L, index, what));
-    if (name == "mapp") return m.setClumpAppliedMoment(id, toNumber(L, index, what));
-    if (name == "fix") return m.setClumpFixity(id, toFixity(L, index, what));
-    // kn, ks, fric; nil removes the clump's own value (and its pebbles').
-    const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
-    m.setClumpContactProp(id, name, v);
-    if (name == "fric") warnImplausibleFriction(c.lm, "clump", {{name, v}});
-}
-
-int w_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "index");
-        const std::string key = fieldKey(L, 2);
-        for (const char* m : kMethods)
-            if (key == m) {
-                lua_getfield(L, lua_upvalueindex(1), m);
-                return 1;
-            }
-        if (!findField(key))
-            throw ScriptError("clump: unknown field '" + key + "'" +
-                              didYouMeanIn(key, knownFields(false)) +
-                              " (known: " + knownFields(false) + ")");
-        pushField(L, c, key);
-        return 1;
-    });
-}
-
-int w_newindex(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "newindex");
-        setField(L, c, fieldKey(L, 2), 3);
-        return 0;
-    });
-}
-
-int w_set(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "set");
-        applyFields(L, 2, "clump: set{...}",
-                    "clump: set{...} takes named fields (vel = {1, 0}, ...)",
-                    [&](const std::string& key, int value) { setField(L, c, key, value); });
-        return 0;
-    });
-}
+constexpr char kClumpCount[] = "clump_count";
 
 int w_pebbles(lua_State* L) {
     return catchexcept(L, [&] {
@@ -435,19 +348,10 @@ int w_pebbles(lua_State* L) {
             lua_createtable(L, 0, 2);
             pushVec(L, peb[i].pos);
             lua_setfield(L, -2, "pos");
-            lua_pushnumber(L, peb[i].radius);
-            lua_setfield(L, -2, "radius");
+            setNumber(L, "radius", peb[i].radius);
             lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
         }
         return 1;
-    });
-}
-
-int w_delete(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "delete");
-        c.lm->model->deleteClump(c.id);
-        return 0;
     });
 }
 
@@ -466,59 +370,28 @@ int w_release(lua_State* L) {
     });
 }
 
-int w_add_group(lua_State* L) {
-    return catchexcept(L, [&] {
-        ClumpRef& c = checkClump(L, 1, "add_group");
-        if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("clump: add_group(name) needs a group name (got " + typeName(L, 2) +
-                              ")");
-        c.lm->model->addClumpGroup(c.id, lua_tostring(L, 2));
-        return 0;
-    });
-}
-
-int w_eq(lua_State* L) {
-    const ClumpRef* a = testClump(L, 1);
-    const ClumpRef* b = testClump(L, 2);
-    lua_pushboolean(L, a && b && a->lm == b->lm && a->id == b->id);
-    return 1;
-}
-
-int w_tostring(lua_State* L) {
-    return catchexcept(L, [&] {
-        const ClumpRef* c = testClump(L, 1);
-        if (!c || !c->lm->model || !c->lm->model->isAlive(c->id)) {
-            lua_pushfstring(L, "clump %d (deleted)", c ? static_cast<int>(c->id.index) : 0);
-            return 1;
-        }
-        const Vec2 p = c->lm->model->clumpPos(c->id);
-        lua_pushfstring(L, "clump %d at (%f, %f)", static_cast<int>(c->id.index), p.x(), p.y());
-        return 1;
-    });
-}
-
-const luaL_Reg kClumpObjectMethods[] = {
-    {"set", w_set},         {"pebbles", w_pebbles},     {"delete", w_delete},
-    {"release", w_release}, {"add_group", w_add_group}, {nullptr, nullptr},
+const Method kClumpMethods[] = {
+    {"clump", w_clump, "a new clump, from pebbles, a template or existing balls",
+     "def: talus.ClumpDef", "talus.Clump"},
+    {"clump_template", w_clump_template,
+     "a template of pebbles with its mass properties per unit density",
+     "def: talus.ClumpTemplateDef", "table"},
+    {"clumps", w_clumps, "iterates over the live clumps, optionally of one group",
+     "options?: talus.ClumpsOptions", "fun(): talus.Clump"},
+    {"clump_count", countMethod<&Model::clumpCount, kClumpCount>, "the number of clumps", "",
+     "integer"},
 };
+
+const ObjectType* const kTypes[] = {&kClumpObject};
+const OptionTable* const kOptionTables[] = {&kClumpOptions, &kClumpTemplateOptions,
+                                            &kClumpsOptions};
 
 }  // namespace
 
-extern const luaL_Reg kClumpMethods[] = {
-    {"clump", w_clump},   {"clump_template", w_clump_template},
-    {"clumps", w_clumps}, {"clump_count", w_clump_count},
-    {nullptr, nullptr},
-};
+extern const Binding kClumpBinding = {"clumps", kClumpMethods, {}, kTypes, kOptionTables, {}};
 
 void pushClump(lua_State* L, int model_index, ClumpId id) {
-    model_index = lua_absindex(L, model_index);
-    auto* c = newRef<ClumpRef>(L, model_index, kClumpType);
-    c->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    c->id = id;
-}
-
-void openClump(lua_State* L) {
-    registerRefType(L, kClumpType, kClumpObjectMethods, w_index, w_newindex, w_eq, w_tostring);
+    newObject<ClumpRef>(L, model_index, kClumpObject)->id = id;
 }
 
 }  // namespace talus::lua

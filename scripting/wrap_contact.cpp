@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Contact userdata: the contact's key and its model. Every read looks the contact up again, so
 // a contact that ended in the meantime gives a clear error instead of stale values.
-#include <algorithm>
-#include <cmath>
-#include <cstring>
 
+#include "field_accessors.hpp"
 #include "lua_bindings.hpp"
 #include "talus/plugin_registry.hpp"
 
@@ -28,28 +26,6 @@ std::string describeKey(ContactKey key) {
     return "contact of balls " + std::to_string(ball1) + " and " + std::to_string(low);
 }
 
-const char* const kFieldNames[] = {
-    "key",          "ball1",       "ball2",  "wall",    "segment", "normal", "point",  "overlap",
-    "normal_force", "shear_force", "moment", "sliding", "model",   "active", "clump1", "clump2",
-};
-const char* const kMethods[] = {"prop", "set_prop", "props"};
-
-std::string knownFields() {
-    std::vector<std::string> names(std::begin(kFieldNames), std::end(kFieldNames));
-    for (const char* m : kMethods) names.push_back(std::string(m) + "()");
-    return joinNames(names);
-}
-
-ContactRef& checkContact(lua_State* L, int index, const char* fn) {
-    auto* c = static_cast<ContactRef*>(testUserdata(L, index, kContactType));
-    if (!c)
-        throw ScriptError(std::string("contact: call it as a method, c:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) +
-                          ", not a contact)");
-    if (!c->lm->model) throw ScriptError("contact: its model was closed");
-    return *c;
-}
-
 ContactInfo lookup(const ContactRef& c) {
     ContactInfo info;
     if (!c.lm->model->findContact(c.key, info))
@@ -57,103 +33,139 @@ ContactInfo lookup(const ContactRef& c) {
     return info;
 }
 
+int w_prop(lua_State* L);
+int w_set_prop(lua_State* L);
+int w_props(lua_State* L);
+
+ContactRef& contact(void* self) { return *static_cast<ContactRef*>(self); }
+
+/// A field read from the contact as the engine has it now (an error once it ended).
+template <class Push>
+void withInfo(lua_State* L, void* self, const Push& push) {
+    const ContactInfo info = lookup(contact(self));
+    lua_getiuservalue(L, 1, 1);  // the model userdata, for the ball/wall userdata
+    const int model_index = lua_gettop(L);
+    push(info, model_index);
+    lua_remove(L, model_index);
+}
+
+/// A member of the contact's ContactInfo, as it is now.
+template <auto Member>
+void infoField(lua_State* L, void* self) {
+    fields::pushValue(L, lookup(contact(self)).*Member);
+}
+
+/// Writes one of the two stored forces, keeping the other.
+void setForce(lua_State* L, void* self, int value, const std::string& what, bool normal) {
+    const double v = toNumber(L, value, what);
+    ContactRef& c = contact(self);
+    const ContactInfo info = lookup(c);
+    if (normal)
+        c.lm->model->setContactForce(c.key, v, info.shear_force);
+    else
+        c.lm->model->setContactForce(c.key, info.normal_force, v);
+}
+
+void pushBallOrNil(lua_State* L, int model_index, BallId id) {
+    if (id.valid())
+        pushBall(L, model_index, id);
+    else
+        lua_pushnil(L);
+}
+
+void pushClumpOrNil(lua_State* L, int model_index, ClumpId id) {
+    if (id.valid())
+        pushClump(L, model_index, id);
+    else
+        lua_pushnil(L);
+}
+
+const Field kContactFields[] = {
+    {"key", "integer", "names the pair of ends; stays readable after the contact ended",
+     [](lua_State* L, void* self) {
+         lua_pushinteger(L, static_cast<lua_Integer>(contact(self).key.value));
+     }},
+    {"ball1", "talus.Ball", "end 1 (a ball; for two balls the lower id)",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int m) { pushBall(L, m, i.ball1); });
+     }},
+    {"ball2", "talus.Ball?", "end 2 if it is a ball, else nil",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int m) { pushBallOrNil(L, m, i.ball2); });
+     }},
+    {"wall", "talus.Wall?", "end 2 if it is a wall, else nil",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int m) {
+             if (i.wall.valid())
+                 pushWall(L, m, i.wall);
+             else
+                 lua_pushnil(L);
+         });
+     }},
+    {"segment", "integer?", "the wall's segment (1 = from point 1 to point 2), else nil",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int) {
+             if (i.wall.valid())
+                 lua_pushinteger(L, i.segment + 1);
+             else
+                 lua_pushnil(L);
+         });
+     }},
+    {"normal", "talus.Vec", "unit normal from end 1 to end 2", infoField<&ContactInfo::normal>},
+    {"point", "talus.Vec", "contact point [m]", infoField<&ContactInfo::point>},
+    {"overlap", "number", "overlap (+) or gap (-) [m]", infoField<&ContactInfo::overlap>},
+    {"normal_force", "number", "normal force on end 2 [N], compression positive",
+     infoField<&ContactInfo::normal_force>,
+     [](lua_State* L, void* self, int v, const std::string& what) {
+         setForce(L, self, v, what, true);
+     }},
+    {"shear_force", "number", "shear force on end 2 along t = (-n_y, n_x) [N]",
+     infoField<&ContactInfo::shear_force>,
+     [](lua_State* L, void* self, int v, const std::string& what) {
+         setForce(L, self, v, what, false);
+     }},
+    {"moment", "number", "moment on end 2 [N m]", infoField<&ContactInfo::moment>},
+    {"sliding", "boolean", "true while the contact slides", infoField<&ContactInfo::sliding>},
+    {"model", "string", "the contact's model name", infoField<&ContactInfo::model>},
+    {"active", "boolean", "true while it has a model object (touching or within reach)",
+     infoField<&ContactInfo::active>},
+    {"clump1", "talus.Clump?", "the clump of end 1 when it is a pebble, else nil",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int m) { pushClumpOrNil(L, m, i.clump1); });
+     }},
+    {"clump2", "talus.Clump?", "the clump of end 2 when it is a pebble, else nil",
+     [](lua_State* L, void* self) {
+         withInfo(L, self, [&](const ContactInfo& i, int m) { pushClumpOrNil(L, m, i.clump2); });
+     }},
+};
+
+const Method kContactMethods[] = {
+    {"prop", w_prop, "a property of the contact's model object (state included: \"lin_fn\")",
+     "name: string", "number"},
+    {"set_prop", w_set_prop, "writes a property of the contact's model object",
+     "name: string, value: number|string", ""},
+    {"props", w_props, "every property of the contact's model object, by name", "",
+     "table<string, number>"},
+};
+
+void describe(lua_State* L, void* self) {
+    lua_pushstring(L, describeKey(contact(self).key).c_str());
+}
+
+const ObjectType kContactObject = {
+    kContactType,   "contact",       "c",      "a contact: looked up again at every read",
+    kContactFields, kContactMethods, describe, "model properties: c:set_prop(name, value)",
+};
+
+ContactRef& checkContact(lua_State* L, int index, const char* fn) {
+    return checkObject<ContactRef>(L, index, kContactObject, fn);
+}
+
 std::string nameArg(lua_State* L, int index, const char* fn) {
     if (lua_type(L, index) != LUA_TSTRING)
         throw ScriptError(std::string("contact: ") + fn + "(name) needs a property name (got " +
                           typeName(L, index) + ")");
     return lua_tostring(L, index);
-}
-
-int w_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        ContactRef& c = checkContact(L, 1, "index");
-        if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("contact: field names are strings (got " + typeName(L, 2) + ")");
-        const std::string key = lua_tostring(L, 2);
-        for (const char* m : kMethods)
-            if (key == m) {
-                lua_pushstring(L, m);
-                lua_rawget(L, lua_upvalueindex(1));
-                return 1;
-            }
-        if (key == "key") {
-            // The key is valid even after the contact ended (it names the pair of ends).
-            lua_pushinteger(L, static_cast<lua_Integer>(c.key.value));
-            return 1;
-        }
-        const ContactInfo info = lookup(c);
-        lua_getiuservalue(L, 1, 1);  // the model userdata, for the ball/wall userdata
-        const int model_index = lua_gettop(L);
-        if (key == "ball1")
-            pushBall(L, model_index, info.ball1);
-        else if (key == "clump1" || key == "clump2") {
-            const ClumpId cl = key == "clump1" ? info.clump1 : info.clump2;
-            if (cl.valid())
-                pushClump(L, model_index, cl);
-            else
-                lua_pushnil(L);
-        } else if (key == "ball2") {
-            if (info.ball2.valid())
-                pushBall(L, model_index, info.ball2);
-            else
-                lua_pushnil(L);
-        } else if (key == "wall") {
-            if (info.wall.valid())
-                pushWall(L, model_index, info.wall);
-            else
-                lua_pushnil(L);
-        } else if (key == "segment") {
-            if (info.wall.valid())
-                lua_pushinteger(L, info.segment + 1);
-            else
-                lua_pushnil(L);
-        } else if (key == "normal")
-            pushVec(L, info.normal);
-        else if (key == "point")
-            pushVec(L, info.point);
-        else if (key == "overlap")
-            lua_pushnumber(L, info.overlap);
-        else if (key == "normal_force")
-            lua_pushnumber(L, info.normal_force);
-        else if (key == "shear_force")
-            lua_pushnumber(L, info.shear_force);
-        else if (key == "moment")
-            lua_pushnumber(L, info.moment);
-        else if (key == "sliding")
-            lua_pushboolean(L, info.sliding);
-        else if (key == "model")
-            lua_pushstring(L, info.model.c_str());
-        else if (key == "active")
-            lua_pushboolean(L, info.active);
-        else
-            throw ScriptError("contact: unknown field '" + key + "'" +
-                              didYouMeanIn(key, knownFields()) + " (known: " + knownFields() + ")");
-        return 1;
-    });
-}
-
-int w_newindex(lua_State* L) {
-    return catchexcept(L, [&] {
-        ContactRef& c = checkContact(L, 1, "newindex");
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : typeName(L, 2);
-        if (key != "normal_force" && key != "shear_force") {
-            const bool known =
-                std::find_if(std::begin(kFieldNames), std::end(kFieldNames),
-                             [&](const char* n) { return key == n; }) != std::end(kFieldNames);
-            throw ScriptError(
-                "contact: " +
-                (known ? "field '" + key + "' is read-only" : "unknown field '" + key + "'") +
-                " (writable: normal_force, shear_force; model properties: "
-                "c:set_prop(name, value))");
-        }
-        const double v = toNumber(L, 3, "contact: '" + key + "'");
-        const ContactInfo info = lookup(c);
-        if (key == "normal_force")
-            c.lm->model->setContactForce(c.key, v, info.shear_force);
-        else
-            c.lm->model->setContactForce(c.key, info.normal_force, v);
-        return 0;
-    });
 }
 
 int w_prop(lua_State* L) {
@@ -207,40 +219,13 @@ int w_props(lua_State* L) {
     });
 }
 
-int w_eq(lua_State* L) {
-    const auto* a = static_cast<ContactRef*>(testUserdata(L, 1, kContactType));
-    const auto* b = static_cast<ContactRef*>(testUserdata(L, 2, kContactType));
-    lua_pushboolean(L, a && b && a->lm == b->lm && a->key == b->key);
-    return 1;
-}
-
-int w_tostring(lua_State* L) {
-    return catchexcept(L, [&] {
-        const auto* c = static_cast<ContactRef*>(testUserdata(L, 1, kContactType));
-        const std::string text = c ? describeKey(c->key) : "contact";
-        lua_pushstring(L, text.c_str());
-        return 1;
-    });
-}
-
-const luaL_Reg kContactMethods[] = {
-    {"prop", w_prop},
-    {"set_prop", w_set_prop},
-    {"props", w_props},
-    {nullptr, nullptr},
-};
-
+const ObjectType* const kTypes[] = {&kContactObject};
 }  // namespace
 
-void pushContact(lua_State* L, int model_index, ContactKey key) {
-    model_index = lua_absindex(L, model_index);
-    auto* c = newRef<ContactRef>(L, model_index, kContactType);
-    c->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    c->key = key;
-}
+extern const Binding kContactBinding = {"contact", {}, {}, kTypes, {}, {}};
 
-void openContact(lua_State* L) {
-    registerRefType(L, kContactType, kContactMethods, w_index, w_newindex, w_eq, w_tostring);
+void pushContact(lua_State* L, int model_index, ContactKey key) {
+    newObject<ContactRef>(L, model_index, kContactObject)->key = key;
 }
 
 }  // namespace talus::lua

@@ -16,6 +16,14 @@ namespace talus::lua {
 
 namespace {
 
+const Option kContactModelOptionRows[] = {
+    {"groups", "string|string[]",
+     "a rule for contacts between a body of group a and one of b (either order); {a}: a with "
+     "anything"},
+};
+const OptionTable kContactModelOptions = {
+    "talus.ContactModelOptions", "m:contact_model(name, props, {...})", kContactModelOptionRows};
+
 // ------------------------------------------------------------------ contact models
 
 int w_contact_model(lua_State* L) {
@@ -27,7 +35,7 @@ int w_contact_model(lua_State* L) {
         const std::string name = lua_tostring(L, 2);
         std::vector<PropValue> props;
         if (!lua_isnoneornil(L, 3)) props = readProps(L, 3, name, "contact_model");
-        const Options o(L, 4, "contact_model", {"groups"}, true);
+        const Options o(L, 4, "contact_model", kContactModelOptions, true);
         const std::vector<std::string> groups = o.strings("groups");
         if (groups.size() > 2)
             throw ScriptError("contact_model: 'groups' names one or two groups (got " +
@@ -49,12 +57,18 @@ int w_contact_model(lua_State* L) {
     });
 }
 
+const Method kContactModelMethods[] = {
+    {"contact_model", w_contact_model,
+     "sets the default contact model, or with groups a rule for a pair of groups",
+     "name: string, props?: table<string, number|string>, options?: talus.ContactModelOptions", ""},
+};
+
+const OptionTable* const kOptionTables[] = {&kContactModelOptions};
+
 }  // namespace
 
-extern const luaL_Reg kContactModelMethods[] = {
-    {"contact_model", w_contact_model},
-    {nullptr, nullptr},
-};
+extern const Binding kContactModelBinding = {
+    "contact models", kContactModelMethods, {}, {}, kOptionTables, {}};
 
 bool isFrictionCoefficient(const std::string& name, const ContactModel* meta) {
     const std::string key = lower(name);

@@ -9,6 +9,11 @@ namespace talus::lua {
 
 namespace {
 
+const Option kCracksOptionRows[] = {
+    {"since", "number", "only the cracks at time >= since [s]"},
+};
+const OptionTable kCracksOptions = {"talus.CracksOptions", "m:cracks{...}", kCracksOptionRows};
+
 const char* crackModeName(int32_t mode) {
     return mode == kBreakTension ? "tension" : mode == kBreakShear ? "shear" : "none";
 }
@@ -17,44 +22,31 @@ const char* crackModeName(int32_t mode) {
 int w_cracks(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "cracks");
-        const Options o(L, 2, "cracks", {"since"}, true);
+        const Options o(L, 2, "cracks", kCracksOptions, true);
         const double since = o.number("since", -std::numeric_limits<double>::infinity());
         lua_newtable(L);
         lua_Integer n = 0;
         for (const Crack& c : lm.cracks) {
             if (!(c.time >= since)) continue;
             lua_createtable(L, 0, 14);
-            lua_pushnumber(L, c.time);
-            lua_setfield(L, -2, "time");
-            lua_pushinteger(L, static_cast<lua_Integer>(c.step));
-            lua_setfield(L, -2, "step");
-            lua_pushnumber(L, c.pos.x());
-            lua_setfield(L, -2, "x");
-            lua_pushnumber(L, c.pos.y());
-            lua_setfield(L, -2, "y");
-            lua_pushstring(L, crackModeName(c.mode));
-            lua_setfield(L, -2, "mode");
+            setNumber(L, "time", c.time);
+            setInteger(L, "step", static_cast<lua_Integer>(c.step));
+            setNumber(L, "x", c.pos.x());
+            setNumber(L, "y", c.pos.y());
+            setString(L, "mode", crackModeName(c.mode));
             if (c.ball1.valid()) {
-                lua_pushinteger(L, c.ball1.index);
-                lua_setfield(L, -2, "ball1");
+                setInteger(L, "ball1", c.ball1.index);
             }
             if (c.ball2.valid()) {
-                lua_pushinteger(L, c.ball2.index);
-                lua_setfield(L, -2, "ball2");
+                setInteger(L, "ball2", c.ball2.index);
             }
-            lua_pushnumber(L, c.radius);
-            lua_setfield(L, -2, "radius");
-            lua_pushnumber(L, 2.0 * c.radius);
-            lua_setfield(L, -2, "width");
-            lua_pushnumber(L, c.normal.x());
-            lua_setfield(L, -2, "nx");
-            lua_pushnumber(L, c.normal.y());
-            lua_setfield(L, -2, "ny");
+            setNumber(L, "radius", c.radius);
+            setNumber(L, "width", 2.0 * c.radius);
+            setNumber(L, "nx", c.normal.x());
+            setNumber(L, "ny", c.normal.y());
             if (!std::isnan(c.sigma)) {
-                lua_pushnumber(L, c.sigma);
-                lua_setfield(L, -2, "sigma");
-                lua_pushnumber(L, c.tau);
-                lua_setfield(L, -2, "tau");
+                setNumber(L, "sigma", c.sigma);
+                setNumber(L, "tau", c.tau);
             }
             lua_rawseti(L, -2, ++n);
         }
@@ -62,11 +54,15 @@ int w_cracks(lua_State* L) {
     });
 }
 
+const Method kCrackMethods[] = {
+    {"cracks", w_cracks, "the bonds broken so far, as cracks, in the order they happened",
+     "options?: talus.CracksOptions", "table[]"},
+};
+
+const OptionTable* const kOptionTables[] = {&kCracksOptions};
+
 }  // namespace
 
-extern const luaL_Reg kCrackMethods[] = {
-    {"cracks", w_cracks},
-    {nullptr, nullptr},
-};
+extern const Binding kCrackBinding = {"cracks", kCrackMethods, {}, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

@@ -14,12 +14,17 @@ namespace talus::lua {
 
 namespace {
 
+const Option kEnergyOptionRows[] = {
+    {"on", "boolean", "switches energy tracing on or off"},
+};
+const OptionTable kEnergyOptions = {"talus.EnergyOptions", "m:energy{...}", kEnergyOptionRows};
+
 // ------------------------------------------------------------------ energy
 
 int w_energy(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "energy");
-        const Options o(L, 2, "energy", {"on"}, true);
+        const Options o(L, 2, "energy", kEnergyOptions, true);
         if (o.has("on")) lm.model->setEnergyTracing(o.boolean("on", false));
         lua_pushboolean(L, lm.model->energyTracing());
         return 1;
@@ -42,13 +47,19 @@ int w_energies(lua_State* L) {
     });
 }
 
+const Method kEnergyMethods[] = {
+    {"energy", w_energy, "switches energy tracing; returns whether it is on",
+     "options?: talus.EnergyOptions", "boolean"},
+    {"energies", w_energies,
+     "the energy items [J] with balance_error and input; of one group when given", "group?: string",
+     "table<string, number>"},
+};
+
+const OptionTable* const kOptionTables[] = {&kEnergyOptions};
+
 }  // namespace
 
-extern const luaL_Reg kEnergyMethods[] = {
-    {"energy", w_energy},
-    {"energies", w_energies},
-    {nullptr, nullptr},
-};
+extern const Binding kEnergyBinding = {"energy", kEnergyMethods, {}, {}, kOptionTables, {}};
 
 const std::vector<EnergyItem>& energyItems() {
     static const std::vector<EnergyItem> items = {
@@ -78,10 +89,8 @@ void pushEnergies(lua_State* L, const EnergyTotals& e) {
         lua_pushnumber(L, e.*(item.member));
         lua_setfield(L, -2, item.name);
     }
-    lua_pushnumber(L, e.balanceError());
-    lua_setfield(L, -2, "balance_error");
-    lua_pushnumber(L, e.input());
-    lua_setfield(L, -2, "input");
+    setNumber(L, "balance_error", e.balanceError());
+    setNumber(L, "input", e.input());
 }
 
 }  // namespace talus::lua

@@ -102,15 +102,22 @@ int w_sort_interval(lua_State* L) {
     });
 }
 
+const Method kForceLoopMethods[] = {
+    {"batched_law", w_batched_law, "the models' batched FDlaw (true) or FDlaw per contact",
+     "on?: boolean", "boolean"},
+    {"lanes", w_lanes, "the contacts of models with a lane law through it", "on?: boolean",
+     "boolean"},
+    {"kernels", w_kernels, "the host's kernels of the shipped models' laws, or their FDlaw",
+     "on?: boolean", "boolean"},
+    {"threads", w_threads, "the force loop's threads (the same results for any number)",
+     "n?: integer, grain?: integer", "integer"},
+    {"sort_interval", w_sort_interval,
+     "steps between re-orderings of the balls in memory, 0 never, or \"auto\"",
+     "steps?: integer|\"auto\"", "integer|\"auto\""},
+};
+
 }  // namespace
 
-extern const luaL_Reg kForceLoopMethods[] = {
-    {"batched_law", w_batched_law},
-    {"lanes", w_lanes},
-    {"kernels", w_kernels},
-    {"threads", w_threads},
-    {"sort_interval", w_sort_interval},
-    {nullptr, nullptr},
-};
+extern const Binding kForceLoopBinding = {"force loop", kForceLoopMethods, {}, {}, {}, {}};
 
 }  // namespace talus::lua

@@ -14,6 +14,25 @@ namespace talus::lua {
 
 namespace {
 
+/// The options of m:guard{...} and of impact's guard = {...}: adding one is a row here and its
+/// reading in readGuardOptions (and its value in w_guard's result).
+const Option kGuardOptionRows[] = {
+    {"energy", "\"warn\"|\"error\"|\"off\"", "a contact that gave back more energy than it took"},
+    {"energy_tolerance", "number", "allowed gain, a fraction of the contact's energy (0.01)"},
+    {"resolution", "\"warn\"|\"error\"|\"off\"",
+     "a step larger than an impact's duration / min_steps"},
+    {"min_steps", "integer", "steps an impact must take at least (default 10)"},
+    {"stiffness", "\"warn\"|\"error\"|\"off\"", "a model stiffer than it reports"},
+    {"balance", "\"warn\"|\"error\"|\"off\"", "the energy balance, while tracing is on"},
+    {"balance_tolerance", "number", "allowed balance error, a fraction of the throughput (0.01)"},
+    {"balance_every", "integer", "steps between two balance checks (default 10)"},
+    {"severe", "\"error\"|\"warn\"", "severe findings stop the run (\"error\") or only warn"},
+    {"severe_created", "number",
+     "energy created beyond this share of the throughput is severe (0.1)"},
+    {"severe_min_steps", "integer", "fewer steps per contact duration is severe (default 3)"},
+    {"memory_limit", "number", "most memory the model may take [bytes]; 0 = what the machine has"},
+};
+
 const char* guardName(GuardAction a) {
     switch (a) {
         case GuardAction::Off:
@@ -29,35 +48,23 @@ const char* guardName(GuardAction a) {
 int w_guard(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "guard");
-        const Options o(L, 2, "guard", guardOptionNames(), true);
+        const Options o(L, 2, "guard", kGuardOptions, true);
         GuardSettings g = lm.model->guard();
         readGuardOptions(o, g);
         lm.model->guard() = g;
         lua_createtable(L, 0, 12);
-        lua_pushstring(L, guardName(g.energy));
-        lua_setfield(L, -2, "energy");
-        lua_pushnumber(L, g.energy_tolerance);
-        lua_setfield(L, -2, "energy_tolerance");
-        lua_pushstring(L, guardName(g.resolution));
-        lua_setfield(L, -2, "resolution");
-        lua_pushinteger(L, g.min_steps);
-        lua_setfield(L, -2, "min_steps");
-        lua_pushstring(L, guardName(g.stiffness));
-        lua_setfield(L, -2, "stiffness");
-        lua_pushstring(L, guardName(g.balance));
-        lua_setfield(L, -2, "balance");
-        lua_pushnumber(L, g.balance_tolerance);
-        lua_setfield(L, -2, "balance_tolerance");
-        lua_pushinteger(L, g.balance_every);
-        lua_setfield(L, -2, "balance_every");
-        lua_pushstring(L, guardName(g.severe));
-        lua_setfield(L, -2, "severe");
-        lua_pushnumber(L, g.severe_created);
-        lua_setfield(L, -2, "severe_created");
-        lua_pushinteger(L, g.severe_min_steps);
-        lua_setfield(L, -2, "severe_min_steps");
-        lua_pushnumber(L, g.memory_limit);
-        lua_setfield(L, -2, "memory_limit");
+        setString(L, "energy", guardName(g.energy));
+        setNumber(L, "energy_tolerance", g.energy_tolerance);
+        setString(L, "resolution", guardName(g.resolution));
+        setInteger(L, "min_steps", g.min_steps);
+        setString(L, "stiffness", guardName(g.stiffness));
+        setString(L, "balance", guardName(g.balance));
+        setNumber(L, "balance_tolerance", g.balance_tolerance);
+        setInteger(L, "balance_every", g.balance_every);
+        setString(L, "severe", guardName(g.severe));
+        setNumber(L, "severe_created", g.severe_created);
+        setInteger(L, "severe_min_steps", g.severe_min_steps);
+        setNumber(L, "memory_limit", g.memory_limit);
         return 1;
     });
 }
@@ -80,21 +87,25 @@ int w_placement_warning(lua_State* L) {
     });
 }
 
-}  // namespace
-
-extern const luaL_Reg kGuardMethods[] = {
-    {"guard", w_guard},
-    {"placement_warning", w_placement_warning},
-    {nullptr, nullptr},
+const Method kGuardMethods[] = {
+    {"guard", w_guard, "sets what the run checks and how it reacts; returns the settings",
+     "options?: talus.GuardOptions", "table"},
+    {"placement_warning", w_placement_warning,
+     "switches the warning about bodies placed overlapping; returns the setting before",
+     "on?: boolean", "boolean"},
 };
 
-const std::vector<std::string>& guardOptionNames() {
-    static const std::vector<std::string> names = {
-        "energy",    "energy_tolerance", "resolution",        "min_steps",
-        "stiffness", "balance",          "balance_tolerance", "balance_every",
-        "severe",    "severe_created",   "severe_min_steps",  "memory_limit"};
-    return names;
-}
+}  // namespace
+
+extern const OptionTable kGuardOptions = {
+    "talus.GuardOptions", "m:guard{...}: what the run checks, each \"warn\", \"error\" or \"off\"",
+    kGuardOptionRows};
+
+namespace {
+const OptionTable* const kOptionTables[] = {&kGuardOptions};
+}  // namespace
+
+extern const Binding kGuardBinding = {"guard", kGuardMethods, {}, {}, kOptionTables, {}};
 
 void readGuardOptions(const Options& o, GuardSettings& g) {
     const GuardAction actions[] = {GuardAction::Warn, GuardAction::Error, GuardAction::Off};

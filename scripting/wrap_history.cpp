@@ -196,20 +196,145 @@ int64_t trimRows(const std::string& path, int64_t rows, int& err) {
     return beyond;
 }
 
-HistoryRef& checkHistory(lua_State* L, int index, const char* fn) {
-    auto* h = static_cast<HistoryRef*>(testUserdata(L, index, kHistoryType));
-    if (!h)
-        throw ScriptError(std::string("history: call it as a method, h:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) +
-                          ", not a history)");
-    if (!h->lm->model) throw ScriptError("history: its model was closed");
-    return *h;
+const Option kHistoryOptionRows[] = {
+    {"file", "string", "the CSV file", true},
+    {"every", "integer", "steps between rows (default 1)"},
+    {"columns", "table",
+     "a list {\"time\", {\"y\", fn}} (in that order) or a map {time = \"time\", y = fn} (sorted)",
+     true},
+    {"append", "boolean", "continue an existing file (after a restore); default false"},
+};
+const OptionTable kHistoryOptions = {
+    "talus.HistoryOptions", "m:history{...}: a CSV row every `every` steps", kHistoryOptionRows};
+
+/// Reads the list form of `columns` (at stack index `cols`, n > 0 entries): "time" or
+/// {"name", spec} (or {"kinetic", "rock"}, an energy item of a group), in the order given.
+void readColumnList(lua_State* L, LuaModel& lm, int cols, lua_Integer n, History& h) {
+    for (lua_Integer i = 1; i <= n; ++i) {
+        History::Column col;
+        const int t = lua_rawgeti(L, cols, i);
+        if (t == LUA_TSTRING) {
+            col.name = lua_tostring(L, -1);
+        } else if (t == LUA_TTABLE && isGroupPair(L, lm, -1)) {
+            // {"kinetic", "rock"}: an energy item of a group, named "kinetic@rock".
+            lua_rawgeti(L, -1, 1);
+            lua_rawgeti(L, -2, 2);
+            col.name = std::string(lua_tostring(L, -2)) + "@" + lua_tostring(L, -1);
+            lua_pop(L, 2);
+        } else if (t == LUA_TTABLE) {
+            lua_rawgeti(L, -1, 1);
+            const bool ok = lua_type(L, -1) == LUA_TSTRING;
+            if (ok) col.name = lua_tostring(L, -1);
+            lua_pop(L, 1);
+            if (!ok || lua_rawlen(L, -1) != 2)
+                throw ScriptError("history: column " + std::to_string(i) +
+                                  " must be a name or a pair {\"name\", spec}");
+            lua_rawgeti(L, -1, 2);
+            lua_remove(L, -2);
+        } else {
+            throw ScriptError("history: column " + std::to_string(i) +
+                              " must be a name or a pair {\"name\", spec} (got " + typeName(L, -1) +
+                              ")");
+        }
+        parseSpec(L, lm, col);
+        lua_pop(L, 1);
+        h.columns.push_back(col);
+    }
+    lua_pushnil(L);
+    while (lua_next(L, cols) != 0) {
+        const bool in_list =
+            lua_isinteger(L, -2) && lua_tointeger(L, -2) >= 1 && lua_tointeger(L, -2) <= n;
+        lua_pop(L, 1);
+        if (!in_list)
+            throw ScriptError(
+                "history: 'columns' is either a list ({\"time\", {\"y\", fn}}) or a map "
+                "({time = \"time\", y = fn}), not both");
+    }
+}
+
+/// Reads the map form of `columns` (at stack index `cols`): name = spec, sorted by name.
+void readColumnMap(lua_State* L, LuaModel& lm, int cols, History& h) {
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, cols) != 0) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) != LUA_TSTRING)
+            throw ScriptError("history: column names must be strings");
+        names.push_back(lua_tostring(L, -1));
+    }
+    std::sort(names.begin(), names.end());
+    for (const std::string& name : names) {
+        History::Column col;
+        col.name = name;
+        lua_pushstring(L, name.c_str());
+        lua_rawget(L, cols);
+        parseSpec(L, lm, col);
+        lua_pop(L, 1);
+        h.columns.push_back(col);
+    }
+}
+
+/// The `columns` option, checked: not empty, energy columns only with tracing on.
+void readColumns(const Options& o, LuaModel& lm, History& h) {
+    lua_State* L = o.state();
+    if (o.push("columns") != LUA_TTABLE) {
+        const std::string got = typeName(L, -1);
+        lua_pop(L, 1);
+        throw ScriptError("history: 'columns' must be a table (got " + got + ")");
+    }
+    const int cols = lua_gettop(L);
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, cols));
+    if (n > 0)
+        readColumnList(L, lm, cols, n, h);
+    else
+        readColumnMap(L, lm, cols, h);
+    lua_pop(L, 1);
+    if (h.columns.empty()) throw ScriptError("history: 'columns' is empty");
+    for (const History::Column& c : h.columns)
+        if ((c.kind == History::Column::Energy || c.kind == History::Column::BalanceError) &&
+            !lm.model->energyTracing())
+            throw ScriptError("history: column '" + c.name +
+                              "' needs energy tracing; call m:energy{on = true} first");
+}
+
+/// Opens the file and writes the header. append = true (after a restore): continue an existing
+/// file; the header is written only when the file is new or empty.
+void openFile(LuaModel& lm, History& h, bool append) {
+    if (append) h.base_rows = dataRows(h.path);
+    h.file = std::fopen(h.path.c_str(), append ? "a" : "w");
+    if (!h.file)
+        throw ScriptError("history: cannot write '" + h.path + "' (" + std::strerror(errno) + ")");
+    std::string header;
+    for (std::size_t i = 0; i < h.columns.size(); ++i)
+        header += (i ? "," : "") + csvCell(h.columns[i].name);
+    if ((!append || std::ftell(h.file) == 0) && std::fprintf(h.file, "%s\n", header.c_str()) < 0)
+        h.fail(lm, "writing the header", errno);
+}
+
+const ObjectType& historyObject();
+
+/// Hands the history to the model, writes its first row (the state now), installs its cycle
+/// hook and pushes its userdata.
+void startHistory(lua_State* L, LuaModel& lm, std::unique_ptr<History> h) {
+    History* hp = h.get();
+    LuaModel* lmp = &lm;
+    lm.histories.push_back(std::move(h));
+    try {
+        ActiveThread active(lm, L);
+        hp->writeRow(lm);
+    } catch (...) {
+        hp->closeQuietly(lm);
+        throw;
+    }
+    hp->flush(lm);
+    hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
+    newObject<HistoryRef>(L, 1, historyObject())->history = hp;
 }
 
 int w_history(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "history");
-        const Options o(L, 2, "history", {"file", "every", "columns", "append"});
+        const Options o(L, 2, "history", kHistoryOptions);
         auto h = std::make_unique<History>();
         h->path = o.string("file", "");
         if (h->path.empty()) throw ScriptError("history: 'file' is required (a CSV path)");
@@ -217,118 +342,9 @@ int w_history(lua_State* L) {
         if (h->every < 1)
             throw ScriptError("history: 'every' must be >= 1 (got " + std::to_string(h->every) +
                               ")");
-        if (o.push("columns") != LUA_TTABLE) {
-            const std::string got = typeName(L, -1);
-            lua_pop(L, 1);
-            throw ScriptError("history: 'columns' must be a table (got " + got + ")");
-        }
-        const int cols = lua_gettop(L);
-        const auto n = static_cast<lua_Integer>(lua_rawlen(L, cols));
-        if (n > 0) {
-            // List form: "time" or {"name", spec}, in the order given.
-            for (lua_Integer i = 1; i <= n; ++i) {
-                History::Column col;
-                const int t = lua_rawgeti(L, cols, i);
-                if (t == LUA_TSTRING) {
-                    col.name = lua_tostring(L, -1);
-                } else if (t == LUA_TTABLE && isGroupPair(L, lm, -1)) {
-                    // {"kinetic", "rock"}: an energy item of a group, named "kinetic@rock".
-                    lua_rawgeti(L, -1, 1);
-                    lua_rawgeti(L, -2, 2);
-                    col.name = std::string(lua_tostring(L, -2)) + "@" + lua_tostring(L, -1);
-                    lua_pop(L, 2);
-                } else if (t == LUA_TTABLE) {
-                    lua_rawgeti(L, -1, 1);
-                    const bool ok = lua_type(L, -1) == LUA_TSTRING;
-                    if (ok) col.name = lua_tostring(L, -1);
-                    lua_pop(L, 1);
-                    if (!ok || lua_rawlen(L, -1) != 2)
-                        throw ScriptError("history: column " + std::to_string(i) +
-                                          " must be a name or a pair {\"name\", spec}");
-                    lua_rawgeti(L, -1, 2);
-                    lua_remove(L, -2);
-                } else {
-                    throw ScriptError("history: column " + std::to_string(i) +
-                                      " must be a name or a pair {\"name\", spec} (got " +
-                                      typeName(L, -1) + ")");
-                }
-                parseSpec(L, lm, col);
-                lua_pop(L, 1);
-                h->columns.push_back(col);
-            }
-            lua_pushnil(L);
-            while (lua_next(L, cols) != 0) {
-                const bool in_list =
-                    lua_isinteger(L, -2) && lua_tointeger(L, -2) >= 1 && lua_tointeger(L, -2) <= n;
-                lua_pop(L, 1);
-                if (!in_list)
-                    throw ScriptError(
-                        "history: 'columns' is either a list ({\"time\", {\"y\", "
-                        "fn}}) or a map ({time = \"time\", y = fn}), not both");
-            }
-        } else {
-            // Map form: name = spec, sorted by name.
-            std::vector<std::string> names;
-            lua_pushnil(L);
-            while (lua_next(L, cols) != 0) {
-                lua_pop(L, 1);
-                if (lua_type(L, -1) != LUA_TSTRING)
-                    throw ScriptError("history: column names must be strings");
-                names.push_back(lua_tostring(L, -1));
-            }
-            std::sort(names.begin(), names.end());
-            for (const std::string& name : names) {
-                History::Column col;
-                col.name = name;
-                lua_pushstring(L, name.c_str());
-                lua_rawget(L, cols);
-                parseSpec(L, lm, col);
-                lua_pop(L, 1);
-                h->columns.push_back(col);
-            }
-        }
-        lua_pop(L, 1);
-        if (h->columns.empty()) throw ScriptError("history: 'columns' is empty");
-        for (const History::Column& c : h->columns)
-            if ((c.kind == History::Column::Energy || c.kind == History::Column::BalanceError) &&
-                !lm.model->energyTracing())
-                throw ScriptError("history: column '" + c.name +
-                                  "' needs energy tracing; call m:energy{on = true} first");
-
-        // append = true (after a restore): continue an existing file; the header is written
-        // only when the file is new or empty.
-        const bool append = o.boolean("append", false);
-        if (append) h->base_rows = dataRows(h->path);
-        h->file = std::fopen(h->path.c_str(), append ? "a" : "w");
-        if (!h->file)
-            throw ScriptError("history: cannot write '" + h->path + "' (" + std::strerror(errno) +
-                              ")");
-        std::string header;
-        for (std::size_t i = 0; i < h->columns.size(); ++i)
-            header += (i ? "," : "") + csvCell(h->columns[i].name);
-        if ((!append || std::ftell(h->file) == 0) &&
-            std::fprintf(h->file, "%s\n", header.c_str()) < 0)
-            h->fail(lm, "writing the header", errno);
-
-        History* hp = h.get();
-        LuaModel* lmp = &lm;
-        lm.histories.push_back(std::move(h));
-        try {
-            ActiveThread active(lm, L);
-            hp->writeRow(lm);
-        } catch (...) {
-            hp->closeQuietly(lm);
-            throw;
-        }
-        hp->flush(lm);
-        hp->hook = lm.model->addCycleHook(hp->every, [lmp, hp](Model&) { hp->writeRow(*lmp); });
-
-        auto* ref = static_cast<HistoryRef*>(lua_newuserdatauv(L, sizeof(HistoryRef), 1));
-        ref->lm = &lm;
-        ref->history = hp;
-        luaL_setmetatable(L, kHistoryType);
-        lua_pushvalue(L, 1);
-        lua_setiuservalue(L, -2, 1);
+        readColumns(o, lm, *h);
+        openFile(lm, *h, o.boolean("append", false));
+        startHistory(L, lm, std::move(h));
         return 1;
     });
 }
@@ -341,9 +357,30 @@ int w_close_history(lua_State* L) {
     });
 }
 
+// ------------------------------------------------------------------ the history object
+
+History& history(void* self) { return *static_cast<HistoryRef*>(self)->history; }
+
+const Field kHistoryFields[] = {
+    {"file", "string", "the CSV file",
+     [](lua_State* L, void* self) { lua_pushstring(L, history(self).path.c_str()); }},
+    {"rows", "integer", "the data rows written",
+     [](lua_State* L, void* self) {
+         lua_pushinteger(L, static_cast<lua_Integer>(history(self).rows));
+     }},
+    {"open", "boolean", "false once closed",
+     [](lua_State* L, void* self) { lua_pushboolean(L, history(self).open()); }},
+    {"columns", "string[]", "the column names, in the file's order",
+     [](lua_State* L, void* self) {
+         std::vector<std::string> names;
+         for (const auto& c : history(self).columns) names.push_back(c.name);
+         pushStringList(L, names);
+     }},
+};
+
 int w_h_close(lua_State* L) {
     return catchexcept(L, [&] {
-        HistoryRef& h = checkHistory(L, 1, "close");
+        HistoryRef& h = checkObject<HistoryRef>(L, 1, historyObject(), "close");
         h.history->close(*h.lm);
         return 0;
     });
@@ -351,43 +388,33 @@ int w_h_close(lua_State* L) {
 
 int w_h_flush(lua_State* L) {
     return catchexcept(L, [&] {
-        HistoryRef& h = checkHistory(L, 1, "flush");
+        HistoryRef& h = checkObject<HistoryRef>(L, 1, historyObject(), "flush");
         if (h.history->open()) h.history->flush(*h.lm);
         return 0;
     });
 }
 
-int w_h_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        HistoryRef& h = checkHistory(L, 1, "index");
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
-        if (key == "close" || key == "flush") {
-            lua_pushstring(L, key.c_str());
-            lua_rawget(L, lua_upvalueindex(1));
-        } else if (key == "file") {
-            lua_pushstring(L, h.history->path.c_str());
-        } else if (key == "rows") {
-            lua_pushinteger(L, static_cast<lua_Integer>(h.history->rows));
-        } else if (key == "open") {
-            lua_pushboolean(L, h.history->open());
-        } else if (key == "columns") {
-            std::vector<std::string> names;
-            for (const auto& c : h.history->columns) names.push_back(c.name);
-            pushStringList(L, names);
-        } else {
-            throw ScriptError("history: unknown field '" + key + "'" +
-                              didYouMeanIn(key, "file, rows, open, columns, close(), flush()") +
-                              " (known: file, rows, open, columns, close(), flush())");
-        }
-        return 1;
-    });
+const Method kHistoryObjectMethods[] = {
+    {"close", w_h_close, "writes what is buffered and closes the file", "", ""},
+    {"flush", w_h_flush, "hands the buffered rows to the system", "", ""},
+};
+
+void describe(lua_State* L, void* self) {
+    lua_pushfstring(L, "history '%s' (%d rows)", history(self).path.c_str(),
+                    static_cast<int>(history(self).rows));
 }
 
-const luaL_Reg kHistoryMethods[] = {
-    {"close", w_h_close},
-    {"flush", w_h_flush},
-    {nullptr, nullptr},
+const ObjectType kHistoryObject = {
+    kHistoryType,
+    "history",
+    "h",
+    "a CSV history written by a cycle hook (m:history)",
+    kHistoryFields,
+    kHistoryObjectMethods,
+    describe,
 };
+
+const ObjectType& historyObject() { return kHistoryObject; }
 
 }  // namespace
 
@@ -542,18 +569,20 @@ std::string reopenHistory(LuaModel& lm, std::unique_ptr<History> h) {
     return note;
 }
 
-extern const luaL_Reg kModelHistoryMethods[] = {
-    {"history", w_history},
-    {"close_history", w_close_history},
-    {nullptr, nullptr},
+namespace {
+
+const Method kHistoryMethods[] = {
+    {"history", w_history, "a CSV history: one row now, then one every `every` steps",
+     "options: talus.HistoryOptions", "talus.History"},
+    {"close_history", w_close_history, "closes every history of the model", "", ""},
 };
 
-void openHistory(lua_State* L) {
-    luaL_newmetatable(L, kHistoryType);
-    luaL_newlib(L, kHistoryMethods);
-    lua_pushcclosure(L, w_h_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pop(L, 1);
-}
+const ObjectType* const kTypes[] = {&kHistoryObject};
+const OptionTable* const kOptionTables[] = {&kHistoryOptions};
+
+}  // namespace
+
+extern const Binding kHistoryBinding = {"histories", kHistoryMethods, {},
+                                        kTypes,      kOptionTables,   {}};
 
 }  // namespace talus::lua

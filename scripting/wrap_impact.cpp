@@ -14,11 +14,6 @@ namespace {
 
 constexpr double kDegree = M_PI / 180.0;
 
-void setNumber(lua_State* L, const char* key, double v) {
-    lua_pushnumber(L, v);
-    lua_setfield(L, -2, key);
-}
-
 void pushNumbers(lua_State* L, const std::vector<double>& v) {
     lua_createtable(L, static_cast<int>(v.size()), 0);
     for (std::size_t i = 0; i < v.size(); ++i) {
@@ -65,13 +60,133 @@ std::vector<PropValue> propsOption(const Options& o, const std::string& model) {
     return props;
 }
 
+const Option kImpactOptionRows[] = {
+    {"model", "string", "the contact model (default \"linear\")"},
+    {"props", "table<string, number|string>", "its properties, as in m:contact_model"},
+    {"target", "\"wall\"|\"ball\"", "a horizontal wall (default) or a ball"},
+    {"radius", "number", "the impactor's radius [m] (default 0.1)"},
+    {"density", "number", "the impactor's density [kg/m^3] (default 2600)"},
+    {"target_radius", "number", "the target ball's radius [m] (default 0.1)"},
+    {"target_density", "number", "the target ball's density [kg/m^3] (default 2600)"},
+    {"mass", "\"disk\"|\"sphere\"", "the mass mode (default disk)"},
+    {"speed", "number", "normal approach speed [m/s] (default 1)"},
+    {"tangential", "number", "tangential velocity [m/s] (default 0)"},
+    {"angle", "number", "with velocity: degrees from the normal, in [0, 90)"},
+    {"velocity", "number", "with angle: the impact speed [m/s]"},
+    {"spin", "number", "the impactor's spin [rad/s] (default 0)"},
+    {"target_speed", "number", "the target ball's velocity toward the impactor [m/s]"},
+    {"target_spin", "number", "the target ball's spin [rad/s]"},
+    {"gap", "number", "initial gap [m] (default 1e-3 R)"},
+    {"timestep", "talus.TimestepOptions", "as m:timestep{...}"},
+    {"guard", "talus.GuardOptions", "as m:guard{...}"},
+    {"trace", "string|boolean", "a CSV file of the trace, or true: result.trace"},
+    {"max_steps", "integer", "the most steps (default 1e7)"},
+};
+const OptionTable kImpactOptions = {"talus.ImpactOptions",
+                                    "talus.impact{...}: one impact on the single-contact rig",
+                                    kImpactOptionRows};
+
+const Option kDriveOptionRows[] = {
+    {"model", "string", "the contact model (default \"linear\")"},
+    {"props", "table<string, number|string>", "its properties, as in m:contact_model"},
+    {"target", "\"wall\"|\"ball\"", "a wall (default) or a ball"},
+    {"radius", "number", "[m] (default 0.1)"},
+    {"target_radius", "number", "[m] (default 0.1)"},
+    {"mass", "number", "[kg] (default 1)"},
+    {"target_mass", "number", "[kg] (default 1)"},
+    {"dt", "number", "time between samples [s] (default 1e-6)"},
+    {"overlap", "number[]", "the overlaps u_n [m], one per sample", true},
+    {"shear", "number[]", "shear displacements [m], as many as overlap"},
+};
+const OptionTable kDriveOptions = {"talus.DriveOptions",
+                                   "talus.drive{...}: a contact driven through an overlap history",
+                                   kDriveOptionRows};
+
+/// The impact's velocities: speed and tangential, or velocity at an angle from the normal.
+void readVelocities(const Options& o, ImpactSetup& s) {
+    if (o.has("angle") || o.has("velocity")) {
+        if (o.has("speed") || o.has("tangential"))
+            throw ScriptError("impact: give either speed/tangential or velocity/angle");
+        if (!o.has("angle") || !o.has("velocity"))
+            throw ScriptError(
+                "impact: 'angle' (degrees from the normal) and 'velocity' (impact speed) go "
+                "together");
+        const double v = o.number("velocity", 0.0);
+        const double a = o.number("angle", 0.0);
+        if (!(a >= 0.0 && a < 90.0))
+            throw ScriptError("impact: 'angle' must be in [0, 90) degrees from the normal (got " +
+                              numberText(a) + ")");
+        s.normal_speed = v * std::cos(a * kDegree);
+        s.tangential_speed = v * std::sin(a * kDegree);
+    } else {
+        s.normal_speed = o.number("speed", s.normal_speed);
+        s.tangential_speed = o.number("tangential", s.tangential_speed);
+    }
+    s.spin = o.number("spin", s.spin);
+    s.target_speed = o.number("target_speed", s.target_speed);
+    s.target_spin = o.number("target_spin", s.target_spin);
+}
+
+/// The run's controls: time step, guard and the step cap.
+void readControls(const Options& o, ImpactSetup& s) {
+    lua_State* L = o.state();
+    s.gap = o.number("gap", s.gap);
+    s.max_steps = o.integer("max_steps", s.max_steps);
+    if (s.max_steps < 1) throw ScriptError("impact: 'max_steps' must be >= 1");
+    if (o.push("timestep") != LUA_TNIL) {
+        const Options ts(L, -1, "timestep", kTimestepOptions);
+        readTimestepOptions(ts, s.timestep);
+    }
+    lua_pop(L, 1);
+    if (o.push("guard") != LUA_TNIL) {
+        const Options g(L, -1, "guard", kGuardOptions);
+        readGuardOptions(g, s.guard);
+    }
+    lua_pop(L, 1);
+}
+
+/// trace = "file.csv" | true: where the trace goes ("" and false: nowhere).
+void readTrace(const Options& o, std::string& file, bool& table) {
+    lua_State* L = o.state();
+    const int t = o.push("trace");
+    if (t == LUA_TSTRING) file = lua_tostring(L, -1);
+    table = t == LUA_TBOOLEAN && lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (t != LUA_TNIL && t != LUA_TSTRING && t != LUA_TBOOLEAN)
+        throw ScriptError("impact: 'trace' must be a CSV file name or true");
+}
+
+void pushImpactResult(lua_State* L, const ImpactResult& r) {
+    lua_createtable(L, 0, 28);
+    setBoolean(L, "separated", r.separated);
+    setNumber(L, "restitution", r.restitution);
+    setNumber(L, "tangential_restitution", r.tangential_restitution);
+    setNumber(L, "vn_in", r.vn_in);
+    setNumber(L, "vn_out", r.vn_out);
+    setNumber(L, "vt_in", r.vt_in);
+    setNumber(L, "vt_out", r.vt_out);
+    setNumber(L, "slip_in", r.slip_in);
+    setNumber(L, "slip_out", r.slip_out);
+    setNumber(L, "spin_out", r.spin_out);
+    setNumber(L, "target_spin_out", r.target_spin_out);
+    setNumber(L, "rebound_angle", r.rebound_angle / kDegree);
+    setNumber(L, "contact_point_angle", r.contact_point_angle / kDegree);
+    setNumber(L, "duration", r.duration);
+    setNumber(L, "force_duration", r.force_duration);
+    setNumber(L, "peak_force", r.peak_force);
+    setNumber(L, "max_overlap", r.max_overlap);
+    setInteger(L, "steps", static_cast<lua_Integer>(r.steps_in_contact));
+    setNumber(L, "timestep", r.timestep);
+    setString(L, "step_rule", r.step_rule);
+    setNumber(L, "energy_in", r.energy_in);
+    setNumber(L, "energy_out", r.energy_out);
+    pushEnergies(L, r.energy);
+    lua_setfield(L, -2, "energies");
+}
+
 int w_impact(lua_State* L) {
     return catchexcept(L, [&] {
-        const Options o(L, 1, "impact",
-                        {"model",         "props",          "target", "radius",       "density",
-                         "target_radius", "target_density", "mass",   "speed",        "tangential",
-                         "angle",         "velocity",       "spin",   "target_speed", "target_spin",
-                         "gap",           "timestep",       "guard",  "trace",        "max_steps"});
+        const Options o(L, 1, "impact", kImpactOptions);
         ImpactSetup s;
         s.model = o.string("model", s.model);
         s.props = propsOption(o, s.model);
@@ -82,83 +197,16 @@ int w_impact(lua_State* L) {
         s.density = o.number("density", s.density);
         s.target_radius = o.number("target_radius", s.target_radius);
         s.target_density = o.number("target_density", s.target_density);
-        if (o.has("angle") || o.has("velocity")) {
-            if (o.has("speed") || o.has("tangential"))
-                throw ScriptError("impact: give either speed/tangential or velocity/angle");
-            if (!o.has("angle") || !o.has("velocity"))
-                throw ScriptError(
-                    "impact: 'angle' (degrees from the normal) and 'velocity' "
-                    "(impact speed) go together");
-            const double v = o.number("velocity", 0.0);
-            const double a = o.number("angle", 0.0);
-            if (!(a >= 0.0 && a < 90.0))
-                throw ScriptError(
-                    "impact: 'angle' must be in [0, 90) degrees from the normal "
-                    "(got " +
-                    numberText(a) + ")");
-            s.normal_speed = v * std::cos(a * kDegree);
-            s.tangential_speed = v * std::sin(a * kDegree);
-        } else {
-            s.normal_speed = o.number("speed", s.normal_speed);
-            s.tangential_speed = o.number("tangential", s.tangential_speed);
-        }
-        s.spin = o.number("spin", s.spin);
-        s.target_speed = o.number("target_speed", s.target_speed);
-        s.target_spin = o.number("target_spin", s.target_spin);
-        s.gap = o.number("gap", s.gap);
-        s.max_steps = o.integer("max_steps", s.max_steps);
-        if (s.max_steps < 1) throw ScriptError("impact: 'max_steps' must be >= 1");
-        if (o.push("timestep") != LUA_TNIL) {
-            const Options ts(L, -1, "timestep",
-                             {"safety", "resolution", "fixed", "max", "growth", "auto"});
-            readTimestepOptions(ts, s.timestep);
-        }
-        lua_pop(L, 1);
-        if (o.push("guard") != LUA_TNIL) {
-            const Options g(L, -1, "guard", guardOptionNames());
-            readGuardOptions(g, s.guard);
-        }
-        lua_pop(L, 1);
+        readVelocities(o, s);
+        readControls(o, s);
         std::string trace_file;
-        const int trace_type = o.push("trace");
-        if (trace_type == LUA_TSTRING) trace_file = lua_tostring(L, -1);
-        const bool trace_table = trace_type == LUA_TBOOLEAN && lua_toboolean(L, -1);
-        lua_pop(L, 1);
-        if (trace_type != LUA_TNIL && trace_type != LUA_TSTRING && trace_type != LUA_TBOOLEAN)
-            throw ScriptError("impact: 'trace' must be a CSV file name or true");
+        bool trace_table = false;
+        readTrace(o, trace_file, trace_table);
         s.keep_trace = !trace_file.empty() || trace_table;
 
         const ImpactResult r = runImpact(s);
         if (!trace_file.empty()) writeTraceCsv(r.trace, trace_file);
-
-        lua_createtable(L, 0, 28);
-        lua_pushboolean(L, r.separated);
-        lua_setfield(L, -2, "separated");
-        setNumber(L, "restitution", r.restitution);
-        setNumber(L, "tangential_restitution", r.tangential_restitution);
-        setNumber(L, "vn_in", r.vn_in);
-        setNumber(L, "vn_out", r.vn_out);
-        setNumber(L, "vt_in", r.vt_in);
-        setNumber(L, "vt_out", r.vt_out);
-        setNumber(L, "slip_in", r.slip_in);
-        setNumber(L, "slip_out", r.slip_out);
-        setNumber(L, "spin_out", r.spin_out);
-        setNumber(L, "target_spin_out", r.target_spin_out);
-        setNumber(L, "rebound_angle", r.rebound_angle / kDegree);
-        setNumber(L, "contact_point_angle", r.contact_point_angle / kDegree);
-        setNumber(L, "duration", r.duration);
-        setNumber(L, "force_duration", r.force_duration);
-        setNumber(L, "peak_force", r.peak_force);
-        setNumber(L, "max_overlap", r.max_overlap);
-        lua_pushinteger(L, static_cast<lua_Integer>(r.steps_in_contact));
-        lua_setfield(L, -2, "steps");
-        setNumber(L, "timestep", r.timestep);
-        lua_pushstring(L, r.step_rule.c_str());
-        lua_setfield(L, -2, "step_rule");
-        setNumber(L, "energy_in", r.energy_in);
-        setNumber(L, "energy_out", r.energy_out);
-        pushEnergies(L, r.energy);
-        lua_setfield(L, -2, "energies");
+        pushImpactResult(L, r);
         if (trace_table) {
             pushTrace(L, r.trace);
             lua_setfield(L, -2, "trace");
@@ -169,9 +217,7 @@ int w_impact(lua_State* L) {
 
 int w_drive(lua_State* L) {
     return catchexcept(L, [&] {
-        const Options o(L, 1, "drive",
-                        {"model", "props", "target", "radius", "target_radius", "mass",
-                         "target_mass", "dt", "overlap", "shear"});
+        const Options o(L, 1, "drive", kDriveOptions);
         DriveSetup s;
         s.model = o.string("model", s.model);
         s.props = propsOption(o, s.model);
@@ -202,12 +248,17 @@ int w_drive(lua_State* L) {
     });
 }
 
+const Method kImpactFunctions[] = {
+    {"impact", w_impact, "one impact on the single-contact rig, run to separation",
+     "options: talus.ImpactOptions", "table"},
+    {"drive", w_drive, "a fresh contact driven through a prescribed overlap (and shear) history",
+     "options: talus.DriveOptions", "table"},
+};
+
+const OptionTable* const kOptionTables[] = {&kImpactOptions, &kDriveOptions};
+
 }  // namespace
 
-extern const luaL_Reg kImpactFunctions[] = {
-    {"impact", w_impact},
-    {"drive", w_drive},
-    {nullptr, nullptr},
-};
+extern const Binding kImpactBinding = {"impact rig", {}, kImpactFunctions, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

@@ -11,20 +11,24 @@ namespace talus::lua {
 
 namespace {
 
+const Option kMeasureOptionRows[] = {
+    {"circle", "number[]", "the region {x, y, radius} [m] (or box)"},
+    {"box", "number[]", "the region {xmin, ymin, xmax, ymax} [m] (or circle)"},
+};
+const OptionTable kMeasureOptions = {
+    "talus.MeasureOptions", "m:measure{...}: one region, circle or box", kMeasureOptionRows};
+
 void pushTensor(lua_State* L, double xx, double yy, double xy) {
     lua_createtable(L, 0, 3);
-    lua_pushnumber(L, xx);
-    lua_setfield(L, -2, "xx");
-    lua_pushnumber(L, yy);
-    lua_setfield(L, -2, "yy");
-    lua_pushnumber(L, xy);
-    lua_setfield(L, -2, "xy");
+    setNumber(L, "xx", xx);
+    setNumber(L, "yy", yy);
+    setNumber(L, "xy", xy);
 }
 
 int w_measure(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "measure");
-        const Options o(L, 2, "measure", {"circle", "box"});
+        const Options o(L, 2, "measure", kMeasureOptions);
         if (o.has("circle") == o.has("box"))
             throw ScriptError(
                 "measure: give one region, circle = {x, y, radius} or box = {xmin, "
@@ -49,24 +53,17 @@ int w_measure(lua_State* L) {
         }
         const MeasureResult r = lm.model->measure(rg);
         lua_createtable(L, 0, 10);
-        lua_pushnumber(L, r.porosity);
-        lua_setfield(L, -2, "porosity");
-        lua_pushnumber(L, r.coordination);
-        lua_setfield(L, -2, "coordination");
+        setNumber(L, "porosity", r.porosity);
+        setNumber(L, "coordination", r.coordination);
         pushTensor(L, r.stress_xx, r.stress_yy, r.stress_xy);
         lua_setfield(L, -2, "stress");
         pushTensor(L, r.rate_xx, r.rate_yy, r.rate_xy);
         lua_setfield(L, -2, "strain_rate");
-        lua_pushnumber(L, r.rate_spin);
-        lua_setfield(L, -2, "spin");
-        lua_pushinteger(L, static_cast<lua_Integer>(r.balls));
-        lua_setfield(L, -2, "balls");
-        lua_pushinteger(L, static_cast<lua_Integer>(r.contacts));
-        lua_setfield(L, -2, "contacts");
-        lua_pushnumber(L, r.area);
-        lua_setfield(L, -2, "area");
-        lua_pushnumber(L, r.solid);
-        lua_setfield(L, -2, "solid");
+        setNumber(L, "spin", r.rate_spin);
+        setInteger(L, "balls", static_cast<lua_Integer>(r.balls));
+        setInteger(L, "contacts", static_cast<lua_Integer>(r.contacts));
+        setNumber(L, "area", r.area);
+        setNumber(L, "solid", r.solid);
         return 1;
     });
 }
@@ -76,28 +73,28 @@ int w_unbalanced(lua_State* L) {
         LuaModel& lm = checkModel(L, 1, "unbalanced");
         const UnbalancedForce u = lm.model->unbalanced();
         lua_createtable(L, 0, 6);
-        lua_pushnumber(L, u.mean_unbalanced);
-        lua_setfield(L, -2, "mean_unbalanced");
-        lua_pushnumber(L, u.max_unbalanced);
-        lua_setfield(L, -2, "max_unbalanced");
-        lua_pushnumber(L, u.mean_contact);
-        lua_setfield(L, -2, "mean_contact");
-        lua_pushnumber(L, u.ratio);
-        lua_setfield(L, -2, "ratio");
-        lua_pushinteger(L, static_cast<lua_Integer>(u.bodies));
-        lua_setfield(L, -2, "bodies");
-        lua_pushinteger(L, static_cast<lua_Integer>(u.contacts));
-        lua_setfield(L, -2, "contacts");
+        setNumber(L, "mean_unbalanced", u.mean_unbalanced);
+        setNumber(L, "max_unbalanced", u.max_unbalanced);
+        setNumber(L, "mean_contact", u.mean_contact);
+        setNumber(L, "ratio", u.ratio);
+        setInteger(L, "bodies", static_cast<lua_Integer>(u.bodies));
+        setInteger(L, "contacts", static_cast<lua_Integer>(u.contacts));
         return 1;
     });
 }
 
+const Method kMeasureMethods[] = {
+    {"measure", w_measure,
+     "porosity, coordination, stress and strain rate in a region (PFC measurement circles)",
+     "region: talus.MeasureOptions", "table"},
+    {"unbalanced", w_unbalanced,
+     "PFC's mechanical ratio: mean unbalanced force over mean contact force", "", "table"},
+};
+
+const OptionTable* const kOptionTables[] = {&kMeasureOptions};
+
 }  // namespace
 
-extern const luaL_Reg kMeasureMethods[] = {
-    {"measure", w_measure},
-    {"unbalanced", w_unbalanced},
-    {nullptr, nullptr},
-};
+extern const Binding kMeasureBinding = {"measurement", kMeasureMethods, {}, {}, kOptionTables, {}};
 
 }  // namespace talus::lua

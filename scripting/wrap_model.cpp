@@ -2,8 +2,8 @@
 // talus.model{...} and the model's methods that drive it: creation, damping, broadphase and
 // gravity settings, running, callbacks and profile; the shared helpers (model userdata, refs).
 // The other methods are one file per thing (wrap_bodies.cpp: ball, wall, iterators, counts;
-// wrap_history.cpp, wrap_vtk.cpp, ...), each with its table of methods; kModelMethodTables
-// below lists the tables.
+// wrap_history.cpp, wrap_vtk.cpp, ...), each in its file's Binding (binding.hpp); openModel
+// registers the methods of every Binding.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -24,6 +24,33 @@ namespace {
 
 // Registry key of the weak table LuaModel* -> model userdata (see pushModel).
 const char kModelsKey = 0;
+
+const Option kModelOptionRows[] = {
+    {"gravity", "talus.Vec", "gravitational acceleration [m/s^2] (default {0, 0})"},
+    {"mass", "\"disk\"|\"sphere\"",
+     "disk: unit-thickness disks (PFC2D, the default); sphere: m = 4/3 rho pi R^3"},
+};
+const OptionTable kModelOptions = {"talus.ModelDef", "talus.model{...}: a new, empty model",
+                                   kModelOptionRows};
+
+const Option kDampingOptionRows[] = {
+    {"damp", "number", "PFC's local damping coefficient in [0, 1)"},
+    {"local", "number", "the old name of damp"},
+    {"viscous", "number", "viscous damping rate [1/s], >= 0"},
+};
+const OptionTable kDampingOptions = {"talus.DampingOptions", "m:damping{...}", kDampingOptionRows};
+
+const Option kBroadphaseOptionRows[] = {
+    {"margin", "number", "how far [m] a body moves before the broadphase looks at it again"},
+};
+const OptionTable kBroadphaseOptions = {"talus.BroadphaseOptions", "m:broadphase{...}",
+                                        kBroadphaseOptionRows};
+
+const Option kProfileOptionRows[] = {
+    {"reset", "boolean", "reset the counters after the report"},
+    {"enabled", "boolean", "false stops timing"},
+};
+const OptionTable kProfileOptions = {"talus.ProfileOptions", "m:profile{...}", kProfileOptionRows};
 
 void pushUserValueTable(lua_State* L, const LuaModel& lm) {
     pushModel(L, lm);
@@ -72,29 +99,22 @@ void callEventHandler(LuaModel& lm, int ref, const Event& ev, const Crack* crack
     pushModel(L, lm);
     const int model_index = lua_gettop(L);
     lua_createtable(L, 0, 8);
-    lua_pushstring(L, ev.kind == EventKind::BondBreak ? "bond_break" : "contact_created");
-    lua_setfield(L, -2, "kind");
-    lua_pushnumber(L, ev.time);
-    lua_setfield(L, -2, "time");
+    setString(L, "kind", ev.kind == EventKind::BondBreak ? "bond_break" : "contact_created");
+    setNumber(L, "time", ev.time);
     pushVec(L, ev.pos);
     lua_setfield(L, -2, "pos");
-    lua_pushstring(L, ev.model.c_str());
-    lua_setfield(L, -2, "model");
-    lua_pushstring(L, breakModeName(ev.mode));
-    lua_setfield(L, -2, "mode");
+    setString(L, "model", ev.model);
+    setString(L, "mode", breakModeName(ev.mode));
     // Stresses at failure, when the bond model reports them (pbond; nil otherwise).
     if (!std::isnan(ev.sigma)) {
-        lua_pushnumber(L, ev.sigma);
-        lua_setfield(L, -2, "sigma");
-        lua_pushnumber(L, ev.tau);
-        lua_setfield(L, -2, "tau");
+        setNumber(L, "sigma", ev.sigma);
+        setNumber(L, "tau", ev.tau);
     }
     pushContact(L, model_index, ev.contact);
     lua_setfield(L, -2, "contact");
     if (crack) {
         // The bond as a crack: its ends, its half width and normal, the step (crack.hpp).
-        lua_pushinteger(L, static_cast<lua_Integer>(crack->step));
-        lua_setfield(L, -2, "step");
+        setInteger(L, "step", static_cast<lua_Integer>(crack->step));
         if (lm.model->isAlive(crack->ball1)) {
             pushBall(L, model_index, crack->ball1);
             lua_setfield(L, -2, "ball1");
@@ -103,8 +123,7 @@ void callEventHandler(LuaModel& lm, int ref, const Event& ev, const Crack* crack
             pushBall(L, model_index, crack->ball2);
             lua_setfield(L, -2, "ball2");
         }
-        lua_pushnumber(L, crack->radius);
-        lua_setfield(L, -2, "radius");
+        setNumber(L, "radius", crack->radius);
         pushVec(L, crack->normal);
         lua_setfield(L, -2, "normal");
     }
@@ -162,7 +181,7 @@ void deliverWarning(LuaModel& lm, const std::string& text) {
 
 int w_newModel(lua_State* L) {
     return catchexcept(L, [&] {
-        const Options o(L, 1, "model", {"gravity", "mass"}, true);
+        const Options o(L, 1, "model", kModelOptions, true);
         ModelDef def;
         def.gravity = o.vec("gravity", Vec2(0.0, 0.0));
         def.mass_mode =
@@ -226,7 +245,7 @@ int w_damping(lua_State* L) {
         LuaModel& lm = checkModel(L, 1, "damping");
         // `damp` is PFC's name for local damping; `local` (a Lua keyword, so only ['local'] =)
         // is still accepted for old scripts.
-        const Options o(L, 2, "damping", {"damp", "local", "viscous"}, true);
+        const Options o(L, 2, "damping", kDampingOptions, true);
         DampingSettings d = lm.model->damping();
         if (o.has("damp") && o.has("local"))
             throw ScriptError("damping: give 'damp' or its old name 'local', not both");
@@ -241,12 +260,9 @@ int w_damping(lua_State* L) {
                               numberText(d.viscous) + ")");
         lm.model->damping() = d;
         lua_createtable(L, 0, 3);
-        lua_pushnumber(L, d.local);
-        lua_setfield(L, -2, "damp");
-        lua_pushnumber(L, d.local);
-        lua_setfield(L, -2, "local");
-        lua_pushnumber(L, d.viscous);
-        lua_setfield(L, -2, "viscous");
+        setNumber(L, "damp", d.local);
+        setNumber(L, "local", d.local);
+        setNumber(L, "viscous", d.viscous);
         return 1;
     });
 }
@@ -254,11 +270,10 @@ int w_damping(lua_State* L) {
 int w_broadphase(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "broadphase");
-        const Options o(L, 2, "broadphase", {"margin"}, true);
+        const Options o(L, 2, "broadphase", kBroadphaseOptions, true);
         if (o.has("margin")) lm.model->setBroadphaseMargin(o.number("margin", 0.0));
         lua_createtable(L, 0, 1);
-        lua_pushnumber(L, lm.model->broadphaseMargin());
-        lua_setfield(L, -2, "margin");
+        setNumber(L, "margin", lm.model->broadphaseMargin());
         return 1;
     });
 }
@@ -522,7 +537,7 @@ int w_on_warning(lua_State* L) {
 int w_profile(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "profile");
-        const Options o(L, 2, "profile", {"reset", "enabled"}, true);
+        const Options o(L, 2, "profile", kProfileOptions, true);
         Profile& p = lm.model->profile();
         lua_pushstring(L, p.report(lm.model->ballCount()).c_str());
         if (o.has("enabled")) p.enabled = o.boolean("enabled", true);
@@ -542,62 +557,51 @@ int w_index_unknown(lua_State* L) {
     });
 }
 
-}  // namespace
-
 // ------------------------------------------------------------------ method tables
 
 /// Methods of this file: settings that are one call (damping, broadphase, gravity), running,
 /// callbacks and profile.
-extern const luaL_Reg kModelMethods[] = {
-    {"damping", w_damping},
-    {"broadphase", w_broadphase},
-    {"gravity", w_gravity},
-    {"cycle", w_cycle},
-    {"solve", w_solve},
-    {"time", w_time},
-    {"step", w_step},
-    {"dt", w_dt},
-    {"on_cycle", w_on_cycle},
-    {"remove_on_cycle", w_remove_on_cycle},
-    {"on_event", w_on_event},
-    {"remove_on_event", w_remove_on_event},
-    {"on_warning", w_on_warning},
-    {"profile", w_profile},
-    {nullptr, nullptr},
+const Method kModelMethods[] = {
+    {"damping", w_damping, "sets local and viscous damping; returns the settings",
+     "options?: talus.DampingOptions", "table"},
+    {"broadphase", w_broadphase, "sets the broadphase margin; returns the settings",
+     "options?: talus.BroadphaseOptions", "table"},
+    {"gravity", w_gravity, "sets the gravitational acceleration [m/s^2]; returns it",
+     "g?: talus.Vec", "talus.Vec"},
+    {"cycle", w_cycle, "runs n steps", "n: integer", ""},
+    {"solve", w_solve,
+     "runs until a criterion (time, steps, ratio, until) is met; returns why it stopped",
+     "criteria: talus.SolveOptions", "string"},
+    {"time", w_time, "the simulated time [s]", "", "number"},
+    {"step", w_step, "the number of steps taken", "", "integer"},
+    {"dt", w_dt, "the last time step [s] and the rule that set it", "", "number, string"},
+    {"on_cycle", w_on_cycle, "calls fn(m, step) every `every` steps; returns a handle",
+     "fn: fun(m: talus.Model, step: integer), every?: integer", "integer"},
+    {"remove_on_cycle", w_remove_on_cycle, "removes an on_cycle callback by its handle",
+     "handle: integer", ""},
+    {"on_event", w_on_event,
+     "calls fn(ev) at each event of the kind (\"bond_break\"); nil removes them all",
+     "kind: \"bond_break\"|\"contact_created\", fn: fun(ev: table)|nil", "integer?"},
+    {"remove_on_event", w_remove_on_event,
+     "removes an on_event handler by its handle; returns whether there was one", "handle: integer",
+     "boolean"},
+    {"on_warning", w_on_warning, "engine warnings go to fn(text) instead of stderr; nil restores",
+     "fn: fun(text: string)|nil", ""},
+    {"profile", w_profile, "the engine's profile report (time per cycle phase)",
+     "options?: talus.ProfileOptions", "string"},
 };
 
-namespace {
-
-/// Every method table of the model, one per thing (lua_bindings.hpp): a new thing's table is
-/// one row here.
-const luaL_Reg* const kModelMethodTables[] = {
-    kModelMethods,         // this file
-    kModelBodyMethods,     // wrap_bodies.cpp
-    kContactModelMethods,  // wrap_contact_model.cpp
-    kTimestepMethods,      // wrap_timestep.cpp
-    kGuardMethods,         // wrap_guard.cpp
-    kEnergyMethods,        // wrap_energy.cpp
-    kClumpMethods,         // wrap_clump.cpp
-    kMeasureMethods,       // wrap_measure.cpp
-    kBondMethods,          // wrap_bond.cpp
-    kForceLoopMethods,     // wrap_force_loop.cpp
-    kModelHistoryMethods,  // wrap_history.cpp
-    kVtkMethods,           // wrap_vtk.cpp
-    kPictureMethods,       // wrap_picture.cpp
-    kSaveMethods,          // wrap_save.cpp
-    kCrackMethods,         // wrap_cracks.cpp
-    kTrackerMethods,       // wrap_tracker.cpp
+const Method kModelFunctions[] = {
+    {"model", w_newModel, "a new, empty model", "def?: talus.ModelDef", "talus.Model"},
 };
+
+const OptionTable* const kOptionTables[] = {&kModelOptions, &kDampingOptions, &kBroadphaseOptions,
+                                            &kProfileOptions};
 
 }  // namespace
 
-std::vector<std::string> modelMethodNames() {
-    std::vector<std::string> names;
-    for (const luaL_Reg* table : kModelMethodTables)
-        for (const luaL_Reg* r = table; r->name; ++r) names.push_back(r->name);
-    std::sort(names.begin(), names.end());
-    return names;
-}
+extern const Binding kModelBinding = {"model", kModelMethods, kModelFunctions,
+                                      {},      kOptionTables, {}};
 
 // ------------------------------------------------------------------ shared with other files
 
@@ -717,7 +721,11 @@ void openModel(lua_State* L) {
     lua_pushcfunction(L, w_tostring);
     lua_setfield(L, -2, "__tostring");
     lua_newtable(L);
-    for (const luaL_Reg* table : kModelMethodTables) luaL_setfuncs(L, table, 0);
+    for (const Binding* b : bindings())
+        for (const Method& m : b->model_methods) {
+            lua_pushcfunction(L, m.fn);
+            lua_setfield(L, -2, m.name);
+        }
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, w_index_unknown);
     lua_setfield(L, -2, "__index");
@@ -725,7 +733,5 @@ void openModel(lua_State* L) {
     lua_setfield(L, -2, "__index");
     lua_pop(L, 1);
 }
-
-int newModel(lua_State* L) { return w_newModel(L); }
 
 }  // namespace talus::lua

@@ -321,6 +321,12 @@ void applyHostSection(lua_State* L, LuaModel& lm, const std::vector<uint8_t>& by
                         joinNames(callbacks));
 }
 
+const Option kRestoreOptionRows[] = {
+    {"quiet", "boolean", "do not print the notes to stderr"},
+};
+const OptionTable kRestoreOptions = {"talus.RestoreOptions", "talus.restore(file, {...})",
+                                     kRestoreOptionRows};
+
 int w_save(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "save");
@@ -341,7 +347,7 @@ int w_restore(lua_State* L) {
             throw ScriptError("restore: the file name must be a string (got " + typeName(L, 1) +
                               ")");
         const std::string path = lua_tostring(L, 1);
-        const Options o(L, 2, "restore", {"quiet"}, true);
+        const Options o(L, 2, "restore", kRestoreOptions, true);
         const bool quiet = o.boolean("quiet", false);
         RestoredModel r = restoreModelFile(path, PluginRegistry::global());
         pushNewModel(L, std::move(r.model));
@@ -355,22 +361,28 @@ int w_restore(lua_State* L) {
     });
 }
 
+const Method kSaveMethods[] = {
+    {"save", w_save, "saves the model (with its histories and output series) to a file",
+     "file: string", ""},
+};
+
+const Method kSaveFunctions[] = {
+    {"restore", w_restore,
+     "a model from a save file, and notes on what was not restored (Lua callbacks, ...)",
+     "file: string, options?: talus.RestoreOptions", "talus.Model, string[]"},
+};
+
+const OptionTable* const kOptionTables[] = {&kRestoreOptions};
+
 }  // namespace
+
+extern const Binding kSaveBinding = {
+    "save and restore", kSaveMethods, kSaveFunctions, {}, kOptionTables, {}};
 
 void saveLuaModel(LuaModel& lm, const std::string& path) {
     // Rows written so far go to the file first: the save and the CSV agree on the step.
     lm.flushHistories();
     saveModelFile(*lm.model, path, hostSection(lm));
 }
-
-extern const luaL_Reg kSaveMethods[] = {
-    {"save", w_save},
-    {nullptr, nullptr},
-};
-
-extern const luaL_Reg kSaveFunctions[] = {
-    {"restore", w_restore},
-    {nullptr, nullptr},
-};
 
 }  // namespace talus::lua

@@ -14,28 +14,17 @@ namespace {
 void pushServoState(lua_State* L, const WallServoState& st) {
     const WallServoSettings& s = st.settings;
     lua_createtable(L, 0, 14);
-    lua_pushboolean(L, s.on);
-    lua_setfield(L, -2, "on");
-    lua_pushstring(L, s.stress ? "stress" : "force");
-    lua_setfield(L, -2, "mode");
-    lua_pushnumber(L, s.target);
-    lua_setfield(L, -2, "target");
-    lua_pushnumber(L, st.force);
-    lua_setfield(L, -2, "force");
-    lua_pushnumber(L, st.stress);
-    lua_setfield(L, -2, "stress");
-    lua_pushnumber(L, st.vel);
-    lua_setfield(L, -2, "vel");
-    lua_pushnumber(L, st.gain);
-    lua_setfield(L, -2, "gain");
-    lua_pushnumber(L, st.knest);
-    lua_setfield(L, -2, "knest");
-    lua_pushnumber(L, s.length);
-    lua_setfield(L, -2, "length");
-    lua_pushnumber(L, s.alpha);
-    lua_setfield(L, -2, "alpha");
-    lua_pushnumber(L, s.vmax);
-    lua_setfield(L, -2, "vmax");
+    setBoolean(L, "on", s.on);
+    setString(L, "mode", s.stress ? "stress" : "force");
+    setNumber(L, "target", s.target);
+    setNumber(L, "force", st.force);
+    setNumber(L, "stress", st.stress);
+    setNumber(L, "vel", st.vel);
+    setNumber(L, "gain", st.gain);
+    setNumber(L, "knest", st.knest);
+    setNumber(L, "length", s.length);
+    setNumber(L, "alpha", s.alpha);
+    setNumber(L, "vmax", s.vmax);
     pushVec(L, s.dir);
     lua_setfield(L, -2, "dir");
     if (std::isnan(s.gain))
@@ -45,7 +34,26 @@ void pushServoState(lua_State* L, const WallServoState& st) {
     lua_setfield(L, -2, "fixed_gain");
 }
 
+const Option kServoOptionRows[] = {
+    {"force", "number", "target force [N], compression positive (or stress)"},
+    {"stress", "number", "target stress [Pa], compression positive (or force)"},
+    {"length", "number", "[m] the stress form's length (default: the wall chain's length)"},
+    {"gain", "number|false", "a fixed gain [m/s per N or per Pa]; false: PFC's formula again"},
+    {"alpha", "number", "PFC's relaxation factor in (0, 2) (default 0.5)"},
+    {"vmax", "number", "speed cap [m/s] (default 1)"},
+    {"on", "boolean", "false switches the servo off (the wall stops along dir)"},
+    {"dir", "talus.Vec", "direction in which the wall presses the material"},
+};
+
+const OptionTable kServoOptions = {"talus.ServoOptions",
+                                   "w:servo{...}: a later call changes only the options it gives",
+                                   kServoOptionRows};
+
+const OptionTable* const kOptionTables[] = {&kServoOptions};
+
 }  // namespace
+
+extern const Binding kServoBinding = {"servo", {}, {}, {}, kOptionTables, {}};
 
 int servoWall(lua_State* L, LuaModel& lm, WallId id) {
     Model& m = *lm.model;
@@ -61,8 +69,7 @@ int servoWall(lua_State* L, LuaModel& lm, WallId id) {
         }
         return 1;
     }
-    const Options o(L, 2, what,
-                    {"force", "stress", "length", "gain", "alpha", "vmax", "on", "dir"});
+    const Options o(L, 2, what, kServoOptions);
     WallServoSettings s = exists ? st.settings : WallServoSettings{};
     if (o.has("force") && o.has("stress"))
         throw ScriptError(what + ": give force = F [N] or stress = s [Pa], not both");

@@ -15,47 +15,68 @@ namespace talus::lua {
 
 namespace {
 
+const Option kTimestepOptionRows[] = {
+    {"safety", "number", "stability rule: the step is at most safety sqrt(m/k) (default 0.8)"},
+    {"resolution", "number", "at least this many steps per contact duration; 0 off (default 30)"},
+    {"fixed", "number|false", "a fixed step [s]; false returns to the automatic step"},
+    {"max", "number", "largest automatic step [s] (default math.huge)"},
+    {"growth", "number", "largest ratio between consecutive automatic steps, > 1 (default 2)"},
+    {"auto", "boolean", "automatic step (default true); false needs a fixed step"},
+};
+
+const Option kSolveOptionRows[] = {
+    {"time", "number", "run until this much more simulated time has passed [s]"},
+    {"steps", "integer", "run this many steps"},
+    {"ratio", "number", "run until PFC's mechanical ratio (m:unbalanced().ratio) is below this"},
+    {"until", "fun(m: talus.Model): boolean", "run until it returns true (checked every step)"},
+    {"max_steps", "integer", "stop after this many steps whatever the other criteria"},
+    {"max_time", "number", "stop after this much simulated time [s]"},
+};
+const OptionTable kSolveOptions = {
+    "talus.SolveOptions", "m:solve{...}: the first criterion met stops the run", kSolveOptionRows};
+
 int w_timestep(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "timestep");
-        const Options o(L, 2, "timestep",
-                        {"safety", "resolution", "fixed", "max", "growth", "auto"}, true);
+        const Options o(L, 2, "timestep", kTimestepOptions, true);
         TimestepSettings ts = lm.model->timestep();
         readTimestepOptions(o, ts);
         lm.model->timestep() = ts;
         Model& m = *lm.model;
         lua_createtable(L, 0, 9);
-        lua_pushboolean(L, ts.automatic);
-        lua_setfield(L, -2, "auto");
+        setBoolean(L, "auto", ts.automatic);
         if (ts.automatic)
             lua_pushboolean(L, false);
         else
             lua_pushnumber(L, ts.fixed);
         lua_setfield(L, -2, "fixed");
-        lua_pushnumber(L, ts.safety);
-        lua_setfield(L, -2, "safety");
-        lua_pushnumber(L, ts.resolution);
-        lua_setfield(L, -2, "resolution");
-        lua_pushnumber(L, ts.max);
-        lua_setfield(L, -2, "max");
-        lua_pushnumber(L, ts.growth);
-        lua_setfield(L, -2, "growth");
-        lua_pushnumber(L, m.lastTimestep());
-        lua_setfield(L, -2, "dt");
-        lua_pushstring(L, stepRuleName(m.lastStepRule()));
-        lua_setfield(L, -2, "rule");
-        lua_pushstring(L, m.lastStepReason().c_str());
-        lua_setfield(L, -2, "reason");
+        setNumber(L, "safety", ts.safety);
+        setNumber(L, "resolution", ts.resolution);
+        setNumber(L, "max", ts.max);
+        setNumber(L, "growth", ts.growth);
+        setNumber(L, "dt", m.lastTimestep());
+        setString(L, "rule", stepRuleName(m.lastStepRule()));
+        setString(L, "reason", m.lastStepReason());
         return 1;
     });
 }
 
+const Method kTimestepMethods[] = {
+    {"timestep", w_timestep,
+     "sets the time-step rules; returns them with the last step and its rule",
+     "options?: talus.TimestepOptions", "table"},
+};
+
 }  // namespace
 
-extern const luaL_Reg kTimestepMethods[] = {
-    {"timestep", w_timestep},
-    {nullptr, nullptr},
-};
+extern const OptionTable kTimestepOptions = {
+    "talus.TimestepOptions", "m:timestep{...}: the time-step rules", kTimestepOptionRows};
+
+namespace {
+const OptionTable* const kOptionTables[] = {&kTimestepOptions, &kSolveOptions};
+}  // namespace
+
+extern const Binding kTimestepBinding = {"time step", kTimestepMethods, {}, {}, kOptionTables, {}};
 
 void readTimestepOptions(const Options& o, TimestepSettings& ts) {
     lua_State* L = o.state();
@@ -95,8 +116,7 @@ void readTimestepOptions(const Options& o, TimestepSettings& ts) {
 
 SolveRequest readSolveOptions(lua_State* L, LuaModel& lm, int index) {
     index = lua_absindex(L, index);
-    const Options o(L, index, "solve",
-                    {"time", "steps", "ratio", "until", "max_steps", "max_time"});
+    const Options o(L, index, "solve", kSolveOptions);
     SolveRequest r;
     SolveSpec& s = r.spec;
     if (o.has("time")) s.time = o.number("time", 0.0);

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "field_accessors.hpp"
 #include "lua_bindings.hpp"
 #include "talus/errors.hpp"
 
@@ -21,26 +22,58 @@ struct TrackerRef {
 
 constexpr const char* kHandlersKey = "trackers";  // in the model's user-value table
 
-TrackerRef* testTracker(lua_State* L, int index) {
-    return static_cast<TrackerRef*>(testUserdata(L, index, kTrackerType));
-}
+const Option kTrackOptionRows[] = {
+    {"impacts", "boolean|\"walls\"|\"bodies\"|\"any\"|talus.TrackImpacts",
+     "record the body's impacts (true: with anything)"},
+    {"lines", "talus.TrackLine[]", "lines whose crossings are recorded"},
+    {"rest", "talus.TrackRest", "the tracker ends (\"rest\") once the body is slow for a time"},
+    {"region", "talus.TrackRegion", "the tracker ends (\"exit\") once the centre is outside"},
+    {"end_time", "number", "the tracker ends (\"time\") at this time [s]"},
+    {"envelope", "talus.TrackEnvelope", "the greatest height and energy per bin of x"},
+    {"path", "integer", "keep the centre every `path` samples"},
+    {"on_event", "fun(tr: talus.Tracker, ev: table)",
+     "called at a crossing (event = true) and at the end"},
+};
+const OptionTable kTrackOptions = {"talus.TrackOptions", "m:track(body, {...})", kTrackOptionRows};
 
-TrackerRef& checkTracker(lua_State* L, int index, const char* fn) {
-    TrackerRef* t = testTracker(L, index);
-    if (!t)
-        throw ScriptError(std::string("tracker: call it as a method, tr:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) +
-                          ", not a tracker)");
-    if (!t->lm->model) throw ScriptError("tracker: its model was closed");
-    return *t;
-}
+const Option kTrackImpactRows[] = {
+    {"with", "\"walls\"|\"bodies\"|\"any\"", "what the impacts are with (default any)"},
+    {"min_speed", "number", "smallest approach speed recorded [m/s] (default 0)"},
+};
+const OptionTable kTrackImpacts = {"talus.TrackImpacts", "m:track{impacts = {...}}",
+                                   kTrackImpactRows};
 
-void pushTracker(lua_State* L, int model_index, int id) {
-    model_index = lua_absindex(L, model_index);
-    auto* t = newRef<TrackerRef>(L, model_index, kTrackerType);
-    t->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    t->id = id;
-}
+const Option kTrackLineRows[] = {
+    {"from", "talus.Vec", "the line's start [m]", true},
+    {"to", "talus.Vec", "the line's end [m]; crossings from its left to its right count", true},
+    {"event", "boolean", "deliver each crossing to on_event during the step"},
+};
+const OptionTable kTrackLine = {"talus.TrackLine", "one line of m:track{lines = {...}}",
+                                kTrackLineRows};
+
+const Option kTrackRestRows[] = {
+    {"energy", "number", "kinetic energy below this [J] (or speed)"},
+    {"speed", "number", "centre speed below this [m/s] (or energy)"},
+    {"time", "number", "for this long [s] (default 0)"},
+};
+const OptionTable kTrackRest = {"talus.TrackRest", "m:track{rest = {...}}", kTrackRestRows};
+
+const Option kTrackRegionRows[] = {
+    {"lo", "talus.Vec", "the lower left corner [m] (math.huge allowed)", true},
+    {"hi", "talus.Vec", "the upper right corner [m] (math.huge allowed)", true},
+};
+const OptionTable kTrackRegion = {"talus.TrackRegion", "m:track{region = {...}}", kTrackRegionRows};
+
+const Option kTrackEnvelopeRows[] = {
+    {"ground", "talus.Vec[]", "the ground polyline {{x, y}, ...}, x not decreasing", true},
+    {"x0", "number", "the first bin's left edge [m]", true},
+    {"dx", "number", "the bins' width [m]", true},
+    {"bins", "integer", "the number of bins, 1..1e7", true},
+};
+const OptionTable kTrackEnvelope = {"talus.TrackEnvelope", "m:track{envelope = {...}}",
+                                    kTrackEnvelopeRows};
+
+void pushTracker(lua_State* L, int model_index, int id);  // with the tracker object, below
 
 /// Pushes the model's table of on_event functions (created on first use).
 void pushHandlers(lua_State* L, const LuaModel& lm) {
@@ -73,7 +106,7 @@ void readImpacts(const Options& o, TrackerDef& d) {
     } else if (t == LUA_TSTRING) {
         d.impacts = impactKind(L, at, "track: 'impacts'");
     } else if (t == LUA_TTABLE) {
-        const Options io(L, at, "track: impacts", {"with", "min_speed"});
+        const Options io(L, at, "track: impacts", kTrackImpacts);
         d.impacts = TrackImpacts::Any;
         if (io.has("with")) {
             io.push("with");
@@ -99,7 +132,7 @@ void readLines(const Options& o, TrackerDef& d) {
     for (lua_Integer k = 1; k <= n; ++k) {
         lua_rawgeti(L, list, k);
         const std::string what = "track: lines[" + std::to_string(k) + "]";
-        const Options lo(L, -1, what, {"from", "to", "event"});
+        const Options lo(L, -1, what, kTrackLine);
         if (!lo.has("from") || !lo.has("to"))
             throw ScriptError(what + " needs from = {x, y} and to = {x, y}");
         TrackLine line;
@@ -129,7 +162,7 @@ TrackerDef readDef(const Options& o) {
     readLines(o, d);
     if (o.has("rest")) {
         o.push("rest");
-        const Options ro(L, -1, "track: rest", {"energy", "speed", "time"});
+        const Options ro(L, -1, "track: rest", kTrackRest);
         d.rest_energy = ro.number("energy", kNotSet);
         d.rest_speed = ro.number("speed", kNotSet);
         if (!ro.has("energy") && !ro.has("speed"))
@@ -139,7 +172,7 @@ TrackerDef readDef(const Options& o) {
     }
     if (o.has("region")) {
         o.push("region");
-        const Options ro(L, -1, "track: region", {"lo", "hi"});
+        const Options ro(L, -1, "track: region", kTrackRegion);
         if (!ro.has("lo") || !ro.has("hi"))
             throw ScriptError("track: region needs lo = {x, y} and hi = {x, y}");
         d.region = true;
@@ -150,7 +183,7 @@ TrackerDef readDef(const Options& o) {
     d.end_time = o.number("end_time", d.end_time);
     if (o.has("envelope")) {
         o.push("envelope");
-        const Options eo(L, -1, "track: envelope", {"ground", "x0", "dx", "bins"});
+        const Options eo(L, -1, "track: envelope", kTrackEnvelope);
         for (const char* k : {"ground", "x0", "dx", "bins"})
             if (!eo.has(k))
                 throw ScriptError(std::string("track: envelope needs ground, x0, dx and bins (") +
@@ -204,15 +237,13 @@ void pushImpact(lua_State* L, int model_index, const Model& m, const TrackedImpa
     pushState(L, imp.start, "");
     pushVec(L, imp.normal);
     lua_setfield(L, -2, "normal");
-    lua_pushnumber(L, imp.approach);
-    lua_setfield(L, -2, "approach");
+    setNumber(L, "approach", imp.approach);
     pushVec(L, imp.point);
     lua_setfield(L, -2, "point");
     if (imp.wall.valid()) {
         pushWall(L, model_index, imp.wall);
         lua_setfield(L, -2, "wall");
-        lua_pushinteger(L, imp.segment + 1);
-        lua_setfield(L, -2, "segment");
+        setInteger(L, "segment", imp.segment + 1);
     } else {
         pushBall(L, model_index, imp.ball);
         lua_setfield(L, -2, "ball");
@@ -223,27 +254,21 @@ void pushImpact(lua_State* L, int model_index, const Model& m, const TrackedImpa
     }
     pushStringList(L, groupList(m, imp.groups));
     lua_setfield(L, -2, "groups");
-    lua_pushboolean(L, imp.ended);
-    lua_setfield(L, -2, "ended");
+    setBoolean(L, "ended", imp.ended);
     if (imp.closed) pushState(L, imp.end, "_end");
 }
 
 void pushCrossing(lua_State* L, const TrackedCrossing& c) {
     lua_createtable(L, 0, 7);
-    lua_pushinteger(L, c.line + 1);
-    lua_setfield(L, -2, "line");
-    lua_pushnumber(L, c.time);
-    lua_setfield(L, -2, "t");
+    setInteger(L, "line", c.line + 1);
+    setNumber(L, "t", c.time);
     pushVec(L, c.pos);
     lua_setfield(L, -2, "pos");
     pushVec(L, c.vel);
     lua_setfield(L, -2, "vel");
-    lua_pushnumber(L, c.spin);
-    lua_setfield(L, -2, "spin");
-    lua_pushnumber(L, c.ke_trans);
-    lua_setfield(L, -2, "ke_trans");
-    lua_pushnumber(L, c.ke_rot);
-    lua_setfield(L, -2, "ke_rot");
+    setNumber(L, "spin", c.spin);
+    setNumber(L, "ke_trans", c.ke_trans);
+    setNumber(L, "ke_rot", c.ke_rot);
 }
 
 // ------------------------------------------------------------------ events
@@ -263,8 +288,7 @@ void deliverTrackerEvent(LuaModel& lm, const TrackerEvent& ev) {
     if (ev.kind == TrackerEvent::Crossing) {
         lua_pushliteral(L, "crossing");
         lua_setfield(L, -2, "kind");
-        lua_pushinteger(L, ev.line + 1);
-        lua_setfield(L, -2, "line");
+        setInteger(L, "line", ev.line + 1);
         // The crossing's record: the last one (it was just added).
         const auto& cs = lm.model->trackerCrossings(ev.tracker);
         if (!cs.empty()) {
@@ -274,8 +298,7 @@ void deliverTrackerEvent(LuaModel& lm, const TrackerEvent& ev) {
     } else {
         lua_pushliteral(L, "end");
         lua_setfield(L, -2, "kind");
-        lua_pushstring(L, trackerStateName(ev.state));
-        lua_setfield(L, -2, "state");
+        setString(L, "state", trackerStateName(ev.state));
     }
     lua_remove(L, model_index);
     if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
@@ -291,10 +314,7 @@ void deliverTrackerEvent(LuaModel& lm, const TrackerEvent& ev) {
 int w_track(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "track");
-        const Options o(
-            L, 3, "track",
-            {"impacts", "lines", "rest", "region", "end_time", "envelope", "path", "on_event"},
-            true);
+        const Options o(L, 3, "track", kTrackOptions, true);
         if (o.has("on_event")) {
             o.push("on_event");
             const std::string type = typeName(L, -1);
@@ -356,51 +376,77 @@ int w_clear_trackers(lua_State* L) {
 
 // ------------------------------------------------------------------ the tracker object
 
-const char* const kFields[] = {"id", "state", "body", "samples"};
-const char* const kMethods[] = {"status", "impacts", "crossings", "envelope", "path", "stop"};
-
-std::string knownNames() {
-    std::vector<std::string> names(std::begin(kFields), std::end(kFields));
-    for (const char* m : kMethods) names.push_back(std::string(m) + "()");
-    return joinNames(names);
+TrackerRef& tracker(void* self) { return *static_cast<TrackerRef*>(self); }
+TrackerStatus status(void* self) {
+    return tracker(self).lm->model->trackerStatus(tracker(self).id);
 }
 
-int w_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        TrackerRef& t = checkTracker(L, 1, "index");
-        if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("tracker: field names are strings (got " + typeName(L, 2) + ")");
-        const std::string key = lua_tostring(L, 2);
-        for (const char* m : kMethods)
-            if (key == m) {
-                lua_getfield(L, lua_upvalueindex(1), m);
-                return 1;
-            }
-        const TrackerStatus s = t.lm->model->trackerStatus(t.id);
-        if (key == "id") {
-            lua_pushinteger(L, t.id);
-        } else if (key == "state") {
-            lua_pushstring(L, trackerStateName(s.state));
-        } else if (key == "samples") {
-            lua_pushinteger(L, static_cast<lua_Integer>(s.samples));
-        } else if (key == "body") {
-            lua_getiuservalue(L, 1, 1);
-            if (s.clump.valid())
-                pushClump(L, -1, s.clump);
-            else
-                pushBall(L, -1, s.ball);
-        } else {
-            throw ScriptError("tracker: unknown field '" + key + "' (known: " + knownNames() + ")");
-        }
-        return 1;
-    });
+const Field kTrackerFields[] = {
+    {"id", "integer", "the tracker's number",
+     [](lua_State* L, void* self) { lua_pushinteger(L, tracker(self).id); }},
+    {"state", "string", "\"tracking\", \"rest\", \"exit\", \"time\", \"deleted\" or \"stopped\"",
+     [](lua_State* L, void* self) { lua_pushstring(L, trackerStateName(status(self).state)); }},
+    {"body", "talus.Ball|talus.Clump", "the ball or clump it follows",
+     [](lua_State* L, void* self) {
+         const TrackerStatus s = status(self);
+         lua_getiuservalue(L, 1, 1);
+         if (s.clump.valid())
+             pushClump(L, -1, s.clump);
+         else
+             pushBall(L, -1, s.ball);
+         lua_remove(L, -2);
+     }},
+    {"samples", "integer", "the samples taken",
+     [](lua_State* L, void* self) {
+         lua_pushinteger(L, static_cast<lua_Integer>(status(self).samples));
+     }},
+};
+
+int w_status(lua_State* L);
+int w_impacts(lua_State* L);
+int w_crossings(lua_State* L);
+int w_envelope(lua_State* L);
+int w_path(lua_State* L);
+constexpr char kStop[] = "stop";
+
+const Method kTrackerObjectMethods[] = {
+    {"status", w_status, "the last sample: {state, samples, t, pos, vel, spin, rest_since}", "",
+     "table"},
+    {"impacts", w_impacts, "the impacts recorded, each the body at its start and end", "",
+     "table[]"},
+    {"crossings", w_crossings, "the line crossings, {line, t, pos, vel, spin, ke_trans, ke_rot}",
+     "", "table[]"},
+    {"envelope", w_envelope, "{height = {[k] = m}, energy = {[k] = J}}: the bins the centre was in",
+     "", "table"},
+    {"path", w_path, "the centre's path, {{t, x, y}, ...}", "", "number[][]"},
+    {"stop", fields::actMethod<TrackerRef, &Model::stopTracker, kStop>,
+     "ends the tracker (\"stopped\")", "", ""},
+};
+
+void describe(lua_State* L, void* self) {
+    const TrackerRef& t = tracker(self);
+    if (!t.lm->model || t.id > static_cast<int>(t.lm->model->trackerCount())) {
+        lua_pushfstring(L, "tracker %d (cleared)", t.id);
+        return;
+    }
+    const TrackerStatus s = t.lm->model->trackerStatus(t.id);
+    lua_pushfstring(L, "tracker %d (%s, %d samples)", t.id, trackerStateName(s.state),
+                    static_cast<int>(s.samples));
 }
 
-int w_newindex(lua_State* L) {
-    return catchexcept(L, [&]() -> int {
-        checkTracker(L, 1, "newindex");
-        throw ScriptError("tracker: its fields are read-only (it is set by m:track{...})");
-    });
+const ObjectType kTrackerObject = {
+    kTrackerType,   "tracker",
+    "tr",           "follows one body for the engine (m:track)",
+    kTrackerFields, kTrackerObjectMethods,
+    describe,       "it is set by m:track{...}",
+};
+
+TrackerRef& checkTracker(lua_State* L, int index, const char* fn) {
+    return checkObject<TrackerRef>(L, index, kTrackerObject, fn);
+}
+
+void pushTracker(lua_State* L, int model_index, int id) {
+    newObject<TrackerRef>(L, model_index, kTrackerObject)->id = id;
 }
 
 int w_status(lua_State* L) {
@@ -408,14 +454,11 @@ int w_status(lua_State* L) {
         TrackerRef& t = checkTracker(L, 1, "status");
         const TrackerStatus s = t.lm->model->trackerStatus(t.id);
         lua_createtable(L, 0, 7);
-        lua_pushstring(L, trackerStateName(s.state));
-        lua_setfield(L, -2, "state");
-        lua_pushinteger(L, static_cast<lua_Integer>(s.samples));
-        lua_setfield(L, -2, "samples");
+        setString(L, "state", trackerStateName(s.state));
+        setInteger(L, "samples", static_cast<lua_Integer>(s.samples));
         pushState(L, s.last, "");
         if (!std::isnan(s.rest_since)) {
-            lua_pushnumber(L, s.rest_since);
-            lua_setfield(L, -2, "rest_since");
+            setNumber(L, "rest_since", s.rest_since);
         }
         return 1;
     });
@@ -490,52 +533,20 @@ int w_path(lua_State* L) {
     });
 }
 
-int w_stop(lua_State* L) {
-    return catchexcept(L, [&] {
-        TrackerRef& t = checkTracker(L, 1, "stop");
-        t.lm->model->stopTracker(t.id);
-        return 0;
-    });
-}
-
-int w_eq(lua_State* L) {
-    const TrackerRef* a = testTracker(L, 1);
-    const TrackerRef* b = testTracker(L, 2);
-    lua_pushboolean(L, a && b && a->lm == b->lm && a->id == b->id);
-    return 1;
-}
-
-int w_tostring(lua_State* L) {
-    return catchexcept(L, [&] {
-        const TrackerRef* t = testTracker(L, 1);
-        if (!t || !t->lm->model || t->id > static_cast<int>(t->lm->model->trackerCount())) {
-            lua_pushfstring(L, "tracker %d (cleared)", t ? t->id : 0);
-            return 1;
-        }
-        const TrackerStatus s = t->lm->model->trackerStatus(t->id);
-        lua_pushfstring(L, "tracker %d (%s, %d samples)", t->id, trackerStateName(s.state),
-                        static_cast<int>(s.samples));
-        return 1;
-    });
-}
-
-const luaL_Reg kTrackerObjectMethods[] = {
-    {"status", w_status},     {"impacts", w_impacts}, {"crossings", w_crossings},
-    {"envelope", w_envelope}, {"path", w_path},       {"stop", w_stop},
-    {nullptr, nullptr},
+const Method kTrackerMethods[] = {
+    {"track", w_track, "a tracker that follows a ball or a clump for the engine",
+     "body: talus.Ball|talus.Clump, options?: talus.TrackOptions", "talus.Tracker"},
+    {"trackers", w_trackers, "every tracker of the model", "", "talus.Tracker[]"},
+    {"clear_trackers", w_clear_trackers, "forgets every tracker (not from inside on_event)", "",
+     ""},
 };
+
+const ObjectType* const kTypes[] = {&kTrackerObject};
+const OptionTable* const kOptionTables[] = {&kTrackOptions, &kTrackImpacts, &kTrackLine,
+                                            &kTrackRest,    &kTrackRegion,  &kTrackEnvelope};
 
 }  // namespace
 
-extern const luaL_Reg kTrackerMethods[] = {
-    {"track", w_track},
-    {"trackers", w_trackers},
-    {"clear_trackers", w_clear_trackers},
-    {nullptr, nullptr},
-};
-
-void openTracker(lua_State* L) {
-    registerRefType(L, kTrackerType, kTrackerObjectMethods, w_index, w_newindex, w_eq, w_tostring);
-}
+extern const Binding kTrackerBinding = {"trackers", kTrackerMethods, {}, kTypes, kOptionTables, {}};
 
 }  // namespace talus::lua

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // m:vtk{dir =, every =, name =, fields =, walls =, contacts =, cracks =, append =}: ParaView series
 // (vtk_writer.hpp; docs/output.md). Also the userdata both outputs return (m:vtk and
-// m:picture): out:write(), out:close(), out.frames, out.files, out.dir, out.pvd.
+// m:picture): out:write(), out:close(), out:pixel(x, y), out.file, out.files, out.frames.
 #include <algorithm>
 #include <cmath>
 
@@ -12,6 +12,20 @@
 namespace talus::lua {
 
 namespace {
+
+const Option kVtkOptionRows[] = {
+    {"dir", "string", "the output directory", true},
+    {"every", "integer", "steps between frames (default: only m:vtk's frame and out:write())"},
+    {"name", "string", "the series' file name, without '/' (default \"talus\")"},
+    {"fields", "table",
+     "extra ball fields: names ({\"force\", \"mass\"}) and name = function(ball) ... end"},
+    {"walls", "boolean", "write the walls (default true)"},
+    {"contacts", "boolean", "write the contacts (default true)"},
+    {"cracks", "boolean", "write the cracks (default false)"},
+    {"append", "boolean", "continue the series' .pvd (after a restore); default false"},
+};
+const OptionTable kVtkOptions = {"talus.VtkOptions", "m:vtk{...}: a ParaView series",
+                                 kVtkOptionRows};
 
 struct VtkOutput : Output {
     explicit VtkOutput(vtk::SeriesState s) : series(std::move(s)) {}
@@ -56,9 +70,7 @@ void VtkOutput::write(LuaModel& lm) {
 int w_vtk(lua_State* L) {
     return catchexcept(L, [&] {
         LuaModel& lm = checkModel(L, 1, "vtk");
-        const Options o(
-            L, 2, "vtk",
-            {"dir", "every", "name", "fields", "walls", "contacts", "cracks", "append"});
+        const Options o(L, 2, "vtk", kVtkOptions);
         vtk::SeriesState st;
         st.dir = o.string("dir", "");
         if (st.dir.empty()) throw ScriptError("vtk: 'dir' is required (the output directory)");
@@ -92,11 +104,6 @@ int w_vtk(lua_State* L) {
 }
 
 }  // namespace
-
-extern const luaL_Reg kVtkMethods[] = {
-    {"vtk", w_vtk},
-    {nullptr, nullptr},
-};
 
 std::vector<SavedVtkSeries> vtkSeriesStates(const LuaModel& lm) {
     std::vector<SavedVtkSeries> out;
@@ -207,13 +214,48 @@ struct OutputRef {
     Output* out;
 };
 
+Output& output(void* self) { return *static_cast<OutputRef*>(self)->out; }
+
+const Field kOutputFields[] = {
+    {"file", "string", "the .pvd, or the last picture",
+     [](lua_State* L, void* self) { lua_pushstring(L, output(self).mainFile().c_str()); }},
+    {"files", "string[]", "every file written, in order",
+     [](lua_State* L, void* self) { pushStringList(L, output(self).files()); }},
+    {"frames", "integer", "the number of frames written",
+     [](lua_State* L, void* self) {
+         lua_pushinteger(L, static_cast<lua_Integer>(output(self).files().size()));
+     }},
+    {"every", "integer", "steps between frames (0: on request only)",
+     [](lua_State* L, void* self) { lua_pushinteger(L, output(self).every); }},
+    {"open", "boolean", "false once closed",
+     [](lua_State* L, void* self) { lua_pushboolean(L, output(self).open); }},
+};
+
+int w_out_write(lua_State* L);
+int w_out_close(lua_State* L);
+int w_out_pixel(lua_State* L);
+
+const Method kOutputMethods[] = {
+    {"write", w_out_write, "writes a frame of the model now", "", ""},
+    {"close", w_out_close, "stops the output (no more frames)", "", ""},
+    {"pixel", w_out_pixel, "where the model point (x, y) is in the last picture [px]",
+     "x: number, y: number", "number, number"},
+};
+
+void describe(lua_State* L, void* self) {
+    const Output& out = output(self);
+    lua_pushstring(L, ("talus.Output (" + out.describe() + ", " +
+                       std::to_string(out.files().size()) + " frames)")
+                          .c_str());
+}
+
+const ObjectType kOutputObject = {
+    kOutputType,   "output",       "out",    "a ParaView series (m:vtk) or pictures (m:picture)",
+    kOutputFields, kOutputMethods, describe,
+};
+
 OutputRef& checkOutput(lua_State* L, int index, const char* fn) {
-    auto* r = static_cast<OutputRef*>(testUserdata(L, index, kOutputType));
-    if (!r)
-        throw ScriptError(std::string("output: call it as a method, out:") + fn +
-                          "() (the first argument is a " + typeName(L, index) + ")");
-    if (!r->lm->model) throw ScriptError("output: its model was closed");
-    return *r;
+    return checkObject<OutputRef>(L, index, kOutputObject, fn);
 }
 
 void closeOutput(LuaModel& lm, Output& out) {
@@ -240,32 +282,6 @@ int w_out_close(lua_State* L) {
     });
 }
 
-int w_out_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        OutputRef& r = checkOutput(L, 1, "index");
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
-        if (key == "write" || key == "close" || key == "pixel") {
-            lua_pushstring(L, key.c_str());
-            lua_rawget(L, lua_upvalueindex(1));
-        } else if (key == "frames") {
-            lua_pushinteger(L, static_cast<lua_Integer>(r.out->files().size()));
-        } else if (key == "files") {
-            pushStringList(L, r.out->files());
-        } else if (key == "file") {
-            lua_pushstring(L, r.out->mainFile().c_str());
-        } else if (key == "open") {
-            lua_pushboolean(L, r.out->open);
-        } else if (key == "every") {
-            lua_pushinteger(L, r.out->every);
-        } else {
-            const char* known = "file, files, frames, every, open, write(), close(), pixel(x, y)";
-            throw ScriptError("output: unknown field '" + key + "'" + didYouMeanIn(key, known) +
-                              " (known: " + known + ")");
-        }
-        return 1;
-    });
-}
-
 int w_out_pixel(lua_State* L) {
     return catchexcept(L, [&] {
         OutputRef& r = checkOutput(L, 1, "pixel");
@@ -279,24 +295,17 @@ int w_out_pixel(lua_State* L) {
     });
 }
 
-int w_out_tostring(lua_State* L) {
-    return catchexcept(L, [&] {
-        OutputRef& r = checkOutput(L, 1, "tostring");
-        lua_pushstring(L, ("talus.Output (" + r.out->describe() + ", " +
-                           std::to_string(r.out->files().size()) + " frames)")
-                              .c_str());
-        return 1;
-    });
-}
-
-const luaL_Reg kOutputMethods[] = {
-    {"write", w_out_write},
-    {"close", w_out_close},
-    {"pixel", w_out_pixel},
-    {nullptr, nullptr},
+const Method kVtkMethods[] = {
+    {"vtk", w_vtk, "a ParaView series: a frame now, then one every `every` steps",
+     "options: talus.VtkOptions", "talus.Output"},
 };
 
+const ObjectType* const kTypes[] = {&kOutputObject};
+const OptionTable* const kOptionTables[] = {&kVtkOptions};
+
 }  // namespace
+
+extern const Binding kVtkBinding = {"ParaView files", kVtkMethods, {}, kTypes, kOptionTables, {}};
 
 int registerOutput(lua_State* L, LuaModel& lm, std::unique_ptr<Output> out, bool write_now) {
     Output* op = out.get();
@@ -310,23 +319,11 @@ int registerOutput(lua_State* L, LuaModel& lm, std::unique_ptr<Output> out, bool
         op->hook = lm.model->addCycleHook(op->every, [lmp, op](Model&) {
             if (op->open) op->write(*lmp);
         });
-    auto* ref = static_cast<OutputRef*>(lua_newuserdatauv(L, sizeof(OutputRef), 1));
-    ref->lm = &lm;
-    ref->out = op;
-    luaL_setmetatable(L, kOutputType);
     pushModel(L, lm);
-    lua_setiuservalue(L, -2, 1);
+    const int model_index = lua_gettop(L);
+    newObject<OutputRef>(L, model_index, kOutputObject)->out = op;
+    lua_remove(L, model_index);
     return 1;
-}
-
-void openOutputs(lua_State* L) {
-    luaL_newmetatable(L, kOutputType);
-    luaL_newlib(L, kOutputMethods);
-    lua_pushcclosure(L, w_out_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, w_out_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
 }
 
 }  // namespace talus::lua

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Wall userdata: a chain of segments moved by prescribed velocity and spin (PFC walls).
-#include <algorithm>
 #include <cmath>
-#include <cstring>
 
+#include "field_accessors.hpp"
 #include "lua_bindings.hpp"
 
 namespace talus::lua {
@@ -15,225 +14,82 @@ struct WallRef {
     WallId id;
 };
 
-enum class Field { Id, Points, Vel, Spin, Center, Force, Kn, Ks, Fric, Groups };
+using namespace fields;
+using W = WallRef;
 
-struct FieldInfo {
-    const char* name;
-    Field field;
-    bool writable;
-};
-
-const FieldInfo kFields[] = {
-    {"id", Field::Id, false},        {"points", Field::Points, false},
-    {"vel", Field::Vel, true},       {"spin", Field::Spin, true},
-    {"center", Field::Center, true}, {"force", Field::Force, false},
-    {"kn", Field::Kn, true},         {"ks", Field::Ks, true},
-    {"fric", Field::Fric, true},     {"groups", Field::Groups, false},
-};
-
-std::string knownFields(bool writable_only) {
-    std::vector<std::string> names;
-    for (const FieldInfo& f : kFields)
-        if (f.writable || !writable_only) names.push_back(f.name);
-    if (!writable_only)
-        names.push_back("set()"), names.push_back("add_group()"), names.push_back("servo()");
-    return joinNames(names);
-}
-
-const FieldInfo* findField(const std::string& name) {
-    for (const FieldInfo& f : kFields)
-        if (name == f.name) return &f;
-    return nullptr;
-}
-
-WallRef& checkWall(lua_State* L, int index, const char* fn) {
-    auto* w = static_cast<WallRef*>(testUserdata(L, index, kWallType));
-    if (!w)
-        throw ScriptError(std::string("wall: call it as a method, w:") + fn +
-                          "(...) (the first argument is a " + typeName(L, index) + ", not a wall)");
-    if (!w->lm->model) throw ScriptError("wall: its model was closed");
-    return *w;
-}
-
-std::string fieldKey(lua_State* L, int index) {
-    if (lua_type(L, index) != LUA_TSTRING)
-        throw ScriptError("wall: field names are strings (got " + typeName(L, index) + ")");
-    return lua_tostring(L, index);
-}
-
-void pushField(lua_State* L, const WallRef& w, Field f) {
-    Model& m = *w.lm->model;
-    auto optional = [&](const char* prop) {
-        const double v = m.wallContactProp(w.id, prop);
-        if (std::isnan(v))
-            lua_pushnil(L);
-        else
-            lua_pushnumber(L, v);
-    };
-    switch (f) {
-        case Field::Id:
-            (void)m.wallVel(w.id);  // checks the id
-            lua_pushinteger(L, w.id.index);
-            break;
-        case Field::Points: {
-            const std::vector<Vec2> pts = m.wallPoints(w.id);
-            lua_createtable(L, static_cast<int>(pts.size()), 0);
-            for (std::size_t i = 0; i < pts.size(); ++i) {
-                pushVec(L, pts[i]);
-                lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-            }
-            break;
-        }
-        case Field::Vel:
-            pushVec(L, m.wallVel(w.id));
-            break;
-        case Field::Spin:
-            lua_pushnumber(L, m.wallSpin(w.id));
-            break;
-        case Field::Center:
-            pushVec(L, m.wallCenter(w.id));
-            break;
-        case Field::Force:
-            pushVec(L, m.wallForce(w.id));
-            break;
-        case Field::Kn:
-            optional("kn");
-            break;
-        case Field::Ks:
-            optional("ks");
-            break;
-        case Field::Fric:
-            optional("fric");
-            break;
-        case Field::Groups:
-            pushStringList(L, m.wallGroups(w.id));
-            break;
+void pushPoints(lua_State* L, void* self) {
+    const std::vector<Vec2> pts = model<W>(self).wallPoints(id<W>(self));
+    lua_createtable(L, static_cast<int>(pts.size()), 0);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        pushVec(L, pts[i]);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
     }
 }
 
-void setField(lua_State* L, const WallRef& w, const std::string& name, int index) {
-    const FieldInfo* info = findField(name);
-    if (!info)
-        throw ScriptError("wall: unknown field '" + name + "'" +
-                          didYouMeanIn(name, knownFields(true)) +
-                          " (writable: " + knownFields(true) + ")");
-    if (!info->writable)
-        throw ScriptError("wall: field '" + name +
-                          "' is read-only (writable: " + knownFields(true) + ")");
-    Model& m = *w.lm->model;
-    const std::string what = "wall: '" + name + "'";
-    switch (info->field) {
-        case Field::Vel:
-            m.setWallVel(w.id, toVec(L, index, what));
-            break;
-        case Field::Spin:
-            m.setWallSpin(w.id, toNumber(L, index, what));
-            break;
-        case Field::Center: {
-            const Vec2 c = toVec(L, index, what);
-            if (!std::isfinite(c.x()) || !std::isfinite(c.y()))
-                throw ScriptError("wall: 'center' must be finite");
-            m.setWallCenter(w.id, c);
-            break;
-        }
-        case Field::Kn:
-        case Field::Ks:
-        case Field::Fric: {
-            const double v = lua_isnil(L, index) ? kNotSet : toNumber(L, index, what);
-            m.setWallContactProp(w.id, name, v);
-            if (info->field == Field::Fric) warnImplausibleFriction(w.lm, "wall", {{name, v}});
-            break;
-        }
-        default:
-            break;
-    }
+void setCenter(lua_State* L, void* self, int value, const std::string& what) {
+    const Vec2 c = toVec(L, value, what);
+    if (!std::isfinite(c.x()) || !std::isfinite(c.y()))
+        throw ScriptError("wall: 'center' must be finite");
+    model<W>(self).setWallCenter(id<W>(self), c);
 }
 
-int w_index(lua_State* L) {
-    return catchexcept(L, [&] {
-        WallRef& w = checkWall(L, 1, "index");
-        const std::string key = fieldKey(L, 2);
-        if (key == "set" || key == "add_group" || key == "servo") {
-            lua_pushstring(L, key.c_str());
-            lua_rawget(L, lua_upvalueindex(1));
-            return 1;
-        }
-        const FieldInfo* info = findField(key);
-        if (!info)
-            throw ScriptError("wall: unknown field '" + key + "'" +
-                              didYouMeanIn(key, knownFields(false)) +
-                              " (known: " + knownFields(false) + ")");
-        pushField(L, w, info->field);
-        return 1;
-    });
+const Field kWallFields[] = {
+    {"id", "integer", "the wall's handle number", getIndex<W, &Model::wallVel>},
+    {"points", "talus.Vec[]", "the chain's current vertices [m]", pushPoints},
+    {"vel", "talus.Vec", "translational velocity [m/s]", get<W, &Model::wallVel>,
+     set<W, &Model::setWallVel>},
+    {"spin", "number", "angular velocity about the centre [rad/s]", get<W, &Model::wallSpin>,
+     set<W, &Model::setWallSpin>},
+    {"center", "talus.Vec", "centre of rotation [m]", get<W, &Model::wallCenter>, setCenter},
+    {"force", "talus.Vec", "total force the balls exert on the wall in the last step [N]",
+     get<W, &Model::wallForce>},
+    {"kn", "number?", "own normal stiffness [N/m]; nil: not set",
+     getProp<W, &Model::wallContactProp, kKn>, setProp<W, &Model::setWallContactProp, kKn>},
+    {"ks", "number?", "own shear stiffness [N/m]; nil: not set",
+     getProp<W, &Model::wallContactProp, kKs>, setProp<W, &Model::setWallContactProp, kKs>},
+    {"fric", "number?", "own friction coefficient; nil: not set",
+     getProp<W, &Model::wallContactProp, kFric>, setProp<W, &Model::setWallContactProp, kFric>},
+    {"groups", "string[]", "the wall's group names", get<W, &Model::wallGroups>},
+};
+
+int w_servo(lua_State* L);
+
+const Method kWallMethods[] = {
+    {"set", objectSet, "writes several fields at once, in sorted name order",
+     "fields: talus.WallFields", ""},
+    {"add_group", addGroup<W, &Model::addWallGroup>, "adds the wall to a group", "name: string",
+     ""},
+    {"servo", w_servo,
+     "sets the wall's servo (PFC's wall servo) and returns its state; w:servo() reads it",
+     "options?: talus.ServoOptions", "table?"},
+};
+
+void describe(lua_State* L, void* self) {
+    lua_pushfstring(L, "wall %d", static_cast<int>(id<W>(self).index));
 }
 
-int w_newindex(lua_State* L) {
-    return catchexcept(L, [&] {
-        WallRef& w = checkWall(L, 1, "newindex");
-        setField(L, w, fieldKey(L, 2), 3);
-        return 0;
-    });
-}
-
-int w_set(lua_State* L) {
-    return catchexcept(L, [&] {
-        WallRef& w = checkWall(L, 1, "set");
-        applyFields(L, 2, "wall: set{...}", "wall: set{...} takes named fields (vel = {1, 0}, ...)",
-                    [&](const std::string& key, int value) { setField(L, w, key, value); });
-        return 0;
-    });
-}
-
-int w_eq(lua_State* L) {
-    const auto* a = static_cast<WallRef*>(testUserdata(L, 1, kWallType));
-    const auto* b = static_cast<WallRef*>(testUserdata(L, 2, kWallType));
-    lua_pushboolean(L, a && b && a->lm == b->lm && a->id == b->id);
-    return 1;
-}
-
-int w_tostring(lua_State* L) {
-    const auto* w = static_cast<WallRef*>(testUserdata(L, 1, kWallType));
-    lua_pushfstring(L, "wall %d", w ? static_cast<int>(w->id.index) : 0);
-    return 1;
-}
-
-int w_add_group(lua_State* L) {
-    return catchexcept(L, [&] {
-        WallRef& w = checkWall(L, 1, "add_group");
-        if (lua_type(L, 2) != LUA_TSTRING)
-            throw ScriptError("wall: add_group(name) needs a group name (got " + typeName(L, 2) +
-                              ")");
-        w.lm->model->addWallGroup(w.id, lua_tostring(L, 2));
-        return 0;
-    });
-}
+const ObjectType kWallObject = {
+    kWallType,   "wall",
+    "w",         "a wall: a chain of segments moved by prescribed velocity and spin",
+    kWallFields, kWallMethods,
+    describe,
+};
 
 int w_servo(lua_State* L) {
     return catchexcept(L, [&] {
-        WallRef& w = checkWall(L, 1, "servo");
+        WallRef& w = checkObject<WallRef>(L, 1, kWallObject, "servo");
         return servoWall(L, *w.lm, w.id);  // wrap_servo.cpp
     });
 }
 
-const luaL_Reg kWallMethods[] = {
-    {"set", w_set},
-    {"add_group", w_add_group},
-    {"servo", w_servo},
-    {nullptr, nullptr},
-};
+const ObjectType* const kTypes[] = {&kWallObject};
 
 }  // namespace
 
-void pushWall(lua_State* L, int model_index, WallId id) {
-    model_index = lua_absindex(L, model_index);
-    auto* w = newRef<WallRef>(L, model_index, kWallType);
-    w->lm = static_cast<LuaModel*>(lua_touserdata(L, model_index));
-    w->id = id;
-}
+extern const Binding kWallBinding = {"wall", {}, {}, kTypes, {}, {}};
 
-void openWall(lua_State* L) {
-    registerRefType(L, kWallType, kWallMethods, w_index, w_newindex, w_eq, w_tostring);
+void pushWall(lua_State* L, int model_index, WallId id) {
+    newObject<WallRef>(L, model_index, kWallObject)->id = id;
 }
 
 }  // namespace talus::lua
