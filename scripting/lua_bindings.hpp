@@ -311,6 +311,7 @@ extern const Binding kPictureBinding;       // wrap_picture.cpp: picture
 extern const Binding kSaveBinding;          // wrap_save.cpp: save, talus.restore
 extern const Binding kCrackBinding;         // wrap_cracks.cpp: cracks
 extern const Binding kTrackerBinding;       // wrap_tracker.cpp: track and the tracker userdata
+extern const Binding kBarrierBinding;       // wrap_barrier.cpp: barrier, barriers
 extern const Binding kImpactBinding;        // wrap_impact.cpp: talus.impact, talus.drive
 extern const Binding kMapBinding;           // wrap_map.cpp: talus.map, rank, ranks
 

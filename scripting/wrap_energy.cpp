@@ -79,6 +79,7 @@ const std::vector<EnergyItem>& energyItems() {
         {"placement", &EnergyTotals::placement},
         {"exchanged", &EnergyTotals::exchanged},
         {"script", &EnergyTotals::script},
+        {"barrier", &EnergyTotals::barrier},
     };
     return items;
 }

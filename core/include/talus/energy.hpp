@@ -34,6 +34,9 @@ struct EnergyTotals {
     /// fixity, applied load or gravity, adding a body, or making or releasing a clump caused
     /// (docs/physics/energy.md, "Work done by the script") [J].
     double script = 0.0;
+    /// Kinetic energy taken by barriers (docs/rockfall.md, "Barriers"): what the next snapshot
+    /// takes for a body less what it would have taken without the barrier's action [J].
+    double barrier = 0.0;
 
     /// Energy put in so far: the initial kinetic and strain energy, the placement energy and the
     /// positive parts of the body, boundary, exchanged and script work [J].
@@ -46,7 +49,8 @@ struct EnergyTotals {
     /// Energy in minus energy accounted for; zero up to discretisation error.
     double balanceError() const {
         return initial_kinetic + initial_strain + placement + body + boundary + exchanged + script -
-               (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted);
+               (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted +
+                barrier);
     }
 };
 

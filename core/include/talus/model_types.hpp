@@ -400,6 +400,27 @@ struct TrackedCrossing {
     double ke_trans = 0.0, ke_rot = 0.0;  ///< [J]
 };
 
+/// A barrier (Model::createBarrier; docs/rockfall.md, "Barriers"): a segment with an energy
+/// capacity, such as a rockfall fence or net. A body (a free ball or a clump) whose centre crosses
+/// the segment's line, from either side, while its equivalent disk touches the segment (the
+/// crossing point within its radius of the segment) is caught at its first such crossing: with
+/// more kinetic energy than `energy` it goes on with `energy` taken from it (velocity and spin
+/// scaled by sqrt((KE - energy) / KE)); otherwise it is stopped (velocity and spin zero, fixed in
+/// x, y and rotation). What it loses is the energy item `barrier`.
+struct BarrierDef {
+    std::string name;
+    Vec2 from{0.0, 0.0}, to{0.0, 0.0};
+    double energy = 0.0;  ///< capacity [J]
+};
+
+/// A barrier's record: what it caught (Model::barrierInfo).
+struct BarrierInfo {
+    BarrierDef def;
+    int64_t passed = 0;     ///< bodies slowed that went on
+    int64_t stopped = 0;    ///< bodies stopped
+    double absorbed = 0.0;  ///< the kinetic energy it took, as the crossings' states give it [J]
+};
+
 /// A point of a tracker's path (TrackerDef::path_every).
 struct TrackedPoint {
     double time = 0.0;

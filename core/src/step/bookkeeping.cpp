@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "step/barriers.hpp"
 #include "step/group_energy.hpp"
 #include "step/step.hpp"
 #include "step/trackers.hpp"
@@ -31,8 +32,11 @@ void bookkeeping(World& world, const StepContext& step) {
         if (world.callbacks.event_handler)
             for (const Event& e : events) world.callbacks.event_handler(e);
     }
-    // The trackers' sample of this step, before the hooks (they read what it recorded).
+    // The barriers, then the trackers' sample of this step, which sees a body a barrier caught
+    // as the barrier saw it; both before the hooks (they read what was recorded).
+    if (!world.barriers.list.empty()) applyBarriers(world, step);
     if (world.trackers.live > 0) updateTrackers(world);
+    world.barriers.acted.clear();
     if (world.callbacks.hooks.empty()) return;
     // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
     // added now first run at the next step.
@@ -196,7 +200,8 @@ void checkBalance(World& world) {
                     {"damping", e.damping - o.damping},
                     {"released", e.released - o.released},
                     {"placement", e.placement - o.placement},
-                    {"script", e.script - o.script}};
+                    {"script", e.script - o.script},
+                    {"barrier", e.barrier - o.barrier}};
     std::stable_sort(std::begin(items), std::end(items), [](const Item& a, const Item& b) {
         return std::fabs(a.change) > std::fabs(b.change);
     });

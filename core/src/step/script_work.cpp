@@ -154,6 +154,20 @@ void noteBallDeleted(World& world, uint32_t slot) {
     e->gone = now;
 }
 
+void noteBarrierChange(World& world, bool clump, uint32_t slot_or_index) {
+    if (!noting(world)) return;
+    ScriptBody* e;
+    if (clump) {
+        e = entry(world, clumpKey(slot_or_index), true, slot_or_index, 0,
+                  motionOfClump(world, world.bodies.clumps[slot_or_index]), true);
+    } else {
+        const uint32_t h = world.bodies.balls.handle[slot_or_index],
+                       gen = world.bodies.generation[h - 1];
+        e = entry(world, ballKey(h, gen), false, h, gen, motionOfBall(world, slot_or_index), true);
+    }
+    e->barrier = true;
+}
+
 void noteClumpChange(World& world, uint32_t index) {
     if (!noting(world)) return;
     entry(world, clumpKey(index), true, index, 0, motionOfClump(world, world.bodies.clumps[index]),
@@ -190,8 +204,14 @@ void bookScriptWork(World& world, const StepContext& step) {
         g != sc.gravity || d.local != sc.damping.local || d.viscous != sc.damping.viscous;
     if (!global && sc.bodies.empty()) return;
     const bool groups = books.groups.on;
-    double work = 0.0, deleted = 0.0;
+    double work = 0.0, deleted = 0.0, barrier = 0.0;
+    bool by_barrier = false;  // the entry booked is a barrier's: what it took is `barrier`
     const auto book = [&](double amount, uint64_t mask) {
+        if (by_barrier) {
+            barrier -= amount;
+            if (groups) bookBarrierToGroups(world, mask, -amount);
+            return;
+        }
         work += amount;
         if (groups) bookScriptToGroups(world, mask, amount);
     };
@@ -212,6 +232,7 @@ void bookScriptWork(World& world, const StepContext& step) {
         }
     }
     for (const ScriptBody& e : sc.bodies) {
+        by_barrier = e.barrier;
         if (e.existed) book(-shareOf(e.before, sc.gravity, sc.damping, step), e.before.groups);
         if (e.deleted) {
             // What it held when the script deleted it leaves the books as `deleted`.
@@ -235,6 +256,7 @@ void bookScriptWork(World& world, const StepContext& step) {
         }
     }
     books.acc.script += work;
+    books.acc.barrier += barrier;
     books.acc.deleted += deleted;
     clear(sc);
     sc.gravity = g, sc.damping = d;

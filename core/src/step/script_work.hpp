@@ -21,6 +21,9 @@ void noteBallChange(World& world, uint32_t slot);
 void noteBallAdded(World& world, uint32_t slot);
 /// A ball is about to be deleted by the script: what it holds leaves the books as `deleted`.
 void noteBallDeleted(World& world, uint32_t slot);
+/// A barrier is about to change a free ball (by slot) or a clump (by index): the change (and any
+/// the script makes to the body before the next step) is booked as `barrier`, not `script`.
+void noteBarrierChange(World& world, bool clump, uint32_t slot_or_index);
 /// The same for a clump (by index).
 void noteClumpChange(World& world, uint32_t index);
 void noteClumpAdded(World& world, uint32_t index);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "props.hpp"
+#include "step/barriers.hpp"
 #include "step/detection.hpp"
 #include "step/script_work.hpp"
 #include "talus/errors.hpp"
@@ -82,6 +83,7 @@ void runSteps(World& world, int64_t steps) {
         if (step.energy) bookScriptWork(world, step);
         // Servo walls set their velocity from the last force loop and this step's dt.
         if (world.bodies.servos_on) servoWalls(world, step);
+        if (!world.barriers.list.empty()) recordBodyStarts(world);
         lawOfMotion(world, step);
         moveWalls(world, step);
         if (prof)

@@ -30,6 +30,7 @@
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/profile.hpp"
+#include "world/barriers.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
 #include "world/trackers.hpp"
@@ -108,6 +109,7 @@ struct ScriptBody {
     bool clump = false;
     bool existed = false;  // it was there before the change (not added since)
     bool deleted = false;  // deleted since: `gone` is its motion then
+    bool barrier = false;  // changed by a barrier (step/barriers.cpp): booked as `barrier`
     BodyMotion before, gone;
 };
 
@@ -255,6 +257,7 @@ struct World {
     GuardState guard_state;
     Callbacks callbacks;
     Trackers trackers;
+    Barriers barriers;
     Profile profile;
 };
 
