@@ -4,10 +4,13 @@
 // fence or net is rated (its maximum energy level; EOTA 2018). A body is caught at the
 // first step its centre crosses the barrier's line, from either side, with its equivalent disk
 // on the segment (the crossing point within its radius of it). Its kinetic energy there, KE, is
-// that of the state at the line (step/crossing.hpp, the acceleration taken as the change of the
-// half-step velocity over the step). With KE > E the barrier takes E: velocity and spin are
-// scaled by f = sqrt((KE - E) / KE), which takes E from translation and rotation in proportion;
-// otherwise the body stops: velocity and spin zero, fixed in x, y and rotation, where it is.
+// that of the state at the line (step/crossing.hpp), with the trackers' acceleration: gravity
+// for a body in free flight over the step (no contact force before it, no overlap after it, only
+// gravity acting), else the change of the half-step velocity over the step. So a tracker's line
+// on the barrier reports the KE the barrier used, to the bit. With KE > E the barrier takes E:
+// velocity and spin are scaled by f = sqrt((KE - E) / KE), which takes E from translation and
+// rotation in proportion; otherwise the body stops: velocity and spin zero, fixed in x, y and
+// rotation, where it is.
 //
 // The change acts on the half-step velocity, as a script's would, so the energy books take it as
 // they take a script's (step/script_work.cpp): exactly what the next snapshot books for the body
@@ -19,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "api/operations.hpp"
 #include "step/crossing.hpp"
 #include "step/script_work.hpp"
 #include "world/body_store.hpp"
@@ -40,6 +44,30 @@ double clumpRadius(const World& world, const ClumpData& c) {
     return r;
 }
 
+/// Whether a contact of the body (ball slot, or any pebble of clump `clump`) overlaps now.
+bool touchingNow(const World& world, bool clump, uint32_t at) {
+    const auto& b = world.bodies.balls;
+    const auto mine = [&](uint32_t slot) { return clump ? b.clump[slot] == at : slot == at; };
+    for (const Pair& p : world.contacts.pairs) {
+        if (!p.active || !(mine(p.end1) || (!p.wall && mine(p.end2)))) continue;
+        Vec2 normal, point;
+        double overlap = 0.0;
+        if (pairGeometry(world, p, normal, overlap, point) && overlap > 0.0) return true;
+    }
+    return false;
+}
+
+/// Whether only gravity moves the body between contacts (no fixity, applied load or damping).
+bool gravityOnly(const World& world, uint8_t fixity, const Vec2& fapp, double mapp) {
+    const DampingSettings& d = world.settings.damping;
+    return fixity == 0 && fapp.x() == 0.0 && fapp.y() == 0.0 && mapp == 0.0 && d.local == 0.0 &&
+           d.viscous == 0.0;
+}
+
+bool pushedBy(const BallArrays& b, uint32_t s) {
+    return b.force[s].x() != 0.0 || b.force[s].y() != 0.0 || b.moment[s] != 0.0;
+}
+
 struct Moving {
     bool clump = false;
     uint32_t at = 0;  // ball slot or clump index
@@ -48,6 +76,7 @@ struct Moving {
     Vec2 pos, vel;
     double spin = 0.0, mass = 0.0, inertia = 0.0, radius = 0.0;
     uint8_t fixity = 0;
+    bool gravity_only = false;
 };
 
 /// Barrier k catches the body (crossed this step): slows or stops it.
@@ -60,6 +89,9 @@ void catchBody(World& world, Barrier& br, const Moving& m, double ke) {
     const double f = passes ? std::sqrt((ke - cap) / ke) : 0.0;
     const uint8_t all = kFixX | kFixY | kFixSpin;
     if (passes) {
+        // The step's kinematic limit follows the velocities (a stopped body's older, larger
+        // velocity only keeps the next limit on the safe side).
+        world.stepping.limits_stale = true;
         ++br.info.passed;
         br.info.absorbed += cap;
     } else {
@@ -93,8 +125,10 @@ void checkBody(World& world, const Moving& m, double dt) {
         if (!((d0 < 0.0 && d1 >= 0.0) || (d0 > 0.0 && d1 <= 0.0))) continue;
         if (br.caught.count(m.key)) continue;
         const double s = -d0 / (d1 - d0);
-        const double ax = (m.vel.x() - m.start->vel.x()) / dt;
-        const double ay = (m.vel.y() - m.start->vel.y()) / dt;
+        double ax = (m.vel.x() - m.start->vel.x()) / dt;
+        double ay = (m.vel.y() - m.start->vel.y()) / dt;
+        if (m.gravity_only && !m.start->pushed && !touchingNow(world, m.clump, m.at))
+            ax = world.settings.gravity.x(), ay = world.settings.gravity.y();
         const CrossingState at = crossingAt(p0, m.start->spin, m.pos, m.spin, s, dt, ax, ay);
         const double along =
             br.dir.x() * (at.pos.x() - d.from.x()) + br.dir.y() * (at.pos.y() - d.from.y());
@@ -110,24 +144,36 @@ void checkBody(World& world, const Moving& m, double dt) {
 
 void recordBodyStarts(World& world) {
     auto& br = world.barriers;
+    br.start_time = world.clock.time;
     const auto& b = world.bodies.balls;
     br.ball_start.resize(b.size());
-    for (std::size_t s = 0; s < b.size(); ++s)
-        br.ball_start[s] = b.clump[s] == kNoClump
-                               ? BodyStart{b.handle[s], b.pos[s], b.vel[s], b.spin[s]}
-                               : BodyStart{};
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        const auto k = static_cast<uint32_t>(s);
+        br.ball_start[s] = b.clump[s] == kNoClump ? BodyStart{b.handle[s], b.pos[s], b.vel[s],
+                                                              b.spin[s], pushedBy(b, k)}
+                                                  : BodyStart{};
+    }
     const auto& cl = world.bodies.clumps;
     br.clump_start.resize(cl.size());
-    for (std::size_t i = 0; i < cl.size(); ++i)
-        br.clump_start[i] = cl[i].alive
-                                ? BodyStart{cl[i].generation, cl[i].pos, cl[i].vel, cl[i].spin}
-                                : BodyStart{};
+    for (std::size_t i = 0; i < cl.size(); ++i) {
+        if (!cl[i].alive) {
+            br.clump_start[i] = BodyStart{};
+            continue;
+        }
+        bool pushed = false;
+        for (std::size_t k = 0; k < cl[i].pebbles.size() && !pushed; ++k)
+            pushed = pushedBy(b, world.bodies.pebbleSlot(cl[i], k));
+        br.clump_start[i] = BodyStart{cl[i].generation, cl[i].pos, cl[i].vel, cl[i].spin, pushed};
+    }
 }
 
 void applyBarriers(World& world, const StepContext& step) {
     auto& br = world.barriers;
     br.acted.clear();
-    if (!(step.dt > 0.0)) return;
+    // The interval as the clock has it (as a tracker's two samples do), not the step's dt: the two
+    // differ in the last bits once t >> dt, and a tracker on the barrier must see the same state.
+    const double dt = world.clock.time - br.start_time;
+    if (!(step.dt > 0.0) || !(dt > 0.0)) return;
     const auto& b = world.bodies.balls;
     // Bodies added since the start of the step (an event handler) have no start: not checked in
     // this step; a ball moved to another slot (one deleted before it) neither.
@@ -142,7 +188,8 @@ void applyBarriers(World& world, const StepContext& step) {
         m.pos = b.pos[s], m.vel = b.vel[s], m.spin = b.spin[s];
         m.mass = b.mass[s], m.inertia = b.inertia[s], m.radius = b.radius[s];
         m.fixity = b.fixity[s];
-        checkBody(world, m, step.dt);
+        m.gravity_only = gravityOnly(world, m.fixity, b.fapp[s], b.mapp[s]);
+        checkBody(world, m, dt);
     }
     auto& cl = world.bodies.clumps;
     const std::size_t nc = std::min(cl.size(), br.clump_start.size());
@@ -158,7 +205,8 @@ void applyBarriers(World& world, const StepContext& step) {
         m.pos = c.pos, m.vel = c.vel, m.spin = c.spin;
         m.mass = c.mass, m.inertia = c.inertia, m.radius = clumpRadius(world, c);
         m.fixity = c.fixity;
-        checkBody(world, m, step.dt);
+        m.gravity_only = gravityOnly(world, m.fixity, c.fapp, c.mapp);
+        checkBody(world, m, dt);
     }
 }
 

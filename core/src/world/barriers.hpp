@@ -42,11 +42,13 @@ struct BodyStart {
     uint32_t handle = 0;  // the ball's handle (0: a pebble or no ball); a clump: its generation
     Vec2 pos{0.0, 0.0}, vel{0.0, 0.0};
     double spin = 0.0;
+    bool pushed = false;  // a contact force or moment acted on it (the last force loop's)
 };
 
 struct Barriers {
     std::vector<Barrier> list;  // id = index + 1
     std::vector<BodyStart> ball_start, clump_start;
+    double start_time = 0.0;          // the clock at the start of the step
     std::vector<BarrierActed> acted;  // this step's, until the trackers' sample
 };
 
