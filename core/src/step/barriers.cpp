@@ -2,15 +2,17 @@
 //
 // Barriers (docs/rockfall.md, "Barriers"): a segment with an energy capacity E, as a rockfall
 // fence or net is rated (its maximum energy level; EOTA 2018). A body is caught at the
-// first step its centre crosses the barrier's line, from either side, with its equivalent disk
-// on the segment (the crossing point within its radius of it). Its kinetic energy there, KE, is
-// that of the state at the line (step/crossing.hpp), with the trackers' acceleration: gravity
-// for a body in free flight over the step (no contact force before it, no overlap after it, only
-// gravity acting), else the change of the half-step velocity over the step. So a tracker's line
-// on the barrier reports the KE the barrier used, to the bit. With KE > E the barrier takes E:
-// velocity and spin are scaled by f = sqrt((KE - E) / KE), which takes E from translation and
-// rotation in proportion; otherwise the body stops: velocity and spin zero, fixed in x, y and
-// rotation, where it is.
+// first step its centre crosses the barrier's line from its left to its right (looking from
+// `from` to `to`: a barrier from its foot up to its top catches bodies moving toward +x) with its
+// equivalent disk on the segment (the crossing point within its radius of it). A body is judged
+// once, at its first crossing above the foot: one that passes over the top is never caught. Its
+// kinetic energy there, KE, is that of the state at the line (step/crossing.hpp), with the
+// trackers' acceleration: gravity for a body in free flight over the step (no contact force before
+// it, no overlap after it, only gravity acting), else the change of the half-step velocity over the
+// step. So a tracker's line on the barrier reports the KE the barrier used, to the bit. With KE > E
+// the barrier takes E: velocity and spin are scaled by f = sqrt((KE - E) / KE), which takes E from
+// translation and rotation in proportion; otherwise the body stops: velocity and spin zero, fixed
+// in x, y and rotation, where it is.
 //
 // The change acts on the half-step velocity, as a script's would, so the energy books take it as
 // they take a script's (step/script_work.cpp): exactly what the next snapshot books for the body
@@ -82,7 +84,6 @@ struct Moving {
 /// Barrier k catches the body (crossed this step): slows or stops it.
 void catchBody(World& world, Barrier& br, const Moving& m, double ke) {
     world.barriers.acted.push_back(BarrierActed{m.key, m.vel, m.spin, m.fixity});
-    br.caught.insert(m.key);
     noteBarrierChange(world, m.clump, m.at);
     const double cap = br.info.def.energy;
     const bool passes = ke > cap;
@@ -122,7 +123,7 @@ void checkBody(World& world, const Moving& m, double dt) {
         const double nx = br.dir.y(), ny = -br.dir.x();
         const double d0 = nx * (p0.x() - d.from.x()) + ny * (p0.y() - d.from.y());
         const double d1 = nx * (m.pos.x() - d.from.x()) + ny * (m.pos.y() - d.from.y());
-        if (!((d0 < 0.0 && d1 >= 0.0) || (d0 > 0.0 && d1 <= 0.0))) continue;
+        if (!(d0 < 0.0 && d1 >= 0.0)) continue;
         if (br.caught.count(m.key)) continue;
         const double s = -d0 / (d1 - d0);
         double ax = (m.vel.x() - m.start->vel.x()) / dt;
@@ -132,7 +133,9 @@ void checkBody(World& world, const Moving& m, double dt) {
         const CrossingState at = crossingAt(p0, m.start->spin, m.pos, m.spin, s, dt, ax, ay);
         const double along =
             br.dir.x() * (at.pos.x() - d.from.x()) + br.dir.y() * (at.pos.y() - d.from.y());
-        if (along < -m.radius || along > br.length + m.radius) continue;
+        if (along < -m.radius) continue;             // under its foot: not met
+        br.caught.insert(m.key);                     // met: judged once
+        if (along > br.length + m.radius) continue;  // over its top
         const double ke =
             translationalEnergy(m.mass, at.vel) + rotationalEnergy(m.inertia, at.spin);
         catchBody(world, br, m, ke);
