@@ -401,13 +401,13 @@ struct TrackedCrossing {
 };
 
 /// A barrier (Model::createBarrier; docs/rockfall.md, "Barriers"): a segment with an energy
-/// capacity, such as a rockfall fence or net. A body (a free ball or a clump) is judged at the first
-/// crossing of its centre over the segment's line from left to right (looking from `from` to `to`)
-/// above the foot; it is caught if its equivalent disk touches the segment there (the crossing
-/// point within its radius of the segment; higher, it passes over the top): with
-/// more kinetic energy than `energy` it goes on with `energy` taken from it (velocity and spin
-/// scaled by sqrt((KE - energy) / KE)); otherwise it is stopped (velocity and spin zero, fixed in
-/// x, y and rotation). What it loses is the energy item `barrier`.
+/// capacity, such as a rockfall fence or net. A body (a free ball or a clump) is judged at the
+/// first crossing of its centre over the segment's line from left to right (looking from `from` to
+/// `to`) above the foot; it is caught if its equivalent disk touches the segment there (the
+/// crossing point within its radius of the segment; higher, it passes over the top): with more
+/// kinetic energy than `energy` it goes on with `energy` taken from it (velocity and spin scaled by
+/// sqrt((KE - energy) / KE)); otherwise it is stopped (velocity and spin zero, fixed in x, y and
+/// rotation). What it loses is the energy item `barrier`.
 struct BarrierDef {
     std::string name;
     Vec2 from{0.0, 0.0}, to{0.0, 0.0};
