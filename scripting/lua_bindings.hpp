@@ -319,6 +319,7 @@ extern const Binding kTrackerBinding;       // wrap_tracker.cpp: track and the t
 /// The id of the tracker userdata at `index`, or 0 when the value is not a tracker; `what`
 /// names the caller in the error raised for a tracker of another model (wrap_tracker.cpp).
 int trackerIdAt(lua_State* L, int index, const LuaModel& lm, const std::string& what);
+extern const Binding kBarrierBinding;  // wrap_barrier.cpp: barrier, barriers
 extern const Binding kImpactBinding;  // wrap_impact.cpp: talus.impact, talus.drive
 extern const Binding kMapBinding;     // wrap_map.cpp: talus.map, rank, ranks
 

@@ -130,7 +130,7 @@ const Binding* const kBindings[] = {
     &kContactModelBinding, &kTimestepBinding, &kGuardBinding,   &kEnergyBinding,
     &kClumpBinding,        &kBondBinding,     &kMeasureBinding, &kForceLoopBinding,
     &kHistoryBinding,      &kVtkBinding,      &kPictureBinding, &kSaveBinding,
-    &kCrackBinding,        &kTrackerBinding,  &kImpactBinding,  &kMapBinding,
+    &kCrackBinding,        &kTrackerBinding,  &kBarrierBinding, &kImpactBinding,  &kMapBinding,
 };
 
 }  // namespace

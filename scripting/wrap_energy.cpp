@@ -78,12 +78,14 @@ const std::vector<EnergyItem>& energyItems() {
         {"initial_strain", &EnergyTotals::initial_strain},
         {"placement", &EnergyTotals::placement},
         {"exchanged", &EnergyTotals::exchanged},
+        {"script", &EnergyTotals::script},
+        {"barrier", &EnergyTotals::barrier},
     };
     return items;
 }
 
 void pushEnergies(lua_State* L, const EnergyTotals& e) {
-    lua_createtable(L, 0, 17);
+    lua_createtable(L, 0, 18);
     for (const EnergyItem& item : energyItems()) {
         lua_pushnumber(L, e.*(item.member));
         lua_setfield(L, -2, item.name);

@@ -26,6 +26,11 @@ const Option kGuardOptionRows[] = {
     {"balance", "\"warn\"|\"error\"|\"off\"", "the energy balance, while tracing is on"},
     {"balance_tolerance", "number", "allowed balance error, a fraction of the throughput (0.01)"},
     {"balance_every", "integer", "steps between two balance checks (default 10)"},
+    {"severe", "\"error\"|\"warn\"", "severe findings stop the run (\"error\") or only warn"},
+    {"severe_created", "number",
+     "energy created beyond this share of the throughput is severe (0.1)"},
+    {"severe_min_steps", "integer", "fewer steps per contact duration is severe (default 3)"},
+    {"memory_limit", "number", "most memory the model may take [bytes]; 0 = what the machine has"},
 };
 
 const char* guardName(GuardAction a) {
@@ -47,7 +52,7 @@ int w_guard(lua_State* L) {
         GuardSettings g = lm.model->guard();
         readGuardOptions(o, g);
         lm.model->guard() = g;
-        lua_createtable(L, 0, 8);
+        lua_createtable(L, 0, 12);
         setString(L, "energy", guardName(g.energy));
         setNumber(L, "energy_tolerance", g.energy_tolerance);
         setString(L, "resolution", guardName(g.resolution));
@@ -56,6 +61,10 @@ int w_guard(lua_State* L) {
         setString(L, "balance", guardName(g.balance));
         setNumber(L, "balance_tolerance", g.balance_tolerance);
         setInteger(L, "balance_every", g.balance_every);
+        setString(L, "severe", guardName(g.severe));
+        setNumber(L, "severe_created", g.severe_created);
+        setInteger(L, "severe_min_steps", g.severe_min_steps);
+        setNumber(L, "memory_limit", g.memory_limit);
         return 1;
     });
 }
@@ -123,6 +132,26 @@ void readGuardOptions(const Options& o, GuardSettings& g) {
     if (steps < 0 || steps > std::numeric_limits<int>::max())
         throw ScriptError("guard: 'min_steps' must be >= 0 (got " + std::to_string(steps) + ")");
     g.min_steps = static_cast<int>(steps);
+    // Severe findings (docs/physics/guard.md): "error" stops the run, "warn" reports them as the
+    // check's other findings.
+    if (o.has("severe"))
+        g.severe =
+            o.choice("severe", 0, {"error", "warn"}) == 0 ? GuardAction::Error : GuardAction::Warn;
+    g.severe_created = o.number("severe_created", g.severe_created);
+    if (!(g.severe_created > 0.0) || !std::isfinite(g.severe_created))
+        throw ScriptError("guard: 'severe_created' must be a finite fraction > 0 (got " +
+                          numberText(g.severe_created) + ")");
+    const long long severe_steps = o.integer("severe_min_steps", g.severe_min_steps);
+    if (severe_steps < 0 || severe_steps > std::numeric_limits<int>::max())
+        throw ScriptError("guard: 'severe_min_steps' must be >= 0 (got " +
+                          std::to_string(severe_steps) + ")");
+    g.severe_min_steps = static_cast<int>(severe_steps);
+    g.memory_limit = o.number("memory_limit", g.memory_limit);
+    if (!(g.memory_limit >= 0.0) || !std::isfinite(g.memory_limit))
+        throw ScriptError(
+            "guard: 'memory_limit' must be a number of bytes >= 0 (0: what the "
+            "machine has; got " +
+            numberText(g.memory_limit) + ")");
 }
 
 }  // namespace talus::lua

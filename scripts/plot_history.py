@@ -57,7 +57,7 @@ from typing import List, Optional, Sequence
 ENERGY_ITEMS = (
     "kinetic", "body", "boundary", "strain", "bond", "slip", "dashpot", "plastic", "damping",
     "released", "deleted", "initial_kinetic", "initial_strain", "placement", "balance_error",
-    "exchanged",
+    "exchanged", "script",
 )
 # Units of talus's other built-in columns.
 BUILTIN_UNITS = {"time": "s", "dt": "s", "step": ""}

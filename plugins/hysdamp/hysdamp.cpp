@@ -33,6 +33,7 @@
 #include "talus/contact_model.hpp"
 #include "talus/sdk/dashpot.hpp"  // onsetFraction
 #include "talus/sdk/model_base.hpp"
+#include "talus/sdk/plastic_work.hpp"
 #include "talus/sdk/shear_spring.hpp"
 
 namespace {
@@ -76,6 +77,7 @@ public:
     double last_applied_ = 0.0;    // normal force applied at the last step, with corrections [N]
     bool last_was_first_ = false;  // the last step was this contact's first
     bool touching_ = false;
+    PlasticWork plastic_;  // this contact's plastic work, kept >= 0 (sdk/plastic_work.hpp)
 
     static const PropTable<HysDamp>& Table() {
         static const PropTable<HysDamp> t = {
@@ -181,9 +183,10 @@ public:
                 const double du_next = fd.mass_eff > 0.0
                                            ? fd.du_n - closing * fd.tdel * fd.tdel / fd.mass_eff
                                            : fd.du_n;
-                fd.energy[kEnergyPlastic] = touching_ ? 0.5 * (last_applied_ + closing) * fd.du_n +
-                                                            0.5 * closing * du_next + last_strain_
-                                                      : 0.0;
+                fd.energy[kEnergyPlastic] =
+                    touching_ ? plastic_.book(0.5 * (last_applied_ + closing) * fd.du_n +
+                                              0.5 * closing * du_next + last_strain_)
+                              : 0.0;
             }
             touching_ = false;
             hd_fn = hd_fs = hd_slip = 0.0;
@@ -199,8 +202,27 @@ public:
 
         const bool first = !touching_;
         const double frac = first ? onsetFraction(u, fd.du_n) : 1.0;
-        const double fn_old = first ? 0.0 : last_applied_;
+        double fn_old = first ? 0.0 : last_applied_;
         const double u_old = first ? 0.0 : last_overlap_;
+        // Born overlapping (bodies created or moved into each other): the overlap before this
+        // step, u - du_n > 0, was placed, not loaded by any traced work. The engine books what
+        // the contact holds there as `placement` (docs/physics/energy.md; at u itself for a
+        // contact already opening), so the contact starts as if loaded along the loading line to
+        // that overlap: its largest overlap, and its strain there the baseline of the step's
+        // plastic work. The step's path from there is the model's own (its work the mean of the
+        // forces at both ends: exact on the lines), so the plastic work is the hysteresis of
+        // that path alone, >= 0, and 0 for a contact placed at rest. (Counted from zero it was
+        // -strain: the whole placement off the books.)
+        double strain_before = first ? 0.0 : last_strain_;
+        const double placed = first ? std::min(u - fd.du_n, u) : 0.0;
+        double du = fd.du_n;
+        if (placed > 0.0) {
+            du = u - placed;
+            hd_umax = std::max(hd_umax, placed);
+            hd_u0 = (1.0 - d) * hd_umax;
+            fn_old = normalForce(placed);
+            strain_before = normalStrain(fn_old);
+        }
 
         const double umax_old = hd_umax, u0_old = hd_u0;
         if (u > hd_umax) {
@@ -244,7 +266,7 @@ public:
             // close) minus the change of recoverable energy (PFC's energy tracing). A step
             // across a corner may give a small negative increment, which later steps make up.
             fd.energy[kEnergyPlastic] =
-                0.5 * (fn_old + fn_applied) * fd.du_n - (strain - last_strain_);
+                plastic_.book(0.5 * (fn_old + fn_applied) * du - (strain - strain_before));
         }
         touching_ = true;
         last_overlap_ = u;
@@ -355,9 +377,15 @@ public:
         so.Double(last_applied_);
         so.Bool(last_was_first_);
         so.Bool(touching_);
+        // Version 2 added the contact's plastic work to date; a contact of version 1 restores
+        // with it unknown (+inf: its increments are booked as found, as before).
+        if (so.IsSaving() || so.DataVersion() >= 2)
+            so.Double(plastic_.total);
+        else
+            plastic_.total = HUGE_VAL;
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
     double KnEstimate() const override { return unloadStiffness(); }
     double KsEstimate() const override { return ks; }
     double ContactDuration(double mass_eff, double) const override {

@@ -56,6 +56,7 @@
 #include "talus/contact_model.hpp"
 #include "talus/sdk/dashpot.hpp"
 #include "talus/sdk/model_base.hpp"
+#include "talus/sdk/plastic_work.hpp"
 #include "talus/sdk/shear_spring.hpp"
 
 namespace {
@@ -102,6 +103,7 @@ public:
     bool wall_ = false;     // end 2 is a wall
     bool started_ = false;
     bool touching_ = false;
+    PlasticWork plastic_work_;  // this contact's plastic work, kept >= 0 (sdk/plastic_work.hpp)
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off
@@ -205,6 +207,8 @@ public:
             v_impact = std::max(0.0, fd.u_dot_n);
             b_used = exponentFor(v_impact, fd.mass_eff);
             u_prev_ = fd.u_n - fd.du_n;
+            // (a contact already opening is placed where it is, as the engine books it)
+            if (u_prev_ > 0.0) u_prev_ = placeOnVirginCurve(std::min(u_prev_, fd.u_n));
         }
         const double b = b_used;
         const double u = fd.u_n;
@@ -253,10 +257,27 @@ public:
             const double work = 0.5 * (fn_old + fn) * (u - u_old);
             fd.energy[kEnergyStrain] = e_rec + springEnergy(fs, ks);
             fd.energy[kEnergySlip] = slip_work;
-            fd.energy[kEnergyPlastic] = work - (e_rec - e_old);
+            fd.energy[kEnergyPlastic] = plastic_work_.book(work - (e_rec - e_old));
         }
         u_prev_ = u;
         e_rec_ = e_rec;
+    }
+
+    /// Born overlapping (bodies created or moved into each other): the overlap before the
+    /// first step, u_p > 0, was placed, not loaded by any traced work, and the engine books what
+    /// the contact holds there as `placement` (docs/physics/energy.md). The contact starts as if
+    /// loaded along the virgin curve to u_p: the turning point, the force there and its
+    /// recoverable energy the baseline of the first step's plastic work (returns u_p), so that a
+    /// contact placed at rest books none and one placed while approaching books only the loss of
+    /// its own path (kn (u^2 - u_p^2) (1/2 - 1/(b+1)) >= 0 while elastic). Counted from zero force
+    /// and energy, the first step booked -F u/(b+1): the whole placement off the books.
+    double placeOnVirginCurve(double placed) {
+        fn = std::min(kn * placed, transition);
+        if (kn * placed >= transition) plastic = 1.0;
+        u_max = placed;
+        f_max = fn;
+        e_rec_ = fn * placed / (b_used + 1.0);
+        return placed;
     }
 
     [[noreturn]] void throwPassingThrough(double u) const {
@@ -296,9 +317,15 @@ public:
         so.Bool(wall_);
         so.Bool(started_);
         so.Bool(touching_);
+        // Version 2 added the contact's plastic work to date; a contact of version 1 restores
+        // with it unknown (+inf: its increments are booked as found, as before).
+        if (so.IsSaving() || so.DataVersion() >= 2)
+            so.Double(plastic_work_.total);
+        else
+            plastic_work_.total = HUGE_VAL;
     }
 
-    int32_t Version() const override { return 1; }
+    int32_t Version() const override { return 2; }
 
     double KnEstimate() const override {
         if (started_) return normalStiffness(std::max(u_prev_, 0.0));

@@ -104,7 +104,10 @@ if (talus.rank and talus.rank() or 0) == 0 then
         pic:wall{ points = { {52, 0}, {52, 2} } }
         for _, r in ipairs(records) do
             if r.end_x and r.end_x >= -2 and r.end_x <= 92 then  -- in the view
-                pic:ball{ pos = { r.end_x, r.end_y }, radius = r.r_eq, mass = r.mass }
+                -- (a rock the fence stopped is recorded where it met the fence's line: drawn in
+                -- front of it, as a ball is not placed with its centre on a wall)
+                local x = r.stop == "barrier" and r.end_x - r.r_eq or r.end_x
+                pic:ball{ pos = { x, r.end_y }, radius = r.r_eq, mass = r.mass }
             end
         end
         pic:picture{ file = outdir .. "/rockfall_endpoints.png", size = {1200, 900},

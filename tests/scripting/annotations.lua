@@ -172,6 +172,7 @@ local calls = {
     ["talus.TrackOptions"] = function(o) return m:track(clump, o) end,
     ["talus.TrackImpacts"] = function(o) return m:track(clump, { impacts = o }) end,
     ["talus.TrackLine"] = function(o) return m:track(clump, { lines = { o } }) end,
+    ["talus.BarrierDef"] = function(o) return m:barrier(o) end,
     ["talus.TrackRest"] = function(o) return m:track(clump, { rest = o }) end,
     ["talus.TrackRegion"] = function(o) return m:track(clump, { region = o }) end,
     ["talus.TrackEnvelope"] = function(o) return m:track(clump, { envelope = o }) end,

@@ -37,7 +37,7 @@ l = T.line(); T.fails(function() m:guard{ balance_tolerance = 0 / 0 } end,
 l = T.line(); T.fails(function() m:guard{ balance_every = 0 } end,
     { at(l), "guard: 'balance_every' must be >= 1 step (got 0)" }, "empty balance window")
 l = T.line(); T.fails(function() m:guard{ stifness = "off" } end,
-    { at(l), "guard: unknown option 'stifness'; did you mean 'stiffness'? (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, min_steps, resolution, stiffness)" },
+    { at(l), "guard: unknown option 'stifness'; did you mean 'stiffness'? (known: balance, balance_every, balance_tolerance, energy, energy_tolerance, memory_limit, min_steps, resolution, severe, severe_created, severe_min_steps, stiffness)" },
     "misspelt guard option")
 l = T.line(); T.fails(function() m.cycle(10) end,
     { at(l), "cycle: call it as a method, m:cycle(...)" }, "dot instead of colon")
@@ -71,6 +71,23 @@ local cb_line = T.line() + 1
 c:on_cycle(function(model, step) if step == 3 then error("stop here") end end)
 T.fails(function() c:cycle(10) end, { at(cb_line) .. " stop here" }, "callback error")
 T.check(c:step() == 3, "the run stopped at the failing step")
+
+-- a callback that runs the model again is refused with its own line (before: the hook ran the
+-- inner cycle, whose hook ran another, until "C stack overflow" with no position)
+local r = talus.model{}
+r:ball{ pos = {0, 0}, radius = 0.1, density = 1 }
+local re_line = T.line() + 1
+r:on_cycle(function() r:cycle(1) end, 1)
+T.fails(function() r:cycle(10) end, { at(re_line) .. " cycle: the model is already running",
+    "at step 1" }, "cycle inside on_cycle")
+T.check(r:step() == 1, "the run stopped at the step whose callback re-entered")
+local r2 = talus.model{}
+r2:ball{ pos = {0, 0}, radius = 0.1, density = 1 }
+local re2_line = T.line() + 1
+T.fails(function() r2:solve{ steps = 5, ["until"] = function(mm) mm:solve{ steps = 1 } end } end,
+    { at(re2_line) .. " solve: the model is already running" }, "solve inside solve's until")
+r2:cycle(2)  -- the lock is released after a refused run
+T.check(r2:step() == 3, "the model runs again after the refusal")
 
 -- warnings go to on_warning when set
 local w = talus.model{}

@@ -301,7 +301,7 @@ local function cases(out_dir)
     end
     -- Clump fields: every writable one, on a clump created by the case.
     do
-        local _, unknown = pcall(setField, probe:clump{ pebbles = { { 0, 0, 1 } }, pos = { 0, 0 }, density = 1 }, "zz__stress", 1)
+        local _, unknown = pcall(setField, probe:clump{ pebbles = { { 0, 0, 1 } }, pos = { 0, 5 }, density = 1 }, "zz__stress", 1)
         for _, f in ipairs(namesFrom(unknown, "writable")) do
             add("clump field", f, function(env, v)
                 env.c = env.c or env.m:clump(clumpDef(""))

@@ -450,7 +450,12 @@ function gen.scene(seed, opts)
     S.balls = {}
     local placed = {}
     local function free(x, y, rad)
-        if S.overlap then return true end
+        if S.overlap then
+            -- born overlapping, but not through a wall: a centre within half its radius of a
+            -- segment is refused at placement (docs/physics/walls.md)
+            for _, sg in ipairs(segs) do if segDist2(x, y, sg) <= 0.25 * rad * rad then return false end end
+            return true
+        end
         for _, q in ipairs(placed) do
             local dx, dy = x - q[1], y - q[2]
             if dx * dx + dy * dy < (rad + q[3]) ^ 2 then return false end

@@ -29,18 +29,28 @@ struct EnergyTotals {
     /// of what those contacts stored and dissipated (docs/physics/energy.md, "Energy per
     /// group"). Always 0 for the whole model; the exchanged items of a partition sum to 0 [J].
     double exchanged = 0.0;
+    /// Work done by the script between steps: the change of the kinetic energy (and of the
+    /// damping and fixity work the next snapshot splits) that setting a velocity, spin, mass,
+    /// fixity, applied load or gravity, adding a body, or making or releasing a clump caused
+    /// (docs/physics/energy.md, "Work done by the script") [J].
+    double script = 0.0;
+    /// Kinetic energy taken by barriers (docs/rockfall.md, "Barriers"): what the next snapshot
+    /// takes for a body less what it would have taken without the barrier's action [J].
+    double barrier = 0.0;
 
     /// Energy put in so far: the initial kinetic and strain energy, the placement energy and the
-    /// positive parts of the body, boundary and exchanged work [J].
+    /// positive parts of the body, boundary, exchanged and script work [J].
     double input() const {
         return initial_kinetic + initial_strain + placement + (body > 0.0 ? body : 0.0) +
-               (boundary > 0.0 ? boundary : 0.0) + (exchanged > 0.0 ? exchanged : 0.0);
+               (boundary > 0.0 ? boundary : 0.0) + (exchanged > 0.0 ? exchanged : 0.0) +
+               (script > 0.0 ? script : 0.0);
     }
 
     /// Energy in minus energy accounted for; zero up to discretisation error.
     double balanceError() const {
-        return initial_kinetic + initial_strain + placement + body + boundary + exchanged -
-               (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted);
+        return initial_kinetic + initial_strain + placement + body + boundary + exchanged + script -
+               (kinetic + strain + bond + slip + dashpot + plastic + damping + released + deleted +
+                barrier);
     }
 };
 

@@ -238,6 +238,12 @@ public:
     /// Porosity, coordination, stress and strain rate in a region (MeasureResult).
     MeasureResult measure(const MeasureRegion& region) const;
 
+    // ------------------------------------------------------------------ barriers
+    /// Adds a barrier (BarrierDef; checked every step while one exists). Returns its id (>= 1).
+    int createBarrier(const BarrierDef& def);
+    std::size_t barrierCount() const;
+    BarrierInfo barrierInfo(int id) const;
+
     // ------------------------------------------------------------------ trackers
     /// Starts a tracker on a free ball or a clump (TrackerDef; docs/lua-api.md, "Trackers") and
     /// takes its first sample now (it may end at once: see trackerStatus). Returns its id (>= 1).

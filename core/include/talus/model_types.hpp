@@ -238,6 +238,18 @@ struct GuardSettings {
     GuardAction balance = GuardAction::Warn;
     double balance_tolerance = 0.01;
     int64_t balance_every = 10;
+    /// Severe findings, which no sound run makes (docs/physics/guard.md, "Severe findings"): a
+    /// check set to Warn stops the run with its error at once when its finding passes these
+    /// (`severe = Warn` reports them as warnings). Energy created above `severe_created` of the
+    /// throughput (the balance check, while tracing) or of the scene's energy (a contact that
+    /// gave back more than it took), a contact with fewer than `severe_min_steps` steps per
+    /// duration.
+    GuardAction severe = GuardAction::Error;
+    double severe_created = 0.1;
+    int severe_min_steps = 3;
+    /// The memory a model may take [bytes]; 0: what the machine has (MemAvailable in
+    /// /proc/meminfo), checked before a model grows (docs/physics/guard.md, "Memory").
+    double memory_limit = 0.0;
 
     bool anyOn() const {
         return energy != GuardAction::Off || resolution != GuardAction::Off ||
@@ -386,6 +398,28 @@ struct TrackedCrossing {
     Vec2 vel{0.0, 0.0};
     double spin = 0.0;
     double ke_trans = 0.0, ke_rot = 0.0;  ///< [J]
+};
+
+/// A barrier (Model::createBarrier; docs/rockfall.md, "Barriers"): a segment with an energy
+/// capacity, such as a rockfall fence or net. A body (a free ball or a clump) is judged at the
+/// first crossing of its centre over the segment's line from left to right (looking from `from` to
+/// `to`) above the foot; it is caught if its equivalent disk touches the segment there (the
+/// crossing point within its radius of the segment; higher, it passes over the top): with more
+/// kinetic energy than `energy` it goes on with `energy` taken from it (velocity and spin scaled by
+/// sqrt((KE - energy) / KE)); otherwise it is stopped (velocity and spin zero, fixed in x, y and
+/// rotation). What it loses is the energy item `barrier`.
+struct BarrierDef {
+    std::string name;
+    Vec2 from{0.0, 0.0}, to{0.0, 0.0};
+    double energy = 0.0;  ///< capacity [J]
+};
+
+/// A barrier's record: what it caught (Model::barrierInfo).
+struct BarrierInfo {
+    BarrierDef def;
+    int64_t passed = 0;     ///< bodies slowed that went on
+    int64_t stopped = 0;    ///< bodies stopped
+    double absorbed = 0.0;  ///< the kinetic energy it took, as the crossings' states give it [J]
 };
 
 /// A point of a tracker's path (TrackerDef::path_every).

@@ -18,6 +18,7 @@
 #include "step/detection.hpp"
 #include "step/group_energy.hpp"
 #include "step/narrowphase.hpp"
+#include "step/script_work.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
 #include "world/body_store.hpp"
@@ -103,10 +104,13 @@ BallId createBallIn(World& world, const BallDef& d, uint32_t clump) {
             has_mass ? "mass " + messageNumber(d.mass) + " and radius " + messageNumber(r)
                      : "density " + messageNumber(d.density) + " and radius " + messageNumber(r));
         requireFiniteEnergy(mass, inertia, d.vel, d.spin);
+        requireClearOfWalls(world, d.pos, r, "ball");
     }
 
     auto& b = world.bodies.balls;
     const uint32_t s = static_cast<uint32_t>(b.size());
+    // (where the ball arrays grow, the model's memory with its contacts is checked first)
+    if (s == b.pos.capacity()) requireMemory(world, s + 1, "ball");
     b.resize(s + 1);
     b.pos[s] = d.pos;
     b.vel[s] = d.vel;
@@ -156,6 +160,7 @@ BallId createBallIn(World& world, const BallDef& d, uint32_t clump) {
     world.bodies.slot_of[h - 1] = s;
     b.handle[s] = h;
     if (world.contacts.broadphase_ready) insertBall(world, s);
+    noteBallAdded(world, s);  // its kinetic energy comes in as script work
     return BallId{h, world.bodies.generation[h - 1]};
 }
 
@@ -172,23 +177,10 @@ void Model::deleteBall(BallId id) {
 void removeBall(World& world, BallId id, bool book_energy) {
     world.stepping.limits_stale = true;
     const uint32_t s = world.bodies.slotOf(id);
-    if (world.books.on && book_energy) {
-        // The ball leaves the books with its kinetic energy at the present whole step, taken as
-        // the next energy snapshot would take it (law_of_motion.cpp): the half-step velocity
-        // plus half a step of the acceleration of the last force loop. Its contacts' stored
-        // energy goes to `released` (removePair).
-        const auto& b = world.bodies.balls;
-        const double half = 0.5 * world.clock.dt;
-        const Vec2 v =
-            b.vel[s] + ((b.force[s] + b.fapp[s]) * b.inv_mass[s] + world.settings.gravity) * half;
-        const double w = b.spin[s] + (b.moment[s] + b.mapp[s]) * b.inv_inertia[s] * half;
-        const Vec2 vv = Vec2((b.fixity[s] & kFixX) ? b.vel[s].x() : v.x(),
-                             (b.fixity[s] & kFixY) ? b.vel[s].y() : v.y());
-        const double ww = (b.fixity[s] & kFixSpin) ? b.spin[s] : w;
-        const double ke = 0.5 * (b.mass[s] * vv.squaredNorm() + b.inertia[s] * ww * ww);
-        world.books.acc.deleted += ke;
-        if (world.books.groups.on) bookDeletedToGroups(world, b.groups[s], ke);
-    }
+    // The ball leaves the books with what the next energy snapshot would have taken for it, as
+    // `deleted`, booked at the next step (step/script_work.cpp). Its contacts' stored energy goes
+    // to `released` (removePair).
+    if (book_energy) noteBallDeleted(world, s);
     if (world.books.groups.on) followRemovedSlot(world, s);
     // Drop the ball's pairs (highest index first so swap-removal keeps the rest valid).
     for (std::size_t i = world.contacts.pairs.size(); i-- > 0;) {
@@ -284,6 +276,7 @@ void Model::setBallPos(BallId id, const Vec2& p) {
     world.stepping.limits_stale = true;
     requireCoordinate("ball: pos", p);
     const uint32_t s = world.bodies.slotOf(id);
+    requireClearOfWalls(world, p, world.bodies.balls.radius[s], "ball " + std::to_string(id.index));
     world.bodies.balls.pos[s] = p;
 }
 void Model::setBallVel(BallId id, const Vec2& v) {
@@ -292,6 +285,7 @@ void Model::setBallVel(BallId id, const Vec2& v) {
     requireFinite("vel", v);
     const uint32_t s = world.bodies.slotOf(id);
     requireFiniteEnergy(world.bodies.balls.mass[s], 0.0, v, 0.0);
+    noteBallChange(world, s);
     world.bodies.balls.vel[s] = v;
 }
 void Model::setBallSpin(BallId id, double w) {
@@ -300,6 +294,7 @@ void Model::setBallSpin(BallId id, double w) {
     if (!std::isfinite(w)) throw InputError("ball: spin must be finite");
     const uint32_t s = world.bodies.slotOf(id);
     requireFiniteEnergy(0.0, world.bodies.balls.inertia[s], Vec2::Zero(), w);
+    noteBallChange(world, s);
     world.bodies.balls.spin[s] = w;
 }
 void Model::setBallRadius(BallId id, double r) {
@@ -316,9 +311,17 @@ void Model::setBallRadius(BallId id, double r) {
                           (world.settings.mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + messageNumber(rho) + " and radius " + messageNumber(r));
     }
+    noteBallChange(world, s);
     world.bodies.balls.radius[s] = r;
     if (world.bodies.balls.density[s] > 0.0) updateMass(world, s);
     refreshPairMasses(world, s);
+    // Its contacts' overlap changes with no work behind it: like a contact born overlapping, each
+    // gives back energy it never took, which is the script's doing, not the step's (the guard's
+    // energy check passes such contacts; docs/physics/guard.md).
+    for (const Pair& p : world.contacts.pairs)
+        if (p.active && (p.end1 == s || (!p.wall && p.end2 == s)))
+            if (GuardWatch* w = world.contacts.watchOf(world.contacts.coldOf(p)))
+                w->born_overlapped = true;
 }
 void Model::setBallDensity(BallId id, double rho) {
     World& world = *m_world;
@@ -335,6 +338,7 @@ void Model::setBallDensity(BallId id, double rho) {
                           (world.settings.mass_mode == MassMode::Disk ? 0.5 : 0.4) * mass * r * r,
                           "density " + messageNumber(rho) + " and radius " + messageNumber(r));
     }
+    noteBallChange(world, s);
     world.bodies.balls.density[s] = rho;
     updateMass(world, s);
     refreshPairMasses(world, s);
@@ -342,9 +346,12 @@ void Model::setBallDensity(BallId id, double rho) {
 void Model::setBallAppliedForce(BallId id, const Vec2& f) {
     World& world = *m_world;
     requireFinite("fapp (applied force)", f);
-    Vec2& fapp = world.bodies.balls.fapp[world.bodies.slotOf(id)];
-    if (fapp != f)
+    const uint32_t s = world.bodies.slotOf(id);
+    Vec2& fapp = world.bodies.balls.fapp[s];
+    if (fapp != f) {
         world.stepping.limits_stale = true;  // the approach rule's accelerations (timestep.cpp)
+        noteBallChange(world, s);
+    }
     fapp = f;
 }
 void Model::setBallAppliedMoment(BallId id, double m) {
@@ -352,11 +359,15 @@ void Model::setBallAppliedMoment(BallId id, double m) {
     if (!std::isfinite(m))
         throw InputError("ball: mapp (applied moment) must be finite (got " + messageNumber(m) +
                          ")");
-    world.bodies.balls.mapp[world.bodies.slotOf(id)] = m;
+    const uint32_t s = world.bodies.slotOf(id);
+    if (world.bodies.balls.mapp[s] != m) noteBallChange(world, s);
+    world.bodies.balls.mapp[s] = m;
 }
 void Model::setBallFixity(BallId id, uint8_t f) {
     World& world = *m_world;
-    uint8_t& cur = world.bodies.balls.fixity[world.bodies.slotOf(id)];
+    const uint32_t s = world.bodies.slotOf(id);
+    uint8_t& cur = world.bodies.balls.fixity[s];
+    if (cur != f) noteBallChange(world, s);
     world.bodies.fixed_balls += (f != 0) - (cur != 0);
     cur = f;
 }

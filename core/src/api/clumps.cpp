@@ -12,6 +12,7 @@
 #include "api/operations.hpp"
 #include "step/detection.hpp"
 #include "step/group_energy.hpp"
+#include "step/script_work.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "talus/model.hpp"
@@ -273,6 +274,7 @@ ClumpId Model::createClump(const ClumpDef& d) {
     addPebbleBalls(world, index, peb);
     placePebbles(world, world.bodies.clumps[index]);
     world.stepping.limits_stale = true;
+    noteClumpAdded(world, index);  // its kinetic energy comes in as script work
     return world.bodies.clumpId(index);
 }
 
@@ -389,12 +391,16 @@ ClumpId Model::createClumpFromBalls(const std::vector<BallId>& ids, const ClumpD
     c.kn = opts.kn, c.ks = opts.ks, c.fric = opts.fric;
     const uint32_t index = static_cast<uint32_t>(world.bodies.clumps.size());
     removeInnerPairs(world, slots);
+    // The balls' kinetic energy becomes the clump's (momentum is kept, energy is not): script
+    // work, booked at the next step.
+    for (uint32_t s : slots) noteBallChange(world, s);
     makePebbles(world, slots, c, index);
     world.bodies.clumps.push_back(c);
     ++world.bodies.live_clumps;
     placePebbles(world, world.bodies.clumps[index]);
     for (uint32_t s : slots) refreshPairMasses(world, s);
     world.stepping.limits_stale = true;
+    noteClumpAdded(world, index);
     return world.bodies.clumpId(index);
 }
 
@@ -404,21 +410,10 @@ void Model::deleteClump(ClumpId id) {
     World& world = *m_world;
     const uint32_t ci = world.bodies.clumpIndex(id);
     ClumpData& c = world.bodies.clumps[ci];
-    if (world.books.on) {
-        // The clump's kinetic energy at the present whole step, as the next snapshot would take
-        // it (Model::deleteBall does the same for a ball); its pebbles' contacts release their
-        // stored energy (removePair).
-        gatherClumpForces(world);
-        const double half = 0.5 * world.clock.dt;
-        const Vec2 v = c.vel + ((c.force + c.fapp) * c.inv_mass + world.settings.gravity) * half;
-        const double w = c.spin + (c.moment + c.mapp) * c.inv_inertia * half;
-        const Vec2 vv((c.fixity & kFixX) ? c.vel.x() : v.x(),
-                      (c.fixity & kFixY) ? c.vel.y() : v.y());
-        const double ww = (c.fixity & kFixSpin) ? c.spin : w;
-        const double ke = 0.5 * (c.mass * vv.squaredNorm() + c.inertia * ww * ww);
-        world.books.acc.deleted += ke;
-        if (world.books.groups.on) bookDeletedToGroups(world, c.groups, ke);
-    }
+    // What the next snapshot would have taken for the clump leaves the books as `deleted`, at
+    // the next step (Model::deleteBall does the same for a ball); its pebbles' contacts release
+    // their stored energy (removePair).
+    noteClumpDeleted(world, ci);
     const std::vector<uint32_t> pebbles = c.pebbles;
     for (uint32_t h : pebbles) removeBall(world, BallId{h, world.bodies.generation[h - 1]}, false);
     ClumpData& dead = world.bodies.clumps[ci];
@@ -448,11 +443,8 @@ std::vector<BallId> Model::releaseClump(ClumpId id) {
     std::vector<uint32_t> slots;
     // The balls' masses are not the clump's (overlaps now count twice, and the inertia of the
     // pieces about their own centres replaces the union's), so the kinetic energy changes at the
-    // release. With tracing on that change is booked under `deleted`, the item for kinetic
-    // energy that leaves the model with a body: the clump's minus its balls', at the half step.
-    double ke_change = 0.0;
-    if (world.books.on)
-        ke_change = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
+    // release: script work, the balls' energy less the clump's, booked at the next step.
+    noteClumpChange(world, ci);
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
         const uint32_t s = world.bodies.pebbleSlot(c, k);
         // The pebble already moves with the clump's rigid velocity at the half step.
@@ -460,19 +452,13 @@ std::vector<BallId> Model::releaseClump(ClumpId id) {
         --world.bodies.pebble_count;
         b.density[s] = rho;
         updateMass(world, s);
-        if (world.books.on)
-            ke_change -=
-                0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
         refreshPairMasses(world, s);
         b.fixity[s] = c.fixity;
         if (c.fixity) ++world.bodies.fixed_balls;
         slots.push_back(s);
         out.push_back(world.bodies.ballId(s));
     }
-    if (world.books.on) {
-        world.books.acc.deleted += ke_change;
-        if (world.books.groups.on) bookDeletedToGroups(world, c.groups, ke_change);
-    }
+    for (uint32_t s : slots) noteBallAdded(world, s);
     c.pebbles.clear(), c.offset.clear(), c.angle_offset.clear();
     c.alive = false;
     --world.bodies.live_clumps;
@@ -560,6 +546,26 @@ uint8_t Model::clumpFixity(ClumpId id) const {
     return TALUS_CLUMP(id).fixity;
 }
 
+namespace {
+/// A clump moved or turned (placed already): refused, and put back with `undo`, when a pebble's
+/// centre lands within half its radius of a wall (requireClearOfWalls).
+template <class Undo>
+void requirePebblesClear(World& world, ClumpData& c, Undo undo, const std::string& what) {
+    const auto& b = world.bodies.balls;
+    try {
+        for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+            const uint32_t s = world.bodies.pebbleSlot(c, k);
+            requireClearOfWalls(world, b.pos[s], b.radius[s],
+                                what + " pebble " + std::to_string(k + 1));
+        }
+    } catch (const InputError&) {
+        undo();
+        placePebbles(world, c);
+        throw;
+    }
+}
+}  // namespace
+
 void Model::setClumpPos(ClumpId id, const Vec2& p) {
     World& world = *m_world;
     if (!finite2(p)) throw InputError(clumpText(id) + ": pos must be finite");
@@ -569,8 +575,11 @@ void Model::setClumpPos(ClumpId id, const Vec2& p) {
                          " is out of range: coordinates must be within " +
                          messageNumber(kPebbleMaxLength) + " m of the origin");
     ClumpData& c = TALUS_CLUMP(id);
+    const Vec2 was = c.pos;
     c.pos = p;
     placePebbles(world, c);
+    requirePebblesClear(
+        world, c, [&] { c.pos = was; }, clumpText(id));
     world.stepping.limits_stale = true;
 }
 void Model::setClumpVel(ClumpId id, const Vec2& v) {
@@ -578,6 +587,7 @@ void Model::setClumpVel(ClumpId id, const Vec2& v) {
     ClumpData& c = TALUS_CLUMP(id);
     if (!finite2(v) || !std::isfinite(0.5 * c.mass * v.squaredNorm()))
         throw InputError(clumpText(id) + ": vel " + vecText(v) + " is not usable");
+    noteClumpChange(world, world.bodies.clumpIndex(id));
     c.vel = v;
     placePebbles(world, c);
     world.stepping.limits_stale = true;
@@ -587,6 +597,7 @@ void Model::setClumpSpin(ClumpId id, double w) {
     ClumpData& c = TALUS_CLUMP(id);
     if (!std::isfinite(w) || !std::isfinite(0.5 * c.inertia * w * w))
         throw InputError(clumpText(id) + ": spin " + messageNumber(w) + " is not usable");
+    noteClumpChange(world, world.bodies.clumpIndex(id));
     c.spin = w;
     placePebbles(world, c);
     world.stepping.limits_stale = true;
@@ -595,13 +606,17 @@ void Model::setClumpAngle(ClumpId id, double a) {
     World& world = *m_world;
     if (!std::isfinite(a)) throw InputError(clumpText(id) + ": angle must be finite");
     ClumpData& c = TALUS_CLUMP(id);
+    const double was = c.angle;
     c.angle = a;
     placePebbles(world, c);
+    requirePebblesClear(
+        world, c, [&] { c.angle = was; }, clumpText(id));
     world.stepping.limits_stale = true;
 }
 void Model::setClumpAppliedForce(ClumpId id, const Vec2& f) {
     World& world = *m_world;
     if (!finite2(f)) throw InputError(clumpText(id) + ": fapp (applied force) must be finite");
+    noteClumpChange(world, world.bodies.clumpIndex(id));
     TALUS_CLUMP(id).fapp = f;
     world.stepping.limits_stale = true;
 }
@@ -609,10 +624,12 @@ void Model::setClumpAppliedMoment(ClumpId id, double m) {
     World& world = *m_world;
     if (!std::isfinite(m))
         throw InputError(clumpText(id) + ": mapp (applied moment) must be finite");
+    noteClumpChange(world, world.bodies.clumpIndex(id));
     TALUS_CLUMP(id).mapp = m;
 }
 void Model::setClumpFixity(ClumpId id, uint8_t f) {
     World& world = *m_world;
+    noteClumpChange(world, world.bodies.clumpIndex(id));
     TALUS_CLUMP(id).fixity = f;
 }
 

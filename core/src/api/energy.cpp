@@ -40,6 +40,7 @@ void Model::setEnergyTracing(bool on) {
         world.books.snapshot = world.books.acc;
         world.books.on = true;
         world.books.groups = EnergyBooks::GroupBooks{};
+        world.books.script = EnergyBooks::ScriptChanges{};
         openGroupBooks(world);
     }
     world.books.on = on;

@@ -149,9 +149,23 @@ void Model::setStepObserver(std::function<void(const Model&)> fn) {
 }
 // ------------------------------------------------------------------------ the cycle
 
+RunLock::RunLock(World& world, const char* what) : m_world(world) {
+    if (world.clock.running)
+        throw InputError(std::string(what) +
+                         ": the model is already running (called from a callback, at step " +
+                         std::to_string(world.clock.step) +
+                         " of a cycle or solve call): a callback may read and change the model "
+                         "but not run it; stop the run (solve{[\"until\"] = fn}) and run again "
+                         "after it");
+    world.clock.running = true;
+}
+
 void Model::cycle(int64_t steps) {
     World& world = *m_world;
     if (steps < 0) throw InputError("cycle: number of steps must be >= 0");
+    const RunLock lock(world, "cycle");
+    requireMemory(world, world.bodies.balls.size(), "cycle");
+    world.guard_state.memory_counted_balls = world.bodies.balls.size();
     prepareRun(world);
     try {
         firstCallsAtPlacement(world);

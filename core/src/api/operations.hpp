@@ -15,6 +15,18 @@ namespace talus {
 
 class SaveWriter;
 class SaveReader;
+/// Marks a cycle or solve call under way for its lifetime; refuses one started while another is
+/// (a callback that cycles the model from inside a step would recurse until the stack overflows).
+class RunLock {
+public:
+    RunLock(World& world, const char* what);
+    ~RunLock() { m_world.clock.running = false; }
+    RunLock(const RunLock&) = delete;
+    RunLock& operator=(const RunLock&) = delete;
+
+private:
+    World& m_world;
+};
 
 /// The bit of a group name (Model::groupIndex); creates it when asked (api/model.cpp).
 int groupIndex(World& world, const std::string& name, bool create);
@@ -36,6 +48,20 @@ double chainLength(const World& world, const WallData& w);
 /// without it restore as before; api/save_servos.cpp).
 void saveServos(const World& world, SaveWriter& w);
 void restoreServos(World& world, SaveReader& in);
+// --- memory (api/memory.cpp)
+/// Refuses to grow the model to `balls` balls, or to run it (`what`: "ball", "cycle", "solve"),
+/// when the memory it would need, estimated from the bytes a ball and a contact take (measured,
+/// docs/results/memory.md), is more than the machine has available (MemAvailable in
+/// /proc/meminfo) or than m:guard{memory_limit =}. Reads /proc/meminfo only when the model is
+/// about to grow by 64 MiB or more.
+void requireMemory(World& world, std::size_t balls, const char* what);
+
+// --- walls (api/walls.cpp)
+/// Refuses a ball (or pebble) of `radius` placed with its centre within half its radius of a
+/// wall segment: the wall would push it out on whichever side that is (docs/physics/walls.md,
+/// "Placing a ball against a wall"). `what` starts the message ("ball", "clump 2 pebble 1").
+void requireClearOfWalls(const World& world, const Vec2& centre, double radius,
+                         const std::string& what);
 
 // --- contacts (api/contacts.cpp)
 /// A model's activity distance, refused unless finite and >= 0 (the force loop tests a pair

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "api/first_call.hpp"
+#include "api/operations.hpp"
 #include "step/step.hpp"
 #include "talus/errors.hpp"
 #include "world/messages.hpp"
@@ -121,6 +122,9 @@ void warnCap(World& world, Model& model, const SolveSpec& s, const SolveRun& run
 SolveStop Model::solve(const SolveSpec& s) {
     World& world = *m_world;
     checkSpec(world, s);
+    const RunLock lock(world, "solve");
+    requireMemory(world, world.bodies.balls.size(), "solve");
+    world.guard_state.memory_counted_balls = world.bodies.balls.size();
     prepareRun(world);
     SolveRun run;
     run.first = world.clock.step;

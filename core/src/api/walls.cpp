@@ -2,6 +2,9 @@
 //
 // The facade, walls: create a chain of segments, read and set its motion, its contact properties,
 // its groups and its servo (docs/lua-api.md, "Walls" and "Servo walls").
+#include <algorithm>
+#include <cmath>
+
 #include "api/input_checks.hpp"
 #include "api/operations.hpp"
 #include "step/detection.hpp"
@@ -23,6 +26,39 @@ void Model::addWallGroup(WallId id, const std::string& group) {
     World& world = *m_world;
     WallData& w = world.bodies.wallOf(id);
     w.groups |= uint64_t(1) << talus::groupIndex(world, group, true);
+}
+
+void requireClearOfWalls(const World& world, const Vec2& centre, double radius,
+                         const std::string& what) {
+    // A wall pushes a ball out on the side its centre is on (walls are two-sided). A ball meant
+    // to rest on a floor but placed with its centre at or a little below the floor's line was
+    // pushed out underneath and fell through it: with the centre that close to the line, which
+    // side it is on is a slip of the coordinates, not a choice. So a ball placed with its centre
+    // within half its radius of a segment (overlapping it by more than half its radius) is
+    // refused, on either side. Such an overlap is outside what the contact models are for in any
+    // case: they assume overlaps small against the radius (the soft-contact approach of Cundall
+    // & Strack 1979), and it would launch the ball with at least kn R^2 / 8.
+    const double limit = 0.5 * radius;
+    for (std::size_t k = 0; k < world.bodies.segments.size(); ++k) {
+        const Segment& sg = world.bodies.segments[k];
+        const WallData& w = world.bodies.walls[sg.wall];
+        if (!w.alive) continue;
+        const Vec2& a = world.bodies.vertices[sg.a];
+        const Vec2& b = world.bodies.vertices[sg.b];
+        const Vec2 d = b - a;
+        const double t = std::clamp((centre - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        const double dist = (centre - (a + t * d)).norm();
+        if (!(dist <= limit)) continue;
+        throw InputError(what + ": pos " + vecText(centre) + " puts its centre " +
+                         messageNumber(dist) + " m from wall " + std::to_string(sg.wall + 1) +
+                         " segment " + std::to_string(k - w.first_segment + 1) + " (" + vecText(a) +
+                         " to " + vecText(b) + "), at most half its radius " +
+                         messageNumber(radius) +
+                         ": a wall pushes a ball out on the side its centre is on, and this "
+                         "close to the wall's line that side is not meant (a ball placed so on a "
+                         "floor falls through it); place it with its centre at least half its "
+                         "radius in front of the wall (docs/physics/walls.md)");
+    }
 }
 
 WallId Model::createWall(const WallDef& d) {

@@ -231,10 +231,17 @@ void judgeContact(World& world, const Pair& p, const PairCold& c, const GuardWat
                                  " s at dt = " + num(w.dt_at_max) +
                                  " s, t = " + num(world.clock.time) + " s); it lasted " +
                                  std::to_string(w.steps) + " steps";
-        if (world.settings.guard.resolution == GuardAction::Error)
-            throw NumericalError("impact under-resolved: " + what + "; at least " +
-                                 std::to_string(world.settings.guard.min_steps) +
-                                 " steps are needed");
+        // (fewer than severe_min_steps: no sound run does that; docs/physics/guard.md)
+        const bool severe = world.settings.guard.severe == GuardAction::Error &&
+                            c.duration < world.settings.guard.severe_min_steps * w.dt_at_max;
+        if (world.settings.guard.resolution == GuardAction::Error || severe)
+            throw NumericalError(
+                "impact under-resolved: " + what + "; at least " +
+                std::to_string(world.settings.guard.min_steps) + " steps are needed" +
+                (severe ? severeNote("fewer than " +
+                                     std::to_string(world.settings.guard.severe_min_steps) +
+                                     " steps per contact duration, severe_min_steps")
+                        : std::string()));
         if (world.guard_state.underresolved++ == 0) world.guard_state.underresolved_first = what;
     }
     // At the deepest overlap the force may be up to twice the reported stiffness times the

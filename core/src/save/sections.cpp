@@ -38,6 +38,10 @@ void checkSavable(const World& world) {
         throw InputError("save: the model has " + std::to_string(world.trackers.list.size()) +
                          " tracker(s), which are not saved; read their records and clear them "
                          "(m:clear_trackers()) before saving");
+    // Barriers are not saved yet (docs/rockfall.md, "Barriers"): refused rather than dropped.
+    if (!world.barriers.list.empty())
+        throw InputError("save: the model has " + std::to_string(world.barriers.list.size()) +
+                         " barrier(s), which are not saved yet (what they caught would be lost)");
 }
 
 void writeModelState(SaveWriter& w, ContactModel& m) {

@@ -37,6 +37,8 @@ void writeSettings(const World& world, SaveWriter& w) {
     w.i32(static_cast<int32_t>(s.guard.stiffness));
     w.i32(static_cast<int32_t>(s.guard.balance)), w.f64(s.guard.balance_tolerance);
     w.i64(s.guard.balance_every);
+    w.i32(static_cast<int32_t>(s.guard.severe)), w.f64(s.guard.severe_created),
+        w.i32(s.guard.severe_min_steps);  // (format 2 on)
     w.f64(s.damping.local), w.f64(s.damping.viscous);
     w.i64(s.sort_every);
     w.boolean(world.callbacks.contact_events);
@@ -62,6 +64,11 @@ void readSettings(RestoreContext& ctx, SaveReader& r) {
     s.guard.balance_tolerance = r.f64();
     s.guard.balance_every = r.i64();
     if (s.guard.balance_every < 1) r.fail("guard balance_every must be >= 1");
+    if (r.version() >= 2) {
+        s.guard.severe = r.enumValue<GuardAction>(3, "guard severe");
+        s.guard.severe_created = r.f64();
+        s.guard.severe_min_steps = r.i32();
+    }
     s.damping.local = r.f64();
     s.damping.viscous = r.f64();
     s.sort_every = r.i64();

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "step/barriers.hpp"
 #include "step/group_energy.hpp"
 #include "step/step.hpp"
 #include "step/trackers.hpp"
@@ -25,14 +26,17 @@ void bookkeeping(World& world, const StepContext& step) {
     if (step.energy) bookWallsBefore(world, step);
     if (step.energy && world.settings.guard.balance != GuardAction::Off) checkBalance(world);
     if (!world.callbacks.events.empty()) {
-        // Swap out first: a handler may cycle the model or queue events of its own.
+        // Swap out first: a handler may queue events of its own (delete a ball, break a bond).
         std::vector<Event> events;
         events.swap(world.callbacks.events);
         if (world.callbacks.event_handler)
             for (const Event& e : events) world.callbacks.event_handler(e);
     }
-    // The trackers' sample of this step, before the hooks (they read what it recorded).
+    // The barriers, then the trackers' sample of this step, which sees a body a barrier caught
+    // as the barrier saw it; both before the hooks (they read what was recorded).
+    if (!world.barriers.list.empty()) applyBarriers(world, step);
     if (world.trackers.live > 0) updateTrackers(world);
+    world.barriers.acted.clear();
     if (world.callbacks.hooks.empty()) return;
     // A hook may add or remove hooks: removals only mark (every = 0) while we iterate, and hooks
     // added now first run at the next step.
@@ -85,6 +89,28 @@ double sceneEnergy(const World& world) {
     return energy;
 }
 
+/// Where the energy is: the body with the most kinetic energy now, for a balance finding ("; the
+/// most kinetic energy: ball 3 at (x, y), 12 J"). Called only with a finding to report.
+std::string mostKinetic(const World& world) {
+    const auto& b = world.bodies.balls;
+    double most = -1.0;
+    std::string who;
+    for (std::size_t s = 0; s < b.size(); ++s) {
+        if (b.clump[s] != kNoClump) continue;
+        const double ke =
+            0.5 * (b.mass[s] * b.vel[s].squaredNorm() + b.inertia[s] * b.spin[s] * b.spin[s]);
+        if (ke > most) most = ke, who = world.bodies.describeBall(static_cast<uint32_t>(s));
+    }
+    for (std::size_t i = 0; i < world.bodies.clumps.size(); ++i) {
+        const ClumpData& c = world.bodies.clumps[i];
+        const double ke = 0.5 * (c.mass * c.vel.squaredNorm() + c.inertia * c.spin * c.spin);
+        if (c.alive && ke > most)
+            most = ke, who = "clump " + std::to_string(i + 1) + " at " + vecText(c.pos);
+    }
+    return who.empty() ? std::string()
+                       : "; the most kinetic energy: " + who + ", " + num(most) + " J";
+}
+
 }  // namespace
 
 void bookWallsBefore(World& world, const StepContext& step) {
@@ -111,11 +137,22 @@ void judgeEnergyGains(World& world, bool may_throw) {
     // resolve gains a share of the impact's energy, far above the floor in any scene of fewer
     // than ~1e7 such bodies.
     auto& gains = world.guard_state.energy_gains;
-    const double floor = 1e-9 * sceneEnergy(world);
+    const double scene = sceneEnergy(world);
+    const double floor = 1e-9 * scene;
+    const GuardSettings& gs = world.settings.guard;
     for (const auto& gain : gains) {
         if (!(gain.gained > floor)) continue;
-        if (may_throw && world.settings.guard.energy == GuardAction::Error) {
-            const std::string what = gain.what;
+        // A contact that made more than severe_created of the energy the whole scene holds (or,
+        // traced, has moved) is no resolution error of a pack's contact, pushed about by its
+        // neighbours: it made the run's energy (docs/physics/guard.md, "Severe findings").
+        const bool severe =
+            gs.severe == GuardAction::Error && gain.gained > gs.severe_created * scene;
+        if (may_throw && (gs.energy == GuardAction::Error || severe)) {
+            const std::string what =
+                gain.what +
+                (severe ? severeNote("more than " + num(100.0 * gs.severe_created) +
+                                     "% of the scene's energy " + num(scene) + " J, severe_created")
+                        : std::string());
             gains.clear();
             throw NumericalError("energy created: " + what);
         }
@@ -162,7 +199,9 @@ void checkBalance(World& world) {
                     {"plastic", e.plastic - o.plastic},
                     {"damping", e.damping - o.damping},
                     {"released", e.released - o.released},
-                    {"placement", e.placement - o.placement}};
+                    {"placement", e.placement - o.placement},
+                    {"script", e.script - o.script},
+                    {"barrier", e.barrier - o.barrier}};
     std::stable_sort(std::begin(items), std::end(items), [](const Item& a, const Item& b) {
         return std::fabs(a.change) > std::fabs(b.change);
     });
@@ -177,7 +216,15 @@ void checkBalance(World& world) {
         num(100.0 * world.settings.guard.balance_tolerance) + "%) at step " +
         std::to_string(world.clock.step) + " (t = " + num(world.clock.time) + " s); in steps " +
         std::to_string(world.guard_state.balance.open_step) + "-" +
-        std::to_string(world.clock.step) + " the items that moved most: " + moved;
+        std::to_string(world.clock.step) + " the items that moved most: " + moved +
+        mostKinetic(world);
+    // Energy created beyond severe_created of the throughput: no sound run does that.
+    const bool severe = world.settings.guard.severe == GuardAction::Error && error < 0.0 &&
+                        -error > world.settings.guard.severe_created * throughput;
+    if (severe)
+        throw NumericalError(what + severeNote("more than " +
+                                               num(100.0 * world.settings.guard.severe_created) +
+                                               "% of the throughput created, severe_created"));
     if (world.settings.guard.balance == GuardAction::Error) throw NumericalError(what);
     if (world.guard_state.balance.findings++ == 0) world.guard_state.balance.first = what;
     world.guard_state.balance.last = what;

@@ -22,20 +22,22 @@
 
 namespace talus {
 
-void gatherClumpForces(World& world) {
+void sumPebbleForces(const World& world, const ClumpData& c, Vec2& force, double& moment) {
     const auto& b = world.bodies.balls;
-    for (ClumpData& c : world.bodies.clumps) {
-        if (!c.alive) continue;
-        Vec2 f = Vec2::Zero();
-        double m = 0.0;
-        for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-            const uint32_t s = world.bodies.pebbleSlot(c, k);
-            f += b.force[s];
-            m += b.moment[s] + cross(b.pos[s] - c.pos, b.force[s]);
-        }
-        c.force = f;
-        c.moment = m;
+    Vec2 f = Vec2::Zero();
+    double m = 0.0;
+    for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+        const uint32_t s = world.bodies.pebbleSlot(c, k);
+        f += b.force[s];
+        m += b.moment[s] + cross(b.pos[s] - c.pos, b.force[s]);
     }
+    force = f;
+    moment = m;
+}
+
+void gatherClumpForces(World& world) {
+    for (ClumpData& c : world.bodies.clumps)
+        if (c.alive) sumPebbleForces(world, c, c.force, c.moment);
 }
 
 void placePebbles(World& world, const ClumpData& c) {

@@ -149,6 +149,17 @@ void bookDeletedToGroups(World& world, uint64_t mask, double kinetic) {
         gb.g[__builtin_ctzll(m)].acc.deleted += kinetic;
 }
 
+void bookScriptToGroups(World& world, uint64_t mask, double work) {
+    auto& gb = world.books.groups;
+    for (uint64_t m = mask & gb.traced; m; m &= m - 1) gb.g[__builtin_ctzll(m)].acc.script += work;
+}
+
+void bookBarrierToGroups(World& world, uint64_t mask, double taken) {
+    auto& gb = world.books.groups;
+    for (uint64_t m = mask & gb.traced; m; m &= m - 1)
+        gb.g[__builtin_ctzll(m)].acc.barrier += taken;
+}
+
 void followRemovedSlot(World& world, uint32_t slot) {
     auto& gb = world.books.groups;
     // deleteBall moves the last slot into this one: follow it in the pending records, and mark

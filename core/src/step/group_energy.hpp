@@ -35,6 +35,10 @@ void bookContactToGroups(World& world, std::size_t i, const double* energy, doub
 void bookReleasedToGroups(World& world, const Pair& p, double released);
 /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
 void bookDeletedToGroups(World& world, uint64_t mask, double kinetic);
+/// Work done by the script on a body of the groups in `mask` (step/script_work.cpp).
+void bookScriptToGroups(World& world, uint64_t mask, double work);
+/// Kinetic energy a barrier took from a body of the groups in `mask`.
+void bookBarrierToGroups(World& world, uint64_t mask, double taken);
 /// A ball slot is being removed (deleted ball or pebble): mark its pending exchange records gone
 /// and follow the last slot, which moves into it.
 void followRemovedSlot(World& world, uint32_t slot);

@@ -9,7 +9,9 @@
 #include <string>
 
 #include "props.hpp"
+#include "step/barriers.hpp"
 #include "step/detection.hpp"
+#include "step/script_work.hpp"
 #include "talus/errors.hpp"
 #include "talus/run_control.hpp"
 #include "world/messages.hpp"
@@ -77,9 +79,12 @@ void runSteps(World& world, int64_t steps) {
             t1 = WallClock::now(), world.profile.timestep += duration<double>(t1 - t0).count(),
             t0 = t1;
         const StepContext step = beginStep(world);
+        // What the script changed since the last step, before the law of motion takes it.
+        if (step.energy) bookScriptWork(world, step);
         // Servo walls set their velocity from the last force loop and this step's dt.
         if (world.bodies.servos_on) servoWalls(world, step);
         if (world.servos.on) runServos(world, step);
+        if (!world.barriers.list.empty()) recordBodyStarts(world);
         lawOfMotion(world, step);
         moveWalls(world, step);
         if (prof)

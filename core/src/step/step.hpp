@@ -74,6 +74,8 @@ void moveClumps(World& world, const StepContext& step, double& kinetic, double& 
                 double& damping, double& driven);
 /// Pebble forces summed to the centroids.
 void gatherClumpForces(World& world);
+/// One clump's force and moment about its centroid from its pebbles' (gatherClumpForces).
+void sumPebbleForces(const World& world, const ClumpData& c, Vec2& force, double& moment);
 void placePebbles(World& world, const ClumpData& c);
 
 }  // namespace talus

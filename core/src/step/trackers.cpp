@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "step/detection.hpp"
+#include "step/crossing.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
 #include "world/types.hpp"
@@ -35,31 +36,35 @@ struct BodyNow {
 BodyNow readBody(const World& world, const Tracker& t) {
     BodyNow b;
     b.state.time = world.clock.time;
-    bool plain = false;
+    uint8_t fixity = 0;
+    bool loaded = false;  // an applied force or moment
+    uint64_t key = 0;
     if (t.clump.valid()) {
         const ClumpData& c = world.bodies.clumps[t.clump.index - 1];
         b.state.pos = c.pos, b.state.vel = c.vel, b.state.spin = c.spin;
         b.mass = c.mass, b.inertia = c.inertia;
-        plain = c.fixity == 0 && c.fapp.x() == 0.0 && c.fapp.y() == 0.0 && c.mapp == 0.0;
+        fixity = c.fixity;
+        loaded = c.fapp.x() != 0.0 || c.fapp.y() != 0.0 || c.mapp != 0.0;
+        key = barrierClumpKey(t.clump.index - 1, t.clump.generation);
     } else {
         const auto& a = world.bodies.balls;
         const uint32_t s = world.bodies.slot_of[t.ball.index - 1];
         b.state.pos = a.pos[s], b.state.vel = a.vel[s], b.state.spin = a.spin[s];
         b.mass = a.mass[s], b.inertia = a.inertia[s];
-        plain =
-            a.fixity[s] == 0 && a.fapp[s].x() == 0.0 && a.fapp[s].y() == 0.0 && a.mapp[s] == 0.0;
+        fixity = a.fixity[s];
+        loaded = a.fapp[s].x() != 0.0 || a.fapp[s].y() != 0.0 || a.mapp[s] != 0.0;
+        key = barrierBallKey(t.ball.index, t.ball.generation);
     }
+    // A barrier caught the body in this step: the sample sees it as the barrier did.
+    for (const BarrierActed& a : world.barriers.acted)
+        if (a.key == key) b.state.vel = a.vel, b.state.spin = a.spin, fixity = a.fixity;
     const DampingSettings& d = world.settings.damping;
-    b.gravity_only = plain && d.local == 0.0 && d.viscous == 0.0;
+    b.gravity_only = fixity == 0 && !loaded && d.local == 0.0 && d.viscous == 0.0;
     return b;
 }
 
-/// Translational and rotational kinetic energy, written as the rockfall module wrote them
-/// (0.5 m v^2 and 0.5 I w^2), so that both give the same bits.
-double translational(double mass, const Vec2& v) {
-    return 0.5 * mass * (v.x() * v.x() + v.y() * v.y());
-}
-double rotational(double inertia, double w) { return 0.5 * inertia * w * w; }
+double translational(double mass, const Vec2& v) { return translationalEnergy(mass, v); }
+double rotational(double inertia, double w) { return rotationalEnergy(inertia, w); }
 
 /// The live tracker of the body ball slot `slot` belongs to, or -1.
 int32_t trackerOfSlot(const World& world, uint32_t slot) {
@@ -176,28 +181,20 @@ bool crossLines(World& world, Tracker& t, const TrackedState& now, bool touched,
         const double qy = last.pos.y() + s * (now.pos.y() - last.pos.y());
         const double along = u.x() * (qx - line.from.x()) + u.y() * (qy - line.from.y());
         if (along < 0.0 || along > t.line_length[j]) continue;
-        // Between two samples the exact path of a body under a constant acceleration a is the
-        // parabola p(t0 + tau) = p0 + v_c tau + a tau (tau - dt) / 2 through both (v_c the
-        // chord's velocity), with v(t0 + tau) = v_c + a (tau - dt / 2): a = gravity in free flight
-        // at both samples, else the change of the half-step velocity over the interval. In free
-        // flight this is the ballistic state at the line, exactly.
+        // The state at the line (step/crossing.hpp): the acceleration is gravity in free flight
+        // at both samples, else the change of the half-step velocity over the interval.
         const double dt = now.time - last.time;
-        const double tau = s * dt;
         double ax = 0.0, ay = 0.0;
         if (gravity_only && !touched && !t.last_touched) {
             ax = world.settings.gravity.x(), ay = world.settings.gravity.y();
         } else {
             ax = (now.vel.x() - last.vel.x()) / dt, ay = (now.vel.y() - last.vel.y()) / dt;
         }
-        const double cx = (now.pos.x() - last.pos.x()) / dt;
-        const double cy = (now.pos.y() - last.pos.y()) / dt;
+        const CrossingState at = crossingAt(last.pos, last.spin, now.pos, now.spin, s, dt, ax, ay);
         TrackedCrossing c;
         c.line = static_cast<int32_t>(j);
-        c.time = last.time + tau;
-        c.pos = Vec2(last.pos.x() + cx * tau + 0.5 * ax * tau * (tau - dt),
-                     last.pos.y() + cy * tau + 0.5 * ay * tau * (tau - dt));
-        c.vel = Vec2(cx + ax * (tau - 0.5 * dt), cy + ay * (tau - 0.5 * dt));
-        c.spin = last.spin + s * (now.spin - last.spin);
+        c.time = last.time + s * dt;
+        c.pos = at.pos, c.vel = at.vel, c.spin = at.spin;
         c.ke_trans = translational(mass, c.vel);
         c.ke_rot = rotational(inertia, c.spin);
         t.crossings.push_back(c);

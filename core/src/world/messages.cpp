@@ -25,6 +25,12 @@ std::string describePair(const World& world, const Pair& p) {
     return s;
 }
 
+std::string severeNote(const std::string& why) {
+    return "; a severe finding (" + why +
+           "): the run stops (m:guard{severe = \"warn\"} reports severe findings as warnings; "
+           "docs/physics/guard.md)";
+}
+
 std::string vecText(const Vec2& v) {
     return "(" + messageNumber(v.x()) + ", " + messageNumber(v.y()) + ")";
 }

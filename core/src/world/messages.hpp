@@ -18,6 +18,9 @@ std::string vecText(const Vec2& v);
 void warn(World& world, const std::string& text);
 /// Stops the run: "non-finite state at step N (t = ...): what".
 [[noreturn]] void throwNonFinite(const World& world, const std::string& what);
+/// What a severe finding's error adds: why it is severe (`why`), and how to report such findings
+/// as warnings instead (docs/physics/guard.md, "Severe findings").
+std::string severeNote(const std::string& why);
 /// "ball 3 at (x, y) and wall 2 (segment 1)", for messages.
 std::string describePair(const World& world, const Pair& p);
 

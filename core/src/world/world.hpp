@@ -24,12 +24,14 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "talus/energy.hpp"
 #include "talus/model.hpp"
 #include "talus/plugin_registry.hpp"
 #include "talus/profile.hpp"
+#include "world/barriers.hpp"
 #include "world/body_store.hpp"
 #include "world/contact_store.hpp"
 #include "world/servo_store.hpp"
@@ -62,6 +64,9 @@ struct Clock {
     double window = 0.0;   // time between the two half-step velocities of the last update
     bool first_cycle = true;
     int threads = 1;  // threads of the last force loop; the law of motion takes as many
+    // A cycle or solve call is under way (api/model.cpp, RunLock): a callback that runs the
+    // model again is refused, as Box2D locks its world during callbacks.
+    bool running = false;
 };
 
 /// What set the last step; turned into words only when asked (Model::lastStepReason).
@@ -85,6 +90,29 @@ struct Stepping {
     // The contacts' cold estimates (PairCold::knest, ksest) were not kept by the last force loop
     // (a fixed step): the next survey asks the models.
     bool estimates_stale = false;
+};
+
+/// A body's motion as the law of motion takes it from between two steps: what the next energy
+/// snapshot books for it follows from this, the gravity and the damping (step/script_work.cpp).
+struct BodyMotion {
+    double mass = 0.0, inv_mass = 0.0, inertia = 0.0, inv_inertia = 0.0;
+    Vec2 vel{0.0, 0.0};
+    double spin = 0.0;
+    Vec2 force{0.0, 0.0};  // contact force of the last force loop plus the applied force
+    double moment = 0.0;   // likewise
+    uint8_t fixity = 0;
+    uint64_t groups = 0;
+};
+
+/// A body the script changed since the last step, as it was before (ScriptChanges).
+struct ScriptBody {
+    uint32_t index = 0;       // a ball's handle index, or a clump's index
+    uint32_t generation = 0;  // a ball's generation
+    bool clump = false;
+    bool existed = false;  // it was there before the change (not added since)
+    bool deleted = false;  // deleted since: `gone` is its motion then
+    bool barrier = false;  // changed by a barrier (step/barriers.cpp): booked as `barrier`
+    BodyMotion before, gone;
 };
 
 /// Energy books (docs/physics/energy.md). Every energy sum of the model is accumulated here:
@@ -115,6 +143,16 @@ struct EnergyBooks {
     // Placement energy of the contact the force loop just activated (notePlacement), for the
     // group shares.
     double last_placed = 0.0;
+    // What the script changed since the last step (step/script_work.cpp): each body as it was
+    // before its first change, and the gravity and damping the last step used. Booked as
+    // `script` at the start of the next step, when the step's length is known.
+    struct ScriptChanges {
+        std::vector<ScriptBody> bodies;
+        std::unordered_map<uint64_t, std::size_t> index;  // body key -> entry in `bodies`
+        bool seen = false;  // gravity and damping below are the last step's
+        Vec2 gravity{0.0, 0.0};
+        DampingSettings damping;
+    } script;
     // Per-group books (group_energy.cpp), sized to the group table while tracing is on and at
     // least one group exists; empty and never touched otherwise.
     struct GroupBooks {
@@ -170,6 +208,9 @@ struct GuardState {
     // Off while a routine overlaps bodies on purpose (Model::setPlacementWarning): contacts that
     // start overlapping are booked as placement but not reported. Not saved (a run-time switch).
     bool placement_warning = true;
+    // Balls whose memory (their contacts' included) the last check counted (api/memory.cpp):
+    // the balls added since are the ones a run has yet to make room for. Not saved.
+    std::size_t memory_counted_balls = 0;
     // Run-level balance check: the snapshot at the last check that passed (the window a finding
     // names opens there), the peak mechanical energy, and the error last reported (a finding is
     // reported again only when it grows by another tolerance).
@@ -219,6 +260,7 @@ struct World {
     Callbacks callbacks;
     Trackers trackers;
     ServoStore servos;
+    Barriers barriers;
     Profile profile;
 };
 

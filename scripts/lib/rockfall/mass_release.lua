@@ -56,6 +56,7 @@ local function mass_release(an, opts)
     local warnings = {}
     local m = new_model(an, an.margin or 0.1 * rsum / n, warnings)
     local wall_material = build_slope(m, an, pts, mats)
+    Tr.add_barriers(m, an, pts)
     local lines = rock_lines(an)
     local left = n
     local function ended(rt)

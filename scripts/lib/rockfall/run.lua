@@ -30,6 +30,7 @@ local function run_rock(an, i, opts)
     local warnings = {}
     local m = new_model(an, an.margin or math.max(s.rock.r_eq, 1e-3), warnings, An.ROCK_TIMESTEP)
     local wall_material = build_slope(m, an, s.points, s.materials)
+    Tr.add_barriers(m, an, s.points)
     local body = place_rock(m, s)
     m:energy{ on = true }
     if opts.on_model then opts.on_model(m, { rock = i, seed = s.seed, body = body }) end
@@ -45,7 +46,7 @@ local function run_rock(an, i, opts)
     local rec = rt.record
     local e = m:energies()
     rec.energy = { input = e.input, kinetic = e.kinetic, body = e.body, slip = e.slip,
-        dashpot = e.dashpot, strain = e.strain, balance_error = e.balance_error }
+        dashpot = e.dashpot, strain = e.strain, barrier = e.barrier, balance_error = e.balance_error }
     rec.steps = m:step()
     if #warnings > 0 then rec.warnings = warnings end
     if opts.on_end then opts.on_end(m, rec) end

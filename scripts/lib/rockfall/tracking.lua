@@ -6,9 +6,10 @@ local ground_at = P.ground_at
 
 -- The engine tracks a rock (m:track, docs/lua-api.md "Trackers") at every step, in C++: its
 -- touches of the slope (impacts), its crossings of the collector and barrier lines, its
--- envelope, its path and its end rules (left, rest, time). Lua acts only at events -- a barrier
--- crossing, the rock's end -- and fills the record from the tracker's lists at the end; it never
--- looks at the rock and its contacts each step. run_rock tracks its one rock, mass_release
+-- envelope, its path and its end rules (left, rest, time); the engine's barriers (m:barrier)
+-- slow or stop it. Lua acts only at events -- a barrier crossing, the rock's end -- to record
+-- them, and fills the record from the tracker's lists at the end; it never looks at the rock
+-- and its contacts each step. run_rock tracks its one rock, mass_release
 -- every rock of its model, both with these functions.
 
 --- The collector and barrier lines in +x order.
@@ -20,6 +21,24 @@ local function rock_lines(an)
     end
     table.sort(lines, function(a, b) return a.x < b.x end)
     return lines
+end
+
+--- Whether a rock is fixed (a barrier stopped it; rocks are not fixed otherwise).
+local function fixed(body)
+    local f = body.fix
+    return f == true or (type(f) == "table" and #f > 0)
+end
+
+--- The analysis' barriers as engine barriers (m:barrier; docs/rockfall.md, "Barriers"): each a
+--- vertical segment from the ground under its x up to its height. The engine catches a rock whose
+--- centre crosses the line with its equivalent disk on the segment -- its bottom (centre less
+--- r_eq) below the barrier's height, the rule this module's records use -- at every step, in
+--- C++, and books what it takes as the energy item `barrier`, so the balance check stays on.
+local function add_barriers(m, an, pts)
+    for _, b in ipairs(an.barriers) do
+        local g = ground_at(pts, b.x)
+        m:barrier{ name = b.name, from = { b.x, g }, to = { b.x, g + b.height }, energy = b.energy }
+    end
 end
 
 --- Starts the engine's tracker of rock i (body `body`, draw `s`) and returns its Lua side:
@@ -83,21 +102,14 @@ local function track_rock(m, an, i, s, body, lines, opts, ended)
             energy = ke, angle = math.deg(math.atan(-uy, ux)), ke_trans = kt, ke_rot = kr,
         }
         r.barrier[#r.barrier + 1] = hit
+        -- The engine's barrier (add_barriers) has acted in this step, before this event: it
+        -- took E_cap from a faster rock (velocity and spin scaled by sqrt((ke - E_cap) / ke)) or
+        -- stopped and fixed a slower one, and booked what it took as the energy item `barrier`.
         if hit.height >= line.height then
             hit.stopped, hit.over = false, true -- flies over: recorded as passed, energy unchanged
-        elseif ke > line.energy then
-            -- Passes with its energy reduced by the capacity: the body's half-step velocity and
-            -- spin scaled by f = sqrt((ke - E_cap) / ke), which takes E_cap from translation and
-            -- rotation in proportion (a loss the energy tracing cannot book: barrier_absorbed).
-            -- The scaled velocity moves the rock from the next step on; a line crossed later in
-            -- this step sees the rock as this step moved it.
-            local f = math.sqrt((ke - line.energy) / ke)
+        elseif not fixed(body) then
             hit.stopped, hit.energy_after = false, ke - line.energy
-            local v = body.vel
-            body.vel = { v[1] * f, v[2] * f }
-            body.spin = body.spin * f
             r.barrier_absorbed = (r.barrier_absorbed or 0) + line.energy
-            m:guard{ balance = "off" } -- the barrier's energy is not an engine item
         else
             hit.stopped = true
             tr:stop()
@@ -174,4 +186,4 @@ local function collect_rock(rt, lines, wall_material)
     end
 end
 
-return { rock_lines = rock_lines, track_rock = track_rock, ended_at_start = ended_at_start, collect_rock = collect_rock }
+return { rock_lines = rock_lines, add_barriers = add_barriers, track_rock = track_rock, ended_at_start = ended_at_start, collect_rock = collect_rock }

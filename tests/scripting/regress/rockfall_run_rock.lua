@@ -79,7 +79,14 @@ local expected = {
     "19 ball left 24.001675 0.180034 4.051140 4950 7 2 pass,pass",
     "20 ball left 24.001918 0.175389 3.844972 4550 5 2 pass,pass",
 }
-local expected_digest = "86755edce2a32025"
+-- (0f506f5d08ac073e since the engine books the velocity a barrier scales as work done by the
+-- script: the records' energy.input and energy.balance_error changed, nothing else; regenerated
+-- with the old module as above, which gives the same digest)
+-- (5a90c04b94299191 since the barrier is an engine object: the rows above are unchanged, the
+-- records' energy gained `barrier` (what the barriers took), and rock 1, stopped by fence2, is
+-- fixed there, so its model's kinetic energy is 0 and its input lacks the gravity work of the
+-- chunk's steps after the stop, which the old module let the rock fall on for)
+local expected_digest = "5a90c04b94299191"
 T.check(#rows == #expected, "one record per rock")
 for k, row in ipairs(rows) do T.check(row == expected[k], "rock " .. k .. ": got '" .. row .. "'") end
 T.check(digest == expected_digest, "every record bit for bit: digest " .. digest .. " (the hook's " ..
