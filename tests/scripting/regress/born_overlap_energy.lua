@@ -61,7 +61,12 @@ for _, c in ipairs(cases) do
     for ct in m:contacts{} do force = ct.normal_force end
     m:cycle(bonded and 3000 or 20000)
     local e = m:energies()
-    T.near(e.placement, stored, 1e-9, what .. ": placement")
+    -- A bond model's contact (bonded or not) is made where the script placed the balls, before the first step
+    -- (bonds at placement): the books open on it, so what it holds is initial strain energy.
+    -- The others touch in the first step's force loop: placement.
+    local at_placement = name == "cbond" or name == "pbond" -- the shipped bond models
+    T.near(at_placement and e.initial_strain or e.placement, stored, 1e-9,
+        what .. (at_placement and ": initial_strain" or ": placement"))
     for _, item in ipairs({ "slip", "dashpot", "damping", "released" }) do
         T.check(e[item] == 0, what .. ": " .. item .. " " .. e[item] .. " J (elastic release)")
     end
