@@ -320,8 +320,8 @@ extern const Binding kTrackerBinding;       // wrap_tracker.cpp: track and the t
 /// names the caller in the error raised for a tracker of another model (wrap_tracker.cpp).
 int trackerIdAt(lua_State* L, int index, const LuaModel& lm, const std::string& what);
 extern const Binding kBarrierBinding;  // wrap_barrier.cpp: barrier, barriers
-extern const Binding kImpactBinding;  // wrap_impact.cpp: talus.impact, talus.drive
-extern const Binding kMapBinding;     // wrap_map.cpp: talus.map, rank, ranks
+extern const Binding kImpactBinding;   // wrap_impact.cpp: talus.impact, talus.drive
+extern const Binding kMapBinding;      // wrap_map.cpp: talus.map, rank, ranks
 
 /// Registers the model's metatable: every Binding's model methods (wrap_model.cpp).
 void openModel(lua_State* L);

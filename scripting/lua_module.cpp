@@ -130,7 +130,8 @@ const Binding* const kBindings[] = {
     &kContactModelBinding, &kTimestepBinding, &kGuardBinding,   &kEnergyBinding,
     &kClumpBinding,        &kBondBinding,     &kMeasureBinding, &kForceLoopBinding,
     &kHistoryBinding,      &kVtkBinding,      &kPictureBinding, &kSaveBinding,
-    &kCrackBinding,        &kTrackerBinding,  &kBarrierBinding, &kImpactBinding,  &kMapBinding,
+    &kCrackBinding,        &kTrackerBinding,  &kBarrierBinding, &kImpactBinding,
+    &kMapBinding,
 };
 
 }  // namespace

@@ -229,15 +229,7 @@ void placeContact(World& world, std::size_t i, const FirstCallGeometry& g) {
     takeFirstCall(world, i, g, fd, FirstCallEntry{}, true);
     // Nothing moved (closure 0): what the contact holds was placed.
     notePlacement(world, p, 0.0, g.overlap, fd, world.books.on);
-    if (world.callbacks.contact_events) {
-        Event ev;
-        ev.kind = EventKind::ContactCreated;
-        ev.time = world.clock.time;
-        ev.pos = g.point;
-        ev.contact = ContactKey{c.key};
-        ev.model = world.contacts.ruleOf(p).model_name;
-        world.callbacks.events.push_back(std::move(ev));
-    }
+    if (world.callbacks.contact_events) noteContactCreated(world, p, c, g.point);
 }
 
 }  // namespace

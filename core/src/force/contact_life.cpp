@@ -118,16 +118,18 @@ Touch activate(World& world, Pair& p, PairCold& c, const ContactGeometry& g, con
         w.closure = touch.closure;
         w.born_overlapped = touch.born_overlapped;
     }
-    if (world.callbacks.contact_events) {
-        Event ev;
-        ev.kind = EventKind::ContactCreated;
-        ev.time = world.clock.time;
-        ev.pos = g.point;
-        ev.contact = ContactKey{c.key};
-        ev.model = world.contacts.ruleOf(p).model_name;
-        world.callbacks.events.push_back(std::move(ev));
-    }
+    if (world.callbacks.contact_events) noteContactCreated(world, p, c, g.point);
     return touch;
+}
+
+void noteContactCreated(World& world, const Pair& p, const PairCold& c, const Vec2& point) {
+    Event ev;
+    ev.kind = EventKind::ContactCreated;
+    ev.time = world.clock.time;
+    ev.pos = point;
+    ev.contact = ContactKey{c.key};
+    ev.model = world.contacts.ruleOf(p).model_name;
+    world.callbacks.events.push_back(std::move(ev));
 }
 
 double notePlacement(World& world, const Pair& p, double closure, double overlap, const FdBlock& fd,

@@ -53,6 +53,8 @@ void checkEnergyContract(World& world, const Pair& p, double strain_old, double 
                          const FdBlock& fd, double fn_old, double fs_old, double m_old,
                          const EnergyTotals& before);
 /// Notes a contact born overlapping; returns the placement energy to book (tracing on).
+/// The contact-created event of pair `p` at `point` (only when the script asked for them).
+void noteContactCreated(World& world, const Pair& p, const PairCold& c, const Vec2& point);
 double notePlacement(World& world, const Pair& p, double closure, double overlap, const FdBlock& fd,
                      bool energy);
 /// The guard's watch: the values at the deepest overlap (the last step's, as it stops growing).

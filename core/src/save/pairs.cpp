@@ -87,8 +87,8 @@ void checkPair(const World& world, SaveReader& r, const Pair& p, const PairCold&
 /// Appends a read pair to the store with a model object cloned as when the pair was made (the
 /// ends' properties), then its saved state.
 void appendPair(RestoreContext& ctx, SaveReader& r, const Pair& p, const PairCold& c,
-                const PairStored& s, const GuardWatch& g, uint32_t rule, const std::vector<uint8_t>& state,
-                const std::string& at) {
+                const PairStored& s, const GuardWatch& g, uint32_t rule,
+                const std::vector<uint8_t>& state, const std::string& at) {
     World& world = ctx.world;
     ContactStore& cs = world.contacts;
     if (!cs.key_index.emplace(c.key, static_cast<uint32_t>(cs.pairs.size())).second)
