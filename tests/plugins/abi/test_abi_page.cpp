@@ -18,10 +18,15 @@
 
 namespace {
 
-std::string page() {
-    std::ifstream in(TALUS_ABI_PAGE);
-    REQUIRE(in.good());
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+/// The page's text, read once: the matches below point into it, so it must outlive them (a
+/// temporary string would leave them dangling).
+const std::string& page() {
+    static const std::string text = [] {
+        std::ifstream in(TALUS_ABI_PAGE);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }();
+    REQUIRE(!text.empty());
+    return text;
 }
 
 /// Every match of `pattern` in `text`.
