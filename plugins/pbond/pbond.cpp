@@ -233,7 +233,7 @@ public:
 
     /// The linear part of the step: talus/sdk/linear_law.hpp's law in PFC's lin_mode, after
     /// the bond contract's first call; writes lin_* and dp_*, returns the forces and energies.
-    LinearLaw::Forces linearPart(FdBlock& fd) {
+    LinearLaw::Forces linearPart(FdBlock& fd, double overlap_increment) {
         if (fd.flags & kFdFirstCall) {
             // The bond contract: on a first call the forces on entry are the old contact's
             // (m:bond; zero for a contact the engine just made). A contact that was already in
@@ -247,7 +247,12 @@ public:
                 lin_fs = fd.s_force;
             }
         }
-        return linearForces(fd, lin_mode == 1.0);
+        // The bond's trial forces, which act in parallel with the linear springs: the
+        // dashpots' load leaves them out (sdk/dashpot.hpp, lessParallelSprings).
+        const bool steady_bond = isBonded() && !bond_fresh_;
+        const double bond_n = steady_bond ? pb_fn + kbn_ * overlap_increment : 0.0;
+        const double bond_s = steady_bond ? pb_fs - kbs_ * fd.du_s : 0.0;
+        return linearForces(fd, lin_mode == 1.0, bond_n, -bond_s);
     }
 
     /// Peak stresses of the bond now (P&C 2004 eq. for the 2D rectangle; PFC pbSMax):
@@ -326,7 +331,11 @@ public:
             ParallelBondLaw::steadyStep(*this, fd, estimates()))
             return;
         const bool energy = (fd.flags & kFdEnergyOn) != 0;
-        const LinearLaw::Forces lin = linearPart(fd);
+        // The overlap's own increment since the last step (before linearPart moves
+        // last_overlap_ on): what the bond's normal spring adds up, not u_dot_n dt, which a
+        // turning pair reads as an opening (LinearLaw::contactStep).
+        const double overlap_increment = fd.u_n - last_overlap_;
+        const LinearLaw::Forces lin = linearPart(fd, overlap_increment);
         double released = 0.0;
         if (let_go_) {
             // A bond removed after the last step (m:unbond): the bodies felt its last forces
@@ -361,7 +370,7 @@ public:
                 }
             } else {
                 const double fn_old = pb_fn, fs_old = pb_fs, m_old = pb_m;
-                pb_fn += kbn_ * fd.du_n;
+                pb_fn += kbn_ * overlap_increment;
                 pb_fs -= kbs_ * fd.du_s;
                 pb_m -= kbr_ * fd.dtheta;
                 bondStresses();

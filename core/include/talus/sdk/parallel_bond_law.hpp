@@ -97,21 +97,27 @@ struct ParallelBondLaw {
         Stresses st;
         if (bonded) {
             // The trial forces first: a break leaves everything to the model's full law.
-            fn = s.pb_fn + s.kbn_ * fd.du_n;
+            // the overlap's own increment, not u_dot_n dt (LinearLaw::contactStep says why)
+            fn = s.pb_fn + s.kbn_ * (fd.u_n - s.last_overlap_);
             fs = s.pb_fs - s.kbs_ * fd.du_s;
             m = s.pb_m - s.kbr_ * fd.dtheta;
             st = stresses(s, fn, fs, m);
             if (failure(s, fn, st) != kIntact) return false;
         }
         // The linear part of a touching contact (LinearLaw::linearForces): the dashpots' load
-        // from the rest of the model, then the contact step.
-        const DashpotLoad other = s.cn_ > 0.0 || s.cs_ > 0.0
-                                      ? s.history_.observe(fd, s.cn_ > 0.0 ? s.inv_mass_eff_ : 0.0,
-                                                           s.cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0)
-                                      : DashpotLoad{};
+        // from the rest of the model (the bond's forces are this contact's, not the rest's),
+        // then the contact step.
+        DashpotLoad other{};
+        if (s.cn_ > 0.0 || s.cs_ > 0.0) {
+            const double inv_n = s.cn_ > 0.0 ? s.inv_mass_eff_ : 0.0;
+            const double inv_s = s.cs_ > 0.0 ? fd.inv_mass_eff_s : 0.0;
+            other =
+                lessParallelSprings(s.history_.observe(fd, inv_n, inv_s), fn, -fs, inv_n, inv_s);
+        }
+        const double overlap_increment = fd.u_n - s.last_overlap_;
         s.last_overlap_ = fd.u_n;
         const LinearLaw::Forces lin =
-            LinearLaw::contactStep(s, fd, other, false, s.lin_mode == 1.0);
+            LinearLaw::contactStep(s, fd, other, false, s.lin_mode == 1.0, overlap_increment);
         if (bonded) {
             s.pb_fn = fn;
             s.pb_fs = fs;
