@@ -9,7 +9,8 @@
 -- distribution, each breakage episode's energy split and the CPU of each run.
 --
 --   talus run scripts/examples/rockfall_fragmenting.lua [outdir] [--n=2] [--balls=500]
---                                                       [--seed=2026] [--emod=1e8]
+--                                                       [--seed=2026] [--emod=1e8] [--safety=0.5]
+--                                                       [--settle=true]
 --
 -- Writes into outdir (default out/rockfall_fragmenting): rock_endpoints.csv etc. of the rigid
 -- rocks in rigid/, of the breakable ones in breakable/ with rock_fragments.csv (one row per
@@ -18,14 +19,16 @@
 -- at rest, each fragment its own colour, the broken bonds drawn).
 local rockfall = require("rockfall")
 
-local outdir, n, balls, seed, emod = "out/rockfall_fragmenting", 2, 500, 2026, 1e8
+local outdir, n, balls, seed, emod, safety, settle = "out/rockfall_fragmenting", 2, 500, 2026, 1e8, nil, true
 for _, a in ipairs(arg or {}) do
     local k, v = a:match("^%-%-([%w_]+)=(.+)$")
     if k == "n" then n = math.tointeger(tonumber(v))
     elseif k == "balls" then balls = math.tointeger(tonumber(v))
     elseif k == "seed" then seed = math.tointeger(tonumber(v))
     elseif k == "emod" then emod = tonumber(v)
-    elseif k then error("unknown option --" .. k .. " (known: --n, --balls, --seed, --emod)")
+    elseif k == "safety" then safety = tonumber(v)
+    elseif k == "settle" then settle = v ~= "false"
+    elseif k then error("unknown option --" .. k .. " (known: --n, --balls, --seed, --emod, --safety, --settle)")
     else outdir = a end
 end
 
@@ -39,7 +42,7 @@ local function options()
 end
 local rigid = rockfall.analysis(options())
 local bopts = options()
-bopts.seeders[1].breakable = { material = "lac_du_bonnet", balls = balls, emod = emod }
+bopts.seeders[1].breakable = { material = "lac_du_bonnet", balls = balls, emod = emod, safety = safety, settle = settle }
 local breakable = rockfall.analysis(bopts)
 talus.mkdir(outdir)
 

@@ -11,7 +11,7 @@ local fail, check_keys, num = K.fail, K.check_keys, K.num
 
 local B = {}
 
-local KEYS = { "material", "balls", "size", "emod", "bond", "seed", "break_gap", "min_fragment", "slope_kn" }
+local KEYS = { "material", "balls", "size", "emod", "bond", "seed", "break_gap", "min_fragment", "slope_kn", "settle", "safety" }
 
 -- The default modulus of the balls' contacts and bonds [Pa]: a rock of 500 balls runs to rest
 -- on a slope in about a minute of CPU at this stiffness (docs/rockfall.md, "Rocks that break").
@@ -120,6 +120,10 @@ function B.check(spec, where)
     end
     o.slope_kn = spec.slope_kn and num(spec.slope_kn, where .. ".slope_kn", 1) or B.SLOPE_KN
     o.break_gap = spec.break_gap and num(spec.break_gap, where .. ".break_gap", 0) or 0.1
+    if spec.settle ~= nil and type(spec.settle) ~= "boolean" then fail("%s.settle must be true or false", where) end
+    o.settle = spec.settle ~= false
+    o.safety = spec.safety and num(spec.safety, where .. ".safety", 1e-3) or B.TIMESTEP.safety
+    if o.safety > 1 then fail("%s.safety must be in (0, 1] (got %s)", where, tostring(o.safety)) end
     return o
 end
 
@@ -251,7 +255,7 @@ local function bond_rock(m, br, balls)
     local M = require("material")
     local n = M.install_bonds(m, { model = mat.model, kn = mat.kn, ks = mat.ks, fric = mat.fric, bond = mat.bond,
         slit = mat.slit, seed = br.seed }, mat.gap or 1e-3 * rmin)
-    m:timestep{ max = B.bond_step(m, balls, mat) }
+    m:timestep{ max = B.bond_step(m, balls, mat, br.safety) }
     return n
 end
 
@@ -260,7 +264,7 @@ end
 --- unit thickness; fj_kn likewise). A cap on the automatic step: bonds installed across a gap
 --- (near-contacts) were not all seen by the engine's stability rule, whose step then grew in a
 --- fall until a hard impact at emod = 1e9 Pa pushed a ball through the slope.
-function B.bond_step(m, balls, mat)
+function B.bond_step(m, balls, mat, safety)
     local ksum = {}
     for c in m:contacts{ model = mat.model } do
         if c.ball2 and c:prop("bonded") == 1 then
@@ -274,7 +278,7 @@ function B.bond_step(m, balls, mat)
         local k = ksum[b.id]
         if k and k > 0 then dt = math.min(dt, math.sqrt(b.mass / k)) end
     end
-    return B.TIMESTEP.safety * dt
+    return (safety or B.TIMESTEP.safety) * dt
 end
 
 -- ------------------------------------------------------------------ the run
@@ -311,11 +315,11 @@ local function split(b0, b1)
 end
 
 --- Rows of the fragments for a record: mass, centre, velocity, energy, size, balls.
-local function fragment_rows(frags, stop)
+local function fragment_rows(frags, stop, t_end)
     local rows = {}
     for k, f in ipairs(frags) do
         rows[k] = { fragment = k, balls = f.n, mass = f.mass, size = f.size, x = f.x, y = f.y, vx = f.vx, vy = f.vy,
-            ke = f.ke, ke_centre = f.ke_centre, stop = f.stop or stop }
+            ke = f.ke, ke_centre = f.ke_centre, stop = f.stop or stop, t_end = f.t_end or t_end }
     end
     return rows
 end
@@ -323,7 +327,10 @@ end
 --- One breakage episode's record: its times, broken bonds, the energy split, the fragments
 --- then and their distribution.
 local function episode_record(m, st, ep)
-    local frags = Fr.find(m, st.live(), st.bond_model)
+    local frags = st.fragments()
+    for _, f in ipairs(st.left) do frags[#frags + 1] = f end
+    for _, f in ipairs(st.settled) do frags[#frags + 1] = f end
+    table.sort(frags, Fr.larger)
     local dist = Fr.distribution(frags)
     local big = 0
     for _, f in ipairs(frags) do if f.n >= st.min_fragment then big = big + 1 end end
@@ -337,15 +344,32 @@ end
 
 --- The run's state: balls, what leaves the slope, the books and the episodes.
 local function new_state(m, an, s, br, balls)
-    local st = { m = m, balls = balls, alive = {}, left = {}, mass = s.rock.mass, bond_model = br.material.model,
-        min_fragment = br.min_fragment, episodes = {}, broken = 0 }
+    local st = { m = m, balls = balls, alive = {}, left = {}, settled = {}, rest_since = {}, mass = s.rock.mass,
+        bond_model = br.material.model, min_fragment = br.min_fragment, episodes = {}, broken = 0 }
     for k = 1, #balls do st.alive[k] = true end
+    --- The live balls and, for each, its index in st.balls.
     function st.live()
-        local out = {}
-        for k, b in ipairs(st.balls) do if st.alive[k] then out[#out + 1] = b end end
-        return out
+        local out, index = {}, {}
+        for k, b in ipairs(st.balls) do
+            if st.alive[k] then out[#out + 1] = b; index[#out] = k end
+        end
+        return out, index
     end
+    --- The fragments of the live balls, each with `members` (its balls' indices in st.balls).
+    function st.fragments()
+        local live, index = st.live()
+        local frags = Fr.find(m, live, st.bond_model)
+        for _, f in ipairs(frags) do
+            f.members = {}
+            for i, j in ipairs(f.balls) do f.members[i] = index[j] end
+        end
+        return frags, live
+    end
+    st.lines = an.collectors and require("rockfall.tracking").rock_lines(an) or {}
+    st.last_x, st.cross = {}, {}
+    for k, b in ipairs(balls) do st.last_x[k] = b.pos[1] end
     local pts = s.points
+    st.points = pts
     st.x_lo, st.x_hi = pts[1][1], pts[#pts][1]
     st.y_lo = an.y_min - 2 * s.rock.r_eq - 1
     local v = an.rest_speed
@@ -357,28 +381,140 @@ end
 --- recorded (stop "left") and its balls deleted (their kinetic energy is booked as deleted).
 local function remove_left(st)
     local out = false
+    local lines, t = st.lines, nil
     for k, b in ipairs(st.balls) do
         if st.alive[k] then
             local p = b.pos
-            if p[1] < st.x_lo or p[1] > st.x_hi or p[2] < st.y_lo then out = true; break end
+            local x, x0 = p[1], st.last_x[k]
+            if x < st.x_lo or x > st.x_hi or p[2] < st.y_lo then out = true end
+            -- the collector and barrier lines this ball crossed toward +x since the last sample
+            -- (its first crossing of each counts, as for a rigid rock)
+            for li, line in ipairs(lines) do
+                if x0 < line.x and x >= line.x then
+                    local c = st.cross[k] or {}
+                    st.cross[k] = c
+                    if not c[li] then
+                        t = t or st.m:time()
+                        local v, w, mass = b.vel, b.spin, b.mass
+                        c[li] = { t = t, y = p[2], vx = v[1], vy = v[2], mass = mass,
+                            ke = 0.5 * mass * (v[1] * v[1] + v[2] * v[2]) + 0.5 * b.inertia * w * w }
+                    end
+                end
+            end
+            st.last_x[k] = x
         end
     end
     if not out then return end
-    local live, index = {}, {}
-    for k, b in ipairs(st.balls) do
-        if st.alive[k] then live[#live + 1] = b; index[#live] = k end
-    end
-    for _, f in ipairs(Fr.find(st.m, live, st.bond_model)) do
+    for _, f in ipairs(st.fragments()) do
         local x = f.x
         if x < st.x_lo or x > st.x_hi or f.y < st.y_lo then
-            f.stop = "left"
+            f.stop, f.t_end = "left", st.m:time()
             st.left[#st.left + 1] = f
-            for _, j in ipairs(f.balls) do
-                st.alive[index[j]] = false
-                live[j]:delete()
+            for _, k in ipairs(f.members) do
+                st.alive[k] = false
+                st.balls[k]:delete()
             end
         end
     end
+end
+
+--- The crossings of the collector and barrier lines by fragment `f` (its member balls'
+--- crossings, recorded whatever piece they belonged to then): a line counts when balls holding at
+--- least half its mass crossed it; t, y, vx, vy are their mass-weighted means, ke their kinetic
+--- energies' sum, height the centre's height above the ground less half the fragment's size.
+local function fragment_crossings(st, f)
+    local out = {}
+    for li, line in ipairs(st.lines) do
+        local m, t, y, vx, vy, ke = 0, 0, 0, 0, 0, 0
+        for _, k in ipairs(f.members) do
+            local c = st.cross[k] and st.cross[k][li]
+            if c then
+                m, t, y = m + c.mass, t + c.mass * c.t, y + c.mass * c.y
+                vx, vy, ke = vx + c.mass * c.vx, vy + c.mass * c.vy, ke + c.ke
+            end
+        end
+        if m >= 0.5 * f.mass then
+            t, y, vx, vy = t / m, y / m, vx / m, vy / m
+            out[#out + 1] = { line = line.name, kind = line.kind, t = t, x = line.x, y = y,
+                height = y - require("rockfall.profile").ground_at(st.points, line.x) - 0.5 * f.size,
+                vx = vx, vy = vy, v = math.sqrt(vx * vx + vy * vy), ke = ke,
+                ke_trans = 0.5 * f.mass * (vx * vx + vy * vy) }
+        end
+    end
+    return out
+end
+
+-- Simulated seconds between two looks for fragments at rest (settle): a look walks every contact
+-- in Lua, a few milliseconds for a 500-ball rock.
+B.SETTLE_EVERY = 0.25
+
+--- Fragments at rest leave the model: the live balls' fragments (intact bonds) joined into
+--- clusters by touching ball-ball contacts (fragments that lean on each other go together); a
+--- cluster whose kinetic energy stayed below the rest rule (an.rest_speed, as for the whole
+--- rock: 0.75 m v^2, or an.rest_ke x its mass share) for an.rest_time is recorded fragment by
+--- fragment with stop "rest" and its balls deleted (their contacts' stored energy is booked as
+--- released, their kinetic energy as deleted). Why: the rock's run lasts until its last moving
+--- piece stops, and resting pieces cost as much per step as moving ones; with them gone a
+--- 500-ball rock's steps cost what its moving balls cost. What it changes: a piece that comes
+--- later cannot hit a removed one (the rigid workflow runs every rock alone for the same reason).
+local function settle(st, an, t)
+    local frags, live = st.fragments()
+    if #frags == 0 then return end
+    local frag_of = {}
+    for fi, f in ipairs(frags) do
+        for _, j in ipairs(f.balls) do frag_of[live[j].id] = fi end
+    end
+    local parent = {}
+    for fi = 1, #frags do parent[fi] = fi end
+    local function find(k)
+        while parent[k] ~= k do parent[k] = parent[parent[k]]; k = parent[k] end
+        return k
+    end
+    for c in st.m:contacts{} do
+        local b2 = c.ball2
+        if b2 and c.overlap > 0 then
+            local a, b = frag_of[c.ball1.id], frag_of[b2.id]
+            if a and b and a ~= b then
+                local ra, rb = find(a), find(b)
+                if ra ~= rb then parent[math.max(ra, rb)] = math.min(ra, rb) end
+            end
+        end
+    end
+    local clusters, order = {}, {}
+    for fi, f in ipairs(frags) do
+        local r = find(fi)
+        local cl = clusters[r]
+        if not cl then
+            cl = { frags = {}, mass = 0, ke = 0, key = math.huge }
+            clusters[r] = cl
+            order[#order + 1] = r
+        end
+        cl.frags[#cl.frags + 1] = f
+        cl.mass, cl.ke = cl.mass + f.mass, cl.ke + f.ke
+        for _, j in ipairs(f.balls) do cl.key = math.min(cl.key, live[j].id) end
+    end
+    local since = {}
+    for _, r in ipairs(order) do
+        local cl = clusters[r]
+        local v = an.rest_speed
+        local limit = an.rest_ke and an.rest_ke * cl.mass / st.mass or 0.75 * cl.mass * v * v
+        if cl.ke < limit then
+            local t0 = st.rest_since[cl.key] or t
+            since[cl.key] = t0
+            if t - t0 >= an.rest_time then
+                for _, f in ipairs(cl.frags) do
+                    f.stop, f.t_end = "rest", t
+                    st.settled[#st.settled + 1] = f
+                    for _, k in ipairs(f.members) do
+                        st.alive[k] = false
+                        st.balls[k]:delete()
+                    end
+                end
+                since[cl.key] = nil
+            end
+        end
+    end
+    st.rest_since = since
 end
 
 --- Runs the rock's model until it rests, leaves or runs out of time; breakage episodes are
@@ -391,6 +527,7 @@ local function run_to_rest(m, an, st, br)
     local prev = last_free
     local ep, rest_since = nil, nil
     local t_max = an.t_max
+    local next_settle = m:time() + B.SETTLE_EVERY
     while true do
         local t0 = m:time()
         local before_breaks = st.broken
@@ -415,7 +552,11 @@ local function run_to_rest(m, an, st, br)
         if now.slip == prev.slip and now.dashpot == prev.dashpot and not ep then last_free = now end
         prev = now
         remove_left(st)
-        if #st.live() == 0 then return "left", t end
+        if br.settle and t >= next_settle then
+            settle(st, an, t)
+            next_settle = t + B.SETTLE_EVERY
+        end
+        if #st.live() == 0 then return #st.settled > 0 and "rest" or "left", t end
         if now.kinetic < st.ke_rest then
             rest_since = rest_since or t
             if t - rest_since >= an.rest_time and not ep then return "rest", t end
@@ -432,7 +573,9 @@ local function run_to_rest(m, an, st, br)
     end
 end
 
-B.FRAGMENT_HEADER = { "rock", "fragment", "balls", "mass", "size", "x", "y", "vx", "vy", "ke", "ke_centre", "stop" }
+B.FRAGMENT_HEADER = { "rock", "fragment", "balls", "mass", "size", "x", "y", "vx", "vy", "ke", "ke_centre", "stop",
+    "t_end" }
+B.CROSSING_HEADER = { "rock", "fragment", "line", "kind", "t", "x", "y", "height", "vx", "vy", "v", "ke" }
 B.BREAKAGE_HEADER = { "rock", "impact", "t_start", "t_end", "broken", "fragments", "pieces", "largest_share",
     "rr_d0", "rr_n", "energy_per_mass", "ke_before", "ke_after", "gravity", "released", "slip", "dashpot",
     "damping", "strain", "bond", "residual" }
@@ -440,12 +583,15 @@ B.BREAKAGE_HEADER = { "rock", "impact", "t_start", "t_end", "broken", "fragments
 --- The rows of rock_fragments.csv and rock_breakage.csv for the breakable rocks of `records`
 --- (nil when none is breakable).
 function B.csv_rows(records)
-    local frs, brs, any = {}, {}, false
+    local frs, brs, crs, any = {}, {}, {}, false
     for _, r in ipairs(records) do
         if r.breakable then
             any = true
             for _, f in ipairs(r.fragments) do
-                frs[#frs + 1] = { r.rock, f.fragment, f.balls, f.mass, f.size, f.x, f.y, f.vx, f.vy, f.ke, f.ke_centre, f.stop }
+                frs[#frs + 1] = { r.rock, f.fragment, f.balls, f.mass, f.size, f.x, f.y, f.vx, f.vy, f.ke, f.ke_centre, f.stop, f.t_end }
+            end
+            for _, c in ipairs(r.fragment_crossings or {}) do
+                crs[#crs + 1] = { r.rock, c.fragment, c.line, c.kind, c.t, c.x, c.y, c.height, c.vx, c.vy, c.v, c.ke }
             end
             for k, ep in ipairs(r.breakage.impacts) do
                 local e = ep.energy
@@ -455,7 +601,7 @@ function B.csv_rows(records)
             end
         end
     end
-    if any then return frs, brs end
+    if any then return frs, brs, crs end
 end
 
 --- Runs breakable rock i (draw `s`) alone on its slope; returns its record: the rigid rock's
@@ -471,7 +617,7 @@ function B.run_rock(an, i, s, opts)
     local rsum = 0
     for _, p in ipairs(unit) do rsum = rsum + p[3] end
     local margin = 0.5 * rsum / #unit * s.rock.scale
-    local m = Model.new_model(an, margin, warnings, B.TIMESTEP)
+    local m = Model.new_model(an, margin, warnings, { resolution = B.TIMESTEP.resolution, safety = br.safety })
     -- Balls of the rock that touch (fragments, and the bonded pairs before bonding) meet with the
     -- material's own linear contact and rock_contact's damping: the default rock-rock contact
     -- (1e9 N/m, for rigid rocks) would be ten times stiffer than the rock's bonds.
@@ -486,18 +632,28 @@ function B.run_rock(an, i, s, opts)
     m:on_event("bond_break", function() st.broken = st.broken + 1 end)
     if opts.on_model then opts.on_model(m, { rock = i, seed = s.seed, balls = balls, breakable = true }) end
     local stop, t_end = run_to_rest(m, an, st, br)
-    local frags = Fr.find(m, st.live(), st.bond_model)
+    local frags = st.fragments()
     for _, f in ipairs(st.left) do frags[#frags + 1] = f end
-    table.sort(frags, function(a, b) return a.mass > b.mass end)
+    for _, f in ipairs(st.settled) do frags[#frags + 1] = f end
+    table.sort(frags, Fr.larger)
     local dist = Fr.distribution(frags)
     local rk = s.rock
+    -- per-fragment crossings of the collector and barrier lines; the record's own crossings are
+    -- the largest fragment's (its end point is the record's)
+    local fcross = {}
+    for k, f in ipairs(frags) do
+        for _, c in ipairs(fragment_crossings(st, f)) do
+            c.fragment = k
+            fcross[#fcross + 1] = c
+        end
+    end
     local rec = {
         rock = i, seed = s.seed, seeder = s.seeder, shape = rk.shape, mass = rk.mass, volume = rk.volume,
         r_eq = rk.r_eq, density = rk.density, scale = rk.scale, angle = rk.angle, lifted = s.lifted or nil,
         release = { x = s.release.x, y = s.release.y, vx = s.release.vx, vy = s.release.vy, spin = s.release.spin },
-        crossings = {}, barrier = {}, impacts = {}, env_height = {}, env_ke = {},
+        crossings = {}, barrier = {}, impacts = {}, env_height = {}, env_ke = {}, fragment_crossings = fcross,
         stop = stop, t_end = t_end, balls = #balls, bonds = bonds, broken = st.broken,
-        fragments = fragment_rows(frags, stop),
+        fragments = fragment_rows(frags, stop, t_end),
         breakage = { pieces = #frags, largest_share = dist.largest_share, rr_d0 = dist.rr_d0, rr_n = dist.rr_n,
             curve = dist.curve, impacts = st.episodes },
         breakable = true,
@@ -509,6 +665,12 @@ function B.run_rock(an, i, s, opts)
     end
     rec.breakage.fragments = big
     rec.end_x, rec.end_y, rec.reach_x = frags[1].x, frags[1].y, reach
+    for _, c in ipairs(fcross) do
+        if c.fragment == 1 and c.kind == "collector" then
+            rec.crossings[#rec.crossings + 1] = { line = c.line, t = c.t, x = c.x, y = c.y, height = c.height,
+                vx = c.vx, vy = c.vy, v = c.v, ke = c.ke, ke_trans = c.ke_trans, ke_rot = c.ke - c.ke_trans }
+        end
+    end
     local e = m:energies()
     rec.energy = { input = e.input, kinetic = e.kinetic, body = e.body, slip = e.slip, dashpot = e.dashpot,
         strain = e.strain, bond = e.bond, released = e.released, damping = e.damping, deleted = e.deleted,

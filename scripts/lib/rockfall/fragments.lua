@@ -78,6 +78,12 @@ function F.find(m, balls, bond_model)
     return list
 end
 
+--- Order of fragments: larger mass first, ties by the centre's x (deterministic).
+function F.larger(a, b)
+    if a.mass ~= b.mass then return a.mass > b.mass end
+    return a.x < b.x
+end
+
 --- Least-squares line y = a + b x; nil with fewer than two distinct x.
 local function line_fit(xs, ys)
     local n = #xs

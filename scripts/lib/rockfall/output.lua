@@ -66,10 +66,11 @@ local function write_csv(records, an, outdir, opts)
     if opts.trajectories then out("rock_paths.csv", { "rock", "t", "x", "y" }, paths) end
     -- breakable rocks (rockfall/breakable.lua): their fragments at the end and their breakage episodes
     local Br = require("rockfall.breakable")
-    local frs, brs = Br.csv_rows(records)
+    local frs, brs, crs = Br.csv_rows(records)
     if frs then
         out("rock_fragments.csv", Br.FRAGMENT_HEADER, frs)
         out("rock_breakage.csv", Br.BREAKAGE_HEADER, brs)
+        out("rock_fragment_crossings.csv", Br.CROSSING_HEADER, crs)
     end
     return files
 end
