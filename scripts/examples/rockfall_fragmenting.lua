@@ -54,16 +54,9 @@ for i = 1, n do
     local r = rockfall.run_rock(rigid, i)
     local c1 = os.clock()
     local ok, b = pcall(rockfall.run_rock, breakable, i, { on_end = function(m, rec)
-        -- each fragment its own colour: the fragment index of each ball, by its position
-        local frag_of = {}
-        for k, f in ipairs(rec.fragments) do frag_of[k] = f end
-        local Fr = require("rockfall.fragments")
-        local live = {}
-        for ball in m:balls{ group = "rock" } do live[#live + 1] = ball end
-        local index = {}
-        for k, f in ipairs(Fr.find(m, live, "pbond")) do
-            for _, j in ipairs(f.balls) do index[live[j].id] = k end
-        end
+        -- each fragment its own colour: the record's fragment number of each ball (pieces that
+        -- came to rest early are back in the model, fixed, for the picture)
+        local index = rec.ball_fragment
         -- the view: 6 m around the largest fragment at rest
         local xc, yc = rec.end_x, rec.end_y
         m:picture{ file = string.format("%s/break_rock%d.png", outdir, i), cracks = true,

@@ -505,6 +505,12 @@ local function settle(st, an, t)
                 for _, f in ipairs(cl.frags) do
                     f.stop, f.t_end = "rest", t
                     st.settled[#st.settled + 1] = f
+                    f.shapes = {}
+                    for i, k in ipairs(f.members) do
+                        local b = st.balls[k]
+                        local p = b.pos
+                        f.shapes[i] = { p[1], p[2], b.radius, b.density }
+                    end
                     for _, k in ipairs(f.members) do
                         st.alive[k] = false
                         st.balls[k]:delete()
@@ -604,6 +610,28 @@ function B.csv_rows(records)
     if any then return frs, brs, crs end
 end
 
+--- For on_end's pictures and files: the pieces that left the run at rest are put back where they
+--- rested, as fixed balls of group "rock" (the run is over: no step follows, and the record's
+--- books were read before). Returns the fragment number (in `frags`, the record's order) of
+--- every ball of the rock in the model, by ball id.
+local function restore_settled(m, st, frags)
+    local of = {}
+    local was = m:placement_warning(false)
+    for k, f in ipairs(frags) do
+        if f.shapes then
+            for _, p in ipairs(f.shapes) do
+                local b = m:ball{ pos = { p[1], p[2] }, radius = p[3], density = p[4], group = "rock" }
+                b.fix = true
+                of[b.id] = k
+            end
+        elseif f.stop ~= "left" and f.members then
+            for _, j in ipairs(f.members) do of[st.balls[j].id] = k end
+        end
+    end
+    m:placement_warning(was)
+    return of
+end
+
 --- Runs breakable rock i (draw `s`) alone on its slope; returns its record: the rigid rock's
 --- fields (end_x, end_y: the largest fragment's centre; stop, t_end) and `fragments` (rows at the
 --- end, largest first), `breakage` (the end's distribution; its `impacts`: the breakage episodes),
@@ -677,6 +705,7 @@ function B.run_rock(an, i, s, opts)
         balance_error = e.balance_error }
     rec.steps = m:step()
     if #warnings > 0 then rec.warnings = warnings end
+    rec.ball_fragment = restore_settled(m, st, frags)
     if opts.on_end then opts.on_end(m, rec) end
     return rec
 end
