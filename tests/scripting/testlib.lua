@@ -124,6 +124,16 @@ function T.digest(value)
     return string.format("%016x", h)
 end
 
+--- A resting scene's books: switches tracing on, runs `steps` steps to let the start settle and
+--- `steps` more; returns the energies after each half and the model's first contact.
+function T.rest_books(m, steps)
+    m:energy{ on = true }
+    m:cycle(steps)
+    local e1 = m:energies()
+    m:cycle(steps)
+    return e1, m:energies(), m:contacts{}()
+end
+
 function T.done(name)
     print(string.format("%s: %d checks passed", name, T.checks))
 end

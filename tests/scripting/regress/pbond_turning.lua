@@ -83,12 +83,7 @@ do
     local F = 1e4
     a.fapp = { F, 0 }
     b.fapp = { -F, 0 }
-    m:energy{ on = true }
-    m:cycle(20000)
-    local e1 = m:energies()
-    m:cycle(20000)
-    local e = m:energies()
-    local c = m:contacts{}()
+    local e1, e, c = T.rest_books(m, 20000)
     local fb, dp = c:prop("pb_fn"), c:prop("dp_fn")
     print(string.format("pbond_turning rest: bond %.6g N, linear %.6g N, dashpot %.3e N; dashpot work in the last"
         .. " 20000 steps %.3e J, stored %.3e J", fb, c:prop("lin_fn"), dp, e.dashpot - e1.dashpot, e.strain + e.bond))
