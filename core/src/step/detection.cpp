@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -24,6 +25,7 @@
 #include "world/contact_store.hpp"
 #include "world/lanes.hpp"
 #include "world/messages.hpp"
+#include "world/permute.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -592,18 +594,15 @@ void sortBalls(World& world) {
         return px.end1 != py.end1 ? px.end1 < py.end1
                                   : world.contacts.cold[x].key < world.contacts.cold[y].key;
     });
-    std::vector<Pair> pairs(world.contacts.pairs.size());
-    std::vector<PairCold> cold(world.contacts.cold.size());
-    std::vector<PairStored> stored(world.contacts.stored.size());
-    for (std::size_t i = 0; i < porder.size(); ++i) {
-        pairs[i] = world.contacts.pairs[porder[i]];
-        cold[i] = world.contacts.cold[porder[i]];
-        stored[i] = world.contacts.stored[porder[i]];
-        world.contacts.key_index[cold[i].key] = static_cast<uint32_t>(i);
-    }
-    world.contacts.pairs.swap(pairs);
-    world.contacts.cold.swap(cold);
-    world.contacts.stored.swap(stored);
+    // (in place: copies of the three stores would be the run's largest transient)
+    ContactStore& cs = world.contacts;
+    gatherInPlace(porder, porder.size(), [&](std::size_t i, std::size_t j) {
+        std::swap(cs.pairs[i], cs.pairs[j]);
+        std::swap(cs.cold[i], cs.cold[j]);
+        std::swap(cs.stored[i], cs.stored[j]);
+    });
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i)
+        cs.key_index[cs.cold[i].key] = static_cast<uint32_t>(i);
     ++world.contacts.pairs_version;
     repackContactObjects(world);
     reorderLanes(world);
@@ -611,21 +610,39 @@ void sortBalls(World& world) {
 
 void repackContactObjects(World& world) {
     // Contact objects are placed as pairs appear, so after a while the force loop, which walks
-    // the pairs in memory order, jumps around the pools. Move every object into a fresh pool in
-    // the pairs' order (ContactModel::MoveTo) and drop the old pools.
-    std::vector<std::unique_ptr<ObjectPool>> fresh(world.contacts.rules.size());
-    for (std::size_t r = 0; r < world.contacts.rules.size(); ++r) {
-        if (world.contacts.rules[r]->pool)
-            fresh[r] = std::make_unique<ObjectPool>(world.contacts.rules[r]->pool->blockSize());
+    // the pairs in memory order, jumps around the pools. Every rule's objects go to the first
+    // blocks of its pool in the pairs' order (ContactModel::MoveTo), in place (a second pool
+    // would hold them twice), and the chunks left empty are freed.
+    ContactStore& cs = world.contacts;
+    for (std::size_t r = 0; r < cs.rules.size(); ++r) {
+        ObjectPool* pool = cs.rules[r]->pool.get();
+        if (!pool) continue;
+        std::vector<uint32_t> users;  // the rule's pairs with an object, in pair order
+        std::vector<const void*> objects;
+        for (std::size_t i = 0; i < cs.pairs.size(); ++i)
+            if (cs.pairs[i].model && cs.pairs[i].rule == r) {
+                users.push_back(static_cast<uint32_t>(i));
+                objects.push_back(cs.pairs[i].model);
+            }
+        const std::vector<uint32_t> order = pool->blockIndices(objects);
+        std::vector<uint32_t> owner(pool->blockCount(), UINT32_MAX);  // block -> its pair
+        for (std::size_t k = 0; k < users.size(); ++k) owner[order[k]] = users[k];
+        std::unique_ptr<unsigned char[]> spare(new unsigned char[pool->blockSize()]);
+        gatherInPlace(order, pool->blockCount(), [&](std::size_t to, std::size_t from) {
+            // `from` holds an object; `to` holds one or is free.
+            Pair& moving = cs.pairs[owner[from]];
+            if (owner[to] != UINT32_MAX) {
+                Pair& other = cs.pairs[owner[to]];
+                ContactModel* parked = other.model->MoveTo(spare.get());
+                moving.model = moving.model->MoveTo(pool->block(to));
+                other.model = parked->MoveTo(pool->block(from));
+            } else {
+                moving.model = moving.model->MoveTo(pool->block(to));
+            }
+            std::swap(owner[to], owner[from]);
+        });
+        pool->keepFirst(users.size());
     }
-    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-        Pair& p = world.contacts.pairs[i];
-        if (!p.model) continue;
-        ObjectPool& pool = *fresh[p.rule];
-        p.model = p.model->MoveTo(pool.allocate());
-    }
-    for (std::size_t r = 0; r < world.contacts.rules.size(); ++r)
-        if (fresh[r]) world.contacts.rules[r]->pool = std::move(fresh[r]);
 }
 
 }  // namespace talus
