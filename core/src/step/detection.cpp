@@ -22,6 +22,7 @@
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/broadphase.hpp"
+#include "world/capacity.hpp"
 #include "world/contact_store.hpp"
 #include "world/lanes.hpp"
 #include "world/messages.hpp"
@@ -102,6 +103,9 @@ void initBroadphase(World& world) {
         }
         world.contacts.margin = 0.05 * mean;
     }
+    // The balls of a script were added one at a time: their arrays' spare capacity goes before
+    // the pairs are made.
+    b.trim();
     world.contacts.broadphase->reset(world.contacts.margin);
     world.contacts.wall_broadphase->reset(world.contacts.margin);
     world.contacts.broadphase_ready = true;
@@ -120,6 +124,10 @@ void initBroadphase(World& world) {
         b.fat[s] = world.contacts.broadphase->fatBox(b.proxy[s]);
     }
     for (std::size_t s = 0; s < b.size(); ++s) addPairsForBall(world, static_cast<uint32_t>(s));
+    // (made one at a time too; trimmed before the first step adds the kernel rows and watches)
+    trimCapacity(world.contacts.pairs);
+    trimCapacity(world.contacts.cold);
+    trimCapacity(world.contacts.stored);
     world.contacts.ball_moved.assign(b.size(), 0);
     world.contacts.segment_moved.assign(world.bodies.segments.size(), 0);
 }

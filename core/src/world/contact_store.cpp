@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "talus/errors.hpp"
+#include "world/capacity.hpp"
 
 namespace talus {
 
@@ -83,6 +84,7 @@ GuardWatch& ContactStore::startWatch(Pair& p, PairCold& c) {
     if (c.watch == kNoWatch) {
         if (free_watches.empty()) {
             c.watch = static_cast<uint32_t>(watches.size());
+            reserveOneMore(watches);  // (a packing's contacts all start their watch at once)
             watches.emplace_back();
         } else {
             c.watch = free_watches.back();

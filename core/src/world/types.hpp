@@ -235,6 +235,8 @@ struct BallArrays {
 
     std::size_t size() const { return pos.size(); }
     void resize(std::size_t n);
+    /// Gives back the arrays' spare capacity (trimCapacity), one array at a time.
+    void trim();
     /// Moves slot `from` into slot `to` (all arrays).
     void move(std::size_t to, std::size_t from);
     void permute(const std::vector<uint32_t>& new_to_old);
