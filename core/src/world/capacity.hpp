@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: MIT
 //
-// The spare capacity of a store's arrays: a vector grown one element at a time doubles, so a
-// store built in one go (the balls of a script, a packing's pairs at the first step) may hold up
-// to twice what it needs for the rest of the run. Not installed.
+// The memory of a store's arrays beyond their elements: the spare capacity of a vector grown one
+// element at a time (it doubles, so a store built in one go, the balls of a script or a
+// packing's pairs at the first step, may hold up to twice what it needs for the rest of the run),
+// and the blocks the allocator keeps after they were freed. Not installed.
 #pragma once
 
 #include <cstddef>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace talus {
 
@@ -22,6 +29,24 @@ void trimCapacity(std::vector<T>& v) {
 template <class T>
 void reserveOneMore(std::vector<T>& v) {
     if (v.size() == v.capacity()) v.reserve(v.size() + v.size() / 4 + 16);
+}
+
+/// Large blocks (a store's arrays) each in a mapping of their own, given back to the system when
+/// freed. glibc's default raises its threshold for that to the size of the last such block freed,
+/// after which the arrays a model outgrows while it is built stay in the heap as free pages that
+/// still count in its resident set (docs/results/memory.md). Once per process; not where the user
+/// set the threshold (glibc's MALLOC_MMAP_THRESHOLD_ or GLIBC_TUNABLES).
+inline void mapLargeBlocks() {
+#if defined(__GLIBC__)
+    static const bool done = [] {
+        const char* tunables = std::getenv("GLIBC_TUNABLES");
+        if (std::getenv("MALLOC_MMAP_THRESHOLD_") ||
+            (tunables && std::strstr(tunables, "mmap_threshold")))
+            return false;
+        return mallopt(M_MMAP_THRESHOLD, 256 * 1024) == 1;
+    }();
+    (void)done;
+#endif
 }
 
 }  // namespace talus
