@@ -382,6 +382,10 @@ bool makePair(World& world, uint32_t s1, uint32_t other, bool other_is_segment) 
     cold.knest = p.model->KnEstimate();
     cold.ksest = p.model->KsEstimate();
     world.contacts.key_index.emplace(cold.key, static_cast<uint32_t>(world.contacts.pairs.size()));
+    // (by a quarter: the first pair made after the stores were trimmed would double them)
+    reserveOneMore(world.contacts.pairs);
+    reserveOneMore(world.contacts.cold);
+    reserveOneMore(world.contacts.stored);
     world.contacts.pairs.push_back(p);
     world.contacts.cold.push_back(cold);
     world.contacts.stored.emplace_back();

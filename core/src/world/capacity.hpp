@@ -25,7 +25,8 @@ void trimCapacity(std::vector<T>& v) {
 }
 
 /// Room for one more element of v, growing it by a quarter, not by doubling (a store that
-/// grows in bursts, such as the guard's watch of a packing's contacts at its first step).
+/// grows in bursts or right after it was trimmed: the guard's watch of a packing's contacts at
+/// its first step, the pairs made after the first step).
 template <class T>
 void reserveOneMore(std::vector<T>& v) {
     if (v.size() == v.capacity()) v.reserve(v.size() + v.size() / 4 + 16);
