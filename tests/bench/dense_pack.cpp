@@ -339,6 +339,8 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
     // CPU time of the process over the same interval: cpu/wall well below 1 means the machine
     // was busy and the wall time is inflated (LAMMPS prints the same as "% CPU use").
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    // Taken before the queries below: the lists they return are the bench's, not the model's.
+    const std::size_t peak_after = peakResident();
 
     const double n = static_cast<double>(model.ballCount());
     const std::size_t active = model.contactCount(true);
@@ -362,7 +364,7 @@ void timedRun(const Options& o, const talus::PackState& st, bool sorted) {
         "particle %.4f\n",
         double(active) / n, double(active - wall_contacts) / n, wall_contacts, double(pairs) / n);
     const double ke_end = talus::meanKineticEnergy(model);
-    const double bytes_per_disk = static_cast<double>(peakResident() - peak_before) / n;
+    const double bytes_per_disk = static_cast<double>(peak_after - peak_before) / n;
     std::printf("memory: %.0f bytes per disk (peak resident over the peak before the model)\n",
                 bytes_per_disk);
     std::printf(

@@ -467,6 +467,7 @@ void printMemory(const World& world, std::size_t peak_before) {
         if (r->pool) pools += r->pool->bytes();
         if (r->lanes) rows += r->lanes->bytes();
     }
+    line("guard watches (young contacts)", held(cs.watches) + held(cs.free_watches));
     line("model objects (pools)", pools);
     line("kernel rows", rows);
     const double balls = held(b.pos) + held(b.vel) + held(b.force) + held(b.fapp) + held(b.angle) +

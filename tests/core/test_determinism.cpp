@@ -12,9 +12,17 @@
 // pairs, hence the order in which contact forces are summed onto a ball, and floating-point
 // addition is not associative. Only run-to-run identity at equal settings is required; whether
 // on/off happen to agree is reported, not asserted.
+//
+// The rebuild of the memory order (sortBalls) moves the pairs, their records, their kernel rows
+// and their contact objects in place: every contact keeps all of it, byte for byte, found under
+// its key, its objects packed at the front of their pool.
 #include <catch2/catch.hpp>
+#include <cstring>
+#include <map>
 
+#include "step/detection.hpp"
 #include "test_support.hpp"
+#include "world/world.hpp"
 
 using namespace talus;
 using namespace talus::test;
@@ -163,4 +171,72 @@ TEST_CASE("memory order: automatic from 4096 balls, at the first step, the same 
     CHECK(fastest > 0.0);
     CHECK(worst <= 1e-9 * fastest);
     CHECK(shift <= 1e-12);
+}
+
+TEST_CASE("memory order: the rebuild in place keeps every contact's record, row and object",
+          "[core][determinism]") {
+    auto l = lattice(24, 24, 0);  // unsorted: the rebuild is called here
+    Model& m = l->m;
+    m.cycle(30);  // the contacts in their kernel rows
+    // Pairs, rows and pool blocks freed in the middle of the stores (deleted balls), then more
+    // steps: the stores have holes and the order a run leaves.
+    for (std::size_t k = 0; k < l->ids.size(); k += 7) m.deleteBall(l->ids[k]);
+    m.cycle(5);
+    World& world = worldOf(m);
+    ContactStore& cs = world.contacts;
+    struct Held {
+        Pair pair;
+        std::vector<unsigned char> cold, object;
+        std::vector<double> row;
+    };
+    const auto bytesOf = [](const void* p, std::size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        return std::vector<unsigned char>(b, b + n);
+    };
+    const auto hold = [&](const Pair& p) {
+        Held h{p, bytesOf(&cs.coldOf(p), sizeof(PairCold)), {}, {}};
+        if (p.model) h.object = bytesOf(p.model, p.model->ObjectSize());
+        if (p.lane != kNoLane) {
+            LaneTable& t = *cs.ruleOf(p).lanes;
+            h.row.assign(t.row(p.lane), t.row(p.lane) + t.law().state_size);
+        }
+        return h;
+    };
+    std::map<uint64_t, Held> before;
+    std::size_t in_rows = 0;
+    for (const Pair& p : cs.pairs) {
+        before.emplace(cs.coldOf(p).key, hold(p));
+        in_rows += p.lane != kNoLane;
+    }
+    REQUIRE(in_rows > 500);  // a packing's contacts, in their rows
+    sortBalls(world);
+    REQUIRE(cs.pairs.size() == before.size());
+    std::size_t objects = 0;
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i) {
+        const Pair& p = cs.pairs[i];
+        const uint64_t key = cs.cold[i].key;
+        REQUIRE(cs.key_index.at(key) == i);
+        if (i > 0) {  // in the order of their first end, then of their key
+            const Pair& q = cs.pairs[i - 1];
+            CHECK((q.end1 < p.end1 || (q.end1 == p.end1 && cs.cold[i - 1].key < key)));
+        }
+        // Its ends are the balls its key names (the slots renumbered with the balls).
+        CHECK(world.bodies.balls.handle[p.end1] == key >> 32);
+        const Held& was = before.at(key);
+        const Held now = hold(p);
+        CHECK(now.cold == was.cold);
+        CHECK(now.object == was.object);  // moved whole (ContactModel::MoveTo)
+        CHECK(now.row == was.row);
+        CHECK(p.n_force == was.pair.n_force);
+        CHECK(p.s_force == was.pair.s_force);
+        CHECK(p.active == was.pair.active);
+        objects += p.model != nullptr;
+    }
+    // The objects fill the front of the pool; the chunks past them are freed.
+    const ObjectPool& pool = *cs.rules[cs.pairs[0].rule]->pool;
+    CHECK(pool.blockCount() ==
+          (objects + ObjectPool::kPerChunk - 1) / ObjectPool::kPerChunk * ObjectPool::kPerChunk);
+    // And the run goes on from it as from any order.
+    m.cycle(5);
+    CHECK(m.contactCount() > 500);
 }

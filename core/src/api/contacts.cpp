@@ -135,6 +135,14 @@ std::size_t Model::contactCount(bool active_only) const {
 std::vector<ContactInfo> Model::contacts(bool active_only) const {
     const World& world = *m_world;
     std::vector<ContactInfo> out;
+    // Counted first: a list of a packing's contacts is large, and growing it by doubling would
+    // hold one and a half copies at the last growth.
+    std::size_t count = world.contacts.pairs.size();
+    if (active_only)
+        count = static_cast<std::size_t>(std::count_if(world.contacts.pairs.begin(),
+                                                       world.contacts.pairs.end(),
+                                                       [](const Pair& p) { return p.active; }));
+    out.reserve(count);
     for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i)
         if (world.contacts.pairs[i].active || !active_only) out.push_back(infoOf(world, i));
     return out;

@@ -26,6 +26,7 @@
 #include "talus/run_control.hpp"
 #include "world/body_store.hpp"
 #include "world/broadphase.hpp"
+#include "world/capacity.hpp"
 #include "world/contact_store.hpp"
 #include "world/messages.hpp"
 #include "world/types.hpp"
@@ -64,6 +65,7 @@ const char* stepRuleName(StepRule r) {
 
 Model::Model(const ModelDef& def, PluginRegistry& registry)
     : m_world(std::make_unique<World>(*this, registry)) {
+    mapLargeBlocks();
     World& world = *m_world;
     if (!std::isfinite(def.gravity.x()) || !std::isfinite(def.gravity.y()))
         throw InputError("model: gravity must be finite");

@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,19 @@ void settleWatches(World& world, const ForceThreadPart* parts, std::size_t count
 void settleRows(World& world, ForceThreadPart* parts, std::size_t count, std::size_t failed) {
     for (std::size_t t = 0; t < count; ++t)
         for (const auto& [table, row] : parts[t].row_releases) table->release(row);
+    // Each rule's table grows once for the contacts entering (many, at a packing's first step).
+    std::vector<std::size_t> entering(world.contacts.rules.size(), 0);
+    for (std::size_t t = 0; t < count; ++t)
+        for (const uint32_t i : parts[t].row_entries) {
+            if (i >= failed) break;
+            ++entering[world.contacts.pairs[i].rule];
+        }
+    for (std::size_t r = 0; r < entering.size(); ++r) {
+        Rule& rule = *world.contacts.rules[r];
+        if (entering[r] == 0 || !rule.factory || !rule.factory->lanes) continue;
+        if (!rule.lanes) rule.lanes = std::make_unique<LaneTable>(*rule.factory->lanes);
+        rule.lanes->reserve(entering[r]);
+    }
     for (std::size_t t = 0; t < count; ++t)
         for (const uint32_t i : parts[t].row_entries) {
             if (i >= failed) break;

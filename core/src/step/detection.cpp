@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -21,9 +22,11 @@
 #include "talus/errors.hpp"
 #include "world/body_store.hpp"
 #include "world/broadphase.hpp"
+#include "world/capacity.hpp"
 #include "world/contact_store.hpp"
 #include "world/lanes.hpp"
 #include "world/messages.hpp"
+#include "world/permute.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -100,6 +103,9 @@ void initBroadphase(World& world) {
         }
         world.contacts.margin = 0.05 * mean;
     }
+    // The balls of a script were added one at a time: their arrays' spare capacity goes before
+    // the pairs are made.
+    b.trim();
     world.contacts.broadphase->reset(world.contacts.margin);
     world.contacts.wall_broadphase->reset(world.contacts.margin);
     world.contacts.broadphase_ready = true;
@@ -118,6 +124,10 @@ void initBroadphase(World& world) {
         b.fat[s] = world.contacts.broadphase->fatBox(b.proxy[s]);
     }
     for (std::size_t s = 0; s < b.size(); ++s) addPairsForBall(world, static_cast<uint32_t>(s));
+    // (made one at a time too; trimmed before the first step adds the kernel rows and watches)
+    trimCapacity(world.contacts.pairs);
+    trimCapacity(world.contacts.cold);
+    trimCapacity(world.contacts.stored);
     world.contacts.ball_moved.assign(b.size(), 0);
     world.contacts.segment_moved.assign(world.bodies.segments.size(), 0);
 }
@@ -372,6 +382,10 @@ bool makePair(World& world, uint32_t s1, uint32_t other, bool other_is_segment) 
     cold.knest = p.model->KnEstimate();
     cold.ksest = p.model->KsEstimate();
     world.contacts.key_index.emplace(cold.key, static_cast<uint32_t>(world.contacts.pairs.size()));
+    // (by a quarter: the first pair made after the stores were trimmed would double them)
+    reserveOneMore(world.contacts.pairs);
+    reserveOneMore(world.contacts.cold);
+    reserveOneMore(world.contacts.stored);
     world.contacts.pairs.push_back(p);
     world.contacts.cold.push_back(cold);
     world.contacts.stored.emplace_back();
@@ -592,18 +606,15 @@ void sortBalls(World& world) {
         return px.end1 != py.end1 ? px.end1 < py.end1
                                   : world.contacts.cold[x].key < world.contacts.cold[y].key;
     });
-    std::vector<Pair> pairs(world.contacts.pairs.size());
-    std::vector<PairCold> cold(world.contacts.cold.size());
-    std::vector<PairStored> stored(world.contacts.stored.size());
-    for (std::size_t i = 0; i < porder.size(); ++i) {
-        pairs[i] = world.contacts.pairs[porder[i]];
-        cold[i] = world.contacts.cold[porder[i]];
-        stored[i] = world.contacts.stored[porder[i]];
-        world.contacts.key_index[cold[i].key] = static_cast<uint32_t>(i);
-    }
-    world.contacts.pairs.swap(pairs);
-    world.contacts.cold.swap(cold);
-    world.contacts.stored.swap(stored);
+    // (in place: copies of the three stores would be the run's largest transient)
+    ContactStore& cs = world.contacts;
+    gatherInPlace(porder, porder.size(), [&](std::size_t i, std::size_t j) {
+        std::swap(cs.pairs[i], cs.pairs[j]);
+        std::swap(cs.cold[i], cs.cold[j]);
+        std::swap(cs.stored[i], cs.stored[j]);
+    });
+    for (std::size_t i = 0; i < cs.pairs.size(); ++i)
+        cs.key_index[cs.cold[i].key] = static_cast<uint32_t>(i);
     ++world.contacts.pairs_version;
     repackContactObjects(world);
     reorderLanes(world);
@@ -611,21 +622,39 @@ void sortBalls(World& world) {
 
 void repackContactObjects(World& world) {
     // Contact objects are placed as pairs appear, so after a while the force loop, which walks
-    // the pairs in memory order, jumps around the pools. Move every object into a fresh pool in
-    // the pairs' order (ContactModel::MoveTo) and drop the old pools.
-    std::vector<std::unique_ptr<ObjectPool>> fresh(world.contacts.rules.size());
-    for (std::size_t r = 0; r < world.contacts.rules.size(); ++r) {
-        if (world.contacts.rules[r]->pool)
-            fresh[r] = std::make_unique<ObjectPool>(world.contacts.rules[r]->pool->blockSize());
+    // the pairs in memory order, jumps around the pools. Every rule's objects go to the first
+    // blocks of its pool in the pairs' order (ContactModel::MoveTo), in place (a second pool
+    // would hold them twice), and the chunks left empty are freed.
+    ContactStore& cs = world.contacts;
+    for (std::size_t r = 0; r < cs.rules.size(); ++r) {
+        ObjectPool* pool = cs.rules[r]->pool.get();
+        if (!pool) continue;
+        std::vector<uint32_t> users;  // the rule's pairs with an object, in pair order
+        std::vector<const void*> objects;
+        for (std::size_t i = 0; i < cs.pairs.size(); ++i)
+            if (cs.pairs[i].model && cs.pairs[i].rule == r) {
+                users.push_back(static_cast<uint32_t>(i));
+                objects.push_back(cs.pairs[i].model);
+            }
+        const std::vector<uint32_t> order = pool->blockIndices(objects);
+        std::vector<uint32_t> owner(pool->blockCount(), UINT32_MAX);  // block -> its pair
+        for (std::size_t k = 0; k < users.size(); ++k) owner[order[k]] = users[k];
+        std::unique_ptr<unsigned char[]> spare(new unsigned char[pool->blockSize()]);
+        gatherInPlace(order, pool->blockCount(), [&](std::size_t to, std::size_t from) {
+            // `from` holds an object; `to` holds one or is free.
+            Pair& moving = cs.pairs[owner[from]];
+            if (owner[to] != UINT32_MAX) {
+                Pair& other = cs.pairs[owner[to]];
+                ContactModel* parked = other.model->MoveTo(spare.get());
+                moving.model = moving.model->MoveTo(pool->block(to));
+                other.model = parked->MoveTo(pool->block(from));
+            } else {
+                moving.model = moving.model->MoveTo(pool->block(to));
+            }
+            std::swap(owner[to], owner[from]);
+        });
+        pool->keepFirst(users.size());
     }
-    for (std::size_t i = 0; i < world.contacts.pairs.size(); ++i) {
-        Pair& p = world.contacts.pairs[i];
-        if (!p.model) continue;
-        ObjectPool& pool = *fresh[p.rule];
-        p.model = p.model->MoveTo(pool.allocate());
-    }
-    for (std::size_t r = 0; r < world.contacts.rules.size(); ++r)
-        if (fresh[r]) world.contacts.rules[r]->pool = std::move(fresh[r]);
 }
 
 }  // namespace talus

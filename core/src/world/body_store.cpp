@@ -5,6 +5,7 @@
 #include <string>
 
 #include "talus/errors.hpp"
+#include "world/capacity.hpp"
 #include "world/messages.hpp"
 
 namespace talus {
@@ -17,6 +18,14 @@ void BallArrays::resize(std::size_t n) {
     fixity.resize(n), handle.resize(n), proxy.resize(n), fat.resize(n), groups.resize(n);
     kn.resize(n), ks.resize(n), fric.resize(n), k_tran.resize(n), k_rot.resize(n);
     clump.resize(n, kNoClump);
+}
+
+void BallArrays::trim() {
+    auto trim = [](auto& v) { trimCapacity(v); };
+    trim(pos), trim(vel), trim(force), trim(fapp), trim(angle), trim(spin), trim(moment);
+    trim(mapp), trim(radius), trim(mass), trim(inv_mass), trim(inertia), trim(inv_inertia);
+    trim(density), trim(fixity), trim(handle), trim(proxy), trim(fat), trim(groups);
+    trim(kn), trim(ks), trim(fric), trim(k_tran), trim(k_rot), trim(clump);
 }
 
 void BallArrays::move(std::size_t to, std::size_t from) {

@@ -8,6 +8,7 @@
 #include "talus/errors.hpp"
 #include "world/contact_store.hpp"
 #include "world/lanes.hpp"
+#include "world/permute.hpp"
 #include "world/types.hpp"
 
 namespace talus {
@@ -24,11 +25,18 @@ uint32_t LaneTable::allocate() {
     return m_rows++;
 }
 
+void LaneTable::reserve(std::size_t more) {
+    if (more <= m_free.size()) return;
+    const std::size_t rows = m_rows + (more - m_free.size());
+    if (rows * m_size > m_data.capacity()) m_data.reserve((rows + rows / 8) * m_size);
+}
+
 void LaneTable::reorder(const std::vector<uint32_t>& order) {
-    std::vector<double> data(order.size() * m_size);
-    for (std::size_t k = 0; k < order.size(); ++k)
-        std::copy_n(row(order[k]), m_size, data.data() + k * m_size);
-    m_data.swap(data);
+    gatherInPlace(order, m_rows, [&](std::size_t i, std::size_t j) {
+        std::swap_ranges(row(static_cast<uint32_t>(i)), row(static_cast<uint32_t>(i)) + m_size,
+                         row(static_cast<uint32_t>(j)));
+    });
+    m_data.resize(order.size() * m_size);
     m_rows = static_cast<uint32_t>(order.size());
     m_free.clear();
 }

@@ -26,6 +26,9 @@ public:
     double* row(uint32_t r) { return m_data.data() + r * m_size; }
     /// A row for a contact entering the lanes (a freed one first).
     uint32_t allocate();
+    /// Room for `more` rows entering (beyond the free ones) with an eighth to spare, so that
+    /// the many contacts of a packing entering at once grow the table once, not by doubling.
+    void reserve(std::size_t more);
     void release(uint32_t r) { m_free.push_back(r); }
     std::size_t used() const { return m_rows - m_free.size(); }
     /// The memory it holds [bytes].
@@ -33,7 +36,7 @@ public:
         return m_data.capacity() * sizeof(double) + m_free.capacity() * sizeof(uint32_t);
     }
     /// Moves row order[k] to row k for every k and drops the rest (and the free list): the
-    /// contacts in the order the force loop visits them (sortBalls).
+    /// contacts in the order the force loop visits them (sortBalls). In place: no second table.
     void reorder(const std::vector<uint32_t>& order);
 
 private:

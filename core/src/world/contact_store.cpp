@@ -2,10 +2,13 @@
 // The contact store (contact_store.hpp): pairs, rules and their object pools, the broadphase.
 #include "world/contact_store.hpp"
 
+#include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <utility>
 
 #include "talus/errors.hpp"
+#include "world/capacity.hpp"
 
 namespace talus {
 
@@ -26,6 +29,34 @@ void* ObjectPool::allocate() {
 }
 
 void ObjectPool::release(void* p) { m_free.push_back(p); }
+
+std::vector<uint32_t> ObjectPool::blockIndices(const std::vector<const void*>& blocks) const {
+    // The chunks by address, to find a block's chunk by bisection.
+    std::vector<std::pair<const unsigned char*, std::size_t>> chunks(m_chunks.size());
+    for (std::size_t c = 0; c < m_chunks.size(); ++c) chunks[c] = {m_chunks[c].get(), c};
+    std::sort(chunks.begin(), chunks.end());
+    std::vector<uint32_t> out(blocks.size());
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+        const auto* at = static_cast<const unsigned char*>(blocks[k]);
+        auto it = std::upper_bound(chunks.begin(), chunks.end(), at,
+                                   [](const unsigned char* a, const auto& chunk) {
+                                       return std::less<>()(a, chunk.first);
+                                   });
+        --it;  // (the block lies in a chunk of this pool)
+        const auto offset = static_cast<std::size_t>(at - it->first);
+        out[k] = static_cast<uint32_t>(it->second * kPerChunk + offset / m_block);
+    }
+    return out;
+}
+
+void ObjectPool::keepFirst(std::size_t used) {
+    const std::size_t chunks = (used + kPerChunk - 1) / kPerChunk;
+    m_chunks.resize(chunks);
+    // Free blocks are taken from the back: the lowest first, as in a new chunk.
+    m_free.clear();
+    for (std::size_t k = chunks * kPerChunk; k-- > used;) m_free.push_back(block(k));
+    m_free.shrink_to_fit();
+}
 
 ContactStore::ContactStore()
     : broadphase(std::make_unique<Broadphase>()), wall_broadphase(std::make_unique<Broadphase>()) {}
@@ -53,6 +84,7 @@ GuardWatch& ContactStore::startWatch(Pair& p, PairCold& c) {
     if (c.watch == kNoWatch) {
         if (free_watches.empty()) {
             c.watch = static_cast<uint32_t>(watches.size());
+            reserveOneMore(watches);  // (a packing's contacts all start their watch at once)
             watches.emplace_back();
         } else {
             c.watch = free_watches.back();

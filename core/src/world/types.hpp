@@ -61,6 +61,17 @@ public:
     }
     static constexpr std::size_t kPerChunk = 256;  // objects per chunk
 
+    /// Blocks held, counted in chunk order (free or not), and the k-th of them.
+    std::size_t blockCount() const { return m_chunks.size() * kPerChunk; }
+    void* block(std::size_t k) const {
+        return m_chunks[k / kPerChunk].get() + (k % kPerChunk) * m_block;
+    }
+    /// The index (as block() counts) of each of the pool's blocks given.
+    std::vector<uint32_t> blockIndices(const std::vector<const void*>& blocks) const;
+    /// After the objects were moved to the first `used` blocks: the chunks beyond them freed, the
+    /// rest of the last one free.
+    void keepFirst(std::size_t used);
+
 private:
     std::size_t m_block;
     std::vector<std::unique_ptr<unsigned char[]>> m_chunks;
@@ -224,6 +235,8 @@ struct BallArrays {
 
     std::size_t size() const { return pos.size(); }
     void resize(std::size_t n);
+    /// Gives back the arrays' spare capacity (trimCapacity), one array at a time.
+    void trim();
     /// Moves slot `from` into slot `to` (all arrays).
     void move(std::size_t to, std::size_t from);
     void permute(const std::vector<uint32_t>& new_to_old);
