@@ -119,6 +119,7 @@ public:
     // ---- derived (refresh)
     int n_ = 2;
     double len_ = 0.0, ielem_ = 0.0;  // element length L and L^3/12 (t = 1)
+    double tan_fa_ = 0.0;             // tan(fj_fa): the shear strength's slope, read every step
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off
@@ -270,6 +271,7 @@ public:
         len_ = 2.0 * fj_radius / n_;
         ielem_ = len_ * len_ * len_ / 12.0;
         fj_area = len_;
+        tan_fa_ = std::tan(fj_fa * M_PI / 180.0);
     }
 
     // ------------------------------------------------------------------ the element law
@@ -313,7 +315,7 @@ public:
     /// tensile cut-off, as pbond).
     double shearStrength(double sigma) const {
         if (fj_fa == 0.0) return fj_coh;
-        return fj_coh - std::min(sigma, fj_ten) * std::tan(fj_fa * M_PI / 180.0);
+        return fj_coh - std::min(sigma, fj_ten) * tan_fa_;
     }
 
     /// Coulomb slider of an unbonded element: the trial force capped at fj_fric max(F_e, 0).
