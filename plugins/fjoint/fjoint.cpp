@@ -67,9 +67,11 @@ const char* const kMtypes[] = {"bonded", "unbonded", "slit", nullptr};
 enum Mtype { kMtypeBonded = 0, kMtypeUnbonded = 1, kMtypeSlit = 2 };
 
 /// Normal force (compression +), moment about the element's centre on end 2, and the strain
-/// energy of the normal springs of one element.
+/// energy of the normal springs of one element. (No initialisers: fdlaw's arrays of them are
+/// written before they are read, and zeroing kMaxElements of them per call cost more than the
+/// law of two elements.)
 struct Normal {
-    double f = 0.0, m = 0.0, energy = 0.0;
+    double f, m, energy;
 };
 
 class FJoint final : public ModelBase<FJoint> {
@@ -281,7 +283,7 @@ public:
     /// Normal force, moment and strain energy of element e with the interface at (d, theta).
     /// Bonded: the whole element; unbonded: only its part where delta = d + x theta > 0.
     Normal normal(int e, bool is_bonded, double d, double theta) const {
-        Normal out;
+        Normal out{};
         const double dc = d + centre(e) * theta;   // delta at the element's centre
         double lo = -0.5 * len_, hi = 0.5 * len_;  // s = x - x_e
         if (!is_bonded) {
@@ -551,13 +553,14 @@ public:
             fn += now[e].f;
             fs += fs_[e];
             m += -centre(e) * now[e].f + now[e].m;
+            const bool is_bonded = state_[e] == kBonded;
+            nbond += is_bonded;
+            if (!energy) continue;
             const double held = now[e].energy + shearSpringEnergy(fs_[e]);
-            if (state_[e] == kBonded) {
-                ++nbond;
+            if (is_bonded)
                 e_bond += held;
-            } else {
+            else
                 e_strain += held;
-            }
         }
         fj_fn = fn, fj_fs = fs, fj_m = m;
         fj_nbond = nbond;
