@@ -98,7 +98,7 @@ public:
     double kbn_ = 0.0, kbs_ = 0.0, kbr_ = 0.0;  // bond stiffnesses [N/m, N/m, N m/rad]
     // ... raised for the dashpots as the time step sees them (estimates(), every step)
     double kbn_est_ = 0.0, kbs_est_ = 0.0;
-    bool bond_fresh_ = false;                   // the next FDlaw starts the bond (no increment)
+    bool bond_fresh_ = false;  // the next FDlaw starts the bond (no increment)
     // A bond removed by a write of `bonded` = 0, released at the next FDlaw: what it stored at
     // its last step [J] and its forces then [N, N, N m].
     bool let_go_ = false;
