@@ -67,9 +67,11 @@ const char* const kMtypes[] = {"bonded", "unbonded", "slit", nullptr};
 enum Mtype { kMtypeBonded = 0, kMtypeUnbonded = 1, kMtypeSlit = 2 };
 
 /// Normal force (compression +), moment about the element's centre on end 2, and the strain
-/// energy of the normal springs of one element.
+/// energy of the normal springs of one element. (No initialisers: fdlaw's arrays of them are
+/// written before they are read, and zeroing kMaxElements of them per call cost more than the
+/// law of two elements.)
 struct Normal {
-    double f = 0.0, m = 0.0, energy = 0.0;
+    double f, m, energy;
 };
 
 class FJoint final : public ModelBase<FJoint> {
@@ -119,6 +121,10 @@ public:
     // ---- derived (refresh)
     int n_ = 2;
     double len_ = 0.0, ielem_ = 0.0;  // element length L and L^3/12 (t = 1)
+    double tan_fa_ = 0.0;             // tan(fj_fa): the shear strength's slope, read every step
+    // A whole element's integrals of 1, s, s^2 over s in [-L/2, L/2] (normal(): a bonded
+    // element's, every step)
+    double w1_ = 0.0, w2_ = 0.0, w3_ = 0.0;
 
     // One property per entry (clang-format would put every value on its own line).
     // clang-format off
@@ -270,19 +276,30 @@ public:
         len_ = 2.0 * fj_radius / n_;
         ielem_ = len_ * len_ * len_ / 12.0;
         fj_area = len_;
+        tan_fa_ = std::tan(fj_fa * M_PI / 180.0);
+        elementWidths(-0.5 * len_, 0.5 * len_, w1_, w2_, w3_);
     }
 
     // ------------------------------------------------------------------ the element law
 
     double centre(int e) const { return -fj_radius + (e + 0.5) * len_; }
 
+    /// The integrals of 1, s and s^2 over [lo, hi].
+    static void elementWidths(double lo, double hi, double& w1, double& w2, double& w3) {
+        w1 = hi - lo;
+        w2 = 0.5 * (hi * hi - lo * lo);
+        w3 = (hi * hi * hi - lo * lo * lo) / 3.0;
+    }
+
     /// Normal force, moment and strain energy of element e with the interface at (d, theta).
     /// Bonded: the whole element; unbonded: only its part where delta = d + x theta > 0.
     Normal normal(int e, bool is_bonded, double d, double theta) const {
-        Normal out;
-        const double dc = d + centre(e) * theta;   // delta at the element's centre
-        double lo = -0.5 * len_, hi = 0.5 * len_;  // s = x - x_e
+        Normal out{};
+        const double dc = d + centre(e) * theta;  // delta at the element's centre
+        // delta(s) = dc + s theta over [lo, hi], s = x - x_e: the whole element when bonded
+        double w1 = w1_, w2 = w2_, w3 = w3_;
         if (!is_bonded) {
+            double lo = -0.5 * len_, hi = 0.5 * len_;
             if (theta == 0.0) {
                 if (!(dc > 0.0)) return out;
             } else {
@@ -293,10 +310,8 @@ public:
                     hi = std::min(hi, s0);
                 if (!(hi > lo)) return out;
             }
+            elementWidths(lo, hi, w1, w2, w3);
         }
-        // delta(s) = dc + s theta over [lo, hi]
-        const double w1 = hi - lo, w2 = 0.5 * (hi * hi - lo * lo),
-                     w3 = (hi * hi * hi - lo * lo * lo) / 3.0;
         out.f = fj_kn * (dc * w1 + theta * w2);
         out.m = -fj_kn * (dc * w2 + theta * w3);
         out.energy = 0.5 * fj_kn * (dc * dc * w1 + 2.0 * dc * theta * w2 + theta * theta * w3);
@@ -313,7 +328,7 @@ public:
     /// tensile cut-off, as pbond).
     double shearStrength(double sigma) const {
         if (fj_fa == 0.0) return fj_coh;
-        return fj_coh - std::min(sigma, fj_ten) * std::tan(fj_fa * M_PI / 180.0);
+        return fj_coh - std::min(sigma, fj_ten) * tan_fa_;
     }
 
     /// Coulomb slider of an unbonded element: the trial force capped at fj_fric max(F_e, 0).
@@ -549,13 +564,14 @@ public:
             fn += now[e].f;
             fs += fs_[e];
             m += -centre(e) * now[e].f + now[e].m;
+            const bool is_bonded = state_[e] == kBonded;
+            nbond += is_bonded;
+            if (!energy) continue;
             const double held = now[e].energy + shearSpringEnergy(fs_[e]);
-            if (state_[e] == kBonded) {
-                ++nbond;
+            if (is_bonded)
                 e_bond += held;
-            } else {
+            else
                 e_strain += held;
-            }
         }
         fj_fn = fn, fj_fs = fs, fj_m = m;
         fj_nbond = nbond;

@@ -96,7 +96,9 @@ public:
     double r_min_ = 0.0, r_sum_ = 0.0;  // min(R_A, R_B) and R_A + R_B (ball-wall: R, R) [m]
     double area_ = 0.0, inertia_ = 0.0;
     double kbn_ = 0.0, kbs_ = 0.0, kbr_ = 0.0;  // bond stiffnesses [N/m, N/m, N m/rad]
-    bool bond_fresh_ = false;                   // the next FDlaw starts the bond (no increment)
+    // ... raised for the dashpots as the time step sees them (estimates(), every step)
+    double kbn_est_ = 0.0, kbs_est_ = 0.0;
+    bool bond_fresh_ = false;  // the next FDlaw starts the bond (no increment)
     // A bond removed by a write of `bonded` = 0, released at the next FDlaw: what it stored at
     // its last step [J] and its forces then [N, N, N m].
     bool let_go_ = false;
@@ -226,6 +228,8 @@ public:
         kbn_ = pb_kn * area_;
         kbs_ = pb_ks * area_;
         kbr_ = pb_kn * inertia_;
+        kbn_est_ = kbn_ * dashpotStiffnessFactor(dp_nratio);
+        kbs_est_ = kbs_ * dashpotStiffnessFactor(dp_sratio);
         linearRefresh();
     }
 
@@ -274,8 +278,7 @@ public:
     /// dashpots are sized on kn and ks alone.
     ParallelBondLaw::Estimates estimates() const {
         const bool b = isBonded();
-        return {knest_ + (b ? kbn_ * dashpotStiffnessFactor(dp_nratio) : 0.0),
-                ksest_ + (b ? kbs_ * dashpotStiffnessFactor(dp_sratio) : 0.0), b ? kbr_ : 0.0};
+        return {knest_ + (b ? kbn_est_ : 0.0), ksest_ + (b ? kbs_est_ : 0.0), b ? kbr_ : 0.0};
     }
 
     /// One bond spring over the breaking step: its force at the last step (what the bodies

@@ -8,16 +8,23 @@
 -- (docs/results/benchmarks-history.md, "Kernels: pbond"); the engine has none since, so for pbond
 -- both settings run FDlaw.
 --
---   talus run scripts/bench/pbond_kernel.lua [on|off] [scale] [steps]
+--   talus run scripts/bench/pbond_kernel.lua [on|off] [scale] [steps] [material]
 --
 -- scale shrinks the specimen as in ldb_pbond.lua (0.25: about 250 balls); steps: compression
--- steps (default 3000). For instruction counts run it under valgrind --tool=callgrind: genesis and
+-- steps (default 3000); material: pbond (default, Potyondy & Cundall's micro-properties) or fjoint
+-- (the calibrated flat joints of ldb_flatjoint.lua, on the same packing). For instruction counts run it under valgrind --tool=callgrind: genesis and
 -- bonding are the same in both settings, so the difference is the compression phase's.
 local M = require("material")
 local kernels = (arg[1] or "on") == "on"
 local scale = tonumber(arg[2] or "0.25")
 local steps = tonumber(arg[3] or "3000")
-local mat, genesis = M.lac_du_bonnet()
+local kind = arg[4] or "pbond"
+local mat, genesis
+if kind == "pbond" then
+    mat, genesis = M.lac_du_bonnet()
+else
+    mat, genesis = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
+end
 local pk = genesis(0.0317 * scale, 0.0634 * scale, 1)
 local m = {}
 for k, v in pairs(mat) do m[k] = v end

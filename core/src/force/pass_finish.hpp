@@ -298,8 +298,8 @@ __attribute__((always_inline)) inline void bookContactEnergy(const ForceView& v,
     // Group shares and the work across group borders (group_energy.cpp): one branch per
     // contact, taken only with groups traced (one thread).
     if (v.groups)
-        bookContactToGroups(world, i, fd.energy, fd.moment, cs.placement, cs.ends, held, cs.force,
-                            cs.e.g.point);
+        bookContactToOwnGroups(world, i, fd.energy, fd.moment, cs.placement, cs.ends, held,
+                               cs.force, cs.e.g.point);
 }
 
 /// Stage 4a (the guard): the watch of a young contact, through its first kGuardWatch steps,

@@ -32,6 +32,39 @@ inline void bookBodyToGroups(World& world, uint64_t mask, double kinetic, double
 /// its first step, born overlapping (the placement energy just noted, EnergyBooks::last_placed).
 void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
                          bool placement, bool ends, double held, const Vec2& f, const Vec2& point);
+/// The same, with a contact between two balls of the same groups (nearly every contact of a
+/// specimen or a rock) booked here, inline: each of its groups takes the whole contact (share
+/// 1, so the same sums as bookContactToGroups) and no work crosses a border.
+inline void bookContactToOwnGroups(World& world, std::size_t i, const double* energy, double moment,
+                                   bool placement, bool ends, double held, const Vec2& f,
+                                   const Vec2& point) {
+    const Pair& p = world.contacts.pairs[i];
+    const uint64_t* of = world.bodies.balls.groups.data();
+    if (p.wall || of[p.end1] != of[p.end2]) {
+        bookContactToGroups(world, i, energy, moment, placement, ends, held, f, point);
+        return;
+    }
+    auto& gb = world.books.groups;
+    const PairStored& stored = world.contacts.stored[i];  // (this step's, written before)
+    const double placed = placement ? world.books.last_placed : 0.0;
+    auto* groups = gb.g.data();
+    for (uint64_t m = of[p.end1] & gb.traced; m; m &= m - 1) {
+        auto& gr = groups[__builtin_ctzll(m)];
+        EnergyTotals& a = gr.acc;
+        a.slip += energy[kEnergySlip];
+        gr.dashpot_pending += energy[kEnergyDashpot];
+        a.plastic += energy[kEnergyPlastic];
+        a.released += energy[kEnergyReleased];
+        a.placement += placed;
+        gr.held_before += held;
+        if (ends) {
+            a.released += stored.total();
+        } else {
+            gr.strain_now += stored.strain;
+            gr.bond_now += stored.bond;
+        }
+    }
+}
 void bookReleasedToGroups(World& world, const Pair& p, double released);
 /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
 void bookDeletedToGroups(World& world, uint64_t mask, double kinetic);
