@@ -24,8 +24,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "api/operations.hpp"
 #include "step/crossing.hpp"
+#include "step/detection.hpp"  // pairGeometry
 #include "step/script_work.hpp"
 #include "world/body_store.hpp"
 
