@@ -13,11 +13,39 @@ L.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_later
     "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
     "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
     "energy_boundary [J]", "energy_kinetic [J]", "cracks", "strain_volumetric",
-    "platen_difference" }
+    "platen_difference", "ratio", "held" }
 
 --- The default loading rate: the axial strain applied per P-wave crossing of the specimen (c =
 --- sqrt(kn / rho), kn the material's contact modulus). docs/material.md, "Loading rate".
 L.strain_per_crossing = 5e-6
+
+--- The equilibrium hold of the platens' servo (docs/material.md, "Loading rate"): the platens
+--- stand still while PFC's mechanical ratio is above `ratio` and move at the rate otherwise; a
+--- hold lasts at most `crossings` P-wave crossings of the specimen.
+L.hold = { ratio = tonumber(os.getenv("HOLD_RATIO") or "1e-3"), resume = tonumber(os.getenv("HOLD_RESUME") or "1e-5"), crossings = tonumber(os.getenv("HOLD_CROSSINGS") or "100") }
+
+--- A hold table's fields over L.hold's (the caller's table untouched).
+function L.hold_of(hold)
+    hold = hold or {}
+    return { ratio = hold.ratio or L.hold.ratio, resume = hold.resume or L.hold.resume,
+             crossings = hold.crossings or L.hold.crossings }
+end
+
+--- The servo's hold = {ratio, max_steps} of a test (opts.hold: false for none, or a table
+--- overriding L.hold's fields), for the crossing time `crossing` [s] and the step `dt` [s].
+function L.hold_settings(opts, crossing, dt)
+    if opts.hold == false or os.getenv("HOLD_RATIO") == "off" then return false end
+    local h = L.hold_of(opts.hold)
+    return { ratio = h.ratio, resume = math.min(h.resume, h.ratio),
+             max_steps = math.max(1, math.ceil(h.crossings * crossing / dt)) }
+end
+
+--- The hold as text, for a checkpoint's key (a test rerun with another hold is made again).
+function L.hold_key(hold)
+    if hold == false or os.getenv("HOLD_RATIO") == "off" then return "off" end
+    local h = L.hold_of(hold)
+    return string.format("%g/%g/%g", h.ratio, h.resume, h.crossings)
+end
 
 --- The loading rate [1/s] of a test: opts.rate, or opts.strain_per_crossing (L's default) per
 --- P-wave crossing of the gauge length h0. Also returns the crossing time [s].
@@ -32,8 +60,9 @@ end
 --- and at the peak: the platen stress difference |F_top - F_bottom| / their mean (the net force
 --- that accelerates the specimen as a body), the kinetic over the stored (strain + bond) energy
 --- (with energy tracing), and the bond breaks per P-wave crossing over the tenth of the test
---- before the peak. Returns { difference_peak, difference_max, difference_mean,
---- kinetic_peak, kinetic_max, cracks_per_crossing }.
+--- before the peak, and PFC's mechanical ratio at the peak (the servo's hold measures it). Returns
+--- { difference_peak, difference_max, difference_mean, kinetic_peak, kinetic_max,
+--- cracks_per_crossing, ratio_peak }.
 function L.quasi_static(rows, ipeak, crossing)
     local q = { difference_max = 0, difference_mean = 0 }
     local peak = rows[ipeak]
@@ -56,6 +85,7 @@ function L.quasi_static(rows, ipeak, crossing)
     end
     q.difference_mean = n > 0 and q.difference_mean / n or 0
     q.difference_peak = math.abs(peak.platen_difference or 0)
+    q.ratio_peak = peak.ratio
     local es = (peak["energy_strain [J]"] or 0) + (peak["energy_bond [J]"] or 0)
     if peak["energy_kinetic [J]"] and es > 0 then
         q.kinetic_peak = peak["energy_kinetic [J]"] / es
@@ -112,6 +142,7 @@ function L.load_platens(sp, opts, measure)
     local rows = {}
     local peak, ipeak = -math.huge, 0
     local stop_reason = "max_steps"
+    local servo -- the platens' (below), nil for the first row
     local function row()
         local h = -Wl.pos(sp.top) - Wl.pos(sp.bottom)
         local r = measure(h0, h)
@@ -129,15 +160,21 @@ function L.load_platens(sp, opts, measure)
             r["energy_boundary [J]"], r["energy_kinetic [J]"] = e.boundary, e.kinetic
             r["energy_damping [J]"] = e.damping
         end
+        if servo then
+            local st = servo:state()
+            r.ratio, r.held = st.ratio, st.held
+        end
         r.strain_axial, r["stress_axial [Pa]"] = r.ea, r.sa
         r.strain_lateral, r["stress_lateral [Pa]"] = r.el, r.sl
         rows[#rows + 1] = r
         return r
     end
     row()
-    -- the platens' servo: set once, run by the engine every step
-    local servo = m:servo{ walls = { sp.top.wall, sp.bottom.wall }, dirs = { sp.top.n, sp.bottom.n },
-                           rate = rate, gauge = h0, ramp = ramp }
+    -- the platens' servo: set once, run by the engine every step; with the hold the platens wait
+    -- while a crack cascade runs (L.hold)
+    local hold = L.hold_settings(opts, crossing, m:dt())
+    servo = m:servo{ walls = { sp.top.wall, sp.bottom.wall }, dirs = { sp.top.n, sp.bottom.n },
+                     rate = rate, gauge = h0, ramp = ramp, hold = hold }
     while true do
         stepper.cycle(every)
         local r = row()
@@ -155,8 +192,9 @@ function L.load_platens(sp, opts, measure)
         local why = opts.stop and opts.stop(rows, ipeak, cracks)
         if why then stop_reason = why; break end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
-        if m:step() - s0 >= max_steps then break end
+        if m:step() - s0 - (r.held or 0) >= max_steps then break end
     end
+    local sst = servo:state()
     servo:remove()
     stepper.release()
     m:remove_on_event(handler)
@@ -164,6 +202,7 @@ function L.load_platens(sp, opts, measure)
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = 0.5 * rate * h0,
         rate = rate, crossing = crossing, max_steps = max_steps, stop = stop_reason, breaks = breaks,
         cracks = cracks, time = U.clock() - t0, quasi_static = L.quasi_static(rows, ipeak, crossing),
+        held = sst.held or 0, holds = sst.holds or 0, holds_capped = sst.holds_capped or 0,
     }
 end
 
