@@ -20,30 +20,36 @@ L.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_later
 L.strain_per_crossing = 5e-6
 
 --- The equilibrium hold of the platens' servo (docs/material.md, "Loading rate"): the platens
---- stand still while PFC's mechanical ratio is above `ratio` and move at the rate otherwise; a
---- hold lasts at most `crossings` P-wave crossings of the specimen.
-L.hold = { ratio = tonumber(os.getenv("HOLD_RATIO") or "1e-3"), resume = tonumber(os.getenv("HOLD_RESUME") or "1e-5"), crossings = tonumber(os.getenv("HOLD_CROSSINGS") or "100") }
+--- stop when PFC's mechanical ratio rises above `ratio` (a crack cascade; the loading itself
+--- keeps it near 1e-4 at the default rate) and move on once it has fallen to `resume` (the
+--- cascade has run its course); a hold lasts at most `crossings` P-wave crossings of the
+--- specimen (a relaxation takes 20-45, docs/results/material.md). A test uses it when its
+--- opts.hold is true or a table of these fields, or when opts.hold is nil and L.hold_default.
+L.hold = { ratio = 1e-2, resume = 1e-4, crossings = 100 }
+L.hold_default = false
 
---- A hold table's fields over L.hold's (the caller's table untouched).
+--- A hold's fields over L.hold's (the caller's table untouched), or false for none.
 function L.hold_of(hold)
-    hold = hold or {}
+    if hold == nil then hold = L.hold_default end
+    if not hold then return false end
+    hold = hold == true and {} or hold
     return { ratio = hold.ratio or L.hold.ratio, resume = hold.resume or L.hold.resume,
              crossings = hold.crossings or L.hold.crossings }
 end
 
---- The servo's hold = {ratio, max_steps} of a test (opts.hold: false for none, or a table
---- overriding L.hold's fields), for the crossing time `crossing` [s] and the step `dt` [s].
+--- The servo's hold = {ratio, resume, max_steps} of a test (opts.hold, L.hold_of), for the
+--- crossing time `crossing` [s] and the step `dt` [s]; false for none.
 function L.hold_settings(opts, crossing, dt)
-    if opts.hold == false or os.getenv("HOLD_RATIO") == "off" then return false end
     local h = L.hold_of(opts.hold)
+    if not h then return false end
     return { ratio = h.ratio, resume = math.min(h.resume, h.ratio),
              max_steps = math.max(1, math.ceil(h.crossings * crossing / dt)) }
 end
 
 --- The hold as text, for a checkpoint's key (a test rerun with another hold is made again).
 function L.hold_key(hold)
-    if hold == false or os.getenv("HOLD_RATIO") == "off" then return "off" end
     local h = L.hold_of(hold)
+    if not h then return "off" end
     return string.format("%g/%g/%g", h.ratio, h.resume, h.crossings)
 end
 
@@ -192,7 +198,11 @@ function L.load_platens(sp, opts, measure)
         local why = opts.stop and opts.stop(rows, ipeak, cracks)
         if why then stop_reason = why; break end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
+        -- the cap counts the steps the platens moved; the held ones have their own cap, the
+        -- total (opts.max_held, default 10 x max_steps) so that a test whose holds never end
+        -- still does
         if m:step() - s0 - (r.held or 0) >= max_steps then break end
+        if (r.held or 0) >= (opts.max_held or 10 * max_steps) then stop_reason = "max_held"; break end
     end
     local sst = servo:state()
     servo:remove()
