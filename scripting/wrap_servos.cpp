@@ -31,7 +31,21 @@ const Option kServoSetOptionRows[] = {
     {"alpha", "number", "PFC's relaxation factor in (0, 2)"},
     {"vmax", "number", "speed cap [m/s] (default set by the control)"},
     {"on", "boolean", "false stops the walls along their directions"},
+    {"hold", "talus.ServoHoldOptions|false",
+     "rate, velocity: stand still while the mechanical ratio is above a limit; false: off"},
 };
+
+const Option kServoHoldOptionRows[] = {
+    {"ratio", "number", "the walls stop when PFC's mechanical ratio rises above this"},
+    {"resume", "number", "... and move again once it is at or below this (default: ratio)"},
+    {"max_steps", "integer", "the longest hold [steps]; then the walls move until the ratio falls"},
+};
+
+const OptionTable kServoHoldOptions = {
+    "talus.ServoHoldOptions",
+    "hold = {...}: a strain-controlled test with equilibrium holds (the walls wait for the "
+    "material to settle)",
+    kServoHoldOptionRows};
 
 const OptionTable kServoSetOptions = {
     "talus.ServoSetOptions",
@@ -68,6 +82,24 @@ std::vector<WallId> toWalls(lua_State* L, int index, const LuaModel& lm, const s
         lua_pop(L, 1);
     }
     return out;
+}
+
+/// hold = {ratio = r, max_steps = n}, or false (off).
+void readHold(lua_State* L, const Options& o, ServoSettings& s, const std::string& what) {
+    if (o.push("hold") == LUA_TBOOLEAN && !lua_toboolean(L, -1)) {
+        lua_pop(L, 1);
+        s.hold_ratio = kNotSet, s.hold_resume = kNotSet, s.hold_max_steps = 0;
+        return;
+    }
+    const Options h(L, lua_gettop(L), what + ": hold", kServoHoldOptions);
+    if (!h.has("ratio") || !h.has("max_steps"))
+        throw ScriptError(what +
+                          ": hold = {ratio = r, max_steps = n}: give the ratio limit and the "
+                          "longest hold in steps");
+    s.hold_ratio = h.number("ratio", 0.0);
+    s.hold_max_steps = h.integer("max_steps", 0);
+    s.hold_resume = h.has("resume") ? h.number("resume", 0.0) : kNotSet;
+    lua_pop(L, 1);
 }
 
 /// Applies the options at stack 2 over `s` (a new servo starts from defaults and needs one
@@ -127,6 +159,7 @@ void readOptions(lua_State* L, const LuaModel& lm, ServoSettings& s, bool create
     else if (s.control != before)
         s.vmax = kNotSet;
     if (o.has("on")) s.on = o.boolean("on", true);
+    if (o.has("hold")) readHold(L, o, s, what);
 }
 
 void pushNumberOrNil(lua_State* L, double v) {
@@ -137,7 +170,9 @@ void pushNumberOrNil(lua_State* L, double v) {
 }
 
 /// {control, target, on, walls, dirs, length, gauge, ramp, alpha, vmax, steps, force, forces,
-/// stress, knest, speed, displacement, strain (rate: displacement over half the gauge)}
+/// stress, knest, speed, displacement, strain (rate: displacement over half the gauge); with a
+/// hold: hold = {ratio, resume, max_steps}, ratio (the last step's), held (steps stood still),
+/// holds, holds_capped, hold_run}
 void pushState(lua_State* L, int model_index, const ServoState& st) {
     const ServoSettings& s = st.settings;
     lua_createtable(L, 0, 20);
@@ -176,6 +211,7 @@ void pushState(lua_State* L, int model_index, const ServoState& st) {
         {"speed", st.speed},
         {"displacement", st.displacement},
         {"strain", s.control == ServoControl::Rate ? 2.0 * st.displacement / s.gauge : kNotSet},
+        {"ratio", st.ratio},
     };
     for (const auto& [name, v] : numbers) {
         pushNumberOrNil(L, v);
@@ -185,6 +221,23 @@ void pushState(lua_State* L, int model_index, const ServoState& st) {
     lua_setfield(L, -2, "ramp");
     lua_pushinteger(L, static_cast<lua_Integer>(st.steps));
     lua_setfield(L, -2, "steps");
+    if (std::isnan(s.hold_ratio)) return;
+    lua_createtable(L, 0, 3);
+    lua_pushnumber(L, s.hold_ratio);
+    lua_setfield(L, -2, "ratio");
+    lua_pushnumber(L, s.hold_resume);
+    lua_setfield(L, -2, "resume");
+    lua_pushinteger(L, static_cast<lua_Integer>(s.hold_max_steps));
+    lua_setfield(L, -2, "max_steps");
+    lua_setfield(L, -2, "hold");
+    const std::pair<const char*, int64_t> counts[] = {{"held", st.held},
+                                                      {"holds", st.holds},
+                                                      {"holds_capped", st.holds_capped},
+                                                      {"hold_run", st.hold_run}};
+    for (const auto& [name, v] : counts) {
+        lua_pushinteger(L, static_cast<lua_Integer>(v));
+        lua_setfield(L, -2, name);
+    }
 }
 
 const ObjectType& servoObject();
@@ -235,8 +288,8 @@ const Method kServoObjectMethods[] = {
     {"set", s_set, "changes the options given; returns the state", "options: talus.ServoSetOptions",
      "table"},
     {"state", s_state,
-     "{control, target, on, walls, dirs, forces, stress, force, speed, strain, steps, ...}", "",
-     "table"},
+     "{control, target, on, walls, dirs, forces, stress, force, speed, strain, steps, held, ...}",
+     "", "table"},
     {"remove", s_remove, "removes the servo (its walls keep their last velocity)", "", ""},
 };
 
@@ -270,7 +323,7 @@ const Method kServosModelMethods[] = {
      "options: talus.ServoSetOptions", "talus.Servo"},
 };
 const ObjectType* const kServosTypes[] = {&kServoObject};
-const OptionTable* const kServosOptionTables[] = {&kServoSetOptions};
+const OptionTable* const kServosOptionTables[] = {&kServoSetOptions, &kServoHoldOptions};
 
 }  // namespace
 

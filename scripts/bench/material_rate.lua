@@ -20,11 +20,12 @@
 -- platen difference, kinetic/stored energy and ratio, and the breaks per P-wave crossing over
 -- the tenth of the test before the peak.
 --
---   talus run scripts/bench/material_rate.lua OUTDIR seeds [scale] [rate] [nseeds] [material]
+--   talus run scripts/bench/material_rate.lua OUTDIR seeds [scale] [rate] [nseeds] [material] [hold]
 --
 -- The work-precision check of the default rate: M.run_seeds (a UCS and a Brazilian test per seed,
 -- the examples' code) on seeds 1..nseeds at `rate` (default M.strain_per_crossing) and at half of
--- it, on the same packings (kept in OUTDIR/ck_*). Prints per seed the UCS at both rates, E, the
+-- it, on the same packings (kept in OUTDIR/ck_*); `hold` loads with the platens' equilibrium
+-- hold (M.hold's settings). Prints per seed the UCS at both rates, E, the
 -- quasi-static measure and the Brazilian outcome, then one RESULT line: the change of the mean
 -- UCS when the rate halves, how many disks gave a valid sigma_t at each rate, and the CPU (the
 -- tests' own clocks, which a loaded machine stretches less than the wall clock).
@@ -32,6 +33,7 @@ local M = require("material")
 if arg[2] == "seeds" then
     local outdir, scale = arg[1], tonumber(arg[3] or "0.5")
     local rate, n, kind = tonumber(arg[4] or tostring(M.strain_per_crossing)), tonumber(arg[5] or "5"), arg[6] or "fjoint"
+    local hold = arg[7] == "hold" or nil
     talus.mkdir(outdir)
     local mat, genesis, disk = M.lac_du_bonnet(kind, M.ldb_calibrated[kind])
     local seeds = {}
@@ -39,7 +41,8 @@ if arg[2] == "seeds" then
     local runs = {}
     for k, r in ipairs { rate, 0.5 * rate } do
         runs[k] = M.run_seeds{ material = mat, genesis = genesis, disk = disk, seeds = seeds, scale = scale,
-                               strain_per_crossing = r, checkpoint = string.format("%s/ck_%g", outdir, r),
+                               strain_per_crossing = r, hold = hold,
+                               checkpoint = string.format("%s/ck_%g", outdir, r),
                                key = string.format("%s scale %g", kind, scale) }
     end
     local function stat(res, key)
@@ -52,13 +55,14 @@ if arg[2] == "seeds" then
         return v
     end
     print(string.format("%s, scale %g, rates %g and %g per P-wave crossing", kind, scale, rate, 0.5 * rate))
-    print("seed  UCS(r)  UCS(r/2) [MPa]  change   E(r) [GPa]  dF/F(r)   sigma_t(r)  sigma_t(r/2) [MPa]")
+    print("seed  UCS(r)  UCS(r/2) [MPa]  change   E(r) [GPa]  dF/F(r)   ratio(r)  held(r)  sigma_t(r)  sigma_t(r/2) [MPa]")
     for i, a in ipairs(runs[1].rows) do
         local b = runs[2].rows[i]
         local function t(row) return row.valid and row.tensile and string.format("%.2f", row.tensile / 1e6)
             or "- (" .. tostring(row.reason) .. ")" end
-        print(string.format("%4d  %6.1f  %6.1f          %+6.2f%%  %6.1f      %.1e   %s   %s", a.seed, a.ucs / 1e6,
-            b.ucs / 1e6, 100 * (b.ucs / a.ucs - 1), (a.E_elastic or 0) / 1e9, a.qs_difference or 0, t(a), t(b)))
+        print(string.format("%4d  %6.1f  %6.1f          %+6.2f%%  %6.1f      %.1e   %.1e   %7d  %s   %s", a.seed,
+            a.ucs / 1e6, b.ucs / 1e6, 100 * (b.ucs / a.ucs - 1), (a.E_elastic or 0) / 1e9, a.qs_difference or 0,
+            a.qs_ratio or 0 / 0, a.held or 0, t(a), t(b)))
     end
     local ua, ub = stat(runs[1], "ucs"), stat(runs[2], "ucs")
     local ta, tb = stat(runs[1], "tensile"), stat(runs[2], "tensile")

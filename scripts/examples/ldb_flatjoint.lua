@@ -20,10 +20,11 @@
 -- --rate: the loading rate as the axial strain per P-wave crossing of the specimen (default
 -- M.strain_per_crossing, docs/material.md "Loading rate"); --max-steps: each test's step cap
 -- (default: the steps that strain the specimen by 2% at the rate); --material as the 6th argument;
--- --checkpoint=DIR keeps every packing and test there as it finishes (talus.map): a rerun goes on
+-- --hold (or --hold=0) loads with (without) the platens' equilibrium hold (docs/material.md,
+-- "Loading rate"; off by default); --checkpoint=DIR keeps every packing and test there as it finishes (talus.map): a rerun goes on
 -- from there, and a rerun at another rate makes its tests on the same packings.
 local M = require("material")
-local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps", "material", "checkpoint" })
+local args, opt = require("talus_util.options").command_line(arg, { "rate", "max-steps", "material", "checkpoint", "hold" })
 local outdir = args[1] or "out"
 local n = tonumber(args[2] or "5")
 local scale = tonumber(args[3] or "1")
@@ -46,6 +47,7 @@ local t0 = os.clock()
 local res = M.run_seeds{ material = mat, genesis = genesis, disk = disk, seeds = seeds, scale = scale,
                          confinements = phi and { 10e6, 20e6 } or nil, strain_per_crossing = opt.rate,
                          max_steps = opt["max-steps"], checkpoint = opt.checkpoint,
+                         hold = opt.hold ~= nil and (opt.hold ~= 0 and opt.hold ~= "off") or nil,
                          key = opt.checkpoint and string.format("ldb %s scale %g seeds %d-%d", kind, scale, first,
                              first + n - 1) or nil }
 if talus.rank() == 0 then
@@ -55,6 +57,6 @@ if talus.rank() == 0 then
         res.cpu - res.cpu_packings, res.cpu_packings, os.clock() - t0))
     M.write_csv(string.format("%s/ldb_%s_seeds_%d.csv", outdir, kind, first), res.rows,
         { "seed", "balls", "porosity", "ucs", "E", "nu", "E_elastic", "nu_elastic", "tensile", "tensile_peak", "valid",
-          "reason", "ratio", "phi", "c", "m_i", "ci_ratio", "cd_ratio", "steps", "stop", "qs_difference", "qs_kinetic",
+          "reason", "ratio", "phi", "c", "m_i", "ci_ratio", "cd_ratio", "steps", "stop", "qs_difference", "qs_kinetic", "qs_ratio", "held", "holds",
           "stop_brazilian", "steps_brazilian", "cpu", "cpu_ucs", "cpu_brazilian" })
 end

@@ -169,6 +169,7 @@ local calls = {
     ["talus.PictureOptions"] = function(o) return m:picture(o) end,
     ["talus.ServoOptions"] = function(o) return wall:servo(o) end,
     ["talus.ServoSetOptions"] = function(o) return m:servo(o) end,
+    ["talus.ServoHoldOptions"] = function(o) return m:servo{ walls = { wall }, rate = 1, gauge = 1, hold = o } end,
     ["talus.TrackOptions"] = function(o) return m:track(clump, o) end,
     ["talus.TrackImpacts"] = function(o) return m:track(clump, { impacts = o }) end,
     ["talus.TrackLine"] = function(o) return m:track(clump, { lines = { o } }) end,

@@ -27,9 +27,9 @@ class PluginRegistry;
 inline constexpr char kSaveMagic[8] = {'T', 'A', 'L', 'U', 'S', 'S', 'A', 'V'};
 /// Raise when a section is added or a section's layout grows (docs/save-format.md, "Sections");
 /// 2: the energy items `script` and `barrier`, the script's pending changes, the guard's
-/// severe settings;
+/// severe settings; 3: the servos' equilibrium hold (SRVG);
 /// a reader reads every version up to its own and refuses newer ones.
-inline constexpr uint32_t kSaveFormatVersion = 2;
+inline constexpr uint32_t kSaveFormatVersion = 3;
 /// Written in the saving machine's byte order; read back as another value on a machine of the
 /// other order.
 inline constexpr uint32_t kSaveByteOrderMark = 0x01020304u;

@@ -54,6 +54,16 @@ struct ServoSettings {
     double alpha = 0.5;  ///< stress, force: PFC's relaxation factor, in (0, 2)
     double vmax = 1.0;   ///< [m/s] the speed cap
     bool on = true;
+    /// Rate, velocity: the equilibrium hold, off when NaN. When PFC's mechanical ratio (mean
+    /// unbalanced force over mean contact force, UnbalancedForce) rises above `hold_ratio`, the
+    /// walls stand still and the model relaxes (a crack cascade runs its course at fixed
+    /// strain); they move on at the target once it is at or below `hold_resume` (NaN: the same
+    /// limit), their speed rising again over `ramp` steps. A hold lasts at most
+    /// `hold_max_steps` steps; then the walls move until the ratio falls to `hold_resume`, so a
+    /// test always ends.
+    double hold_ratio = kNotSet;
+    double hold_resume = kNotSet;
+    int64_t hold_max_steps = 0;
 };
 
 /// A servo's settings (directions, gauge resolved) and its state after the last step.
@@ -68,6 +78,14 @@ struct ServoState {
     double speed = 0.0;          ///< the speed set for the last step [m/s]
     double displacement = 0.0;   ///< how far each wall moved along its direction since set [m]
     std::vector<double> forces;  ///< each wall's push [N]
+    // the equilibrium hold (settings.hold_ratio set)
+    double ratio = kNotSet;    ///< the mechanical ratio at the last step
+    int64_t held = 0;          ///< steps the walls stood still since the servo was set
+    int64_t holds = 0;         ///< holds begun
+    int64_t holds_capped = 0;  ///< holds ended by hold_max_steps, not by the ratio
+    int64_t hold_run = 0;      ///< steps of the hold under way (0: moving)
+    int64_t since_hold = -1;   ///< steps moved since the last hold ended (-1: none yet)
+    bool capped = false;       ///< the last hold hit its cap: moving until the ratio falls
 };
 
 }  // namespace talus

@@ -3,7 +3,9 @@
 // The servos' section of a save file ("SRVG", docs/save-format.md): every servo's resolved
 // settings and its state, so that a restored model goes on with its ramps where they were. The
 // section is written only when the model has servos, after the events; a file without it (an
-// older file, or a model without servos) restores with none.
+// older file, or a model without servos) restores with none. Format version 3 added each servo's
+// equilibrium hold (settings and counts) after its state; a version-2 file's servos restore
+// without a hold.
 #include "api/operations.hpp"
 #include "talus/save_file.hpp"
 
@@ -28,6 +30,10 @@ void saveServos(const World& world, SaveWriter& w) {
         w.i64(st.steps), w.f64(st.start), w.f64(st.force), w.f64(st.stress), w.f64(st.length);
         w.f64(st.knest), w.f64(st.speed), w.f64(st.displacement);
         w.array(st.forces);
+        w.f64(s.hold_ratio), w.f64(s.hold_resume), w.i64(s.hold_max_steps), w.f64(st.ratio),
+            w.i64(st.held);
+        w.i64(st.holds), w.i64(st.holds_capped), w.i64(st.hold_run), w.i64(st.since_hold),
+            w.boolean(st.capped);
     }
     w.endSection();
 }
@@ -56,6 +62,12 @@ void restoreServos(World& world, SaveReader& in) {
         st.steps = r.i64(), st.start = r.f64(), st.force = r.f64(), st.stress = r.f64();
         st.length = r.f64(), st.knest = r.f64(), st.speed = r.f64(), st.displacement = r.f64();
         r.array(st.forces, "servo forces");
+        if (r.version() >= 3) {
+            s.hold_ratio = r.f64(), s.hold_resume = r.f64(), s.hold_max_steps = r.i64(),
+            st.ratio = r.f64();
+            st.held = r.i64(), st.holds = r.i64(), st.holds_capped = r.i64();
+            st.hold_run = r.i64(), st.since_hold = r.i64(), st.capped = r.boolean();
+        }
         counted += sd.alive && s.on;
     }
     r.expectEnd();

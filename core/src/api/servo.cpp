@@ -134,6 +134,21 @@ ServoSettings resolved(const World& world, ServoSettings s, uint32_t self, const
             s.length = len;
         }
     }
+    if (!std::isnan(s.hold_ratio)) {
+        if (pfc)
+            throw InputError(who +
+                             "hold: an equilibrium hold stops walls that move at a rate or a "
+                             "velocity (a stress or force servo follows its target)");
+        requirePositive(s.hold_ratio, who + "hold: ratio");
+        if (std::isnan(s.hold_resume)) s.hold_resume = s.hold_ratio;
+        if (!(s.hold_resume >= 0.0 && s.hold_resume <= s.hold_ratio))
+            throw InputError(who + "hold: resume must be in [0, ratio] (got " +
+                             messageNumber(s.hold_resume) + " with ratio " +
+                             messageNumber(s.hold_ratio) + ")");
+        if (s.hold_max_steps < 1)
+            throw InputError(who + "hold: max_steps must be >= 1 (the longest hold; got " +
+                             std::to_string(s.hold_max_steps) + ")");
+    }
     if (s.control == ServoControl::Rate) {
         if (std::isnan(s.gauge)) {
             if (s.walls.size() < 2)

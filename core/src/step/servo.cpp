@@ -11,7 +11,14 @@
 //                   apothem at the rate);
 //   velocity:       each wall at the target speed;
 //
-// rates and velocities ramped from the speed when the servo was set. The walls' velocity
+// rates and velocities ramped from the speed when the servo was set. With an equilibrium hold
+// (rate, velocity) the walls stand still while PFC's mechanical ratio is above the hold's limit:
+// a strain-controlled test with equilibrium holds. A bond that breaks hands its load to its
+// neighbours, which break in turn only once the balls between them have moved; local damping
+// slows those motions to tens of P-wave crossings, and walls that keep moving meanwhile load a
+// specimen whose strength is already going, so the peak rises with the rate. Held, the cascade
+// runs its course at fixed strain, and the peak is the last state the specimen holds in
+// equilibrium. The walls' velocity
 // along their direction is written into WallData::vel, so moveWalls moves them and books their
 // work as boundary work, as for any moving wall.
 #include <algorithm>
@@ -86,6 +93,39 @@ double servoSpeed(const ServoData& sd, ServoState& st, double dt) {
     return 0.0;
 }
 
+/// The equilibrium hold (settings.hold_ratio set): the fraction of the speed the walls move at
+/// this step. A hold begins when the ratio rises above hold_ratio and ends when it is at or
+/// below hold_resume, or after hold_max_steps (after a capped hold the walls move until the
+/// ratio falls to hold_resume once). The walls stop at once, and start again over `ramp` steps:
+/// a platen that jumps to its speed sends a wave through the specimen whose unbalanced force
+/// would hold it again.
+double holdFraction(const World& world, ServoState& st) {
+    const ServoSettings& s = st.settings;
+    st.ratio = unbalancedForce(world).ratio;
+    // no contact force at all (infinite ratio): nothing is out of equilibrium that holding
+    // would settle, so the walls move on to the material
+    const bool finite = std::isfinite(st.ratio);
+    const bool settled = !finite || st.ratio <= s.hold_resume;
+    if (settled) st.capped = false;
+    const bool holding = st.hold_run > 0;
+    const auto moving = [&] {
+        if (st.hold_run > 0) st.since_hold = 0;
+        st.hold_run = 0;
+        if (st.since_hold < 0) return 1.0;
+        return rampFraction(st.since_hold++, s.ramp);
+    };
+    if (settled || st.capped || (!holding && !(st.ratio > s.hold_ratio))) return moving();
+    if (!holding) ++st.holds;
+    if (st.hold_run >= s.hold_max_steps) {
+        st.capped = true;
+        ++st.holds_capped;
+        return moving();
+    }
+    ++st.hold_run;
+    ++st.held;
+    return 0.0;
+}
+
 }  // namespace
 
 void runServos(World& world, const StepContext& step) {
@@ -93,7 +133,8 @@ void runServos(World& world, const StepContext& step) {
         if (!sd.alive || !sd.state.settings.on) continue;
         ServoState& st = sd.state;
         measure(world, st);
-        const double v = servoSpeed(sd, st, step.dt);
+        double v = servoSpeed(sd, st, step.dt);
+        if (!std::isnan(st.settings.hold_ratio)) v *= holdFraction(world, st);
         st.speed = v;
         st.displacement += v * step.dt;
         ++st.steps;

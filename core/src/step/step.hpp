@@ -51,6 +51,8 @@ void bookkeeping(World& world, const StepContext& step);        // bookkeeping.c
 /// The gap between two walls: the distance of `to`'s first vertex from the line of `from`'s
 /// first segment (servo.cpp; two parallel platens, a box's opposite walls).
 double wallGap(const World& world, WallId from, WallId to);
+/// PFC's mechanical ratio from the forces of the last force loop (unbalanced.cpp).
+UnbalancedForce unbalancedForce(const World& world);
 /// The limits the force loop gathers, from the stored state (first step, scene changed;
 /// timestep.cpp).
 void surveyPairs(World& world);

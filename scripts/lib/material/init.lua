@@ -74,7 +74,7 @@ return {
     brazilian_peak_stiffness = Br.peak_stiffness, brazilian_split = Br.split,
     make_jaws = J.make_jaws, jaw_points = J.jaw_points, contact_angles = J.contact_angles,
     columns = L.columns, crack_columns = Cr.columns, write_cracks = Cr.write_csv,
-    strain_per_crossing = L.strain_per_crossing, quasi_static = L.quasi_static,
+    strain_per_crossing = L.strain_per_crossing, quasi_static = L.quasi_static, hold = L.hold,
     analyse = St.analyse, mean_sd = St.mean_sd, finished = St.finished, write_csv = U.write_csv,
     lac_du_bonnet = Ldb.lac_du_bonnet, ldb_defaults = Ldb.defaults, ldb_calibrated = Ldb.calibrated,
     run_seeds = Sd.run, print_seeds = Sd.print, seeds_stat = Sd.stat,

@@ -13,11 +13,45 @@ L.columns = { "step", "time", "strain_axial", "stress_axial [Pa]", "strain_later
     "stress_lateral [Pa]", "breaks_tension", "breaks_shear", "energy_bond [J]",
     "energy_strain [J]", "energy_released [J]", "energy_slip [J]", "energy_damping [J]",
     "energy_boundary [J]", "energy_kinetic [J]", "cracks", "strain_volumetric",
-    "platen_difference" }
+    "platen_difference", "ratio", "held" }
 
 --- The default loading rate: the axial strain applied per P-wave crossing of the specimen (c =
 --- sqrt(kn / rho), kn the material's contact modulus). docs/material.md, "Loading rate".
 L.strain_per_crossing = 5e-6
+
+--- The equilibrium hold of the platens' servo (docs/material.md, "Loading rate"): the platens
+--- stop when PFC's mechanical ratio rises above `ratio` (a crack cascade; the loading itself
+--- keeps it near 1e-4 at the default rate) and move on once it has fallen to `resume` (the
+--- cascade has run its course); a hold lasts at most `crossings` P-wave crossings of the
+--- specimen (a relaxation takes 20-45, docs/results/material.md). A test uses it when its
+--- opts.hold is true or a table of these fields, or when opts.hold is nil and L.hold_default.
+L.hold = { ratio = 1e-2, resume = 1e-4, crossings = 100 }
+L.hold_default = false
+
+--- A hold's fields over L.hold's (the caller's table untouched), or false for none.
+function L.hold_of(hold)
+    if hold == nil then hold = L.hold_default end
+    if not hold then return false end
+    hold = hold == true and {} or hold
+    return { ratio = hold.ratio or L.hold.ratio, resume = hold.resume or L.hold.resume,
+             crossings = hold.crossings or L.hold.crossings }
+end
+
+--- The servo's hold = {ratio, resume, max_steps} of a test (opts.hold, L.hold_of), for the
+--- crossing time `crossing` [s] and the step `dt` [s]; false for none.
+function L.hold_settings(opts, crossing, dt)
+    local h = L.hold_of(opts.hold)
+    if not h then return false end
+    return { ratio = h.ratio, resume = math.min(h.resume, h.ratio),
+             max_steps = math.max(1, math.ceil(h.crossings * crossing / dt)) }
+end
+
+--- The hold as text, for a checkpoint's key (a test rerun with another hold is made again).
+function L.hold_key(hold)
+    local h = L.hold_of(hold)
+    if not h then return "off" end
+    return string.format("%g/%g/%g", h.ratio, h.resume, h.crossings)
+end
 
 --- The loading rate [1/s] of a test: opts.rate, or opts.strain_per_crossing (L's default) per
 --- P-wave crossing of the gauge length h0. Also returns the crossing time [s].
@@ -32,8 +66,9 @@ end
 --- and at the peak: the platen stress difference |F_top - F_bottom| / their mean (the net force
 --- that accelerates the specimen as a body), the kinetic over the stored (strain + bond) energy
 --- (with energy tracing), and the bond breaks per P-wave crossing over the tenth of the test
---- before the peak. Returns { difference_peak, difference_max, difference_mean,
---- kinetic_peak, kinetic_max, cracks_per_crossing }.
+--- before the peak, and PFC's mechanical ratio at the peak (the servo's hold measures it). Returns
+--- { difference_peak, difference_max, difference_mean, kinetic_peak, kinetic_max,
+--- cracks_per_crossing, ratio_peak }.
 function L.quasi_static(rows, ipeak, crossing)
     local q = { difference_max = 0, difference_mean = 0 }
     local peak = rows[ipeak]
@@ -56,6 +91,7 @@ function L.quasi_static(rows, ipeak, crossing)
     end
     q.difference_mean = n > 0 and q.difference_mean / n or 0
     q.difference_peak = math.abs(peak.platen_difference or 0)
+    q.ratio_peak = peak.ratio
     local es = (peak["energy_strain [J]"] or 0) + (peak["energy_bond [J]"] or 0)
     if peak["energy_kinetic [J]"] and es > 0 then
         q.kinetic_peak = peak["energy_kinetic [J]"] / es
@@ -112,6 +148,7 @@ function L.load_platens(sp, opts, measure)
     local rows = {}
     local peak, ipeak = -math.huge, 0
     local stop_reason = "max_steps"
+    local servo -- the platens' (below), nil for the first row
     local function row()
         local h = -Wl.pos(sp.top) - Wl.pos(sp.bottom)
         local r = measure(h0, h)
@@ -129,15 +166,21 @@ function L.load_platens(sp, opts, measure)
             r["energy_boundary [J]"], r["energy_kinetic [J]"] = e.boundary, e.kinetic
             r["energy_damping [J]"] = e.damping
         end
+        if servo then
+            local st = servo:state()
+            r.ratio, r.held = st.ratio, st.held
+        end
         r.strain_axial, r["stress_axial [Pa]"] = r.ea, r.sa
         r.strain_lateral, r["stress_lateral [Pa]"] = r.el, r.sl
         rows[#rows + 1] = r
         return r
     end
     row()
-    -- the platens' servo: set once, run by the engine every step
-    local servo = m:servo{ walls = { sp.top.wall, sp.bottom.wall }, dirs = { sp.top.n, sp.bottom.n },
-                           rate = rate, gauge = h0, ramp = ramp }
+    -- the platens' servo: set once, run by the engine every step; with the hold the platens wait
+    -- while a crack cascade runs (L.hold)
+    local hold = L.hold_settings(opts, crossing, m:dt())
+    servo = m:servo{ walls = { sp.top.wall, sp.bottom.wall }, dirs = { sp.top.n, sp.bottom.n },
+                     rate = rate, gauge = h0, ramp = ramp, hold = hold }
     while true do
         stepper.cycle(every)
         local r = row()
@@ -155,8 +198,13 @@ function L.load_platens(sp, opts, measure)
         local why = opts.stop and opts.stop(rows, ipeak, cracks)
         if why then stop_reason = why; break end
         if opts.max_strain and r.ea > opts.max_strain then stop_reason = "max_strain"; break end
-        if m:step() - s0 >= max_steps then break end
+        -- the cap counts the steps the platens moved; the held ones have their own cap, the
+        -- total (opts.max_held, default 10 x max_steps) so that a test whose holds never end
+        -- still does
+        if m:step() - s0 - (r.held or 0) >= max_steps then break end
+        if (r.held or 0) >= (opts.max_held or 10 * max_steps) then stop_reason = "max_held"; break end
     end
+    local sst = servo:state()
     servo:remove()
     stepper.release()
     m:remove_on_event(handler)
@@ -164,6 +212,7 @@ function L.load_platens(sp, opts, measure)
         rows = rows, peak = peak, ipeak = ipeak, steps = m:step() - s0, velocity = 0.5 * rate * h0,
         rate = rate, crossing = crossing, max_steps = max_steps, stop = stop_reason, breaks = breaks,
         cracks = cracks, time = U.clock() - t0, quasi_static = L.quasi_static(rows, ipeak, crossing),
+        held = sst.held or 0, holds = sst.holds or 0, holds_capped = sst.holds_capped or 0,
     }
 end
 

@@ -6,12 +6,13 @@ local S = require("material.specimen")
 local C = require("material.compress")
 local Br = require("material.brazilian")
 local Env = require("material.envelope")
+local L = require("material.loading")
 
 local Sd = {}
 
 local kKnown = U.set_of { "material", "genesis", "disk", "seeds", "scale", "width", "height", "diameter",
     "confinements", "platen_fric", "jobs", "checkpoint", "key", "outdir", "name", "strain_per_crossing", "rate",
-    "max_steps" }
+    "max_steps", "hold" }
 
 --- Runs the table. spec:
 ---   material = M.specimen's material table (each seed gets mat.seed = its seed)
@@ -23,13 +24,14 @@ local kKnown = U.set_of { "material", "genesis", "disk", "seeds", "scale", "widt
 ---   platen_fric = the Brazilian jaws' friction (0.5); jobs, checkpoint, key: talus.map's
 ---   outdir, name: when given, histories and crack lists are written there as
 ---   NAME_ucs_<seed>.csv, NAME_brazilian_<seed>.csv, NAME_biaxial_<sigma3 MPa>_<seed>.csv
----   strain_per_crossing or rate (1/s), max_steps: every test's loading (M.compress's; the
----   default rate and its step cap when not given)
+---   strain_per_crossing or rate (1/s), max_steps, hold: every test's loading (M.compress's; the
+---   default rate, its step cap and the platens' equilibrium hold when not given)
 --- Returns { rows = {{seed, balls, porosity, ucs, E, nu, tensile (only from a disk that split),
 --- tensile_peak (the Brazilian test's peak, whatever it measured), valid, reason, ratio (UCS over
 --- a valid tensile strength), phi, c, m_i, peaks = {[sigma3] = sigma1}, steps, stop, ci_ratio,
 --- cd_ratio, qs_difference, qs_kinetic (how far from quasi-static the UCS test ran at its peak:
---- the platen stress difference and the kinetic over the stored energy), cpu, cpu_ucs,
+--- the platen stress difference, the kinetic over the stored energy, the mechanical ratio),
+--- held, holds (the UCS test's steps with the platens held, and its holds), cpu, cpu_ucs,
 --- cpu_brazilian, cpu_biaxial (s)}, ...}, failed
 --- (talus.map's), cpu (tests and packings, s), cpu_packings }. Statistics: Sd.stat.
 function Sd.run(spec)
@@ -80,7 +82,8 @@ function Sd.run(spec)
         local tag = kind == "biaxial" and string.format("biaxial_%g", it.confinement / 1e6) or kind
         return string.format("%s/%s_%s_%d.csv", spec.outdir, spec.name or "ldb", tag, it.seed)
     end
-    local loading = { strain_per_crossing = spec.strain_per_crossing, rate = spec.rate, max_steps = spec.max_steps }
+    local loading = { strain_per_crossing = spec.strain_per_crossing, rate = spec.rate, max_steps = spec.max_steps,
+                      hold = spec.hold }
     local res = talus.map(#items, function(i)
         local it = items[i]
         local c0 = U.clock()
@@ -103,9 +106,10 @@ function Sd.run(spec)
         return { kind = it.kind, seed = it.seed, confinement = it.confinement or 0, peak = r.ucs, E = r.E, nu = r.nu,
                  E_elastic = r.E_elastic, nu_elastic = r.nu_elastic, stop = r.stop, steps = r.steps, balls = r.balls,
                  porosity = pk.porosity, ci_ratio = th.ci and th.ci.ratio, cd_ratio = th.cd and th.cd.ratio,
-                 qs_difference = q.difference_peak, qs_kinetic = q.kinetic_peak, cpu = U.clock() - c0 }
-    end, map_opts("tests", string.format(" rate %s %s max_steps %s", tostring(spec.strain_per_crossing),
-        tostring(spec.rate), tostring(spec.max_steps))))
+                 qs_difference = q.difference_peak, qs_kinetic = q.kinetic_peak, qs_ratio = q.ratio_peak, held = r.held,
+                 holds = r.holds, cpu = U.clock() - c0 }
+    end, map_opts("tests", string.format(" rate %s %s max_steps %s hold %s", tostring(spec.strain_per_crossing),
+        tostring(spec.rate), tostring(spec.max_steps), L.hold_key(spec.hold))))
     local rows, by_seed, cpu = {}, {}, cpu_pk
     for k, seed in ipairs(seeds) do
         rows[k] = { seed = seed, peaks = {}, cpu = 0 }
@@ -122,7 +126,8 @@ function Sd.run(spec)
                 row.ucs, row.E, row.nu, row.balls, row.porosity = r.peak, r.E, r.nu, r.balls, r.porosity
                 row.E_elastic, row.nu_elastic = r.E_elastic, r.nu_elastic
                 row.stop, row.steps, row.ci_ratio, row.cd_ratio = r.stop, r.steps, r.ci_ratio, r.cd_ratio
-                row.qs_difference, row.qs_kinetic = r.qs_difference, r.qs_kinetic
+                row.qs_difference, row.qs_kinetic, row.qs_ratio = r.qs_difference, r.qs_kinetic, r.qs_ratio
+                row.held, row.holds = r.held, r.holds
             elseif r.kind == "brazilian" then
                 row.tensile, row.tensile_peak, row.valid, row.reason = r.tensile, r.peak, r.valid == true, r.reason
                 row.stop_brazilian, row.steps_brazilian = r.stop, r.steps
@@ -162,19 +167,20 @@ end
 function Sd.print(res, title)
     if title then print(title) end
     print("seed balls porosity UCS[MPa] E[GPa]  nu     E_el   nu_el  sigma_t[MPa]  UCS/sigma_t phi[deg] CI/UCS CD/UCS "
-        .. "stop(UCS) steps   dF/F   Ek/Es")
+        .. "stop(UCS) steps   held   dF/F   Ek/Es  ratio")
     for _, r in ipairs(res.rows) do
         -- a disk that did not split: no tensile strength; its peak in brackets, marked *
         local ten = r.tensile and string.format("%.2f", r.tensile / 1e6)
             or (r.tensile_peak and string.format("(%.2f)*", r.tensile_peak / 1e6)) or "-"
-        print(string.format("%4d %5s  %5s  %8s %6s  %5s  %5s  %5s  %11s  %8s   %6s    %4s   %4s   %-9s %6s  %.1e %.1e",
+        print(string.format("%4d %5s  %5s  %8s %6s  %5s  %5s  %5s  %11s  %8s   %6s    %4s   %4s   %-9s %6s %6s  %.1e %.1e %.1e",
             r.seed, r.balls or "-", r.porosity and string.format("%.3f", r.porosity) or "-",
             r.ucs and string.format("%.1f", r.ucs / 1e6) or "-", r.E and string.format("%.1f", r.E / 1e9) or "-",
             r.nu and string.format("%.3f", r.nu) or "-", r.E_elastic and string.format("%.1f", r.E_elastic / 1e9) or "-",
             r.nu_elastic and string.format("%.3f", r.nu_elastic) or "-", ten,
             r.ratio and string.format("%.1f", r.ratio) or "-", r.phi and string.format("%.1f", r.phi) or "-",
             r.ci_ratio and string.format("%.2f", r.ci_ratio) or "-", r.cd_ratio and string.format("%.2f", r.cd_ratio) or "-",
-            r.stop or "-", r.steps or "-", r.qs_difference or 0 / 0, r.qs_kinetic or 0 / 0))
+            r.stop or "-", r.steps or "-", r.held or "-", r.qs_difference or 0 / 0, r.qs_kinetic or 0 / 0,
+            r.qs_ratio or 0 / 0))
     end
     local sum = {}
     local parts = {}

@@ -90,8 +90,9 @@ local function read_csv(file)
 end
 local hcols = read_csv(csv)
 T.check(table.concat(hcols, ",") == table.concat(M.columns, ","), "history columns: M.columns")
-T.check(hcols[#hcols - 2] == "cracks" and hcols[#hcols - 1] == "strain_volumetric" and hcols[#hcols] == "platen_difference",
-    "history columns end with cracks, strain_volumetric, platen_difference")
+T.check(hcols[#hcols - 4] == "cracks" and hcols[#hcols - 3] == "strain_volumetric"
+    and hcols[#hcols - 2] == "platen_difference" and hcols[#hcols - 1] == "ratio" and hcols[#hcols] == "held",
+    "history columns end with cracks, strain_volumetric, platen_difference, ratio, held")
 local ccols, crows = read_csv(out .. "/cracks_ucs_cracks.csv")
 T.check(table.concat(ccols, ",") == table.concat(M.crack_columns, ","), "crack CSV columns")
 T.check(#crows == n, "one CSV row per crack")
