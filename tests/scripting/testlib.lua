@@ -55,7 +55,8 @@ end
 
 --- A model's state written exactly (T.hex), for runs compared bit for bit: every ball's position,
 --- velocity and spin; every contact's key, forces and overlap with the contact-model properties
---- named in `opts.props`; the energy items named in `opts.energies`; the time.
+--- named in `opts.props`; the energy items named in `opts.energies`; with `opts.walls`, every
+--- wall's first vertex and velocity; the time.
 function T.state_text(m, opts)
     opts = opts or {}
     local out = {}
@@ -70,8 +71,26 @@ function T.state_text(m, opts)
         local e = m:energies()
         for _, k in ipairs(opts.energies) do put(e[k]) end
     end
+    if opts.walls then
+        for w in m:walls() do put(w.points[1][1], w.points[1][2], w.vel[1], w.vel[2]) end
+    end
     put(m:time())
     return table.concat(out, " ")
+end
+
+--- The small flat-jointed specimen of the regression tests (about 120 balls, 1 x 2 cm; the
+--- material library's genesis with packing seed `seed`): its packing, material table and the
+--- contact modulus.
+function T.small_fjoint(seed)
+    local M = require("material")
+    local emod = 6.4e10
+    local pk = M.genesis{ width = 0.01, height = 0.02, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
+                          kn = emod, ks = emod / 2.5, seed = seed }
+    local mat = { model = "fjoint", kn = emod, ks = emod / 2.5, fric = 0.5, density = 2600,
+                  bond = { fj_emod = emod, fj_kratio = 2.5, fj_nr = 2, fj_fric = 0.6, fj_fa = 0,
+                           fj_ten = { mean = 2e7, sd = 2e6, dist = "normal" },
+                           fj_coh = { mean = 1e8, sd = 1e7, dist = "normal" } } }
+    return pk, mat, emod
 end
 
 --- A reproducible stream of numbers in [0, 1) from `seed` (the C library's classic linear

@@ -9,13 +9,7 @@
 local T = require("testlib")
 local M = require("material")
 
-local E_MICRO = 6.4e10
-local pk = M.genesis{ width = 0.01, height = 0.02, rmin = 0.5e-3, rmax = 0.83e-3, porosity = 0.16,
-                      kn = E_MICRO, ks = E_MICRO / 2.5, seed = 3 }
-local mat = { model = "fjoint", kn = E_MICRO, ks = E_MICRO / 2.5, fric = 0.5, density = 2600,
-              bond = { fj_emod = E_MICRO, fj_kratio = 2.5, fj_nr = 2, fj_fric = 0.6, fj_fa = 0,
-                       fj_ten = { mean = 2e7, sd = 2e6, dist = "normal" },
-                       fj_coh = { mean = 1e8, sd = 1e7, dist = "normal" } } }
+local pk, mat, E_MICRO = T.small_fjoint(3)
 local sp = M.specimen(pk, mat)
 T.check(sp.bonds > #pk.balls, "interfaces " .. sp.bonds .. " for " .. #pk.balls .. " balls")
 local nbond0 = 0

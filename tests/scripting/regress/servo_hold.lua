@@ -126,12 +126,7 @@ end
 -- then moves, bit for bit as the one that went on (a servo restored without its hold would move
 -- at once).
 do
-    local function text(x)
-        local parts = {}
-        for b in x:balls() do parts[#parts + 1] = string.format("%a %a", b.pos[2], b.vel[2]) end
-        for w in x:walls() do parts[#parts + 1] = string.format("%a %a", w.points[1][2], w.vel[2]) end
-        return table.concat(parts, " ")
-    end
+    local function text(x) return T.state_text(x, { walls = true }) end
     local m, top, bottom = column()
     local pre = m:servo{ walls = { top, bottom }, rate = rate }
     m:cycle(2000)

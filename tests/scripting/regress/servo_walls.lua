@@ -137,12 +137,7 @@ do
     m:cycle(400)
     local r = talus.restore(file)
     r:cycle(400)
-    local function text(x)
-        local parts = {}
-        for b in x:balls() do parts[#parts + 1] = string.format("%a %a", b.pos[2], b.vel[2]) end
-        for w in x:walls() do parts[#parts + 1] = string.format("%a %a", w.points[1][2], w.vel[2]) end
-        return table.concat(parts, " ")
-    end
+    local function text(x) return T.state_text(x, { walls = true }) end
     T.check(text(m) == text(r), "save mid-ramp, restore: the same state after 400 more steps")
 end
 
