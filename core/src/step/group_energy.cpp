@@ -92,21 +92,8 @@ void bookContactToGroups(World& world, std::size_t i, const double* energy, doub
     auto* groups = gb.g.data();
     for (uint64_t m = (g1 | (p.wall ? 0 : g2)) & gb.traced; m; m &= m - 1) {
         const int g = __builtin_ctzll(m);
-        const double s = share(uint64_t(1) << g, g1, g2, p.wall);
-        auto& gr = groups[g];
-        EnergyTotals& a = gr.acc;
-        a.slip += s * energy[kEnergySlip];
-        gr.dashpot_pending += s * energy[kEnergyDashpot];
-        a.plastic += s * energy[kEnergyPlastic];
-        a.released += s * energy[kEnergyReleased];
-        a.placement += s * placed;
-        gr.held_before += s * held;
-        if (ends) {
-            a.released += s * stored.total();
-        } else {
-            gr.strain_now += s * stored.strain;
-            gr.bond_now += s * stored.bond;
-        }
+        addContactShare(groups[g], share(uint64_t(1) << g, g1, g2, p.wall), energy, placed, held,
+                        ends, stored);
     }
     // Work passed across a group border: only when the ends' groups differ (with a wall, only
     // when it moves, else it does no work and the ball's groups take the whole contact).

@@ -28,6 +28,25 @@ inline void bookBodyToGroups(World& world, uint64_t mask, double kinetic, double
         gr.step_driven += driven;
     }
 }
+/// Share `s` of one contact's step booked to group `gr`: its slip, dashpot, plastic and released
+/// work, the placement energy `placed`, the force `held` before the step, and its stored energy
+/// (released when the contact `ends`).
+inline void addContactShare(EnergyBooks::GroupBooks::Group& gr, double s, const double* energy,
+                            double placed, double held, bool ends, const PairStored& stored) {
+    EnergyTotals& a = gr.acc;
+    a.slip += s * energy[kEnergySlip];
+    gr.dashpot_pending += s * energy[kEnergyDashpot];
+    a.plastic += s * energy[kEnergyPlastic];
+    a.released += s * energy[kEnergyReleased];
+    a.placement += s * placed;
+    gr.held_before += s * held;
+    if (ends) {
+        a.released += s * stored.total();
+    } else {
+        gr.strain_now += s * stored.strain;
+        gr.bond_now += s * stored.bond;
+    }
+}
 /// The force loop's per-contact share (rare path: called only with groups traced). `placement`:
 /// its first step, born overlapping (the placement energy just noted, EnergyBooks::last_placed).
 void bookContactToGroups(World& world, std::size_t i, const double* energy, double moment,
@@ -48,22 +67,8 @@ inline void bookContactToOwnGroups(World& world, std::size_t i, const double* en
     const PairStored& stored = world.contacts.stored[i];  // (this step's, written before)
     const double placed = placement ? world.books.last_placed : 0.0;
     auto* groups = gb.g.data();
-    for (uint64_t m = of[p.end1] & gb.traced; m; m &= m - 1) {
-        auto& gr = groups[__builtin_ctzll(m)];
-        EnergyTotals& a = gr.acc;
-        a.slip += energy[kEnergySlip];
-        gr.dashpot_pending += energy[kEnergyDashpot];
-        a.plastic += energy[kEnergyPlastic];
-        a.released += energy[kEnergyReleased];
-        a.placement += placed;
-        gr.held_before += held;
-        if (ends) {
-            a.released += stored.total();
-        } else {
-            gr.strain_now += stored.strain;
-            gr.bond_now += stored.bond;
-        }
-    }
+    for (uint64_t m = of[p.end1] & gb.traced; m; m &= m - 1)
+        addContactShare(groups[__builtin_ctzll(m)], 1.0, energy, placed, held, ends, stored);
 }
 void bookReleasedToGroups(World& world, const Pair& p, double released);
 /// Kinetic energy that left the model with a deleted body (or changed at a clump release).
